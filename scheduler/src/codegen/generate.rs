@@ -1,0 +1,427 @@
+//! Builds the [`KernelModule`] for a compiled plan: constants, bindings, item
+//! codecs, enqueue functions, procedure bodies, runners and the entry point.
+
+use std::collections::BTreeMap;
+
+use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
+use crate::compile::layout::{ItemLayout, decode_name, encode_name};
+use crate::compile::plan::{Plan, control};
+use crate::graph::Procedure;
+use crate::{Access, Policy, Resource, SourceOrigin};
+
+/// The queue protocol template shared by every module.
+const RUNTIME_WGSL: &str = include_str!("../../../shaders/scheduler/runtime.wgsl");
+
+/// Entry point name of the megakernel.
+pub(crate) const ENTRY_POINT: &str = "sched_main";
+
+/// Name of the function holding a procedure's body.
+pub(crate) fn body_name(procedure: &str) -> String {
+    format!("sched_proc_{procedure}")
+}
+
+/// Name of the enqueue function for a target procedure.
+pub(crate) fn enqueue_name(procedure: &str) -> String {
+    format!("enqueue_{procedure}")
+}
+
+fn constant(name: &str, ty: &str, value: impl ToString, doc: &str) -> Constant {
+    Constant {
+        name: name.to_owned(),
+        ty: ty.to_owned(),
+        value: value.to_string(),
+        doc: doc.to_owned(),
+    }
+}
+
+fn u32_array(values: impl Iterator<Item = u32>) -> String {
+    let items: Vec<String> = values.map(|v| format!("{v}u")).collect();
+    format!("array<u32, {}>({})", items.len(), items.join(", "))
+}
+
+/// Generates the module. `items` maps WGSL item names to their checked layouts
+/// and sources, in a deterministic (sorted) order.
+pub(crate) fn generate(
+    plan: &Plan,
+    procedures: &[Procedure],
+    library: &str,
+    items: &BTreeMap<String, (String, ItemLayout)>,
+) -> KernelModule {
+    let n = plan.queues.len();
+    let mut module = KernelModule {
+        header: header(plan),
+        ..KernelModule::default()
+    };
+
+    let c = &mut module.constants;
+    c.push(constant(
+        "SCHED_WORKGROUP_SIZE",
+        "u32",
+        format!("{}u", plan.workgroup_size),
+        "Threads per workgroup.",
+    ));
+    c.push(constant(
+        "SCHED_NUM_QUEUES",
+        "u32",
+        format!("{n}u"),
+        "One queue per procedure.",
+    ));
+    c.push(constant(
+        "SCHED_INBOX_WORDS",
+        "u32",
+        format!("{}u", plan.inbox_words),
+        "Inbox words per workgroup (the largest batch).",
+    ));
+    c.push(constant(
+        "SCHED_WORKGROUP_WORDS",
+        "u32",
+        format!("{}u", plan.inbox_words + plan.stage_words),
+        "Words of the staging buffer per workgroup: inbox, then staging.",
+    ));
+    c.push(constant(
+        "SCHED_IDLE",
+        "u32",
+        "0xfffffffeu",
+        "Pick result: no work found, but work is outstanding.",
+    ));
+    c.push(constant(
+        "SCHED_EXIT",
+        "u32",
+        "0xffffffffu",
+        "Pick result: no work is left anywhere.",
+    ));
+    c.push(constant(
+        "SCHED_CTRL_PENDING",
+        "u32",
+        format!("{}u", control::PENDING),
+        "Control word: outstanding items.",
+    ));
+    c.push(constant(
+        "SCHED_CTRL_QUEUE_BASE",
+        "u32",
+        format!("{}u", control::QUEUE_BASE),
+        "Control word of queue 0's block.",
+    ));
+    c.push(constant(
+        "SCHED_CTRL_QUEUE_STRIDE",
+        "u32",
+        format!("{}u", control::QUEUE_STRIDE),
+        "Control words per queue.",
+    ));
+    for (name, value) in [
+        ("HEAD", control::HEAD),
+        ("TAIL", control::TAIL),
+        ("FILL", control::FILL),
+        ("HIGH_WATER", control::HIGH_WATER),
+        ("EXECUTED", control::EXECUTED),
+        ("ENQUEUED", control::ENQUEUED),
+        ("DROPPED", control::DROPPED),
+        ("NEEDED", control::NEEDED),
+        ("FANOUT_OVERFLOW", control::FANOUT_OVERFLOW),
+    ] {
+        c.push(constant(
+            &format!("SCHED_Q_{name}"),
+            "u32",
+            format!("{value}u"),
+            "",
+        ));
+    }
+    for (q, queue) in plan.queues.iter().enumerate() {
+        c.push(constant(
+            &format!("SCHED_QUEUE_{}", queue.name.to_uppercase()),
+            "u32",
+            format!("{q}u"),
+            &format!("Queue of `{}`.", queue.name),
+        ));
+    }
+    c.push(constant(
+        "sched_item_words",
+        &format!("array<u32, {n}>"),
+        u32_array(plan.queues.iter().map(|q| q.item_words)),
+        "Item size in words, per queue.",
+    ));
+    c.push(constant(
+        "sched_items_per_workgroup",
+        &format!("array<u32, {n}>"),
+        u32_array(plan.queues.iter().map(|q| q.items_per_workgroup)),
+        "Items popped per batch, per queue.",
+    ));
+    c.push(constant(
+        "sched_queue_order",
+        &format!("array<u32, {n}>"),
+        u32_array(plan.scan_order.iter().map(|&q| q as u32)),
+        "Queue scan order.",
+    ));
+
+    for (name, (source, _)) in items {
+        module.items.push(Verbatim {
+            title: format!("item type {name}"),
+            text: source.clone(),
+            origin: SourceOrigin::Item(name.clone()),
+        });
+    }
+
+    let g = &mut module.globals;
+    let global = |attributes: &str, declaration: String, doc: &str| Global {
+        attributes: attributes.to_owned(),
+        declaration,
+        doc: doc.to_owned(),
+    };
+    g.push(global(
+        "@group(0) @binding(0)",
+        "var<storage, read_write> sched_queue_words: array<atomic<u32>>".into(),
+        "Queue slots and sequence words of every queue.",
+    ));
+    g.push(global(
+        "@group(0) @binding(1)",
+        "var<storage, read_write> sched_control: array<atomic<u32>>".into(),
+        "Counters: outstanding work and per-queue statistics.",
+    ));
+    g.push(global(
+        "@group(0) @binding(2)",
+        "var<storage, read_write> sched_staging: array<u32>".into(),
+        "Per-workgroup inbox (popped items) and staging (enqueued items).",
+    ));
+    g.push(global(
+        "@group(0) @binding(3)",
+        format!("var<uniform> sched_config: array<vec4<u32>, {}>", n + 1),
+        "Per queue (capacity, slot base, sequence base, 0); last: (iteration budget, 0, 0, 0).",
+    ));
+    for (binding, resource) in plan.resources.iter().enumerate() {
+        let declaration = match resource {
+            Resource::Storage {
+                name,
+                wgsl_type,
+                access: Access::ReadWrite,
+            } => format!("var<storage, read_write> {name}: {wgsl_type}"),
+            Resource::Storage {
+                name,
+                wgsl_type,
+                access: Access::Read,
+            } => format!("var<storage, read> {name}: {wgsl_type}"),
+            Resource::Uniform { name, wgsl_type } => format!("var<uniform> {name}: {wgsl_type}"),
+        };
+        g.push(global(
+            &format!("@group(1) @binding({binding})"),
+            declaration,
+            "User resource.",
+        ));
+    }
+    g.push(global(
+        "",
+        "var<workgroup> sched_wg_pick: vec4<u32>".into(),
+        "The batch thread 0 picked, broadcast with workgroupUniformLoad.",
+    ));
+    g.push(global(
+        "",
+        "var<workgroup> sched_wg_flush: vec2<u32>".into(),
+        "First ticket and count of the flush in progress.",
+    ));
+    g.push(global(
+        "",
+        format!("var<workgroup> sched_wg_staged: array<atomic<u32>, {n}>"),
+        "Items staged per queue in this batch.",
+    ));
+    g.push(global(
+        "",
+        format!(
+            "var<workgroup> sched_wg_scratch: array<u32, {}>",
+            plan.scratch_words.max(1)
+        ),
+        "Scratch shared by all procedures, sized by the largest.",
+    ));
+    g.push(global(
+        "",
+        "var<workgroup> sched_wg_remaining: atomic<u32>".into(),
+        "Claimed items not yet copied into the inbox.",
+    ));
+    g.push(global(
+        "",
+        "var<workgroup> sched_wg_remaining_snapshot: u32".into(),
+        "Copy of sched_wg_remaining for a uniform loop exit.",
+    ));
+    g.push(global(
+        "",
+        "var<private> sched_wg_base: u32".into(),
+        "First word of this workgroup's region of the staging buffer.",
+    ));
+    g.push(global(
+        "",
+        "var<private> sched_scratch_stride: u32".into(),
+        "Scratch words per item of the running procedure.",
+    ));
+
+    if !library.trim().is_empty() {
+        module.library = Some(Verbatim {
+            title: "graph library".into(),
+            text: library.to_owned(),
+            origin: SourceOrigin::Library,
+        });
+    }
+    module.runtime = Some(Verbatim {
+        title: "runtime".into(),
+        text: RUNTIME_WGSL.to_owned(),
+        origin: SourceOrigin::Generated,
+    });
+
+    module.functions.push(policy_function(plan.policy));
+    for (_, layout) in items.values() {
+        module.functions.push(layout.decode.clone());
+        module.functions.push(layout.encode.clone());
+    }
+    for (q, queue) in plan.queues.iter().enumerate() {
+        let mut f = Function::new(enqueue_name(&queue.name))
+            .doc(format!(
+                "Stages one `{}` item for `{}`; it is published when the batch ends.",
+                queue.item, queue.name
+            ))
+            .param("item", &queue.item);
+        f.line(format!(
+            "let base = sched_stage({q}u, {}u, {}u);",
+            queue.stage_offset, queue.stage_capacity
+        ));
+        f.line("if (base != 0xffffffffu) {");
+        f.line(format!("    {}(base, item);", encode_name(&queue.item)));
+        f.line("}");
+        module.functions.push(f);
+    }
+    for procedure in procedures {
+        let mut f = Function::new(body_name(&procedure.name))
+            .doc(format!("Body of `{}` (user code).", procedure.name))
+            .param("item", procedure.item.wgsl_name())
+            .param("valid", "bool")
+            .param("thread", "u32")
+            .param("slot", "u32");
+        f.body = procedure
+            .body
+            .trim_end()
+            .lines()
+            .map(str::to_owned)
+            .collect();
+        f.origin = SourceOrigin::Body(procedure.name.clone());
+        module.functions.push(f);
+    }
+    for (q, queue) in plan.queues.iter().enumerate() {
+        module.functions.push(runner(plan, q, queue));
+    }
+    module.functions.push(entry_point(plan));
+    module
+}
+
+fn header(plan: &Plan) -> Vec<String> {
+    let mut lines = vec![
+        format!("Megakernel for graph `{}`, generated by the `scheduler` crate {}.", plan.graph_name, env!("CARGO_PKG_VERSION")),
+        "Do not edit: regenerate it from the procedure graph. docs/scheduler.md explains the protocol.".to_owned(),
+        format!("Workgroup size {}, policy {:?}, {} procedures:", plan.workgroup_size, plan.policy, plan.queues.len()),
+        String::new(),
+        format!("{:<6}{:<20}{:<16}{:>8}{:>10}{:>10}  {}", "queue", "procedure", "item", "threads", "per batch", "priority", "enqueues into (fan-out)"),
+    ];
+    for (q, queue) in plan.queues.iter().enumerate() {
+        let targets: Vec<String> = queue
+            .targets
+            .iter()
+            .map(|&(t, f)| format!("{} ({f})", plan.queues[t].name))
+            .collect();
+        let targets = if targets.is_empty() {
+            "-".to_owned()
+        } else {
+            targets.join(", ")
+        };
+        lines.push(format!(
+            "{:<6}{:<20}{:<16}{:>8}{:>10}{:>10}  {}",
+            q,
+            queue.name,
+            queue.item,
+            queue.threads_per_item,
+            queue.items_per_workgroup,
+            queue.priority,
+            targets
+        ));
+    }
+    lines
+}
+
+fn policy_function(policy: Policy) -> Function {
+    let mut f = Function::new("sched_policy_start")
+        .doc("Index into sched_queue_order where this workgroup's scan starts.")
+        .param("workgroup", "u32")
+        .param("iteration", "u32")
+        .returns("u32");
+    match policy {
+        Policy::Priority => f.line("return 0u;"),
+        Policy::RoundRobin => f.line("return (workgroup + iteration) % SCHED_NUM_QUEUES;"),
+    }
+    f
+}
+
+fn runner(plan: &Plan, q: usize, queue: &crate::compile::plan::QueuePlan) -> Function {
+    let tpi = queue.threads_per_item;
+    let mut f = Function::new(format!("sched_run_{}", queue.name))
+        .doc(format!("Runs one batch of `{}`: receive the items, run the body on every thread, publish the children.", queue.name))
+        .param("lid", "u32")
+        .param("first", "u32")
+        .param("count", "u32");
+    f.line(format!("let slot = lid / {tpi}u;"));
+    f.line(format!("let thread = lid % {tpi}u;"));
+    f.line("let valid = slot < count;");
+    f.line(format!("sched_scratch_stride = {}u;", queue.scratch_words));
+    f.line(format!("sched_receive(lid, {q}u, first, count);"));
+    f.line(format!("var item: {};", queue.item));
+    f.line("if (valid) {");
+    f.line(format!(
+        "    item = {}(sched_wg_base + slot * {}u);",
+        decode_name(&queue.item),
+        queue.item_words
+    ));
+    f.line("}");
+    f.line(format!(
+        "{}(item, valid, thread, slot);",
+        body_name(&queue.name)
+    ));
+    for &(t, _) in &queue.targets {
+        let target = &plan.queues[t];
+        f.line(format!(
+            "sched_flush(lid, {t}u, {}u, {}u);",
+            target.stage_offset, target.stage_capacity
+        ));
+    }
+    f.line("if (lid == 0u) {");
+    f.line(format!(
+        "    atomicAdd(&sched_control[sched_ctrl({q}u, SCHED_Q_EXECUTED)], count);"
+    ));
+    f.line("    // Children were counted by the flushes above, so outstanding work");
+    f.line("    // never reaches zero while any of them exists.");
+    f.line("    atomicSub(&sched_control[SCHED_CTRL_PENDING], count);");
+    f.line("}");
+    f
+}
+
+fn entry_point(plan: &Plan) -> Function {
+    let mut f = Function::new(ENTRY_POINT)
+        .doc("Persistent workgroups: pick a batch, run it, until no work is left or the iteration budget is spent.")
+        .param("@builtin(local_invocation_index) lid", "u32")
+        .param("@builtin(workgroup_id) workgroup", "vec3<u32>");
+    f.attributes
+        .push(format!("@compute @workgroup_size({})", plan.workgroup_size));
+    f.line("sched_wg_base = workgroup.x * SCHED_WORKGROUP_WORDS;");
+    f.line("let budget = sched_config[SCHED_NUM_QUEUES].x;");
+    f.line("for (var iteration = 0u; iteration < budget; iteration += 1u) {");
+    f.line("    if (lid == 0u) {");
+    f.line("        sched_wg_pick = sched_pick(workgroup.x, iteration);");
+    f.line("    }");
+    f.line("    let pick = workgroupUniformLoad(&sched_wg_pick);");
+    f.line("    if (pick.x == SCHED_EXIT) {");
+    f.line("        break;");
+    f.line("    }");
+    f.line("    switch pick.x {");
+    for (q, queue) in plan.queues.iter().enumerate() {
+        f.line(format!(
+            "        case {q}u: {{ sched_run_{}(lid, pick.y, pick.z); }}",
+            queue.name
+        ));
+    }
+    f.line("        default: {}");
+    f.line("    }");
+    f.line("}");
+    f
+}

@@ -1,0 +1,4 @@
+//! Generation of the megakernel's WGSL.
+
+pub(crate) mod generate;
+pub(crate) mod module;

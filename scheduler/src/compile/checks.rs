@@ -1,0 +1,114 @@
+//! Checks on the parsed module: reserved names and the enqueue call graph.
+
+use std::collections::{BTreeSet, HashMap};
+
+use naga::{Block, Function, Handle, Module, Statement};
+
+use crate::CompileError;
+use crate::codegen::generate::{body_name, enqueue_name};
+use crate::compile::plan::Plan;
+
+const RESERVED_PREFIXES: [&str; 3] = ["sched_", "SCHED_", "enqueue_"];
+
+/// Rejects user declarations whose names start with a reserved prefix.
+/// `generated` lists every name the generator itself declared.
+pub(crate) fn reserved_names(
+    module: &Module,
+    generated: &BTreeSet<String>,
+) -> Result<(), CompileError> {
+    let names = module
+        .functions
+        .iter()
+        .filter_map(|(_, f)| f.name.clone())
+        .chain(
+            module
+                .global_variables
+                .iter()
+                .filter_map(|(_, g)| g.name.clone()),
+        )
+        .chain(module.constants.iter().filter_map(|(_, c)| c.name.clone()))
+        .chain(module.overrides.iter().filter_map(|(_, o)| o.name.clone()))
+        .chain(module.types.iter().filter_map(|(_, t)| t.name.clone()));
+    for name in names {
+        if RESERVED_PREFIXES.iter().any(|p| name.starts_with(p)) && !generated.contains(&name) {
+            return Err(CompileError::ReservedName { name });
+        }
+    }
+    Ok(())
+}
+
+/// Walks each body's call graph (helpers included) and rejects any reachable
+/// `enqueue_<T>` for which the procedure has no connection to `T`.
+pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), CompileError> {
+    let by_name: HashMap<&str, Handle<Function>> = module
+        .functions
+        .iter()
+        .filter_map(|(h, f)| f.name.as_deref().map(|n| (n, h)))
+        .collect();
+    let enqueue_targets: HashMap<String, usize> = plan
+        .queues
+        .iter()
+        .enumerate()
+        .map(|(q, queue)| (enqueue_name(&queue.name), q))
+        .collect();
+
+    for queue in &plan.queues {
+        let Some(&root) = by_name.get(body_name(&queue.name).as_str()) else {
+            continue;
+        };
+        let mut seen = BTreeSet::new();
+        let mut stack = vec![root];
+        while let Some(handle) = stack.pop() {
+            if !seen.insert(handle) {
+                continue;
+            }
+            let caller = &module.functions[handle];
+            let mut callees = Vec::new();
+            collect_calls(&caller.body, &mut callees);
+            for callee in callees {
+                let callee_name = module.functions[callee].name.clone().unwrap_or_default();
+                if let Some(&target) = enqueue_targets.get(&callee_name) {
+                    if !queue.targets.iter().any(|&(t, _)| t == target) {
+                        let via = if handle == root {
+                            "its body".to_owned()
+                        } else {
+                            format!("helper `{}`", caller.name.clone().unwrap_or_default())
+                        };
+                        return Err(CompileError::UndeclaredEnqueue {
+                            procedure: queue.name.clone(),
+                            target: plan.queues[target].name.clone(),
+                            via,
+                        });
+                    }
+                    // Enqueue functions are generated; no need to descend.
+                    continue;
+                }
+                stack.push(callee);
+            }
+        }
+    }
+    Ok(())
+}
+
+fn collect_calls(block: &Block, out: &mut Vec<Handle<Function>>) {
+    for statement in block.iter() {
+        match statement {
+            Statement::Call { function, .. } => out.push(*function),
+            Statement::Block(inner) => collect_calls(inner, out),
+            Statement::If { accept, reject, .. } => {
+                collect_calls(accept, out);
+                collect_calls(reject, out);
+            }
+            Statement::Switch { cases, .. } => {
+                cases.iter().for_each(|c| collect_calls(&c.body, out))
+            }
+            Statement::Loop {
+                body, continuing, ..
+            } => {
+                collect_calls(body, out);
+                collect_calls(continuing, out);
+            }
+            _ => {}
+        }
+    }
+}

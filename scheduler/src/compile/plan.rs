@@ -1,0 +1,111 @@
+//! The compiled shape of a graph: one queue per procedure with its constants.
+//! Shared by the code generator and the runtime so both agree on every number.
+
+use crate::{Policy, Resource};
+
+/// One procedure's queue as compiled.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct QueuePlan {
+    /// Procedure name.
+    pub name: String,
+    /// WGSL item type name.
+    pub item: String,
+    /// Item size in 32-bit words (naga's array stride / 4).
+    pub item_words: u32,
+    /// Threads that run one item.
+    pub threads_per_item: u32,
+    /// Items one workgroup pops at once: workgroup size / threads per item.
+    pub items_per_workgroup: u32,
+    /// Scheduling priority.
+    pub priority: i32,
+    /// Whether the host may seed it.
+    pub initial: bool,
+    /// Scratch words per item.
+    pub scratch_words: u32,
+    /// First staging word of this queue inside a workgroup's staging area.
+    pub stage_offset: u32,
+    /// Items one workgroup can stage for this queue per batch.
+    pub stage_capacity: u32,
+    /// Queues this procedure may enqueue into, with fan-outs.
+    pub targets: Vec<(usize, u32)>,
+}
+
+/// The whole compiled shape.
+#[derive(Clone, Debug)]
+pub(crate) struct Plan {
+    pub graph_name: String,
+    pub workgroup_size: u32,
+    pub policy: Policy,
+    pub queues: Vec<QueuePlan>,
+    /// Queue indices in the order a workgroup scans them.
+    pub scan_order: Vec<usize>,
+    /// Inbox words per workgroup: the largest batch of items.
+    pub inbox_words: u32,
+    /// Staging words per workgroup.
+    pub stage_words: u32,
+    /// Words of the shared scratch region.
+    pub scratch_words: u32,
+    pub resources: Vec<Resource>,
+    pub features: wgpu::Features,
+}
+
+/// Layout of the control buffer (atomic u32 words). Mirrored as WGSL constants.
+pub(crate) mod control {
+    /// Outstanding work: items reserved and not yet finished.
+    pub const PENDING: u32 = 0;
+    /// First per-queue block.
+    pub const QUEUE_BASE: u32 = 4;
+    /// Words per queue block.
+    pub const QUEUE_STRIDE: u32 = 10;
+    /// Consumer ticket counter.
+    pub const HEAD: u32 = 0;
+    /// Producer ticket counter.
+    pub const TAIL: u32 = 1;
+    /// Reserved and unclaimed items (tested against the capacity).
+    pub const FILL: u32 = 2;
+    /// Highest fill seen.
+    pub const HIGH_WATER: u32 = 3;
+    /// Items executed.
+    pub const EXECUTED: u32 = 4;
+    /// Items accepted into the queue by enqueues.
+    pub const ENQUEUED: u32 = 5;
+    /// Items that did not fit.
+    pub const DROPPED: u32 = 6;
+    /// Largest fill an overflowing flush asked for.
+    pub const NEEDED: u32 = 7;
+    /// Enqueues beyond the staging room (declared fan-out).
+    pub const FANOUT_OVERFLOW: u32 = 8;
+
+    /// Number of control words for `queues` queues.
+    pub fn words(queues: usize) -> u32 {
+        QUEUE_BASE + QUEUE_STRIDE * queues as u32
+    }
+
+    /// Index of `field` of queue `q`.
+    pub fn index(q: usize, field: u32) -> usize {
+        (QUEUE_BASE + QUEUE_STRIDE * q as u32 + field) as usize
+    }
+}
+
+/// Workgroup bytes the scheduler itself needs besides scratch.
+pub(crate) fn internal_workgroup_bytes(queues: usize) -> u32 {
+    // pick (vec4<u32>) + flush (vec2<u32>) + remaining and its snapshot
+    // + one staged counter per queue
+    16 + 8 + 8 + 4 * queues as u32
+}
+
+impl Plan {
+    pub fn queue_index(&self, name: &str) -> Option<usize> {
+        self.queues.iter().position(|q| q.name == name)
+    }
+
+    /// Fixed order in which workgroups scan queues. Priority: highest first,
+    /// ties by declaration. Round-robin: declaration order (rotated at run time).
+    pub fn compute_scan_order(queues: &[QueuePlan], policy: Policy) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..queues.len()).collect();
+        if policy == Policy::Priority {
+            order.sort_by_key(|&q| (std::cmp::Reverse(queues[q].priority), q));
+        }
+        order
+    }
+}

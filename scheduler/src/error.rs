@@ -1,0 +1,239 @@
+//! Typed errors for compiling a graph and for running it.
+
+use std::time::Duration;
+
+use crate::RunReport;
+
+/// Where a line of the generated module came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SourceOrigin {
+    /// The body of the named procedure.
+    Body(String),
+    /// The graph's shared WGSL library.
+    Library,
+    /// The WGSL declaration of the named item type.
+    Item(String),
+    /// Code the generator wrote (a bug in the generator if it fails).
+    Generated,
+}
+
+impl std::fmt::Display for SourceOrigin {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Body(p) => write!(f, "body of procedure `{p}`"),
+            Self::Library => f.write_str("graph library"),
+            Self::Item(t) => write!(f, "WGSL declaration of item type `{t}`"),
+            Self::Generated => f.write_str("generated code"),
+        }
+    }
+}
+
+/// Why a graph did not compile.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum CompileError {
+    /// Two procedures share a name.
+    #[error("duplicate procedure name `{0}`")]
+    DuplicateProcedure(String),
+    /// A procedure name is not usable as a WGSL identifier suffix.
+    #[error(
+        "procedure name `{0}` must be an ASCII identifier (letters, digits, '_', not starting with a digit)"
+    )]
+    InvalidProcedureName(String),
+    /// No procedure accepts initial items, so nothing could ever run.
+    #[error("no procedure accepts initial items; mark at least one with `.initial(true)`")]
+    NoInitialProcedure,
+    /// A connection names a procedure that does not exist.
+    #[error("connection `{from}` -> `{to}` names unknown procedure `{unknown}`")]
+    UnknownProcedure {
+        /// Source of the connection.
+        from: String,
+        /// Target of the connection.
+        to: String,
+        /// The name that does not exist.
+        unknown: String,
+    },
+    /// A connection has fan-out zero.
+    #[error("connection `{from}` -> `{to}` has fan-out 0; it must be at least 1")]
+    ZeroFanOut {
+        /// Source of the connection.
+        from: String,
+        /// Target of the connection.
+        to: String,
+    },
+    /// Threads per item is not a power of two up to the workgroup size.
+    #[error(
+        "procedure `{procedure}` asks for {threads} threads per item; it must be a power of two from 1 to the workgroup size {workgroup_size}"
+    )]
+    InvalidThreadCount {
+        /// The procedure.
+        procedure: String,
+        /// Its requested threads per item.
+        threads: u32,
+        /// The workgroup size compiled for.
+        workgroup_size: u32,
+    },
+    /// The workgroup size is not a power of two within the limits.
+    #[error(
+        "workgroup size {size} must be a power of two no larger than the limits allow ({limit})"
+    )]
+    InvalidWorkgroupSize {
+        /// Requested size.
+        size: u32,
+        /// What the limits allow.
+        limit: u32,
+    },
+    /// The shared scratch region (plus the scheduler's own workgroup memory)
+    /// exceeds `max_compute_workgroup_storage_size`.
+    #[error(
+        "procedure `{procedure}` needs {needed} bytes of workgroup memory ({per_item} bytes per item x {items} items + {internal} bytes for the scheduler); the limit is {limit}"
+    )]
+    ScratchTooLarge {
+        /// The procedure with the largest scratch need.
+        procedure: String,
+        /// Scratch bytes per item.
+        per_item: u32,
+        /// Items per workgroup.
+        items: u32,
+        /// Bytes the scheduler itself uses.
+        internal: u32,
+        /// Total bytes needed.
+        needed: u32,
+        /// The limit compiled for.
+        limit: u32,
+    },
+    /// A body (or a helper it calls) enqueues into a procedure that it is not
+    /// connected to.
+    #[error(
+        "procedure `{procedure}` enqueues into `{target}` (via {via}) but the graph has no connection `{procedure}` -> `{target}`"
+    )]
+    UndeclaredEnqueue {
+        /// The procedure whose call graph reaches the enqueue.
+        procedure: String,
+        /// The target it enqueues into.
+        target: String,
+        /// The function that calls `enqueue_<target>`.
+        via: String,
+    },
+    /// The Rust and WGSL layouts of an item type disagree.
+    #[error("item type `{item}` (Rust `{rust}`): {detail}")]
+    ItemLayoutMismatch {
+        /// WGSL struct name.
+        item: String,
+        /// Rust type name.
+        rust: String,
+        /// What differs.
+        detail: String,
+    },
+    /// The item type uses a field type the queues cannot carry.
+    #[error("item type `{item}` field `{field}` has unsupported type: {detail}")]
+    UnsupportedItemField {
+        /// WGSL struct name.
+        item: String,
+        /// The field.
+        field: String,
+        /// Why.
+        detail: String,
+    },
+    /// A procedure cannot be reached from any initial procedure.
+    #[error("procedure `{0}` is unreachable: no initial procedure leads to it")]
+    UnreachableProcedure(String),
+    /// User WGSL declares a name the generator reserves.
+    #[error(
+        "the name `{name}` is reserved for generated code (names starting with `sched_`, `SCHED_` or `enqueue_`)"
+    )]
+    ReservedName {
+        /// The offending name.
+        name: String,
+    },
+    /// Two resources share a name, or there are more than the limits allow.
+    #[error("resource problem: {0}")]
+    Resource(String),
+    /// WGSL that does not parse or validate.
+    #[error("WGSL error in {origin}, line {line}, column {column}: {message}")]
+    Wgsl {
+        /// Where the faulty line came from.
+        origin: SourceOrigin,
+        /// 1-based line within that source (the body's own line numbers for a body).
+        line: u32,
+        /// 1-based column.
+        column: u32,
+        /// naga's message.
+        message: String,
+    },
+}
+
+/// Why a run failed. Every variant that happens after the kernel ran carries
+/// the run's report, so statistics are never lost.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The named procedure does not exist or does not accept initial items.
+    #[error("cannot seed `{procedure}`: {reason}")]
+    Seed {
+        /// The procedure named.
+        procedure: String,
+        /// Why.
+        reason: String,
+    },
+    /// A queue was too small. The dropped items never ran and their descendants
+    /// never existed, so `dropped` is a lower bound on the items that did not fit.
+    #[error(
+        "queue `{procedure}` overflowed: capacity {capacity}, at least {dropped} items did not fit (a capacity of at least {needed_at_least} would have held the largest burst)"
+    )]
+    QueueOverflow {
+        /// The procedure whose queue overflowed.
+        procedure: String,
+        /// Its capacity in items.
+        capacity: u32,
+        /// Items that did not fit (a lower bound on the true shortfall).
+        dropped: u64,
+        /// A lower bound on the capacity this run needed.
+        needed_at_least: u64,
+        /// The full report of the run.
+        report: Box<RunReport>,
+    },
+    /// Items of one workgroup batch enqueued more into a queue than the declared
+    /// fan-outs allow; the excess was counted, not silently dropped.
+    #[error(
+        "procedure bodies enqueued {excess} more items into `{procedure}` than the declared fan-out allows"
+    )]
+    FanOutExceeded {
+        /// The target queue.
+        procedure: String,
+        /// How many enqueues did not fit.
+        excess: u64,
+        /// The full report of the run.
+        report: Box<RunReport>,
+    },
+    /// The host-side timeout elapsed before the GPU finished.
+    #[error("the run did not finish within {0:?}; the device may need to be recreated")]
+    Timeout(Duration),
+    /// The bindings given do not match the graph's declared resources.
+    #[error("binding problem: {0}")]
+    Binding(String),
+    /// The configuration asks for more memory than the device allows.
+    #[error("configuration needs a {what} of {needed} bytes but the device allows {limit}")]
+    TooLarge {
+        /// Which buffer.
+        what: &'static str,
+        /// Bytes needed.
+        needed: u64,
+        /// Bytes allowed.
+        limit: u64,
+    },
+    /// wgpu reported an error (validation, out of memory, device lost).
+    #[error("wgpu error: {0}")]
+    Gpu(String),
+}
+
+/// Why no device could be created.
+#[derive(Debug, thiserror::Error)]
+pub enum DeviceError {
+    /// No adapter matched.
+    #[error(
+        "no GPU adapter found ({0}); install a Vulkan driver (for example Mesa's lavapipe: `apt-get install mesa-vulkan-drivers`) or set WGPU_BACKEND / WGPU_ADAPTER_NAME"
+    )]
+    NoAdapter(String),
+    /// The adapter refused the device request.
+    #[error("could not create a device: {0}")]
+    RequestDevice(String),
+}

@@ -1,0 +1,226 @@
+//! The procedure graph a user declares: procedures, their connections, a shared
+//! WGSL library and extra resources. Building the graph never fails; all checks
+//! happen in [`Graph::compile`](crate::Graph::compile) so that every problem is
+//! reported as a typed [`CompileError`](crate::CompileError).
+
+use crate::ItemType;
+
+/// Default priority of a procedure. Higher runs first under
+/// [`Policy::Priority`](crate::Policy::Priority).
+pub const DEFAULT_PRIORITY: i32 = 0;
+
+/// One kind of work: an item type, a thread count per item and a WGSL body.
+///
+/// The body is the text of a WGSL function body. It is called by **every**
+/// thread of the workgroup with these parameters:
+///
+/// | parameter | type | meaning |
+/// |---|---|---|
+/// | `item` | the item type | the item (zeroed when `valid` is false) |
+/// | `valid` | `bool` | whether this thread has an item in this batch |
+/// | `thread` | `u32` | the thread's index within its item, `0..threads_per_item` |
+/// | `slot` | `u32` | the item's slot within the workgroup |
+///
+/// Barriers (`workgroupBarrier`, `storageBarrier`, `workgroupUniformLoad`) are
+/// allowed only at the body's top level, never inside a branch on `valid`,
+/// `thread` or data: every thread reaches them, including those without an item.
+#[derive(Clone, Debug)]
+pub struct Procedure {
+    pub(crate) name: String,
+    pub(crate) item: ItemType,
+    pub(crate) threads_per_item: u32,
+    pub(crate) initial: bool,
+    pub(crate) scratch_bytes: u32,
+    pub(crate) priority: i32,
+    pub(crate) body: String,
+}
+
+impl Procedure {
+    /// A procedure with one thread per item, no scratch, default priority and
+    /// an empty body.
+    pub fn new(name: impl Into<String>, item: ItemType) -> Self {
+        Self {
+            name: name.into(),
+            item,
+            threads_per_item: 1,
+            initial: false,
+            scratch_bytes: 0,
+            priority: DEFAULT_PRIORITY,
+            body: String::new(),
+        }
+    }
+
+    /// Threads that work on one item: a power of two up to the workgroup size.
+    pub fn threads_per_item(mut self, threads: u32) -> Self {
+        self.threads_per_item = threads;
+        self
+    }
+
+    /// Whether the host may seed this procedure's queue with initial items.
+    pub fn initial(mut self, initial: bool) -> Self {
+        self.initial = initial;
+        self
+    }
+
+    /// Bytes of workgroup scratch memory per item (rounded up to 4-byte words).
+    pub fn scratch_bytes(mut self, bytes: u32) -> Self {
+        self.scratch_bytes = bytes;
+        self
+    }
+
+    /// Scheduling priority; higher is picked first under the priority policy.
+    pub fn priority(mut self, priority: i32) -> Self {
+        self.priority = priority;
+        self
+    }
+
+    /// The WGSL function body (see the type's documentation for the contract).
+    pub fn body(mut self, wgsl: impl Into<String>) -> Self {
+        self.body = wgsl.into();
+        self
+    }
+
+    /// The procedure's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+}
+
+/// Permission for `from` to enqueue into `to`, with the most items one item of
+/// `from` may enqueue into `to` (its fan-out). The fan-out sizes the per-workgroup
+/// staging area; exceeding it is reported, never silently dropped.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Connection {
+    pub(crate) from: String,
+    pub(crate) to: String,
+    pub(crate) fan_out: u32,
+}
+
+/// Access mode of a storage buffer resource.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Access {
+    /// `var<storage, read>`
+    Read,
+    /// `var<storage, read_write>`
+    ReadWrite,
+}
+
+/// An extra resource that bodies and the library use, bound in group 1 in
+/// declaration order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Resource {
+    /// A storage buffer `var<storage, access> name: wgsl_type`.
+    Storage {
+        /// WGSL variable name.
+        name: String,
+        /// WGSL type, e.g. `array<atomic<u32>>`.
+        wgsl_type: String,
+        /// Read-only or read-write.
+        access: Access,
+    },
+    /// A uniform buffer `var<uniform> name: wgsl_type`.
+    Uniform {
+        /// WGSL variable name.
+        name: String,
+        /// WGSL type (a struct declared in the library, typically).
+        wgsl_type: String,
+    },
+}
+
+impl Resource {
+    /// A read-write storage buffer.
+    pub fn storage(name: impl Into<String>, wgsl_type: impl Into<String>) -> Self {
+        Self::Storage {
+            name: name.into(),
+            wgsl_type: wgsl_type.into(),
+            access: Access::ReadWrite,
+        }
+    }
+
+    /// A read-only storage buffer.
+    pub fn storage_read(name: impl Into<String>, wgsl_type: impl Into<String>) -> Self {
+        Self::Storage {
+            name: name.into(),
+            wgsl_type: wgsl_type.into(),
+            access: Access::Read,
+        }
+    }
+
+    /// A uniform buffer.
+    pub fn uniform(name: impl Into<String>, wgsl_type: impl Into<String>) -> Self {
+        Self::Uniform {
+            name: name.into(),
+            wgsl_type: wgsl_type.into(),
+        }
+    }
+
+    /// The WGSL variable name.
+    pub fn name(&self) -> &str {
+        match self {
+            Self::Storage { name, .. } | Self::Uniform { name, .. } => name,
+        }
+    }
+}
+
+/// A procedure graph: compile it with [`Graph::compile`].
+#[derive(Clone, Debug, Default)]
+pub struct Graph {
+    pub(crate) name: String,
+    pub(crate) procedures: Vec<Procedure>,
+    pub(crate) connections: Vec<Connection>,
+    pub(crate) library: String,
+    pub(crate) resources: Vec<Resource>,
+}
+
+impl Graph {
+    /// An empty graph; the name appears in the generated module's header.
+    pub fn new(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            ..Self::default()
+        }
+    }
+
+    /// Adds a procedure.
+    pub fn procedure(&mut self, procedure: Procedure) -> &mut Self {
+        self.procedures.push(procedure);
+        self
+    }
+
+    /// Lets `from` enqueue at most one item into `to` per item it runs.
+    pub fn connect(&mut self, from: &str, to: &str) -> &mut Self {
+        self.connect_with_fan_out(from, to, 1)
+    }
+
+    /// Lets `from` enqueue up to `fan_out` items into `to` per item it runs.
+    pub fn connect_with_fan_out(&mut self, from: &str, to: &str, fan_out: u32) -> &mut Self {
+        self.connections.push(Connection {
+            from: from.to_owned(),
+            to: to.to_owned(),
+            fan_out,
+        });
+        self
+    }
+
+    /// Appends WGSL to the graph's shared library (helper functions, structs,
+    /// constants). Names must not start with `sched_`, `SCHED_` or `enqueue_`,
+    /// which the generator reserves.
+    pub fn library(&mut self, wgsl: &str) -> &mut Self {
+        if !self.library.is_empty() && !self.library.ends_with('\n') {
+            self.library.push('\n');
+        }
+        self.library.push_str(wgsl);
+        self
+    }
+
+    /// Declares an extra resource (bound at group 1, binding = declaration index).
+    pub fn resource(&mut self, resource: Resource) -> &mut Self {
+        self.resources.push(resource);
+        self
+    }
+
+    /// The procedures in declaration order.
+    pub fn procedures(&self) -> &[Procedure] {
+        &self.procedures
+    }
+}

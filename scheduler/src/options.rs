@@ -1,0 +1,53 @@
+//! Options that make compilation independent of the machine it runs on.
+
+/// How a workgroup chooses the next queue to pop from.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Policy {
+    /// Take work from the highest-priority non-empty queue (ties: declaration
+    /// order). Giving leaves higher priority than their producers works the
+    /// graph depth-first and keeps queues small.
+    #[default]
+    Priority,
+    /// Ignore priorities: each workgroup starts its scan at a queue that rotates
+    /// with the workgroup index and iteration.
+    RoundRobin,
+}
+
+/// What a graph is compiled for. The generated WGSL depends only on the graph
+/// and these options, never on the adapter it later runs on.
+#[derive(Clone, Debug)]
+pub struct CompileOptions {
+    /// Threads per workgroup (a power of two).
+    pub workgroup_size: u32,
+    /// Queue selection policy.
+    pub policy: Policy,
+    /// Limits the module must respect (workgroup memory, bindings, sizes).
+    pub limits: wgpu::Limits,
+    /// Features the module may use (passed to naga validation as capabilities).
+    pub features: wgpu::Features,
+}
+
+impl Default for CompileOptions {
+    /// 256 threads, priority policy, WebGPU default limits, no features.
+    fn default() -> Self {
+        Self {
+            workgroup_size: 256,
+            policy: Policy::Priority,
+            limits: wgpu::Limits::default(),
+            features: wgpu::Features::empty(),
+        }
+    }
+}
+
+impl CompileOptions {
+    /// Default options with the given features enabled.
+    pub fn with_features(features: wgpu::Features) -> Self {
+        Self {
+            features,
+            ..Self::default()
+        }
+    }
+}

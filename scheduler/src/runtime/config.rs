@@ -1,0 +1,125 @@
+//! Run-time configuration of an executor and the memory it will allocate.
+
+use std::collections::BTreeMap;
+use std::time::Duration;
+
+use crate::CompiledGraph;
+use crate::compile::plan::control;
+
+/// Default queue capacity in items.
+pub const DEFAULT_CAPACITY: u32 = 1 << 16;
+
+/// Default number of persistent workgroups. WebGPU cannot tell how many
+/// workgroups are resident at once, so this is a fixed guess that fills a large
+/// GPU (4 x 256-thread workgroups on each of ~64 compute units). Launching more
+/// than are resident is safe (see docs/scheduler.md) but wastes a little; fewer
+/// leave the GPU partly idle. Tune it with [`ExecutorConfig::workgroups`].
+pub const DEFAULT_WORKGROUPS: u32 = 256;
+
+/// Default host-side timeout of one run.
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// Queue capacities in items, per procedure.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Capacities {
+    /// Capacity of every queue not named in `per_procedure`.
+    pub default: u32,
+    /// Overrides by procedure name.
+    pub per_procedure: BTreeMap<String, u32>,
+}
+
+impl Default for Capacities {
+    fn default() -> Self {
+        Self::uniform(DEFAULT_CAPACITY)
+    }
+}
+
+impl Capacities {
+    /// Every queue gets `capacity` items.
+    pub fn uniform(capacity: u32) -> Self {
+        Self {
+            default: capacity,
+            per_procedure: BTreeMap::new(),
+        }
+    }
+
+    /// Sets the capacity of one procedure's queue.
+    pub fn with(mut self, procedure: &str, capacity: u32) -> Self {
+        self.per_procedure.insert(procedure.to_owned(), capacity);
+        self
+    }
+
+    /// The capacity of `procedure`'s queue.
+    pub fn of(&self, procedure: &str) -> u32 {
+        self.per_procedure
+            .get(procedure)
+            .copied()
+            .unwrap_or(self.default)
+    }
+}
+
+/// How an [`Executor`](crate::Executor) runs a compiled graph.
+#[derive(Clone, Debug)]
+pub struct ExecutorConfig {
+    /// Queue capacities.
+    pub capacities: Capacities,
+    /// Persistent workgroups per dispatch ([`DEFAULT_WORKGROUPS`] if `None`).
+    pub workgroups: Option<u32>,
+    /// Iterations after which each workgroup leaves; the host then dispatches
+    /// again until the work is done. `None`: workgroups stay until no work is
+    /// left (one dispatch).
+    pub iteration_budget: Option<u32>,
+    /// Host-side limit on one run.
+    pub timeout: Duration,
+}
+
+impl Default for ExecutorConfig {
+    fn default() -> Self {
+        Self {
+            capacities: Capacities::default(),
+            workgroups: None,
+            iteration_budget: None,
+            timeout: DEFAULT_TIMEOUT,
+        }
+    }
+}
+
+/// Bytes a configuration allocates on the device.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct MemoryPlan {
+    /// Queue slots and sequence words.
+    pub queue_bytes: u64,
+    /// Per-workgroup inbox and staging.
+    pub staging_bytes: u64,
+    /// Counters (plus their read-back copy).
+    pub control_bytes: u64,
+    /// Uniform configuration.
+    pub config_bytes: u64,
+    /// Everything together.
+    pub total_bytes: u64,
+}
+
+impl CompiledGraph {
+    /// The device memory `config` will allocate for this graph.
+    pub fn memory_plan(&self, config: &ExecutorConfig) -> MemoryPlan {
+        let workgroups = u64::from(config.workgroups.unwrap_or(DEFAULT_WORKGROUPS));
+        let queue_words: u64 = self
+            .plan
+            .queues
+            .iter()
+            .map(|q| u64::from(config.capacities.of(&q.name)) * (u64::from(q.item_words) + 1))
+            .sum();
+        let queue_bytes = 4 * queue_words.max(1);
+        let staging_bytes =
+            4 * (workgroups * u64::from(self.plan.inbox_words + self.plan.stage_words)).max(1);
+        let control_bytes = 2 * 4 * u64::from(control::words(self.plan.queues.len()));
+        let config_bytes = 16 * (self.plan.queues.len() as u64 + 1);
+        MemoryPlan {
+            queue_bytes,
+            staging_bytes,
+            control_bytes,
+            config_bytes,
+            total_bytes: queue_bytes + staging_bytes + control_bytes + config_bytes,
+        }
+    }
+}

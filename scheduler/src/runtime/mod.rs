@@ -1,0 +1,6 @@
+//! Running compiled graphs.
+
+pub(crate) mod config;
+pub(crate) mod executor;
+pub(crate) mod report;
+pub(crate) mod seeds;

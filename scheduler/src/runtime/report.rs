@@ -1,0 +1,120 @@
+//! What a run reports: per-procedure counters and timings, as text or JSON.
+
+use std::fmt;
+use std::time::Duration;
+
+/// Counters of one procedure's queue for one run.
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct ProcedureStats {
+    /// Procedure name.
+    pub name: String,
+    /// Queue capacity in items.
+    pub capacity: u32,
+    /// Items seeded by the host.
+    pub seeded: u64,
+    /// Items executed.
+    pub executed: u64,
+    /// Items enqueued by procedures and accepted into the queue.
+    pub enqueued: u64,
+    /// Highest number of items the queue held at once (reserved, unclaimed).
+    pub high_water: u64,
+    /// Items that did not fit into the queue (overflow).
+    pub dropped: u64,
+    /// A lower bound on the capacity this run needed, if it overflowed.
+    pub needed_at_least: u64,
+    /// Enqueues beyond the staging room of the declared fan-out.
+    pub fan_out_overflow: u64,
+}
+
+/// The report of one run.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RunReport {
+    /// One entry per procedure, in declaration order.
+    pub procedures: Vec<ProcedureStats>,
+    /// Workgroups launched per dispatch.
+    pub workgroups: u32,
+    /// Dispatches it took (more than one only with an iteration budget).
+    pub dispatches: u32,
+    /// Host wall time from the first submission to the final read-back.
+    #[serde(with = "duration_ms")]
+    pub wall_time: Duration,
+    /// GPU time from timestamp queries, when the device has them.
+    #[serde(with = "option_duration_ms")]
+    pub gpu_time: Option<Duration>,
+}
+
+impl RunReport {
+    /// Stats of the named procedure.
+    pub fn procedure(&self, name: &str) -> Option<&ProcedureStats> {
+        self.procedures.iter().find(|p| p.name == name)
+    }
+
+    /// Total items executed.
+    pub fn total_executed(&self) -> u64 {
+        self.procedures.iter().map(|p| p.executed).sum()
+    }
+
+    /// The report as pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+}
+
+impl fmt::Display for RunReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{:<20}{:>10}{:>12}{:>12}{:>12}{:>11}{:>9}",
+            "procedure", "capacity", "seeded", "executed", "enqueued", "high-water", "dropped"
+        )?;
+        for p in &self.procedures {
+            writeln!(
+                f,
+                "{:<20}{:>10}{:>12}{:>12}{:>12}{:>11}{:>9}",
+                p.name, p.capacity, p.seeded, p.executed, p.enqueued, p.high_water, p.dropped
+            )?;
+        }
+        write!(
+            f,
+            "{} workgroups, {} dispatch(es), wall {:.3} ms",
+            self.workgroups,
+            self.dispatches,
+            self.wall_time.as_secs_f64() * 1e3
+        )?;
+        if let Some(gpu) = self.gpu_time {
+            write!(f, ", GPU {:.3} ms", gpu.as_secs_f64() * 1e3)?;
+        }
+        Ok(())
+    }
+}
+
+mod duration_ms {
+    use std::time::Duration;
+
+    pub fn serialize<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_f64(d.as_secs_f64() * 1e3)
+    }
+
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Duration, D::Error> {
+        let ms: f64 = serde::Deserialize::deserialize(d)?;
+        Ok(Duration::from_secs_f64(ms.max(0.0) / 1e3))
+    }
+}
+
+mod option_duration_ms {
+    use std::time::Duration;
+
+    pub fn serialize<S: serde::Serializer>(d: &Option<Duration>, s: S) -> Result<S::Ok, S::Error> {
+        match d {
+            Some(d) => s.serialize_some(&(d.as_secs_f64() * 1e3)),
+            None => s.serialize_none(),
+        }
+    }
+
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<Duration>, D::Error> {
+        let ms: Option<f64> = serde::Deserialize::deserialize(d)?;
+        Ok(ms.map(|ms| Duration::from_secs_f64(ms.max(0.0) / 1e3)))
+    }
+}
