@@ -25,8 +25,9 @@ pub struct DeviceRequest {
 
 impl Gpu {
     /// Picks an adapter and creates a device with the adapter's own limits
-    /// (larger buffers than the WebGPU defaults where the hardware allows) and
-    /// `TIMESTAMP_QUERY` when available, plus what `request` asks for.
+    /// (larger buffers than the WebGPU defaults where the hardware allows),
+    /// plus `TIMESTAMP_QUERY` and `MEMORY_DECORATION_COHERENT` when available,
+    /// plus what `request` asks for.
     ///
     /// `WGPU_BACKEND` (e.g. `vulkan`) restricts the backends searched;
     /// `WGPU_ADAPTER_NAME` picks the first adapter whose name contains it
@@ -74,7 +75,10 @@ impl Gpu {
             )));
         }
         let wanted = request.required_features
-            | ((request.optional_features | wgpu::Features::TIMESTAMP_QUERY) & available);
+            | ((request.optional_features
+                | wgpu::Features::TIMESTAMP_QUERY
+                | wgpu::Features::MEMORY_DECORATION_COHERENT)
+                & available);
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("scheduler device"),

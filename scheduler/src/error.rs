@@ -204,6 +204,15 @@ pub enum RunError {
         /// The full report of the run.
         report: Box<RunReport>,
     },
+    /// A spin-wait of the queue protocol ran out of iterations on a driver
+    /// that caps loops (llvmpipe), so the run's results cannot be trusted.
+    #[error(
+        "{waits} queue spin-wait(s) were ended by the driver's loop limit; the results are not trustworthy (use fewer workgroups)"
+    )]
+    LoopLimit {
+        /// How many waits were cut.
+        waits: u32,
+    },
     /// The host-side timeout elapsed before the GPU finished.
     #[error("the run did not finish within {0:?}; the device may need to be recreated")]
     Timeout(Duration),

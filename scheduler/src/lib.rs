@@ -51,7 +51,7 @@ pub use compile::plan::QueuePlan;
 pub use error::{CompileError, DeviceError, RunError, SourceOrigin};
 pub use graph::{Access, Connection, DEFAULT_PRIORITY, Graph, Procedure, Resource};
 pub use item::ItemType;
-pub use options::{CompileOptions, Policy};
+pub use options::{CompileOptions, Policy, recommended_features};
 pub use runtime::config::{
     Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
 };

@@ -51,3 +51,15 @@ impl CompileOptions {
         }
     }
 }
+
+/// The optional features the generated megakernel can use, restricted to those
+/// `device` has. Pass the result to [`CompileOptions::with_features`] (combined
+/// with your own). It is explicit on purpose: the same features give the same
+/// WGSL on every machine.
+///
+/// Today this is `MEMORY_DECORATION_COHERENT`: queue payloads are then plain
+/// `@coherent` loads and stores instead of atomics (faster; see
+/// docs/scheduler.md, "Hand-off").
+pub fn recommended_features(device: &wgpu::Device) -> wgpu::Features {
+    device.features() & wgpu::Features::MEMORY_DECORATION_COHERENT
+}

@@ -1,52 +1,82 @@
 // ---- scheduler runtime (shaders/scheduler/runtime.wgsl) ----
-// Queue protocol shared by every generated megakernel. The generated part of the
-// module defines the SCHED_* constants, the bindings and the workgroup variables
-// used here. docs/scheduler.md argues why the protocol is race-free and terminates.
+// Queue protocol shared by every generated megakernel. The generated part of
+// the module defines the SCHED_* constants, the bindings, the workgroup
+// variables and sched_payload_load/store used here. docs/scheduler.md argues
+// why the protocol is race-free and why it terminates.
 //
-// Each queue is a ring of `capacity` slots. A slot holds one item (item_words
-// words) plus one sequence word. The sequence word is stored relative to the slot
-// index s, so a zero-filled buffer is a valid empty queue:
-//   seq == t - s        slot is free for the producer holding ticket t
-//   seq == t - s + 1    slot holds the item of ticket t (published)
-// Tickets are handed out by the `tail` counter (producers) and `head` counter
-// (consumers); the slot of ticket t is t % capacity.
+// Each queue is a ring of `capacity` item slots (a power of two). Tickets come
+// from four counters in the control buffer, all wrapping u32:
+//   tail       next ticket a producer reserves
+//   published  every ticket below it holds a complete item
+//   head       next ticket a consumer claims (never beyond `published`)
+//   released   every ticket below it has been copied out; its slot is free
+// Producers and consumers move whole ranges: a producer reserves [b, b+n),
+// writes the items, and commits `published` from b to b+n once every earlier
+// range is published. Consumers claim only published items and commit
+// `released` in the same in-order way. So no item is ever read half-written,
+// and no per-item flag is needed.
 
 fn sched_ctrl(q: u32, field: u32) -> u32 {
     return SCHED_CTRL_QUEUE_BASE + q * SCHED_CTRL_QUEUE_STRIDE + field;
 }
 
 fn sched_capacity(q: u32) -> u32 {
-    return sched_config[q].x;
+    return sched_config[q].x + 1u;
 }
 
-fn sched_slot_word(q: u32, ticket: u32, word: u32) -> u32 {
-    let slot = ticket % sched_capacity(q);
-    return sched_config[q].y + slot * sched_item_words[q] + word;
+fn sched_slot_word(q: u32, ticket: u32) -> u32 {
+    return sched_config[q].y + (ticket & sched_config[q].x) * sched_item_words[q];
 }
 
-fn sched_seq_word(q: u32, ticket: u32) -> u32 {
-    return sched_config[q].z + ticket % sched_capacity(q);
+fn sched_reached(index: u32, goal: u32) -> bool {
+    return i32(atomicLoad(&sched_control[index]) - goal) >= 0;
 }
 
-fn sched_slot_base(ticket: u32, q: u32) -> u32 {
-    return ticket - ticket % sched_capacity(q);
+// Spins until control word `index` has reached `goal` (wrapping compare).
+// llvmpipe (Mesa's software driver behind lavapipe) gives each invocation one
+// budget of 65535 loop iterations shared by all its loops and ends whichever
+// loop is running when it runs out (docs/scheduler.md, "Loop limits"). So the
+// protocol moves data without loops, and this wait survives being cut: the
+// outer loop restarts the inner one, and the wait ends only when the condition
+// holds. Eight checks per iteration keep the shared budget from draining.
+// Should even the outer loop run out, the run is flagged and fails loudly.
+fn sched_wait_reached(index: u32, goal: u32) {
+    for (var round = 0u; round < 65535u; round += 1u) {
+        loop {
+            sched_spins += 1u;
+            if (sched_reached(index, goal) || sched_reached(index, goal) || sched_reached(index, goal)
+                || sched_reached(index, goal) || sched_reached(index, goal) || sched_reached(index, goal)
+                || sched_reached(index, goal) || sched_reached(index, goal)) {
+                return;
+            }
+        }
+    }
+    atomicAdd(&sched_control[SCHED_CTRL_LOOPS_CUT], 1u);
 }
 
-// Consumer side, thread 0 only: claim up to `max_items` tickets of queue q.
-// Returns (first ticket, count); count 0 means the queue looked empty. The
+// The in-order commit of `published` and `released`: wait until the ranges
+// before ours are committed, then move the counter past ours. The range before
+// ours belongs to a workgroup that is running (it took its tickets) and that
+// waits only on ranges before its own, so the wait ends (docs/scheduler.md).
+fn sched_commit(q: u32, field: u32, value: u32, next: u32) {
+    let index = sched_ctrl(q, field);
+    sched_wait_reached(index, value);
+    atomicStore(&sched_control[index], next);
+}
+
+// Consumer side, thread 0 only: claim up to `max_items` published tickets of
+// queue q. Returns (first ticket, count); count 0 means nothing to take. The
 // compare-exchange loop is lock-free; after a bounded number of lost races the
 // workgroup simply tries the next queue.
 fn sched_try_claim(q: u32, max_items: u32) -> vec2<u32> {
     for (var attempt = 0u; attempt < 16u; attempt += 1u) {
         let head = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_HEAD)]);
-        let tail = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_TAIL)]);
-        let available = tail - head;
+        let published = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_PUBLISHED)]);
+        let available = published - head;
         if (available == 0u || available > 0x80000000u) {
             return vec2<u32>(0u, 0u);
         }
-        // Never more than the capacity: a batch then cannot hold both ticket
-        // t and t - capacity (see docs/scheduler.md).
-        let n = min(min(available, max_items), sched_capacity(q));
+        let n = min(available, max_items);
         let swap = atomicCompareExchangeWeak(&sched_control[sched_ctrl(q, SCHED_Q_HEAD)], head, head + n);
         if (swap.exchanged) {
             // `fill` counts reserved-but-unclaimed items; producers test it
@@ -61,6 +91,12 @@ fn sched_try_claim(q: u32, max_items: u32) -> vec2<u32> {
 // Thread 0 only: choose the next batch. Returns (queue, first ticket, count, _),
 // or SCHED_IDLE / SCHED_EXIT in .x.
 fn sched_pick(workgroup: u32, iteration: u32) -> vec4<u32> {
+    // A workgroup that spun a lot leaves at this batch boundary, so that on
+    // llvmpipe no invocation drains its shared loop budget (docs/scheduler.md,
+    // "Loop limits"). The host dispatches again while work is outstanding.
+    if (sched_spins > sched_config[SCHED_NUM_QUEUES].y) {
+        return vec4<u32>(SCHED_EXIT, 0u, 0u, 0u);
+    }
     let start = sched_policy_start(workgroup, iteration);
     for (var i = 0u; i < SCHED_NUM_QUEUES; i += 1u) {
         let q = sched_queue_order[(start + i) % SCHED_NUM_QUEUES];
@@ -78,74 +114,23 @@ fn sched_pick(workgroup: u32, iteration: u32) -> vec4<u32> {
     return vec4<u32>(SCHED_IDLE, 0u, 0u, 0u);
 }
 
-// Consumer side, all threads: copy the `count` claimed items of queue q into
-// this workgroup's inbox, releasing each slot as soon as its item is copied.
-// Items are copied as they become published, so a slot is never held while
-// waiting for a different item: the producer of a later ticket may be waiting
-// for exactly this slot (docs/scheduler.md, "Progress").
-fn sched_receive(lid: u32, q: u32, first: u32, count: u32) {
-    let words = sched_item_words[q];
-    var waiting = lid < count;
+// Consumer side, all threads, after the generated runner copied the claimed
+// items into the inbox (one item per thread, without loops): hand the slots
+// back. The items were published (claims never pass `published`), so receiving
+// never waits on a producer. The runner puts a storageBarrier (acquire) before
+// its copy; this one is the release: the copies complete before the slots are
+// handed back.
+fn sched_receive_done(lid: u32, q: u32, first: u32, count: u32) {
+    storageBarrier();
     if (lid == 0u) {
-        atomicStore(&sched_wg_remaining, count);
-    }
-    loop {
-        var ready = false;
-        if (waiting) {
-            let ticket = first + lid;
-            ready = atomicLoad(&sched_queue_words[sched_seq_word(q, ticket)]) == sched_slot_base(ticket, q) + 1u;
-        }
-        // Acquire: payload loads come after the publication was observed.
-        storageBarrier();
-        if (ready) {
-            let source = sched_slot_word(q, first + lid, 0u);
-            let inbox = sched_wg_base + lid * words;
-            for (var w = 0u; w < words; w += 1u) {
-                sched_staging[inbox + w] = atomicLoad(&sched_queue_words[source + w]);
-            }
-        }
-        // Release: the payload loads complete before the slot is handed back.
-        storageBarrier();
-        if (ready) {
-            sched_release(q, first + lid);
-            waiting = false;
-            atomicSub(&sched_wg_remaining, 1u);
-        }
-        workgroupBarrier();
-        if (lid == 0u) {
-            sched_wg_remaining_snapshot = atomicLoad(&sched_wg_remaining);
-        }
-        if (workgroupUniformLoad(&sched_wg_remaining_snapshot) == 0u) {
-            break;
-        }
+        sched_commit(q, SCHED_Q_RELEASED, first, first + count);
     }
 }
 
-// Consumer side: hand the slot of `ticket` to the producer of ticket + capacity.
-fn sched_release(q: u32, ticket: u32) {
-    let cap = sched_capacity(q);
-    atomicStore(&sched_queue_words[sched_seq_word(q, ticket)], ticket - ticket % cap + cap);
-}
-
-// Producer side: spin until the consumer of ticket - capacity released the slot.
-// The capacity test in sched_flush guarantees that ticket was already claimed by
-// a running workgroup, which releases it without waiting on anything else
-// (see docs/scheduler.md, "Progress").
-fn sched_wait_free(q: u32, ticket: u32) {
-    let want = ticket - ticket % sched_capacity(q);
-    let word = sched_seq_word(q, ticket);
-    loop {
-        if (atomicLoad(&sched_queue_words[word]) == want) {
-            break;
-        }
-    }
-}
-
-// Producer side, all threads: moves the items a workgroup staged for queue q into the queue. Called by
-// every thread at the top level of the generated runner (uniform control flow).
-// Publication order: payload words (atomic stores), a device-scope release
-// fence (storageBarrier), then the sequence word.
-fn sched_flush(lid: u32, q: u32, stage_offset: u32, stage_capacity: u32) {
+// Producer side, all threads: reserves queue slots for the items this
+// workgroup staged for queue q and returns (first ticket, count), the same in
+// every thread. Called at the top level of the generated runner.
+fn sched_flush_reserve(lid: u32, q: u32, stage_capacity: u32) -> vec2<u32> {
     workgroupBarrier();
     storageBarrier();
     if (lid == 0u) {
@@ -170,31 +155,34 @@ fn sched_flush(lid: u32, q: u32, stage_offset: u32, stage_capacity: u32) {
                 first = atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_TAIL)], accepted);
                 atomicMax(&sched_control[sched_ctrl(q, SCHED_Q_HIGH_WATER)], old + accepted);
                 atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_ENQUEUED)], accepted);
+                // Our slots last held tickets up to first + accepted - capacity.
+                // The capacity test above guarantees those were claimed, and
+                // their consumers release them without waiting on producers.
+                sched_wait_reached(sched_ctrl(q, SCHED_Q_RELEASED), first + accepted - cap);
             }
         }
         atomicStore(&sched_wg_staged[q], 0u);
         sched_wg_flush = vec2<u32>(first, accepted);
     }
     let flush = workgroupUniformLoad(&sched_wg_flush);
-    if (flush.y == 0u) {
-        return;
-    }
-    for (var k = lid; k < flush.y; k += SCHED_WORKGROUP_SIZE) {
-        sched_wait_free(q, flush.x + k);
-    }
     // Acquire: the consumers' reads of these slots happen before our writes.
     storageBarrier();
-    let words = sched_item_words[q];
-    let source = sched_wg_base + SCHED_INBOX_WORDS + stage_offset;
-    for (var w = lid; w < flush.y * words; w += SCHED_WORKGROUP_SIZE) {
-        atomicStore(&sched_queue_words[sched_slot_word(q, flush.x + w / words, w % words)], sched_staging[source + w]);
-    }
-    // Release: payload words are visible before any sequence word says so.
+    return flush;
+}
+
+// Producer side, all threads, after the runner copied the staged items into
+// their slots: publish them. Release: the payload is complete before
+// `published` covers it.
+fn sched_flush_publish(lid: u32, q: u32, flush: vec2<u32>) {
     storageBarrier();
-    for (var k = lid; k < flush.y; k += SCHED_WORKGROUP_SIZE) {
-        let ticket = flush.x + k;
-        atomicStore(&sched_queue_words[sched_seq_word(q, ticket)], sched_slot_base(ticket, q) + 1u);
+    if (lid == 0u) {
+        sched_commit(q, SCHED_Q_PUBLISHED, flush.x, flush.x + flush.y);
     }
+}
+
+// First staging word of the `index`-th item staged for a queue.
+fn sched_stage_word(stage_offset: u32, words: u32, index: u32) -> u32 {
+    return sched_wg_base + SCHED_INBOX_WORDS + stage_offset + index * words;
 }
 
 // Staging: called from enqueue_<Target>. Returns the first staging word for the
@@ -206,7 +194,7 @@ fn sched_stage(q: u32, stage_offset: u32, stage_capacity: u32) -> u32 {
         atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_FANOUT_OVERFLOW)], 1u);
         return 0xffffffffu;
     }
-    return sched_wg_base + SCHED_INBOX_WORDS + stage_offset + index * sched_item_words[q];
+    return sched_stage_word(stage_offset, sched_item_words[q], index);
 }
 
 // Scratch accessors: `slot` is the item's slot in the workgroup, `index` a word

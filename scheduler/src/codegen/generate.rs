@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
 use crate::compile::layout::{ItemLayout, decode_name, encode_name};
-use crate::compile::plan::{Plan, control};
+use crate::compile::plan::{Plan, QueuePlan, control};
 use crate::graph::Procedure;
 use crate::{Access, Policy, Resource, SourceOrigin};
 
@@ -97,6 +97,12 @@ pub(crate) fn generate(
         "Control word: outstanding items.",
     ));
     c.push(constant(
+        "SCHED_CTRL_LOOPS_CUT",
+        "u32",
+        format!("{}u", control::LOOPS_CUT),
+        "Control word: spin-waits the driver cut short (llvmpipe loop limit).",
+    ));
+    c.push(constant(
         "SCHED_CTRL_QUEUE_BASE",
         "u32",
         format!("{}u", control::QUEUE_BASE),
@@ -118,6 +124,8 @@ pub(crate) fn generate(
         ("DROPPED", control::DROPPED),
         ("NEEDED", control::NEEDED),
         ("FANOUT_OVERFLOW", control::FANOUT_OVERFLOW),
+        ("PUBLISHED", control::PUBLISHED),
+        ("RELEASED", control::RELEASED),
     ] {
         c.push(constant(
             &format!("SCHED_Q_{name}"),
@@ -167,11 +175,22 @@ pub(crate) fn generate(
         declaration,
         doc: doc.to_owned(),
     };
-    g.push(global(
-        "@group(0) @binding(0)",
-        "var<storage, read_write> sched_queue_words: array<atomic<u32>>".into(),
-        "Queue slots and sequence words of every queue.",
-    ));
+    let coherent = plan
+        .features
+        .contains(wgpu::Features::MEMORY_DECORATION_COHERENT);
+    if coherent {
+        g.push(global(
+            "@coherent @group(0) @binding(0)",
+            "var<storage, read_write> sched_queue_words: array<u32>".into(),
+            "Item slots of every queue (coherent: plain accesses are seen across workgroups after the fences).",
+        ));
+    } else {
+        g.push(global(
+            "@group(0) @binding(0)",
+            "var<storage, read_write> sched_queue_words: array<atomic<u32>>".into(),
+            "Item slots of every queue (atomic words: no coherent memory decoration compiled for).",
+        ));
+    }
     g.push(global(
         "@group(0) @binding(1)",
         "var<storage, read_write> sched_control: array<atomic<u32>>".into(),
@@ -185,7 +204,7 @@ pub(crate) fn generate(
     g.push(global(
         "@group(0) @binding(3)",
         format!("var<uniform> sched_config: array<vec4<u32>, {}>", n + 1),
-        "Per queue (capacity, slot base, sequence base, 0); last: (iteration budget, 0, 0, 0).",
+        "Per queue (capacity - 1, first slot word, 0, 0); last: (iteration budget, spin limit, 0, 0).",
     ));
     for (binding, resource) in plan.resources.iter().enumerate() {
         let declaration = match resource {
@@ -232,13 +251,8 @@ pub(crate) fn generate(
     ));
     g.push(global(
         "",
-        "var<workgroup> sched_wg_remaining: atomic<u32>".into(),
-        "Claimed items not yet copied into the inbox.",
-    ));
-    g.push(global(
-        "",
-        "var<workgroup> sched_wg_remaining_snapshot: u32".into(),
-        "Copy of sched_wg_remaining for a uniform loop exit.",
+        "var<private> sched_spins: u32".into(),
+        "Spin-wait iterations of this invocation (thread 0), for the spin limit.",
     ));
     g.push(global(
         "",
@@ -265,9 +279,13 @@ pub(crate) fn generate(
     });
 
     module.functions.push(policy_function(plan.policy));
+    module.functions.extend(payload_functions(coherent));
     for (_, layout) in items.values() {
         module.functions.push(layout.decode.clone());
         module.functions.push(layout.encode.clone());
+    }
+    for queue in &plan.queues {
+        module.functions.extend(copy_functions(queue));
     }
     for (q, queue) in plan.queues.iter().enumerate() {
         let mut f = Function::new(enqueue_name(&queue.name))
@@ -341,6 +359,69 @@ fn header(plan: &Plan) -> Vec<String> {
     lines
 }
 
+/// Name of the function that copies one item of `queue` from its slot into
+/// the inbox.
+fn copy_in_name(queue: &str) -> String {
+    format!("sched_copy_in_{queue}")
+}
+
+/// Name of the function that copies one staged item of `queue` into its slot.
+fn copy_out_name(queue: &str) -> String {
+    format!("sched_copy_out_{queue}")
+}
+
+/// Straight-line word copies between a queue slot and the workgroup's region
+/// of the staging buffer. They are written out word by word on purpose: a loop
+/// here could be cut short by llvmpipe's loop limiter (docs/scheduler.md,
+/// "Loop limits"), publishing half-copied items.
+fn copy_functions(queue: &QueuePlan) -> [Function; 2] {
+    let mut copy_in = Function::new(copy_in_name(&queue.name))
+        .doc(format!(
+            "Copies one `{}` from queue slot word `slot` into the inbox at `inbox`.",
+            queue.item
+        ))
+        .param("slot", "u32")
+        .param("inbox", "u32");
+    let mut copy_out = Function::new(copy_out_name(&queue.name))
+        .doc(format!(
+            "Copies one staged `{}` at `source` into queue slot word `slot`.",
+            queue.item
+        ))
+        .param("source", "u32")
+        .param("slot", "u32");
+    for w in 0..queue.item_words {
+        copy_in.line(format!(
+            "sched_staging[inbox + {w}u] = sched_payload_load(slot + {w}u);"
+        ));
+        copy_out.line(format!(
+            "sched_payload_store(slot + {w}u, sched_staging[source + {w}u]);"
+        ));
+    }
+    [copy_in, copy_out]
+}
+
+/// Access to queue payload words. With coherent memory they are plain loads
+/// and stores; otherwise relaxed atomics, which are always coherent. Either
+/// way the runtime orders them with device-scope fences (storageBarrier).
+fn payload_functions(coherent: bool) -> [Function; 2] {
+    let mut load = Function::new("sched_payload_load")
+        .doc("Reads one word of a queue slot.")
+        .param("index", "u32")
+        .returns("u32");
+    let mut store = Function::new("sched_payload_store")
+        .doc("Writes one word of a queue slot.")
+        .param("index", "u32")
+        .param("value", "u32");
+    if coherent {
+        load.line("return sched_queue_words[index];");
+        store.line("sched_queue_words[index] = value;");
+    } else {
+        load.line("return atomicLoad(&sched_queue_words[index]);");
+        store.line("atomicStore(&sched_queue_words[index], value);");
+    }
+    [load, store]
+}
+
 fn policy_function(policy: Policy) -> Function {
     let mut f = Function::new("sched_policy_start")
         .doc("Index into sched_queue_order where this workgroup's scan starts.")
@@ -354,7 +435,7 @@ fn policy_function(policy: Policy) -> Function {
     f
 }
 
-fn runner(plan: &Plan, q: usize, queue: &crate::compile::plan::QueuePlan) -> Function {
+fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     let tpi = queue.threads_per_item;
     let mut f = Function::new(format!("sched_run_{}", queue.name))
         .doc(format!("Runs one batch of `{}`: receive the items, run the body on every thread, publish the children.", queue.name))
@@ -365,7 +446,17 @@ fn runner(plan: &Plan, q: usize, queue: &crate::compile::plan::QueuePlan) -> Fun
     f.line(format!("let thread = lid % {tpi}u;"));
     f.line("let valid = slot < count;");
     f.line(format!("sched_scratch_stride = {}u;", queue.scratch_words));
-    f.line(format!("sched_receive(lid, {q}u, first, count);"));
+    f.line("// Receive: one item per thread, copied without loops (docs/scheduler.md,");
+    f.line("// \"Loop limits\"). Acquire: the copy comes after the claim saw `published`.");
+    f.line("storageBarrier();");
+    f.line("if (lid < count) {");
+    f.line(format!(
+        "    {}(sched_slot_word({q}u, first + lid), sched_wg_base + lid * {}u);",
+        copy_in_name(&queue.name),
+        queue.item_words
+    ));
+    f.line("}");
+    f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
     f.line(format!("var item: {};", queue.item));
     f.line("if (valid) {");
     f.line(format!(
@@ -380,10 +471,34 @@ fn runner(plan: &Plan, q: usize, queue: &crate::compile::plan::QueuePlan) -> Fun
     ));
     for &(t, _) in &queue.targets {
         let target = &plan.queues[t];
+        let flush = format!("flush_{}", target.name);
         f.line(format!(
-            "sched_flush(lid, {t}u, {}u, {}u);",
-            target.stage_offset, target.stage_capacity
+            "// Publish the items staged for `{}`.",
+            target.name
         ));
+        f.line(format!(
+            "let {flush} = sched_flush_reserve(lid, {t}u, {}u);",
+            target.stage_capacity
+        ));
+        f.line(format!("if ({flush}.y > 0u) {{"));
+        let per_thread = target.stage_capacity.div_ceil(plan.workgroup_size);
+        for j in 0..per_thread {
+            let k = if j == 0 {
+                "lid".to_owned()
+            } else {
+                format!("lid + {}u", j * plan.workgroup_size)
+            };
+            f.line(format!("    if ({k} < {flush}.y) {{"));
+            f.line(format!(
+                "        {}(sched_stage_word({}u, {}u, {k}), sched_slot_word({t}u, {flush}.x + {k}));",
+                copy_out_name(&target.name),
+                target.stage_offset,
+                target.item_words
+            ));
+            f.line("    }");
+        }
+        f.line(format!("    sched_flush_publish(lid, {t}u, {flush});"));
+        f.line("}");
     }
     f.line("if (lid == 0u) {");
     f.line(format!(

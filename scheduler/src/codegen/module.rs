@@ -207,7 +207,7 @@ impl KernelModule {
             regions: Vec::new(),
         };
         for line in &self.header {
-            w.push_line(&format!("// {line}").trim_end().to_owned());
+            w.push_line(format!("// {line}").trim_end());
         }
         w.section("constants");
         for c in &self.constants {
@@ -268,6 +268,10 @@ fn section_of(name: &str) -> &'static str {
         "procedure runners"
     } else if name == "sched_policy_start" {
         "queue policy"
+    } else if name.starts_with("sched_payload_") {
+        "queue payload access"
+    } else if name.starts_with("sched_copy_") {
+        "item copies"
     } else {
         "entry point"
     }

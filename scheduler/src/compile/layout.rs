@@ -119,7 +119,7 @@ pub(crate) fn analyze(
             words: member.offset / 4,
             terms: Vec::new(),
         };
-        emitter.emit(member.ty, &format!(".{name}"), &offset, 0, "", &name)?;
+        emitter.emit(member.ty, &format!(".{name}"), &offset, "", &name)?;
     }
     decode.line("return value;");
     Ok(ItemLayout {
@@ -216,7 +216,6 @@ impl Emitter<'_> {
         ty: Handle<Type>,
         path: &str,
         offset: &Offset,
-        depth: usize,
         indent: &str,
         field: &str,
     ) -> Result<(), CompileError> {
@@ -260,24 +259,17 @@ impl Emitter<'_> {
                 size: ArraySize::Constant(count),
                 stride,
             } => {
-                let var = format!("sched_k{depth}");
-                let header =
-                    format!("{indent}for (var {var} = 0u; {var} < {count}u; {var} += 1u) {{");
-                self.decode.line(header.clone());
-                self.encode.line(header);
-                let mut inner = offset.clone();
-                inner.terms.push(format!("{var} * {}u", stride / 4));
-                let nested = format!("{indent}    ");
-                self.emit(
-                    *base,
-                    &format!("{path}[{var}]"),
-                    &inner,
-                    depth + 1,
-                    &nested,
-                    field,
-                )?;
-                self.decode.line(format!("{indent}}}"));
-                self.encode.line(format!("{indent}}}"));
+                // Written out element by element, not as a loop: llvmpipe's loop
+                // limiter could cut a loop short (docs/scheduler.md, "Loop limits").
+                for i in 0..count.get() {
+                    self.emit(
+                        *base,
+                        &format!("{path}[{i}]"),
+                        &offset.plus(i * stride / 4),
+                        indent,
+                        field,
+                    )?;
+                }
                 Ok(())
             }
             TypeInner::Struct { members, .. } => {
@@ -287,7 +279,6 @@ impl Emitter<'_> {
                         member.ty,
                         &format!("{path}.{name}"),
                         &offset.plus(member.offset / 4),
-                        depth,
                         indent,
                         field,
                     )?;

@@ -53,10 +53,12 @@ pub(crate) struct Plan {
 pub(crate) mod control {
     /// Outstanding work: items reserved and not yet finished.
     pub const PENDING: u32 = 0;
+    /// Spin-waits that a driver's loop limiter ended early (llvmpipe).
+    pub const LOOPS_CUT: u32 = 1;
     /// First per-queue block.
     pub const QUEUE_BASE: u32 = 4;
     /// Words per queue block.
-    pub const QUEUE_STRIDE: u32 = 10;
+    pub const QUEUE_STRIDE: u32 = 12;
     /// Consumer ticket counter.
     pub const HEAD: u32 = 0;
     /// Producer ticket counter.
@@ -75,6 +77,10 @@ pub(crate) mod control {
     pub const NEEDED: u32 = 7;
     /// Enqueues beyond the staging room (declared fan-out).
     pub const FANOUT_OVERFLOW: u32 = 8;
+    /// Every ticket below it holds a complete item.
+    pub const PUBLISHED: u32 = 9;
+    /// Every ticket below it has been copied out (its slot is free).
+    pub const RELEASED: u32 = 10;
 
     /// Number of control words for `queues` queues.
     pub fn words(queues: usize) -> u32 {
@@ -89,9 +95,8 @@ pub(crate) mod control {
 
 /// Workgroup bytes the scheduler itself needs besides scratch.
 pub(crate) fn internal_workgroup_bytes(queues: usize) -> u32 {
-    // pick (vec4<u32>) + flush (vec2<u32>) + remaining and its snapshot
-    // + one staged counter per queue
-    16 + 8 + 8 + 4 * queues as u32
+    // pick (vec4<u32>) + flush (vec2<u32>) + one staged counter per queue
+    16 + 8 + 4 * queues as u32
 }
 
 impl Plan {

@@ -16,6 +16,21 @@ pub const DEFAULT_CAPACITY: u32 = 1 << 16;
 /// leave the GPU partly idle. Tune it with [`ExecutorConfig::workgroups`].
 pub const DEFAULT_WORKGROUPS: u32 = 256;
 
+/// Iteration budget used when [`ExecutorConfig::iteration_budget`] is `None`
+/// and the adapter is a CPU (llvmpipe, behind lavapipe). llvmpipe counts the
+/// iterations of each loop across all of its runs within one invocation and
+/// silently ends whichever loop is running once that count passes 65535.
+/// Leaving the persistent loop after 64 batches starts fresh invocations often
+/// enough for bodies whose loops run up to ~500 iterations per batch.
+/// docs/scheduler.md ("Loop limits") has details.
+pub const CPU_ITERATION_BUDGET: u32 = 64;
+
+/// Spin-wait iterations after which a workgroup leaves at its next batch
+/// boundary on CPU adapters (llvmpipe), for the same reason as
+/// [`CPU_ITERATION_BUDGET`]. Together they leave each invocation roughly 30,000
+/// loop iterations for procedure bodies: about 500 per batch.
+pub const CPU_SPIN_LIMIT: u32 = 16384;
+
 /// Default host-side timeout of one run.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(60);
 
@@ -50,11 +65,16 @@ impl Capacities {
     }
 
     /// The capacity of `procedure`'s queue.
+    ///
+    /// The allocated capacity: the requested value rounded up to a power of
+    /// two (slots are addressed with a mask), at least 1 and at most 2^31.
     pub fn of(&self, procedure: &str) -> u32 {
-        self.per_procedure
+        let requested = self
+            .per_procedure
             .get(procedure)
             .copied()
-            .unwrap_or(self.default)
+            .unwrap_or(self.default);
+        requested.clamp(1, 1 << 31).next_power_of_two()
     }
 }
 
@@ -66,8 +86,8 @@ pub struct ExecutorConfig {
     /// Persistent workgroups per dispatch ([`DEFAULT_WORKGROUPS`] if `None`).
     pub workgroups: Option<u32>,
     /// Iterations after which each workgroup leaves; the host then dispatches
-    /// again until the work is done. `None`: workgroups stay until no work is
-    /// left (one dispatch).
+    /// again until the work is done. `None`: no budget (one dispatch), except
+    /// on CPU adapters, which get [`CPU_ITERATION_BUDGET`].
     pub iteration_budget: Option<u32>,
     /// Host-side limit on one run.
     pub timeout: Duration,
@@ -87,7 +107,7 @@ impl Default for ExecutorConfig {
 /// Bytes a configuration allocates on the device.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct MemoryPlan {
-    /// Queue slots and sequence words.
+    /// Queue slots.
     pub queue_bytes: u64,
     /// Per-workgroup inbox and staging.
     pub staging_bytes: u64,
@@ -107,7 +127,7 @@ impl CompiledGraph {
             .plan
             .queues
             .iter()
-            .map(|q| u64::from(config.capacities.of(&q.name)) * (u64::from(q.item_words) + 1))
+            .map(|q| u64::from(config.capacities.of(&q.name)) * u64::from(q.item_words))
             .sum();
         let queue_bytes = 4 * queue_words.max(1);
         let staging_bytes =

@@ -5,7 +5,9 @@ use std::time::{Duration, Instant};
 
 use crate::compile::plan::{Plan, control};
 use crate::readback::map_read;
-use crate::runtime::config::{DEFAULT_WORKGROUPS, ExecutorConfig};
+use crate::runtime::config::{
+    CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, DEFAULT_WORKGROUPS, ExecutorConfig,
+};
 use crate::{Access, CompiledGraph, ProcedureStats, Resource, RunError, RunReport, Seeds};
 
 /// A user resource bound for a run, by its declared name.
@@ -52,7 +54,7 @@ pub struct Executor {
     timestamps: Option<Timestamps>,
     capacities: Vec<u32>,
     workgroups: u32,
-    iteration_budget: Option<u32>,
+    iteration_budget: u32,
     timeout: Duration,
 }
 
@@ -112,11 +114,19 @@ impl Executor {
         let capacities: Vec<u32> = plan
             .queues
             .iter()
-            .map(|q| config.capacities.of(&q.name).max(1))
+            .map(|q| config.capacities.of(&q.name))
             .collect();
+        let cpu = device.adapter_info().device_type == wgpu::DeviceType::Cpu;
+        let iteration_budget = match config.iteration_budget {
+            Some(budget) => budget.max(1),
+            None if cpu => CPU_ITERATION_BUDGET,
+            None => u32::MAX,
+        };
+        let spin_limit = if cpu { CPU_SPIN_LIMIT } else { u32::MAX };
         let memory = compiled.memory_plan(config);
-        let binding_limit =
-            u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let binding_limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
         for (what, bytes) in [
             ("queue buffer", memory.queue_bytes),
             ("staging buffer", memory.staging_bytes),
@@ -229,16 +239,16 @@ impl Executor {
             U::UNIFORM | U::COPY_DST,
         );
 
-        // Config: per queue (capacity, slot base, sequence base, 0), then the budget.
+        // Config: per queue (capacity - 1, first slot word, 0, 0), then
+        // (iteration budget, spin limit, 0, 0).
         let mut words = Vec::with_capacity(4 * (plan.queues.len() + 1));
         let mut next = 0u32;
         for (q, queue_plan) in plan.queues.iter().enumerate() {
             let slots = next;
-            let seqs = slots + capacities[q] * queue_plan.item_words;
-            next = seqs + capacities[q];
-            words.extend_from_slice(&[capacities[q], slots, seqs, 0]);
+            next = slots + capacities[q] * queue_plan.item_words;
+            words.extend_from_slice(&[capacities[q] - 1, slots, 0, 0]);
         }
-        words.extend_from_slice(&[config.iteration_budget.unwrap_or(u32::MAX).max(1), 0, 0, 0]);
+        words.extend_from_slice(&[iteration_budget, spin_limit, 0, 0]);
         queue.write_buffer(&config_buffer, 0, bytemuck::cast_slice(&words));
 
         let scheduler_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -291,7 +301,7 @@ impl Executor {
             timestamps,
             capacities,
             workgroups,
-            iteration_budget: config.iteration_budget,
+            iteration_budget,
             timeout: config.timeout,
         })
     }
@@ -299,6 +309,16 @@ impl Executor {
     /// Workgroups launched per dispatch.
     pub fn workgroups(&self) -> u32 {
         self.workgroups
+    }
+
+    /// Iterations after which a workgroup leaves (`u32::MAX`: no budget).
+    pub fn iteration_budget(&self) -> u32 {
+        self.iteration_budget
+    }
+
+    /// Allocated capacity of each queue, in declaration order.
+    pub fn capacities(&self) -> &[u32] {
+        &self.capacities
     }
 
     /// Runs the graph from `seeds` until no work is left.
@@ -366,15 +386,18 @@ impl Executor {
                 let ticks = stamps[1].saturating_sub(stamps[0]) as f64;
                 *total += Duration::from_nanos((ticks * t.period_ns) as u64);
             }
+            if counters[control::LOOPS_CUT as usize] > 0 {
+                return Err(RunError::LoopLimit {
+                    waits: counters[control::LOOPS_CUT as usize],
+                });
+            }
             if counters[control::PENDING as usize] == 0 {
                 break counters;
             }
-            if self.iteration_budget.is_none() {
-                return Err(RunError::Gpu(format!(
-                    "the megakernel exited with {} items outstanding (scheduler bug)",
-                    counters[control::PENDING as usize]
-                )));
-            }
+            // Work remains: the workgroups spent their iteration budget, or a
+            // driver ended the persistent loop early (llvmpipe stops any loop
+            // after 65535 iterations; that happens between batches, so nothing
+            // is lost). The queues persist, so dispatch again.
             if Instant::now() >= deadline {
                 return Err(RunError::Timeout(self.timeout));
             }
@@ -508,35 +531,26 @@ impl Executor {
             }
         }
 
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("scheduler reset"),
-            });
-        encoder.clear_buffer(&self.queue_words, 0, None);
-        self.queue.submit([encoder.finish()]);
-        // Writes are ordered after the submission above and before the next one.
+        // Stale payload in the queues is harmless: only tickets below
+        // `published` are ever read, so the queues need no clearing.
         let mut control_words = vec![0u32; control::words(n) as usize];
         let mut slot_base = 0u64;
         for (q, queue) in self.plan.queues.iter().enumerate() {
-            let capacity = u64::from(self.capacities[q]);
-            let seq_base = slot_base + capacity * u64::from(queue.item_words);
             if counts[q] > 0 {
                 self.queue
                     .write_buffer(&self.queue_words, 4 * slot_base, &per_queue[q]);
-                // Ticket t in slot t is published: stored sequence t - t + 1 = 1.
-                let published = vec![1u32; counts[q] as usize];
-                self.queue.write_buffer(
-                    &self.queue_words,
-                    4 * seq_base,
-                    bytemuck::cast_slice(&published),
-                );
             }
+            // Seeds hold tickets 0..count, published and unclaimed.
             let count = counts[q] as u32;
-            control_words[control::index(q, control::TAIL)] = count;
-            control_words[control::index(q, control::FILL)] = count;
-            control_words[control::index(q, control::HIGH_WATER)] = count;
-            slot_base = seq_base + capacity;
+            for field in [
+                control::TAIL,
+                control::PUBLISHED,
+                control::FILL,
+                control::HIGH_WATER,
+            ] {
+                control_words[control::index(q, field)] = count;
+            }
+            slot_base += u64::from(self.capacities[q]) * u64::from(queue.item_words);
         }
         control_words[control::PENDING as usize] = counts.iter().sum::<u64>() as u32;
         self.queue
