@@ -1,0 +1,57 @@
+//! Shared support for the workspace's tests.
+//!
+//! GPU tests call [`gpu`]. Without an adapter it **panics**, so a machine
+//! without a working driver fails loudly instead of passing by skipping. Set
+//! `SKIP_GPU_TESTS=1` to skip GPU tests deliberately (the one switch for the
+//! whole workspace).
+
+use std::sync::OnceLock;
+
+use scheduler::{DeviceRequest, Gpu};
+
+/// Whether the user asked to skip GPU tests.
+pub fn skip_gpu_tests() -> bool {
+    std::env::var("SKIP_GPU_TESTS").is_ok_and(|v| v == "1")
+}
+
+/// The shared device for GPU tests, or `None` when `SKIP_GPU_TESTS=1`.
+///
+/// # Panics
+/// When no adapter or device can be had and GPU tests were not skipped.
+pub fn gpu() -> Option<&'static Gpu> {
+    static GPU: OnceLock<Gpu> = OnceLock::new();
+    if skip_gpu_tests() {
+        eprintln!("SKIP_GPU_TESTS=1: skipping a GPU test");
+        return None;
+    }
+    Some(GPU.get_or_init(|| {
+        let request = DeviceRequest {
+            optional_features: scheduler::wgpu::Features::SHADER_INT64
+                | scheduler::wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX,
+            ..Default::default()
+        };
+        let gpu = Gpu::new(&request).unwrap_or_else(|e| {
+            panic!(
+                "GPU tests need an adapter ({e}); set SKIP_GPU_TESTS=1 to skip them deliberately"
+            )
+        });
+        eprintln!("GPU tests run on: {}", gpu.describe());
+        gpu
+    }))
+}
+
+/// A fresh random seed, printed so a failure can be replayed with
+/// `TEST_SEED=<seed>`.
+pub fn seed(test: &str) -> u64 {
+    let seed = std::env::var("TEST_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| {
+            use std::hash::{BuildHasher, RandomState};
+            RandomState::new().hash_one(std::time::SystemTime::now())
+        });
+    eprintln!("{test}: seed {seed} (replay with TEST_SEED={seed})");
+    seed
+}
+
+pub mod graphs;

@@ -1,0 +1,274 @@
+//! Every `CompileError` variant, from graphs built to trigger it. Pure tests:
+//! no GPU needed.
+
+use scheduler::{CompileError, CompileOptions, Graph, Procedure, Resource, SourceOrigin, item_type};
+use tests::graphs::{Node, binary_tree, node_type};
+
+fn compile(graph: &Graph) -> Result<scheduler::CompiledGraph, CompileError> {
+    graph.compile(&CompileOptions::default())
+}
+
+fn leaf(name: &str) -> Procedure {
+    Procedure::new(name, node_type()).initial(true).body("_ = item;")
+}
+
+#[test]
+fn a_valid_graph_compiles() {
+    assert!(compile(&binary_tree(4)).is_ok());
+}
+
+#[test]
+fn duplicate_procedure_names() {
+    let mut g = Graph::new("dup");
+    g.procedure(leaf("A")).procedure(leaf("A"));
+    assert_eq!(compile(&g).unwrap_err(), CompileError::DuplicateProcedure("A".into()));
+}
+
+#[test]
+fn procedure_names_must_be_identifiers() {
+    let mut g = Graph::new("names");
+    g.procedure(leaf("not valid"));
+    assert!(matches!(compile(&g).unwrap_err(), CompileError::InvalidProcedureName(n) if n == "not valid"));
+}
+
+#[test]
+fn no_initial_procedure() {
+    let mut g = Graph::new("none");
+    g.procedure(Procedure::new("A", node_type()).body("_ = item;"));
+    assert_eq!(compile(&g).unwrap_err(), CompileError::NoInitialProcedure);
+}
+
+#[test]
+fn connection_to_unknown_procedure() {
+    let mut g = Graph::new("unknown");
+    g.procedure(leaf("A"));
+    g.connect("A", "Missing");
+    assert!(matches!(
+        compile(&g).unwrap_err(),
+        CompileError::UnknownProcedure { unknown, .. } if unknown == "Missing"
+    ));
+}
+
+#[test]
+fn zero_fan_out() {
+    let mut g = Graph::new("fan-out");
+    g.procedure(leaf("A"));
+    g.connect_with_fan_out("A", "A", 0);
+    assert!(matches!(compile(&g).unwrap_err(), CompileError::ZeroFanOut { .. }));
+}
+
+#[test]
+fn invalid_thread_counts() {
+    for threads in [0, 3, 12, 512] {
+        let mut g = Graph::new("threads");
+        g.procedure(leaf("A").threads_per_item(threads));
+        assert!(
+            matches!(compile(&g).unwrap_err(), CompileError::InvalidThreadCount { threads: t, .. } if t == threads),
+            "{threads} threads per item must be rejected"
+        );
+    }
+}
+
+#[test]
+fn invalid_workgroup_size() {
+    let options = CompileOptions { workgroup_size: 96, ..CompileOptions::default() };
+    assert!(matches!(binary_tree(2).compile(&options).unwrap_err(), CompileError::InvalidWorkgroupSize { size: 96, .. }));
+    let options = CompileOptions { workgroup_size: 1024, ..CompileOptions::default() };
+    assert!(matches!(binary_tree(2).compile(&options).unwrap_err(), CompileError::InvalidWorkgroupSize { .. }));
+}
+
+#[test]
+fn scratch_over_the_limit_names_the_largest_procedure() {
+    // 64 bytes x 256 items = 16 KiB, plus the scheduler's own words: too much.
+    let mut g = Graph::new("scratch");
+    g.procedure(leaf("Small").scratch_bytes(4));
+    g.procedure(Procedure::new("Big", node_type()).scratch_bytes(64).body("_ = item;"));
+    g.connect("Small", "Big");
+    match compile(&g).unwrap_err() {
+        CompileError::ScratchTooLarge { procedure, needed, limit, .. } => {
+            assert_eq!(procedure, "Big");
+            assert!(needed > limit);
+        }
+        other => panic!("unexpected {other}"),
+    }
+    // The same need fits once the limit is raised: the region is shared, not summed.
+    let mut options = CompileOptions::default();
+    options.limits.max_compute_workgroup_storage_size = 32768;
+    assert!(g.compile(&options).is_ok());
+}
+
+#[test]
+fn scratch_is_sized_by_the_largest_procedure_not_the_sum() {
+    // Each needs 12 KiB on its own; their sum (24 KiB) would not fit.
+    let mut g = Graph::new("shared scratch");
+    g.procedure(leaf("A").scratch_bytes(48));
+    g.procedure(Procedure::new("B", node_type()).scratch_bytes(48).body("_ = item;"));
+    g.connect("A", "B");
+    assert!(compile(&g).is_ok());
+}
+
+#[test]
+fn undeclared_enqueue_in_a_body() {
+    let mut g = Graph::new("undeclared");
+    g.procedure(leaf("A").body("if (valid) { enqueue_B(item); }"));
+    g.procedure(Procedure::new("B", node_type()).body("_ = item;"));
+    g.connect("B", "B");
+    g.connect("A", "A");
+    // B is unreachable from A through declared connections, but reachability is
+    // checked first; make B reachable through a second initial procedure.
+    g.procedure(leaf("C"));
+    g.connect("C", "B");
+    assert_eq!(
+        compile(&g).unwrap_err(),
+        CompileError::UndeclaredEnqueue { procedure: "A".into(), target: "B".into(), via: "its body".into() }
+    );
+}
+
+#[test]
+fn undeclared_enqueue_through_a_helper() {
+    let mut g = Graph::new("helper");
+    g.library("fn spawn_more(n: Node) { enqueue_B(n); }\nfn indirect(n: Node) { spawn_more(n); }");
+    g.procedure(leaf("A").body("if (valid) { indirect(item); }"));
+    g.procedure(leaf("B"));
+    match compile(&g).unwrap_err() {
+        CompileError::UndeclaredEnqueue { procedure, target, via } => {
+            assert_eq!((procedure.as_str(), target.as_str()), ("A", "B"));
+            assert!(via.contains("spawn_more"), "{via}");
+        }
+        other => panic!("unexpected {other}"),
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Padded {
+    a: u32,
+    b: [f32; 3],
+}
+
+#[test]
+fn item_size_mismatch_with_naga_stride() {
+    // vec3<f32> aligns to 16 bytes in WGSL: the struct is 32 bytes there, 16 in Rust.
+    let item = item_type!(Padded, "struct Padded { a: u32, b: vec3<f32> }", [a, b]);
+    let mut g = Graph::new("size");
+    g.procedure(Procedure::new("A", item).initial(true).body("_ = item;"));
+    match compile(&g).unwrap_err() {
+        CompileError::ItemLayoutMismatch { detail, .. } => assert!(detail.contains("stride"), "{detail}"),
+        other => panic!("unexpected {other}"),
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Swapped {
+    a: u32,
+    b: u32,
+}
+
+#[test]
+fn item_field_offset_mismatch() {
+    let item = item_type!(Swapped, "struct Swapped { b: u32, a: u32 }", [a, b]);
+    let mut g = Graph::new("offsets");
+    g.procedure(Procedure::new("A", item).initial(true).body("_ = item;"));
+    match compile(&g).unwrap_err() {
+        CompileError::ItemLayoutMismatch { detail, .. } => assert!(detail.contains("field"), "{detail}"),
+        other => panic!("unexpected {other}"),
+    }
+}
+
+#[test]
+fn item_field_missing_on_one_side() {
+    let item = item_type!(Swapped, "struct Swapped { a: u32, b: u32 }", [a]);
+    let mut g = Graph::new("missing");
+    g.procedure(Procedure::new("A", item).initial(true).body("_ = item;"));
+    assert!(matches!(compile(&g).unwrap_err(), CompileError::ItemLayoutMismatch { .. }));
+}
+
+#[test]
+fn unsupported_item_field() {
+    let item = item_type!(Swapped, "struct Swapped { a: atomic<u32>, b: u32 }", [a, b]);
+    let mut g = Graph::new("atomic field");
+    g.procedure(Procedure::new("A", item).initial(true).body("_ = item;"));
+    assert!(matches!(compile(&g).unwrap_err(), CompileError::UnsupportedItemField { field, .. } if field == "a"));
+}
+
+#[test]
+fn unreachable_procedure_is_an_error() {
+    let mut g = Graph::new("unreachable");
+    g.procedure(leaf("A"));
+    g.procedure(Procedure::new("Orphan", node_type()).body("_ = item;"));
+    assert_eq!(compile(&g).unwrap_err(), CompileError::UnreachableProcedure("Orphan".into()));
+}
+
+#[test]
+fn reserved_names_in_the_library() {
+    for name in ["sched_helper", "enqueue_Extra", "SCHED_LIMIT"] {
+        let mut g = Graph::new("reserved");
+        let decl = if name.starts_with("SCHED") { format!("const {name}: u32 = 1u;") } else { format!("fn {name}() {{}}") };
+        g.library(&decl);
+        g.procedure(leaf("A"));
+        assert_eq!(compile(&g).unwrap_err(), CompileError::ReservedName { name: name.into() }, "{name}");
+    }
+}
+
+#[test]
+fn resource_problems() {
+    let mut g = Graph::new("resources");
+    g.resource(Resource::storage("out", "array<u32>")).resource(Resource::storage_read("out", "array<u32>"));
+    g.procedure(leaf("A"));
+    assert!(matches!(compile(&g).unwrap_err(), CompileError::Resource(m) if m.contains("duplicate")));
+
+    let mut g = Graph::new("too many");
+    for i in 0..6 {
+        g.resource(Resource::storage(format!("buffer{i}"), "array<u32>"));
+    }
+    g.procedure(leaf("A"));
+    assert!(matches!(compile(&g).unwrap_err(), CompileError::Resource(m) if m.contains("exceed")));
+}
+
+#[test]
+fn wgsl_error_in_a_body_names_the_procedure_and_its_own_line() {
+    let mut g = Graph::new("typo");
+    g.procedure(leaf("Fine"));
+    g.procedure(Procedure::new("Broken", node_type()).body("let a = 1u;\nlet b = a + 2u;\nlet c = b + undefined_name;"));
+    g.connect("Fine", "Broken");
+    match compile(&g).unwrap_err() {
+        CompileError::Wgsl { origin, line, message, .. } => {
+            assert_eq!(origin, SourceOrigin::Body("Broken".into()));
+            assert_eq!(line, 3, "{message}");
+        }
+        other => panic!("unexpected {other}"),
+    }
+}
+
+#[test]
+fn wgsl_type_error_in_a_body_is_located_too() {
+    let mut g = Graph::new("types");
+    g.procedure(leaf("A").body("var x: u32 = 0u;\nx = 1.5;"));
+    match compile(&g).unwrap_err() {
+        CompileError::Wgsl { origin, line, .. } => {
+            assert_eq!(origin, SourceOrigin::Body("A".into()));
+            assert_eq!(line, 2);
+        }
+        other => panic!("unexpected {other}"),
+    }
+}
+
+#[test]
+fn wgsl_error_in_the_library_is_located_in_the_library() {
+    let mut g = Graph::new("library");
+    g.library("fn ok() -> u32 { return 1u; }\n\nfn bad() -> u32 { return 1.0 +; }");
+    g.procedure(leaf("A"));
+    match compile(&g).unwrap_err() {
+        CompileError::Wgsl { origin, line, .. } => {
+            assert_eq!(origin, SourceOrigin::Library);
+            assert_eq!(line, 3);
+        }
+        other => panic!("unexpected {other}"),
+    }
+}
+
+#[test]
+fn item_type_helper_reports_size() {
+    assert_eq!(node_type().size(), std::mem::size_of::<Node>());
+}

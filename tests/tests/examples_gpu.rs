@@ -1,0 +1,144 @@
+//! GPU runs of the scheduler's example workloads (adaptive quadrature and BFS
+//! levels) on freshly drawn inputs, each compared exactly with its CPU
+//! reference, at 1, 2 and 64 persistent workgroups: one workgroup alone must
+//! drain recursive and cross-procedure work, two exercise contention, and 64
+//! (more than lavapipe runs at once) exercise workgroups that are not all
+//! resident. A run with an iteration budget also covers re-dispatching.
+
+use std::time::Duration;
+
+use scheduler::ExecutorConfig;
+
+#[path = "../../scheduler/examples/quadrature.rs"]
+#[allow(
+    dead_code,
+    reason = "the example's `main` and helpers only its binary uses"
+)]
+mod quadrature;
+
+#[path = "../../scheduler/examples/bfs.rs"]
+#[allow(
+    dead_code,
+    reason = "the example's `main` and helpers only its binary uses"
+)]
+mod bfs;
+
+/// Bumps per quadrature problem, as in the example.
+const BUMPS: usize = 100;
+/// Acceptance threshold, as in the example.
+const THRESHOLD: u32 = 16;
+/// Nodes per BFS graph, as in the example.
+const NODES: u32 = 20_000;
+
+fn config(workgroups: u32, iteration_budget: Option<u32>) -> ExecutorConfig {
+    ExecutorConfig {
+        workgroups: Some(workgroups),
+        iteration_budget,
+        // Each run takes well under a second on lavapipe; a hang fails fast.
+        timeout: Duration::from_secs(30),
+        ..Default::default()
+    }
+}
+
+fn quadrature_at(name: &str, workgroups: u32, iteration_budget: Option<u32>) {
+    let Some(gpu) = tests::gpu() else { return };
+    let problem = quadrature::Problem::random(tests::seed(name), BUMPS, THRESHOLD);
+    let checked = quadrature::run(gpu, &problem, &config(workgroups, iteration_budget))
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    eprintln!("{}\n{}", checked.report, checked.summary);
+    assert!(
+        checked.mismatches.is_empty(),
+        "{name}: GPU and CPU disagree:\n{}\n{}",
+        checked.mismatches.join("\n"),
+        checked.report
+    );
+    assert_eq!(checked.report.workgroups, workgroups);
+}
+
+fn bfs_at(name: &str, workgroups: u32, iteration_budget: Option<u32>) {
+    let Some(gpu) = tests::gpu() else { return };
+    let problem = bfs::Problem::random(tests::seed(name), NODES, 3);
+    let config = ExecutorConfig {
+        capacities: bfs::capacities(&problem),
+        ..config(workgroups, iteration_budget)
+    };
+    let checked = bfs::run(gpu, &problem, &config).unwrap_or_else(|e| panic!("{name}: {e}"));
+    eprintln!("{}\n{}", checked.report, checked.summary);
+    assert!(
+        checked.mismatches.is_empty(),
+        "{name}: GPU and CPU disagree:\n{}\n{}",
+        checked.mismatches.join("\n"),
+        checked.report
+    );
+    assert_eq!(checked.report.workgroups, workgroups);
+}
+
+#[test]
+fn quadrature_one_workgroup() {
+    quadrature_at("quadrature_one_workgroup", 1, None);
+}
+
+#[test]
+fn quadrature_two_workgroups() {
+    quadrature_at("quadrature_two_workgroups", 2, None);
+}
+
+#[test]
+fn quadrature_64_workgroups() {
+    quadrature_at("quadrature_64_workgroups", 64, None);
+}
+
+#[test]
+fn quadrature_with_iteration_budget() {
+    quadrature_at("quadrature_with_iteration_budget", 2, Some(4));
+}
+
+#[test]
+fn bfs_one_workgroup() {
+    bfs_at("bfs_one_workgroup", 1, None);
+}
+
+#[test]
+fn bfs_two_workgroups() {
+    bfs_at("bfs_two_workgroups", 2, None);
+}
+
+#[test]
+fn bfs_64_workgroups() {
+    bfs_at("bfs_64_workgroups", 64, None);
+}
+
+#[test]
+fn bfs_with_iteration_budget() {
+    bfs_at("bfs_with_iteration_budget", 2, Some(4));
+}
+
+/// The CPU references on a case small enough to check by hand.
+#[test]
+fn cpu_references_on_known_inputs() {
+    // A path 0 - 1 - 2 - 3 plus an isolated node 4, source 0.
+    let problem = bfs::Problem {
+        graph: bfs::Csr {
+            row_start: vec![0, 1, 3, 5, 6, 6],
+            adjacency: vec![1, 0, 2, 1, 3, 2],
+        },
+        sources: vec![0],
+    };
+    assert_eq!(bfs::cpu_levels(&problem), [0, 1, 2, 3, bfs::UNREACHED]);
+
+    // Without bumps every root interval is accepted at depth 0 with sum 0.
+    let empty = quadrature::Problem {
+        bumps: Vec::new(),
+        threshold: THRESHOLD,
+    };
+    let (tally, processed) = quadrature::cpu_reference(&empty);
+    let roots = u64::from(quadrature::GRID / quadrature::ROOT_WIDTH);
+    assert_eq!((tally.intervals(), processed), (roots, roots));
+    assert_eq!(tally.integral(), 0.0);
+
+    // The adaptive integral of random bumps agrees with the dense one.
+    let problem = quadrature::Problem::random(1, BUMPS, THRESHOLD);
+    let (tally, _) = quadrature::cpu_reference(&problem);
+    let dense = quadrature::dense_simpson(&problem);
+    assert!((tally.integral() - dense).abs() <= 1e-5 * dense);
+}
