@@ -142,3 +142,20 @@ fn cpu_references_on_known_inputs() {
     let dense = quadrature::dense_simpson(&problem);
     assert!((tally.integral() - dense).abs() <= 1e-5 * dense);
 }
+
+/// Snapshots of the examples' megakernels, for fixed problems (the generated
+/// code depends on the problem only through constants such as the fan-out).
+#[test]
+fn snapshots_of_the_example_graphs() {
+    let options = scheduler::CompileOptions::with_features(
+        scheduler::wgpu::Features::MEMORY_DECORATION_COHERENT,
+    );
+    let quadrature = quadrature::graph(&quadrature::Problem::random(1, 100, 16))
+        .compile(&options)
+        .unwrap();
+    insta::assert_snapshot!("quadrature_megakernel", quadrature.wgsl());
+    let bfs = bfs::graph(&bfs::Problem::random(1, 2000, 3))
+        .compile(&options)
+        .unwrap();
+    insta::assert_snapshot!("bfs_megakernel", bfs.wgsl());
+}
