@@ -1,7 +1,9 @@
 //! Every `CompileError` variant, from graphs built to trigger it. Pure tests:
 //! no GPU needed.
 
-use scheduler::{CompileError, CompileOptions, Graph, Procedure, Resource, SourceOrigin, item_type};
+use scheduler::{
+    CompileError, CompileOptions, Graph, Procedure, Resource, SourceOrigin, item_type,
+};
 use tests::graphs::{Node, binary_tree, node_type};
 
 fn compile(graph: &Graph) -> Result<scheduler::CompiledGraph, CompileError> {
@@ -9,7 +11,9 @@ fn compile(graph: &Graph) -> Result<scheduler::CompiledGraph, CompileError> {
 }
 
 fn leaf(name: &str) -> Procedure {
-    Procedure::new(name, node_type()).initial(true).body("_ = item;")
+    Procedure::new(name, node_type())
+        .initial(true)
+        .body("_ = item;")
 }
 
 #[test]
@@ -21,14 +25,19 @@ fn a_valid_graph_compiles() {
 fn duplicate_procedure_names() {
     let mut g = Graph::new("dup");
     g.procedure(leaf("A")).procedure(leaf("A"));
-    assert_eq!(compile(&g).unwrap_err(), CompileError::DuplicateProcedure("A".into()));
+    assert_eq!(
+        compile(&g).unwrap_err(),
+        CompileError::DuplicateProcedure("A".into())
+    );
 }
 
 #[test]
 fn procedure_names_must_be_identifiers() {
     let mut g = Graph::new("names");
     g.procedure(leaf("not valid"));
-    assert!(matches!(compile(&g).unwrap_err(), CompileError::InvalidProcedureName(n) if n == "not valid"));
+    assert!(
+        matches!(compile(&g).unwrap_err(), CompileError::InvalidProcedureName(n) if n == "not valid")
+    );
 }
 
 #[test]
@@ -54,7 +63,10 @@ fn zero_fan_out() {
     let mut g = Graph::new("fan-out");
     g.procedure(leaf("A"));
     g.connect_with_fan_out("A", "A", 0);
-    assert!(matches!(compile(&g).unwrap_err(), CompileError::ZeroFanOut { .. }));
+    assert!(matches!(
+        compile(&g).unwrap_err(),
+        CompileError::ZeroFanOut { .. }
+    ));
 }
 
 #[test]
@@ -71,10 +83,22 @@ fn invalid_thread_counts() {
 
 #[test]
 fn invalid_workgroup_size() {
-    let options = CompileOptions { workgroup_size: 96, ..CompileOptions::default() };
-    assert!(matches!(binary_tree(2).compile(&options).unwrap_err(), CompileError::InvalidWorkgroupSize { size: 96, .. }));
-    let options = CompileOptions { workgroup_size: 1024, ..CompileOptions::default() };
-    assert!(matches!(binary_tree(2).compile(&options).unwrap_err(), CompileError::InvalidWorkgroupSize { .. }));
+    let options = CompileOptions {
+        workgroup_size: 96,
+        ..CompileOptions::default()
+    };
+    assert!(matches!(
+        binary_tree(2).compile(&options).unwrap_err(),
+        CompileError::InvalidWorkgroupSize { size: 96, .. }
+    ));
+    let options = CompileOptions {
+        workgroup_size: 1024,
+        ..CompileOptions::default()
+    };
+    assert!(matches!(
+        binary_tree(2).compile(&options).unwrap_err(),
+        CompileError::InvalidWorkgroupSize { .. }
+    ));
 }
 
 #[test]
@@ -82,10 +106,19 @@ fn scratch_over_the_limit_names_the_largest_procedure() {
     // 64 bytes x 256 items = 16 KiB, plus the scheduler's own words: too much.
     let mut g = Graph::new("scratch");
     g.procedure(leaf("Small").scratch_bytes(4));
-    g.procedure(Procedure::new("Big", node_type()).scratch_bytes(64).body("_ = item;"));
+    g.procedure(
+        Procedure::new("Big", node_type())
+            .scratch_bytes(64)
+            .body("_ = item;"),
+    );
     g.connect("Small", "Big");
     match compile(&g).unwrap_err() {
-        CompileError::ScratchTooLarge { procedure, needed, limit, .. } => {
+        CompileError::ScratchTooLarge {
+            procedure,
+            needed,
+            limit,
+            ..
+        } => {
             assert_eq!(procedure, "Big");
             assert!(needed > limit);
         }
@@ -102,7 +135,11 @@ fn scratch_is_sized_by_the_largest_procedure_not_the_sum() {
     // Each needs 12 KiB on its own; their sum (24 KiB) would not fit.
     let mut g = Graph::new("shared scratch");
     g.procedure(leaf("A").scratch_bytes(48));
-    g.procedure(Procedure::new("B", node_type()).scratch_bytes(48).body("_ = item;"));
+    g.procedure(
+        Procedure::new("B", node_type())
+            .scratch_bytes(48)
+            .body("_ = item;"),
+    );
     g.connect("A", "B");
     assert!(compile(&g).is_ok());
 }
@@ -120,7 +157,11 @@ fn undeclared_enqueue_in_a_body() {
     g.connect("C", "B");
     assert_eq!(
         compile(&g).unwrap_err(),
-        CompileError::UndeclaredEnqueue { procedure: "A".into(), target: "B".into(), via: "its body".into() }
+        CompileError::UndeclaredEnqueue {
+            procedure: "A".into(),
+            target: "B".into(),
+            via: "its body".into()
+        }
     );
 }
 
@@ -131,7 +172,11 @@ fn undeclared_enqueue_through_a_helper() {
     g.procedure(leaf("A").body("if (valid) { indirect(item); }"));
     g.procedure(leaf("B"));
     match compile(&g).unwrap_err() {
-        CompileError::UndeclaredEnqueue { procedure, target, via } => {
+        CompileError::UndeclaredEnqueue {
+            procedure,
+            target,
+            via,
+        } => {
             assert_eq!((procedure.as_str(), target.as_str()), ("A", "B"));
             assert!(via.contains("spawn_more"), "{via}");
         }
@@ -153,7 +198,9 @@ fn item_size_mismatch_with_naga_stride() {
     let mut g = Graph::new("size");
     g.procedure(Procedure::new("A", item).initial(true).body("_ = item;"));
     match compile(&g).unwrap_err() {
-        CompileError::ItemLayoutMismatch { detail, .. } => assert!(detail.contains("stride"), "{detail}"),
+        CompileError::ItemLayoutMismatch { detail, .. } => {
+            assert!(detail.contains("stride"), "{detail}")
+        }
         other => panic!("unexpected {other}"),
     }
 }
@@ -171,7 +218,9 @@ fn item_field_offset_mismatch() {
     let mut g = Graph::new("offsets");
     g.procedure(Procedure::new("A", item).initial(true).body("_ = item;"));
     match compile(&g).unwrap_err() {
-        CompileError::ItemLayoutMismatch { detail, .. } => assert!(detail.contains("field"), "{detail}"),
+        CompileError::ItemLayoutMismatch { detail, .. } => {
+            assert!(detail.contains("field"), "{detail}")
+        }
         other => panic!("unexpected {other}"),
     }
 }
@@ -181,7 +230,10 @@ fn item_field_missing_on_one_side() {
     let item = item_type!(Swapped, "struct Swapped { a: u32, b: u32 }", [a]);
     let mut g = Graph::new("missing");
     g.procedure(Procedure::new("A", item).initial(true).body("_ = item;"));
-    assert!(matches!(compile(&g).unwrap_err(), CompileError::ItemLayoutMismatch { .. }));
+    assert!(matches!(
+        compile(&g).unwrap_err(),
+        CompileError::ItemLayoutMismatch { .. }
+    ));
 }
 
 #[test]
@@ -189,7 +241,9 @@ fn unsupported_item_field() {
     let item = item_type!(Swapped, "struct Swapped { a: atomic<u32>, b: u32 }", [a, b]);
     let mut g = Graph::new("atomic field");
     g.procedure(Procedure::new("A", item).initial(true).body("_ = item;"));
-    assert!(matches!(compile(&g).unwrap_err(), CompileError::UnsupportedItemField { field, .. } if field == "a"));
+    assert!(
+        matches!(compile(&g).unwrap_err(), CompileError::UnsupportedItemField { field, .. } if field == "a")
+    );
 }
 
 #[test]
@@ -197,26 +251,40 @@ fn unreachable_procedure_is_an_error() {
     let mut g = Graph::new("unreachable");
     g.procedure(leaf("A"));
     g.procedure(Procedure::new("Orphan", node_type()).body("_ = item;"));
-    assert_eq!(compile(&g).unwrap_err(), CompileError::UnreachableProcedure("Orphan".into()));
+    assert_eq!(
+        compile(&g).unwrap_err(),
+        CompileError::UnreachableProcedure("Orphan".into())
+    );
 }
 
 #[test]
 fn reserved_names_in_the_library() {
     for name in ["sched_helper", "enqueue_Extra", "SCHED_LIMIT"] {
         let mut g = Graph::new("reserved");
-        let decl = if name.starts_with("SCHED") { format!("const {name}: u32 = 1u;") } else { format!("fn {name}() {{}}") };
+        let decl = if name.starts_with("SCHED") {
+            format!("const {name}: u32 = 1u;")
+        } else {
+            format!("fn {name}() {{}}")
+        };
         g.library(&decl);
         g.procedure(leaf("A"));
-        assert_eq!(compile(&g).unwrap_err(), CompileError::ReservedName { name: name.into() }, "{name}");
+        assert_eq!(
+            compile(&g).unwrap_err(),
+            CompileError::ReservedName { name: name.into() },
+            "{name}"
+        );
     }
 }
 
 #[test]
 fn resource_problems() {
     let mut g = Graph::new("resources");
-    g.resource(Resource::storage("out", "array<u32>")).resource(Resource::storage_read("out", "array<u32>"));
+    g.resource(Resource::storage("out", "array<u32>"))
+        .resource(Resource::storage_read("out", "array<u32>"));
     g.procedure(leaf("A"));
-    assert!(matches!(compile(&g).unwrap_err(), CompileError::Resource(m) if m.contains("duplicate")));
+    assert!(
+        matches!(compile(&g).unwrap_err(), CompileError::Resource(m) if m.contains("duplicate"))
+    );
 
     let mut g = Graph::new("too many");
     for i in 0..6 {
@@ -230,10 +298,18 @@ fn resource_problems() {
 fn wgsl_error_in_a_body_names_the_procedure_and_its_own_line() {
     let mut g = Graph::new("typo");
     g.procedure(leaf("Fine"));
-    g.procedure(Procedure::new("Broken", node_type()).body("let a = 1u;\nlet b = a + 2u;\nlet c = b + undefined_name;"));
+    g.procedure(
+        Procedure::new("Broken", node_type())
+            .body("let a = 1u;\nlet b = a + 2u;\nlet c = b + undefined_name;"),
+    );
     g.connect("Fine", "Broken");
     match compile(&g).unwrap_err() {
-        CompileError::Wgsl { origin, line, message, .. } => {
+        CompileError::Wgsl {
+            origin,
+            line,
+            message,
+            ..
+        } => {
             assert_eq!(origin, SourceOrigin::Body("Broken".into()));
             assert_eq!(line, 3, "{message}");
         }

@@ -5,26 +5,42 @@ use std::time::Duration;
 
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::{
-    Binding, Capacities, CompileOptions, CompiledGraph, Executor, ExecutorConfig, Gpu, Graph, Policy, Procedure,
-    RunError, RunReport, Seeds, readback::read_buffer, wgpu,
+    Binding, Capacities, CompileOptions, CompiledGraph, Executor, ExecutorConfig, Gpu, Graph,
+    Policy, Procedure, RunError, RunReport, Seeds, readback::read_buffer, wgpu,
 };
 use tests::graphs::{Node, binary_tree, node_type, ping_pong, ping_pong_counts, scratch_sum};
 
 /// Both payload paths: atomics, and coherent memory when the device has it.
 fn option_sets(gpu: &Gpu) -> Vec<CompileOptions> {
     let mut sets = vec![CompileOptions::default()];
-    if gpu.device.features().contains(wgpu::Features::MEMORY_DECORATION_COHERENT) {
-        sets.push(CompileOptions::with_features(wgpu::Features::MEMORY_DECORATION_COHERENT));
+    if gpu
+        .device
+        .features()
+        .contains(wgpu::Features::MEMORY_DECORATION_COHERENT)
+    {
+        sets.push(CompileOptions::with_features(
+            wgpu::Features::MEMORY_DECORATION_COHERENT,
+        ));
     }
     sets
 }
 
-fn run(gpu: &Gpu, compiled: &CompiledGraph, config: ExecutorConfig, seeds: &Seeds, bindings: &[Binding<'_>]) -> Result<RunReport, RunError> {
+fn run(
+    gpu: &Gpu,
+    compiled: &CompiledGraph,
+    config: ExecutorConfig,
+    seeds: &Seeds,
+    bindings: &[Binding<'_>],
+) -> Result<RunReport, RunError> {
     Executor::new(&gpu.device, &gpu.queue, compiled, &config)?.run(seeds, bindings)
 }
 
 fn config(workgroups: u32, capacity: u32) -> ExecutorConfig {
-    ExecutorConfig { workgroups: Some(workgroups), capacities: Capacities::uniform(capacity), ..Default::default() }
+    ExecutorConfig {
+        workgroups: Some(workgroups),
+        capacities: Capacities::uniform(capacity),
+        ..Default::default()
+    }
 }
 
 #[test]
@@ -35,10 +51,20 @@ fn binary_tree_counts_are_exact_for_any_workgroup_count() {
         let depth = rng.random_range(8..=13);
         let compiled = binary_tree(depth).compile(&options).unwrap();
         for workgroups in [1, 2, 64] {
-            let report = run(gpu, &compiled, config(workgroups, 1 << 15), &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]), &[]).unwrap();
+            let report = run(
+                gpu,
+                &compiled,
+                config(workgroups, 1 << 15),
+                &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+                &[],
+            )
+            .unwrap();
             let grow = report.procedure("Grow").unwrap();
             let total = (1u64 << (depth + 1)) - 1;
-            assert_eq!(grow.executed, total, "depth {depth}, {workgroups} workgroups");
+            assert_eq!(
+                grow.executed, total,
+                "depth {depth}, {workgroups} workgroups"
+            );
             assert_eq!(grow.enqueued, total - 1);
             assert_eq!((grow.dropped, grow.fan_out_overflow), (0, 0));
             assert!(grow.high_water >= 1 && grow.high_water <= u64::from(grow.capacity));
@@ -69,12 +95,24 @@ fn scratch_and_barriers_with_a_partial_last_batch() {
         });
         let seeds: Vec<Node> = (0..count).map(|id| Node { depth: 0, id }).collect();
         for workgroups in [1, 3] {
-            let report = run(gpu, &compiled, config(workgroups, 4096), &Seeds::new().add("Sum", &seeds), &[Binding::buffer("out", &out)]).unwrap();
+            let report = run(
+                gpu,
+                &compiled,
+                config(workgroups, 4096),
+                &Seeds::new().add("Sum", &seeds),
+                &[Binding::buffer("out", &out)],
+            )
+            .unwrap();
             assert_eq!(report.procedure("Sum").unwrap().executed, u64::from(count));
-            let bytes = read_buffer(&gpu.device, &gpu.queue, &out, Duration::from_secs(30)).unwrap();
+            let bytes =
+                read_buffer(&gpu.device, &gpu.queue, &out, Duration::from_secs(30)).unwrap();
             let values: &[u32] = bytemuck::cast_slice(&bytes);
             for (id, &value) in values.iter().enumerate() {
-                assert_eq!(value, 16 * id as u32 + 10, "item {id} of {count}, {workgroups} workgroups");
+                assert_eq!(
+                    value,
+                    16 * id as u32 + 10,
+                    "item {id} of {count}, {workgroups} workgroups"
+                );
             }
         }
     }
@@ -85,15 +123,38 @@ fn cycles_across_procedures_match_a_cpu_simulation_under_both_policies() {
     let Some(gpu) = tests::gpu() else { return };
     let mut rng = StdRng::seed_from_u64(tests::seed("cycles"));
     let depth = rng.random_range(6..=9);
-    let seeds: Vec<Node> = (0..rng.random_range(1..40)).map(|_| Node { depth: 0, id: rng.random() }).collect();
+    let seeds: Vec<Node> = (0..rng.random_range(1..40))
+        .map(|_| Node {
+            depth: 0,
+            id: rng.random(),
+        })
+        .collect();
     let (pings, pongs) = ping_pong_counts(depth, &seeds);
     for policy in [Policy::Priority, Policy::RoundRobin] {
-        let options = CompileOptions { policy, ..CompileOptions::default() };
+        let options = CompileOptions {
+            policy,
+            ..CompileOptions::default()
+        };
         let compiled = ping_pong(depth).compile(&options).unwrap();
         for workgroups in [1, 3, 32] {
-            let report = run(gpu, &compiled, config(workgroups, 1 << 16), &Seeds::new().add("Ping", &seeds), &[]).unwrap();
-            assert_eq!(report.procedure("Ping").unwrap().executed, pings, "{policy:?}, {workgroups} workgroups");
-            assert_eq!(report.procedure("Pong").unwrap().executed, pongs, "{policy:?}, {workgroups} workgroups");
+            let report = run(
+                gpu,
+                &compiled,
+                config(workgroups, 1 << 16),
+                &Seeds::new().add("Ping", &seeds),
+                &[],
+            )
+            .unwrap();
+            assert_eq!(
+                report.procedure("Ping").unwrap().executed,
+                pings,
+                "{policy:?}, {workgroups} workgroups"
+            );
+            assert_eq!(
+                report.procedure("Pong").unwrap().executed,
+                pongs,
+                "{policy:?}, {workgroups} workgroups"
+            );
         }
     }
 }
@@ -102,8 +163,18 @@ fn cycles_across_procedures_match_a_cpu_simulation_under_both_policies() {
 fn iteration_budget_spreads_the_run_over_dispatches() {
     let Some(gpu) = tests::gpu() else { return };
     let compiled = binary_tree(10).compile(&CompileOptions::default()).unwrap();
-    let config = ExecutorConfig { iteration_budget: Some(2), ..config(2, 4096) };
-    let report = run(gpu, &compiled, config, &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]), &[]).unwrap();
+    let config = ExecutorConfig {
+        iteration_budget: Some(2),
+        ..config(2, 4096)
+    };
+    let report = run(
+        gpu,
+        &compiled,
+        config,
+        &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+        &[],
+    )
+    .unwrap();
     assert_eq!(report.procedure("Grow").unwrap().executed, 2047);
     assert!(report.dispatches > 1, "{report}");
 }
@@ -113,8 +184,20 @@ fn overflow_is_a_typed_error_and_the_run_still_ends() {
     let Some(gpu) = tests::gpu() else { return };
     let compiled = binary_tree(12).compile(&CompileOptions::default()).unwrap();
     for workgroups in [1, 8] {
-        match run(gpu, &compiled, config(workgroups, 64), &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]), &[]) {
-            Err(RunError::QueueOverflow { procedure, capacity, dropped, needed_at_least, report }) => {
+        match run(
+            gpu,
+            &compiled,
+            config(workgroups, 64),
+            &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+            &[],
+        ) {
+            Err(RunError::QueueOverflow {
+                procedure,
+                capacity,
+                dropped,
+                needed_at_least,
+                report,
+            }) => {
                 assert_eq!(procedure, "Grow");
                 assert_eq!(capacity, 64);
                 assert!(dropped > 0);
@@ -143,8 +226,18 @@ fn exceeding_the_declared_fan_out_is_reported() {
     graph.connect("Greedy", "Greedy"); // fan-out 1, but each item enqueues 2
     let compiled = graph.compile(&CompileOptions::default()).unwrap();
     let seeds: Vec<Node> = (0..256).map(|id| Node { depth: 0, id }).collect();
-    match run(gpu, &compiled, config(1, 4096), &Seeds::new().add("Greedy", &seeds), &[]) {
-        Err(RunError::FanOutExceeded { procedure, excess, report }) => {
+    match run(
+        gpu,
+        &compiled,
+        config(1, 4096),
+        &Seeds::new().add("Greedy", &seeds),
+        &[],
+    ) {
+        Err(RunError::FanOutExceeded {
+            procedure,
+            excess,
+            report,
+        }) => {
             assert_eq!(procedure, "Greedy");
             assert_eq!(excess, 256);
             assert_eq!(report.procedure("Greedy").unwrap().enqueued, 256);
@@ -159,14 +252,25 @@ fn seeding_and_binding_errors_are_typed() {
     let compiled = ping_pong(3).compile(&CompileOptions::default()).unwrap();
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config(1, 16)).unwrap();
     let node = [Node::default()];
-    assert!(matches!(executor.run(&Seeds::new().add("Pong", &node), &[]), Err(RunError::Seed { procedure, .. }) if procedure == "Pong"));
-    assert!(matches!(executor.run(&Seeds::new().add("Nope", &node), &[]), Err(RunError::Seed { .. })));
-    assert!(matches!(executor.run(&Seeds::new().add("Ping", &[0u32; 3]), &[]), Err(RunError::Seed { reason, .. }) if reason.contains("bytes")));
-    assert!(matches!(executor.run(&Seeds::new().add("Ping", &[Node::default(); 17]), &[]), Err(RunError::Seed { reason, .. }) if reason.contains("capacity")));
+    assert!(
+        matches!(executor.run(&Seeds::new().add("Pong", &node), &[]), Err(RunError::Seed { procedure, .. }) if procedure == "Pong")
+    );
+    assert!(matches!(
+        executor.run(&Seeds::new().add("Nope", &node), &[]),
+        Err(RunError::Seed { .. })
+    ));
+    assert!(
+        matches!(executor.run(&Seeds::new().add("Ping", &[0u32; 3]), &[]), Err(RunError::Seed { reason, .. }) if reason.contains("bytes"))
+    );
+    assert!(
+        matches!(executor.run(&Seeds::new().add("Ping", &[Node::default(); 17]), &[]), Err(RunError::Seed { reason, .. }) if reason.contains("capacity"))
+    );
 
     let compiled = scratch_sum().compile(&CompileOptions::default()).unwrap();
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config(1, 16)).unwrap();
-    assert!(matches!(executor.run(&Seeds::new().add("Sum", &node), &[]), Err(RunError::Binding(m)) if m.contains("out")));
+    assert!(
+        matches!(executor.run(&Seeds::new().add("Sum", &node), &[]), Err(RunError::Binding(m)) if m.contains("out"))
+    );
 }
 
 #[test]
@@ -174,7 +278,10 @@ fn too_large_configurations_are_refused_before_allocating() {
     let Some(gpu) = tests::gpu() else { return };
     let compiled = binary_tree(3).compile(&CompileOptions::default()).unwrap();
     let huge = config(1, 1 << 31);
-    assert!(matches!(Executor::new(&gpu.device, &gpu.queue, &compiled, &huge), Err(RunError::TooLarge { .. })));
+    assert!(matches!(
+        Executor::new(&gpu.device, &gpu.queue, &compiled, &huge),
+        Err(RunError::TooLarge { .. })
+    ));
     let plan = compiled.memory_plan(&huge);
     assert_eq!(plan.queue_bytes, (1u64 << 31) * 8);
 }
@@ -183,11 +290,21 @@ fn too_large_configurations_are_refused_before_allocating() {
 fn reports_round_trip_through_json_and_print_a_table() {
     let Some(gpu) = tests::gpu() else { return };
     let compiled = binary_tree(5).compile(&CompileOptions::default()).unwrap();
-    let report = run(gpu, &compiled, config(2, 256), &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]), &[]).unwrap();
+    let report = run(
+        gpu,
+        &compiled,
+        config(2, 256),
+        &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+        &[],
+    )
+    .unwrap();
     let back: RunReport = serde_json::from_str(&report.to_json()).unwrap();
     assert_eq!(back.procedures, report.procedures);
     let table = report.to_string();
-    assert!(table.contains("Grow") && table.contains("high-water"), "{table}");
+    assert!(
+        table.contains("Grow") && table.contains("high-water"),
+        "{table}"
+    );
 }
 
 #[test]
@@ -208,8 +325,17 @@ if (valid && h == 7u) {
     graph.connect("Slow", "Slow");
     let compiled = graph.compile(&CompileOptions::default()).unwrap();
     let seeds: Vec<Node> = (0..20_000).map(|id| Node { depth: 0, id }).collect();
-    let config = ExecutorConfig { timeout: Duration::from_millis(1), ..config(2, 1 << 15) };
-    let result = run(&gpu, &compiled, config, &Seeds::new().add("Slow", &seeds), &[]);
+    let config = ExecutorConfig {
+        timeout: Duration::from_millis(1),
+        ..config(2, 1 << 15)
+    };
+    let result = run(
+        &gpu,
+        &compiled,
+        config,
+        &Seeds::new().add("Slow", &seeds),
+        &[],
+    );
     assert!(matches!(result, Err(RunError::Timeout(_))), "{result:?}");
     let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
 }

@@ -1,0 +1,252 @@
+//! GPU buffers of one frame: the frame uniform, the objects' albedos, the
+//! lights, the sample framebuffer and the statistics, plus their read-back.
+
+use super::graph::{sampling, stat};
+use crate::prepare::PreparedScene;
+use crate::sampling::grid_size;
+use crate::scene::Sampling;
+use crate::stats::RenderStats;
+
+/// Twin of the WGSL `Frame` struct (`shaders/reyes/library.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FrameUniform {
+    /// World-to-clip matrix, column-major.
+    pub view_proj: [f32; 16],
+    /// Eye position.
+    pub eye: [f32; 3],
+    /// Dice threshold in pixels.
+    pub dice_threshold: f32,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// `sqrt(spp)`.
+    pub k: u32,
+    /// Split-depth guard.
+    pub max_split_depth: u32,
+    /// [`sampling::BBOX`] or [`sampling::NEAREST`].
+    pub sampling: u32,
+    /// 1 when samples are jittered.
+    pub jitter: u32,
+    /// Lights used from the lights buffer.
+    pub light_count: u32,
+    /// Ambient term.
+    pub ambient: f32,
+    /// Specular weight.
+    pub specular_strength: f32,
+    /// Blinn-Phong exponent.
+    pub shininess: f32,
+    /// Padding.
+    pub pad0: u32,
+}
+
+impl FrameUniform {
+    /// The uniform of `scene`.
+    pub fn new(scene: &PreparedScene) -> Self {
+        let camera = &scene.camera;
+        Self {
+            // The same f32 matrix the reference multiplies with.
+            view_proj: camera.view_proj().to_cols_array(),
+            eye: camera.eye.to_array(),
+            dice_threshold: scene.dice_threshold,
+            width: camera.width,
+            height: camera.height,
+            spp: scene.spp,
+            k: grid_size(scene.spp),
+            max_split_depth: scene.max_split_depth,
+            sampling: match scene.sampling {
+                Sampling::Bbox => sampling::BBOX,
+                Sampling::Nearest => sampling::NEAREST,
+            },
+            jitter: u32::from(scene.jitter),
+            light_count: scene.lights.len() as u32,
+            ambient: scene.ambient,
+            specular_strength: scene.specular_strength,
+            shininess: scene.shininess,
+            pad0: 0,
+        }
+    }
+}
+
+/// Twin of the WGSL `Light` struct.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct LightData {
+    to_light: [f32; 4],
+    radiance: [f32; 4],
+}
+
+/// The buffers the megakernel binds (see the resources in
+/// [`super::graph::reyes_graph`]).
+#[derive(Debug)]
+pub struct FrameBuffers {
+    /// `frame`: the [`FrameUniform`].
+    pub frame: wgpu::Buffer,
+    /// `objects`: albedo per object (`vec4`, w unused).
+    pub objects: wgpu::Buffer,
+    /// `lights`.
+    pub lights: wgpu::Buffer,
+    /// `framebuffer`: one 64-bit key per sample.
+    pub framebuffer: wgpu::Buffer,
+    /// `stats`: [`stat::WORDS`] counters.
+    pub stats: wgpu::Buffer,
+    /// Samples in `framebuffer`.
+    pub samples: u64,
+    objects_len: usize,
+    lights_len: usize,
+}
+
+impl FrameBuffers {
+    /// Creates the buffers for `scene` and fills the scene's data. The
+    /// framebuffer and the statistics start uninitialized: clear them with
+    /// [`super::resolve::Resolver::clear`] and [`FrameBuffers::reset_stats`].
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &PreparedScene) -> Self {
+        use wgpu::BufferUsages as U;
+        let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let samples = framebuffer_samples(scene);
+        let buffers = Self {
+            frame: buffer(
+                "reyes frame",
+                std::mem::size_of::<FrameUniform>() as u64,
+                U::UNIFORM | U::COPY_DST,
+            ),
+            // A binding may not be empty: an object-less or light-less scene
+            // still gets one (unused) element.
+            objects: buffer(
+                "reyes objects",
+                16 * scene.objects.len().max(1) as u64,
+                U::STORAGE | U::COPY_DST,
+            ),
+            lights: buffer(
+                "reyes lights",
+                std::mem::size_of::<LightData>() as u64 * scene.lights.len().max(1) as u64,
+                U::STORAGE | U::COPY_DST,
+            ),
+            framebuffer: buffer("reyes framebuffer", 8 * samples, U::STORAGE | U::COPY_SRC),
+            stats: buffer(
+                "reyes stats",
+                4 * u64::from(stat::WORDS),
+                U::STORAGE | U::COPY_SRC | U::COPY_DST,
+            ),
+            samples,
+            objects_len: scene.objects.len(),
+            lights_len: scene.lights.len(),
+        };
+        buffers.write(queue, scene);
+        buffers
+    }
+
+    /// Whether these buffers have the sizes `scene` needs (then
+    /// [`FrameBuffers::write`] suffices instead of new buffers).
+    pub fn fits(&self, scene: &PreparedScene) -> bool {
+        self.samples == framebuffer_samples(scene)
+            && self.objects_len == scene.objects.len()
+            && self.lights_len == scene.lights.len()
+    }
+
+    /// Writes the frame uniform, the albedos and the lights of `scene`.
+    pub fn write(&self, queue: &wgpu::Queue, scene: &PreparedScene) {
+        let albedos: Vec<[f32; 4]> = scene
+            .objects
+            .iter()
+            .map(|o| o.albedo.extend(0.0).to_array())
+            .collect();
+        let lights: Vec<LightData> = scene
+            .lights
+            .iter()
+            .map(|l| LightData {
+                to_light: l.to_light.extend(0.0).to_array(),
+                radiance: l.radiance.extend(0.0).to_array(),
+            })
+            .collect();
+        queue.write_buffer(
+            &self.frame,
+            0,
+            bytemuck::bytes_of(&FrameUniform::new(scene)),
+        );
+        if !albedos.is_empty() {
+            queue.write_buffer(&self.objects, 0, bytemuck::cast_slice(&albedos));
+        }
+        if !lights.is_empty() {
+            queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
+        }
+    }
+
+    /// Zeroes the statistics.
+    pub fn reset_stats(&self, queue: &wgpu::Queue) {
+        queue.write_buffer(&self.stats, 0, &[0u8; 4 * stat::WORDS as usize]);
+    }
+
+    /// The bindings of the megakernel's resources, by name.
+    pub fn bindings(&self) -> [scheduler::Binding<'_>; 5] {
+        [
+            scheduler::Binding::buffer("frame", &self.frame),
+            scheduler::Binding::buffer("objects", &self.objects),
+            scheduler::Binding::buffer("lights", &self.lights),
+            scheduler::Binding::buffer("framebuffer", &self.framebuffer),
+            scheduler::Binding::buffer("stats", &self.stats),
+        ]
+    }
+}
+
+/// Samples in the framebuffer of `scene`: `width * height * spp`.
+pub fn framebuffer_samples(scene: &PreparedScene) -> u64 {
+    u64::from(scene.camera.width) * u64::from(scene.camera.height) * u64::from(scene.spp)
+}
+
+/// Statistics read back from the GPU, before the frame time is added.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GpuCounters {
+    /// The words of the statistics buffer.
+    pub words: [u32; stat::WORDS as usize],
+}
+
+impl GpuCounters {
+    /// Parses the read-back bytes.
+    pub fn from_bytes(bytes: &[u8]) -> Self {
+        let mut words = [0u32; stat::WORDS as usize];
+        for (word, chunk) in words.iter_mut().zip(bytes.chunks_exact(4)) {
+            *word = u32::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3]]);
+        }
+        Self { words }
+    }
+
+    fn wide(&self, index: u32) -> u64 {
+        let i = index as usize;
+        u64::from(self.words[i]) | (u64::from(self.words[i + 1]) << 32)
+    }
+
+    /// Rasterization loops the driver cut short (a correct run has none).
+    pub fn loops_cut(&self) -> u32 {
+        self.words[stat::LOOPS_CUT as usize]
+    }
+
+    /// The counters as [`RenderStats`] (without a frame time).
+    pub fn to_stats(&self) -> RenderStats {
+        let w = |i: u32| u64::from(self.words[i as usize]);
+        RenderStats {
+            input_patches: w(stat::INPUT_PATCHES),
+            splits: w(stat::SPLITS),
+            culled_patches: w(stat::CULLED),
+            depth_guard_drops: w(stat::DEPTH_GUARD_DROPS),
+            grids_diced: w(stat::GRIDS_DICED),
+            micropolygons: self.wide(stat::MICROPOLYGONS),
+            samples_tested: self.wide(stat::SAMPLES_TESTED),
+            samples_hit: self.wide(stat::SAMPLES_HIT),
+            largest_micropolygon_px: f32::from_bits(
+                self.words[stat::LARGEST_MICROPOLYGON as usize],
+            ),
+            frame_time_ms: None,
+        }
+    }
+}

@@ -1,0 +1,38 @@
+//! The GPU renderer: the Reyes pipeline as one scheduler megakernel.
+//!
+//! * [`graph`]: the procedure graph (Bound, SplitU, SplitV,
+//!   DiceShadeSample) and its WGSL (`shaders/reyes/`);
+//! * [`buffers`]: the frame uniform, scene buffers, framebuffer and statistics;
+//! * [`resolve`]: the clear and resolve passes (a plain compute shader);
+//! * [`renderer`]: [`GpuRenderer`], which runs a frame and returns the image
+//!   and [`crate::stats::RenderStats`].
+//!
+//! ```no_run
+//! use reyes::gpu::{GpuRenderer, GpuOptions};
+//! use reyes::{prepare::PreparedScene, scene::Scene};
+//!
+//! let gpu = reyes::gpu::create_gpu()?;
+//! let mut renderer = GpuRenderer::new(&gpu, GpuOptions::default())?;
+//! let scene = PreparedScene::load(&Scene::default_teapot())?;
+//! let rendered = renderer.render(&scene)?;
+//! reyes::output::write_png(&rendered.image, "teapot.png")?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod buffers;
+pub mod graph;
+pub mod renderer;
+pub mod resolve;
+
+pub use renderer::{GpuOptions, GpuRendered, GpuRenderer, RenderError};
+
+/// Creates a device with the features the renderer needs
+/// ([`graph::REQUIRED_FEATURES`]); fails with a clear message when the
+/// adapter lacks them.
+pub fn create_gpu() -> Result<scheduler::Gpu, RenderError> {
+    scheduler::Gpu::new(&scheduler::DeviceRequest {
+        required_features: graph::REQUIRED_FEATURES,
+        ..Default::default()
+    })
+    .map_err(RenderError::Device)
+}

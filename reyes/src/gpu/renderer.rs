@@ -1,0 +1,466 @@
+//! [`GpuRenderer`]: runs one frame of the Reyes megakernel and returns the
+//! image, the coverage and the [`RenderStats`].
+
+use std::time::{Duration, Instant};
+
+use image::RgbaImage;
+use scheduler::readback::read_buffer;
+use scheduler::{
+    Capacities, CompileError, CompiledGraph, DeviceError, Executor, ExecutorConfig, Gpu, RunError,
+    RunReport, Seeds,
+};
+
+use super::buffers::{FrameBuffers, GpuCounters, framebuffer_samples};
+use super::graph::{self, BOUND, DICE, PatchItem, REQUIRED_FEATURES, SPLIT_U, SPLIT_V};
+use super::resolve::{ResolveTarget, Resolver};
+use crate::prepare::PreparedScene;
+use crate::stats::RenderStats;
+
+/// Default capacity (items) of the split and dice queues. With the
+/// depth-first priorities the queues hold roughly one wave of pieces per
+/// running workgroup; 2^16 items (14 MiB per queue) leaves ample room for
+/// the teapot and the Killeroo, and an overflow is retried with double the
+/// capacity, never ignored.
+pub const DEFAULT_WORK_CAPACITY: u32 = 1 << 16;
+/// Iteration budget on CPU adapters (llvmpipe). llvmpipe ends loops once an
+/// invocation has run 65535 loop iterations, counted across all loops and
+/// all their runs (the scheduler's queue waits included). With the
+/// scheduler's CPU default of 64 batches per dispatch the rasterization
+/// loops of DiceShadeSample were cut in a 256-workgroup teapot run (detected
+/// through `STAT_LOOPS_CUT`); 16 batches per dispatch left room in every
+/// uncontended run, at the cost of a few more dispatches.
+pub const CPU_ITERATION_BUDGET: u32 = 16;
+/// Persistent workgroups on CPU adapters: one per CPU thread, so that all
+/// of them run at once. llvmpipe runs only as many workgroups at a time as it
+/// has threads; a workgroup polling for work that a descheduled workgroup is
+/// producing spends llvmpipe's shared loop budget (see
+/// [`CPU_ITERATION_BUDGET`]) until the body's own loops get cut. With 256 or
+/// 16 workgroups that happened in 800x600 and 1920x1080 teapot frames even at
+/// 4 batches per dispatch.
+pub fn cpu_workgroups() -> u32 {
+    std::thread::available_parallelism().map_or(2, |n| n.get().min(64) as u32)
+}
+/// Iteration budget of the one retry after llvmpipe cut loops short. The
+/// loop counter llvmpipe keeps is shared by all loops of an invocation,
+/// including the scheduler's queue waits, which grow when other work
+/// competes for the CPU; fewer batches per dispatch leave more headroom.
+pub const CPU_RETRY_ITERATION_BUDGET: u32 = 1;
+/// Retries after llvmpipe cut loops short (each from scratch).
+const MAX_LOOP_RETRIES: u32 = 2;
+/// The split and dice queues are never shrunk below this to fit a device.
+const MIN_WORK_CAPACITY: u32 = 1 << 12;
+
+/// Why a frame could not be rendered.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// No device with the features the renderer needs could be created.
+    #[error(
+        "could not create a GPU device with 64-bit integer atomics (SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX, needed for the depth test): {0}"
+    )]
+    Device(#[source] DeviceError),
+    /// The device lacks features the renderer needs.
+    #[error(
+        "the GPU device lacks {missing:?}; the Reyes renderer needs 64-bit integers and 64-bit atomicMin for its depth test (create the device with reyes::gpu::create_gpu)"
+    )]
+    MissingFeatures {
+        /// The features that are missing.
+        missing: wgpu::Features,
+    },
+    /// The image is too large for the device's buffers.
+    #[error(
+        "{width}x{height} at {spp} spp needs a {needed}-byte {what} but the device allows at most {limit} bytes per buffer; lower the resolution or spp"
+    )]
+    TooLarge {
+        /// Which buffer.
+        what: &'static str,
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+        /// Samples per pixel.
+        spp: u32,
+        /// Bytes needed.
+        needed: u64,
+        /// Bytes allowed.
+        limit: u64,
+    },
+    /// The megakernel did not compile (a bug in the renderer's WGSL).
+    #[error("the Reyes megakernel did not compile: {0}")]
+    Compile(#[from] CompileError),
+    /// The scheduler could not run the megakernel (after one retry with
+    /// doubled capacities when a queue overflowed).
+    #[error("the Reyes megakernel failed: {0}")]
+    Run(#[from] RunError),
+    /// The driver ended rasterization loops early, so samples are missing.
+    #[error(
+        "the driver ended {0} rasterization loop(s) early (llvmpipe's loop limit); the image would be incomplete. Use a smaller dice threshold or fewer samples per pixel"
+    )]
+    LoopsCut(u32),
+}
+
+/// How the renderer runs the megakernel.
+#[derive(Clone, Debug)]
+pub struct GpuOptions {
+    /// Persistent workgroups (`None`: [`cpu_workgroups`] on CPU adapters,
+    /// else the scheduler's default).
+    pub workgroups: Option<u32>,
+    /// Iteration budget per dispatch (`None`: [`CPU_ITERATION_BUDGET`] on
+    /// CPU adapters, else the scheduler's default).
+    pub iteration_budget: Option<u32>,
+    /// Capacity of the split and dice queues in items.
+    pub work_capacity: u32,
+    /// Host-side limit of one run.
+    pub timeout: Duration,
+}
+
+impl Default for GpuOptions {
+    fn default() -> Self {
+        Self {
+            workgroups: None,
+            iteration_budget: None,
+            work_capacity: DEFAULT_WORK_CAPACITY,
+            timeout: scheduler::DEFAULT_TIMEOUT,
+        }
+    }
+}
+
+/// Where the time of a frame went.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct FrameTimings {
+    /// GPU time of the megakernel (timestamp queries), when the device has them.
+    pub megakernel_gpu_ms: Option<f64>,
+    /// Host wall time of the megakernel run (seeding to counter read-back).
+    pub megakernel_wall_ms: f64,
+    /// Host wall time of the whole frame: clear, megakernel, resolve, read-back.
+    pub total_wall_ms: f64,
+}
+
+/// A frame rendered on the GPU.
+#[derive(Debug, Clone)]
+pub struct GpuRendered {
+    /// The resolved image, 8-bit sRGB, alpha 255.
+    pub image: RgbaImage,
+    /// Per pixel (row-major): whether any sample was covered.
+    pub coverage: Vec<bool>,
+    /// The frame's counters. `frame_time_ms` is the megakernel's GPU time
+    /// when the device has timestamp queries, else the frame's wall time.
+    pub stats: RenderStats,
+    /// The scheduler's report of the (last) megakernel run; `None` for a
+    /// scene without patches, where nothing runs.
+    pub report: Option<RunReport>,
+    /// Runs repeated because a queue overflowed (0 or 1).
+    pub overflow_retries: u32,
+    /// Runs repeated because llvmpipe cut loops short (0 to 2).
+    pub loop_retries: u32,
+    /// Timings of the frame.
+    pub timings: FrameTimings,
+}
+
+/// Renders prepared scenes with the Reyes megakernel. Pipelines, the
+/// executor (for a given queue sizing) and the frame buffers (for a given
+/// resolution) are created on first use and reused by later frames.
+#[derive(Debug)]
+pub struct GpuRenderer<'a> {
+    gpu: &'a Gpu,
+    options: GpuOptions,
+    compiled: CompiledGraph,
+    resolver: Resolver,
+    executor: Option<(Capacities, Option<u32>, Executor)>,
+    frame: Option<(FrameBuffers, ResolveTarget)>,
+}
+
+impl<'a> GpuRenderer<'a> {
+    /// Compiles the megakernel for `gpu`'s device, which must have
+    /// [`REQUIRED_FEATURES`] (see [`super::create_gpu`]).
+    pub fn new(gpu: &'a Gpu, options: GpuOptions) -> Result<Self, RenderError> {
+        let missing = REQUIRED_FEATURES - gpu.device.features();
+        if !missing.is_empty() {
+            return Err(RenderError::MissingFeatures { missing });
+        }
+        let compiled = graph::compile(scheduler::recommended_features(&gpu.device))?;
+        Ok(Self {
+            gpu,
+            options,
+            compiled,
+            resolver: Resolver::new(&gpu.device),
+            executor: None,
+            frame: None,
+        })
+    }
+
+    /// The compiled megakernel.
+    pub fn compiled(&self) -> &CompiledGraph {
+        &self.compiled
+    }
+
+    /// Largest buffer the device binds as storage.
+    fn buffer_limit(&self) -> u64 {
+        let limits = self.gpu.device.limits();
+        limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size)
+    }
+
+    /// Checks the frame's buffers against the device limits.
+    fn check_size(&self, scene: &PreparedScene) -> Result<(), RenderError> {
+        let (width, height, spp) = (scene.camera.width, scene.camera.height, scene.spp);
+        let limit = self.buffer_limit();
+        let samples = framebuffer_samples(scene);
+        let too_large = |what, needed, limit| RenderError::TooLarge {
+            what,
+            width,
+            height,
+            spp,
+            needed,
+            limit,
+        };
+        if 8 * samples > limit {
+            return Err(too_large("sample framebuffer", 8 * samples, limit));
+        }
+        // The shaders index samples with u32.
+        if samples > u64::from(u32::MAX) {
+            return Err(too_large(
+                "sample framebuffer",
+                8 * samples,
+                8 * u64::from(u32::MAX),
+            ));
+        }
+        let pixels = u64::from(width) * u64::from(height);
+        if 4 * pixels > limit {
+            return Err(too_large("image", 4 * pixels, limit));
+        }
+        Ok(())
+    }
+
+    /// Queue capacities for `patches` input patches: every seed fits into
+    /// Bound; the work queues get `work` items, halved while the queues would
+    /// not fit into one device buffer (`memory_plan`).
+    fn capacities(&self, patches: usize, work: u32) -> Capacities {
+        let limit = self.buffer_limit();
+        let bound = u32::try_from(patches.max(1)).unwrap_or(u32::MAX);
+        let mut work = work.max(MIN_WORK_CAPACITY);
+        loop {
+            let capacities = Capacities::uniform(work)
+                .with(BOUND, bound)
+                .with(SPLIT_U, work)
+                .with(SPLIT_V, work)
+                .with(DICE, work);
+            let config = self.config(capacities.clone(), None);
+            if self.compiled.memory_plan(&config).queue_bytes <= limit || work <= MIN_WORK_CAPACITY
+            {
+                return capacities;
+            }
+            work /= 2;
+        }
+    }
+
+    /// The iteration budget of a first attempt (see [`GpuOptions::iteration_budget`]).
+    fn iteration_budget(&self) -> Option<u32> {
+        self.options
+            .iteration_budget
+            .or_else(|| self.is_cpu().then_some(CPU_ITERATION_BUDGET))
+    }
+
+    /// Whether the adapter is a CPU (llvmpipe behind lavapipe).
+    fn is_cpu(&self) -> bool {
+        self.gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+    }
+
+    fn config(&self, capacities: Capacities, iteration_budget: Option<u32>) -> ExecutorConfig {
+        ExecutorConfig {
+            capacities,
+            workgroups: self
+                .options
+                .workgroups
+                .or_else(|| self.is_cpu().then(cpu_workgroups)),
+            iteration_budget,
+            timeout: self.options.timeout,
+        }
+    }
+
+    /// Creates the executor unless the cached one has these capacities.
+    fn executor(
+        &mut self,
+        capacities: &Capacities,
+        budget: Option<u32>,
+    ) -> Result<&mut Executor, RenderError> {
+        let stale = self
+            .executor
+            .as_ref()
+            .is_none_or(|(c, b, _)| c != capacities || *b != budget);
+        if stale {
+            // Drop the old queues before allocating new ones.
+            self.executor = None;
+            let executor = Executor::new(
+                &self.gpu.device,
+                &self.gpu.queue,
+                &self.compiled,
+                &self.config(capacities.clone(), budget),
+            )?;
+            self.executor = Some((capacities.clone(), budget, executor));
+        }
+        Ok(&mut self.executor.as_mut().expect("just created").2)
+    }
+
+    /// Prepares the frame buffers for `scene` (reused when the sizes match).
+    fn frame_buffers(&mut self, scene: &PreparedScene) {
+        let (device, queue) = (&self.gpu.device, &self.gpu.queue);
+        let camera = &scene.camera;
+        match &self.frame {
+            Some((buffers, target))
+                if buffers.fits(scene)
+                    && target.width == camera.width
+                    && target.height == camera.height =>
+            {
+                buffers.write(queue, scene);
+                target.write_params(queue, scene.spp, scene.background);
+            }
+            _ => {
+                self.frame = None;
+                self.frame = Some((
+                    FrameBuffers::new(device, queue, scene),
+                    ResolveTarget::new(
+                        device,
+                        camera.width,
+                        camera.height,
+                        scene.spp,
+                        scene.background,
+                    ),
+                ));
+            }
+        }
+    }
+
+    /// Renders one frame.
+    ///
+    /// A queue overflow is retried once from scratch (cleared framebuffer
+    /// and statistics) with the work queues' capacities doubled, and a run
+    /// whose loops llvmpipe cut short is retried once with
+    /// [`CPU_RETRY_ITERATION_BUDGET`]; the result reports both retries.
+    pub fn render(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
+        self.check_size(scene)?;
+        let start = Instant::now();
+        self.frame_buffers(scene);
+        let seeds: Vec<PatchItem> = scene.patches.iter().map(PatchItem::input).collect();
+        let mut work = self.options.work_capacity;
+        let mut budget = self.iteration_budget();
+        let mut overflow_retries = 0;
+        let mut loop_retries = 0;
+        let mut report = None;
+        let mut megakernel_wall = Duration::ZERO;
+        let counters = loop {
+            self.clear_frame();
+            if seeds.is_empty() {
+                break self.read_counters()?;
+            }
+            let capacities = self.capacities(seeds.len(), work);
+            let run_start = Instant::now();
+            // The executor borrows `self` mutably; take the buffers out meanwhile.
+            let frame = self.frame.take().expect("prepared above");
+            let result = self.executor(&capacities, budget).and_then(|executor| {
+                executor
+                    .run(&Seeds::new().add(BOUND, &seeds), &frame.0.bindings())
+                    .map_err(RenderError::Run)
+            });
+            self.frame = Some(frame);
+            megakernel_wall = run_start.elapsed();
+            match result {
+                Ok(r) => {
+                    report = Some(r);
+                    let counters = self.read_counters()?;
+                    if counters.loops_cut() > 0 && loop_retries < MAX_LOOP_RETRIES {
+                        log::warn!(
+                            "llvmpipe cut {} rasterization loop(s); rendering again with a smaller iteration budget",
+                            counters.loops_cut()
+                        );
+                        loop_retries += 1;
+                        budget = Some(CPU_RETRY_ITERATION_BUDGET);
+                        continue;
+                    }
+                    break counters;
+                }
+                Err(RenderError::Run(RunError::QueueOverflow {
+                    procedure,
+                    needed_at_least,
+                    ..
+                })) if overflow_retries == 0 => {
+                    log::warn!(
+                        "queue {procedure} overflowed (needed at least {needed_at_least}); rendering again with doubled capacities"
+                    );
+                    overflow_retries += 1;
+                    work = work.saturating_mul(2);
+                }
+                Err(RenderError::Run(RunError::LoopLimit { waits }))
+                    if loop_retries < MAX_LOOP_RETRIES =>
+                {
+                    log::warn!(
+                        "llvmpipe cut {waits} queue wait(s); rendering again with a smaller iteration budget"
+                    );
+                    loop_retries += 1;
+                    budget = Some(CPU_RETRY_ITERATION_BUDGET);
+                }
+                Err(e) => return Err(e),
+            }
+        };
+        if counters.loops_cut() > 0 {
+            return Err(RenderError::LoopsCut(counters.loops_cut()));
+        }
+        let (buffers, target) = self.frame.as_ref().expect("prepared above");
+        let (device, queue) = (&self.gpu.device, &self.gpu.queue);
+        let resolved = self.resolver.resolve(
+            device,
+            queue,
+            target,
+            &buffers.framebuffer,
+            self.options.timeout,
+        )?;
+        let image = RgbaImage::from_raw(target.width, target.height, resolved.rgba)
+            .expect("the image buffer holds width * height RGBA8 pixels");
+        let total_wall = start.elapsed();
+        let mut stats = counters.to_stats();
+        // Bound counts the patches it ran; a scene without patches runs nothing.
+        stats.input_patches = scene.patches.len() as u64;
+        let megakernel_gpu_ms = report
+            .as_ref()
+            .and_then(|r: &RunReport| r.gpu_time)
+            .map(|d| d.as_secs_f64() * 1e3);
+        stats.frame_time_ms = Some(megakernel_gpu_ms.unwrap_or(total_wall.as_secs_f64() * 1e3));
+        Ok(GpuRendered {
+            image,
+            coverage: resolved.coverage,
+            stats,
+            report,
+            overflow_retries,
+            loop_retries,
+            timings: FrameTimings {
+                megakernel_gpu_ms,
+                megakernel_wall_ms: megakernel_wall.as_secs_f64() * 1e3,
+                total_wall_ms: total_wall.as_secs_f64() * 1e3,
+            },
+        })
+    }
+
+    fn read_counters(&self) -> Result<GpuCounters, RenderError> {
+        let (buffers, _) = self.frame.as_ref().expect("prepared above");
+        let bytes = read_buffer(
+            &self.gpu.device,
+            &self.gpu.queue,
+            &buffers.stats,
+            self.options.timeout,
+        )?;
+        Ok(GpuCounters::from_bytes(&bytes))
+    }
+
+    /// Clears the framebuffer and zeroes the statistics.
+    fn clear_frame(&self) {
+        let (buffers, target) = self.frame.as_ref().expect("prepared before clearing");
+        buffers.reset_stats(&self.gpu.queue);
+        self.resolver.clear(
+            &self.gpu.device,
+            &self.gpu.queue,
+            target,
+            &buffers.framebuffer,
+            buffers.samples,
+        );
+    }
+}

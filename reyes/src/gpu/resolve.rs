@@ -1,0 +1,239 @@
+//! The clear and resolve passes: a plain compute shader
+//! (`shaders/reyes/resolve.wgsl`) run before and after the megakernel.
+
+use std::time::Duration;
+
+use scheduler::RunError;
+use scheduler::readback::read_buffer;
+use scheduler::wgpu::util::DeviceExt as _;
+
+const RESOLVE_WGSL: &str = include_str!("../../../shaders/reyes/resolve.wgsl");
+/// Threads per workgroup of the clear entry point (`CLEAR_WORKGROUP` in WGSL).
+const CLEAR_WORKGROUP: u64 = 256;
+
+/// Twin of the WGSL `ResolveParams`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct ResolveParams {
+    width: u32,
+    height: u32,
+    spp: u32,
+    pad0: u32,
+    background: [f32; 4],
+}
+
+/// The clear and resolve pipelines (created once per renderer).
+#[derive(Debug)]
+pub struct Resolver {
+    layout: wgpu::BindGroupLayout,
+    clear: wgpu::ComputePipeline,
+    resolve: wgpu::ComputePipeline,
+}
+
+/// The resolved frame, read back.
+#[derive(Debug)]
+pub struct Resolved {
+    /// RGBA8 bytes, row-major.
+    pub rgba: Vec<u8>,
+    /// Per pixel: any sample covered.
+    pub coverage: Vec<bool>,
+}
+
+fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl Resolver {
+    /// Creates the pipelines.
+    pub fn new(device: &wgpu::Device) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("reyes resolve"),
+            source: wgpu::ShaderSource::Wgsl(RESOLVE_WGSL.into()),
+        });
+        let storage = wgpu::BufferBindingType::Storage { read_only: false };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("reyes resolve"),
+            entries: &[
+                entry(0, wgpu::BufferBindingType::Uniform),
+                entry(1, storage),
+                entry(2, storage),
+                entry(3, storage),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("reyes resolve"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry_point: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        Self {
+            clear: pipeline("clear"),
+            resolve: pipeline("resolve"),
+            layout,
+        }
+    }
+
+    fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        target: &ResolveTarget,
+        framebuffer: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("reyes resolve"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: target.params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: framebuffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: target.image.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: target.coverage.as_entire_binding(),
+                },
+            ],
+        })
+    }
+
+    /// Sets every sample key of `framebuffer` to `CLEAR_KEY` (submitted at once).
+    pub fn clear(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &ResolveTarget,
+        framebuffer: &wgpu::Buffer,
+        samples: u64,
+    ) {
+        let group = self.bind_group(device, target, framebuffer);
+        let workgroups = samples.div_ceil(CLEAR_WORKGROUP).max(1);
+        // Spread over two dimensions: one allows at most 65535 workgroups.
+        let x = workgroups.min(65_535);
+        let y = workgroups.div_ceil(x);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.clear);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(x as u32, y as u32, 1);
+        }
+        queue.submit([encoder.finish()]);
+    }
+
+    /// Resolves `framebuffer` into the target's image and coverage and reads
+    /// them back.
+    pub fn resolve(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &ResolveTarget,
+        framebuffer: &wgpu::Buffer,
+        timeout: Duration,
+    ) -> Result<Resolved, RunError> {
+        let group = self.bind_group(device, target, framebuffer);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.resolve);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(target.width.div_ceil(8), target.height.div_ceil(8), 1);
+        }
+        queue.submit([encoder.finish()]);
+        let rgba = read_buffer(device, queue, &target.image, timeout)?;
+        let coverage_words = read_buffer(device, queue, &target.coverage, timeout)?;
+        let coverage = coverage_words
+            .chunks_exact(4)
+            .map(|w| w != [0, 0, 0, 0])
+            .collect();
+        Ok(Resolved { rgba, coverage })
+    }
+}
+
+/// The resolve's per-frame buffers (parameters, image, coverage).
+#[derive(Debug)]
+pub struct ResolveTarget {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    params: wgpu::Buffer,
+    image: wgpu::Buffer,
+    coverage: wgpu::Buffer,
+}
+
+impl ResolveTarget {
+    /// Rewrites the parameters (the background may change between frames).
+    pub fn write_params(&self, queue: &wgpu::Queue, spp: u32, background: glam::Vec3) {
+        let params = ResolveParams {
+            width: self.width,
+            height: self.height,
+            spp,
+            pad0: 0,
+            background: background.extend(0.0).to_array(),
+        };
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+    }
+
+    /// Buffers for a `width x height` image with `spp` samples per pixel.
+    pub fn new(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        spp: u32,
+        background: glam::Vec3,
+    ) -> Self {
+        use wgpu::BufferUsages as U;
+        let pixels = u64::from(width) * u64::from(height);
+        let params = ResolveParams {
+            width,
+            height,
+            spp,
+            pad0: 0,
+            background: background.extend(0.0).to_array(),
+        };
+        let buffer = |label: &str| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 4 * pixels,
+                usage: U::STORAGE | U::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        Self {
+            width,
+            height,
+            params: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("reyes resolve params"),
+                contents: bytemuck::bytes_of(&params),
+                usage: U::UNIFORM | U::COPY_DST,
+            }),
+            image: buffer("reyes image"),
+            coverage: buffer("reyes coverage"),
+        }
+    }
+}

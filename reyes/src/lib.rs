@@ -1,0 +1,30 @@
+//! A Reyes renderer for bicubic Bezier patch models.
+//!
+//! This crate holds the renderer's CPU side:
+//!
+//! * [`model`] and [`load`]: patch models and the `.bpt`/`.bez` loaders;
+//! * [`scene`]: the TOML scene description;
+//! * [`prepare`]: host preparation (world-space patches, camera, lights);
+//! * [`camera`], [`color`], [`sampling`], [`bezier`], [`params`]: the
+//!   conventions and building blocks that every implementation of the
+//!   pipeline shares;
+//! * [`reference`](mod@reference): the CPU reference renderer;
+//! * [`stats`]: render statistics; [`output`]: PNG output.
+//!
+//! The pipeline and its conventions are described in `docs/reyes.md`, the
+//! scene format in `docs/reyes-scene.md`.
+
+pub mod bezier;
+pub mod camera;
+pub mod color;
+pub mod load;
+pub mod model;
+pub mod output;
+pub mod params;
+pub mod prepare;
+pub mod reference;
+pub mod sampling;
+pub mod scene;
+pub mod stats;
+
+pub mod gpu;

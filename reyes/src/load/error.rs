@@ -1,0 +1,127 @@
+//! The error type of the model loaders.
+
+use std::path::PathBuf;
+
+/// Why a model file could not be loaded. Parse errors carry the 1-based line
+/// number where the problem was found and say what was expected there.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be read.
+    #[error("cannot read model file {}: {source}", path.display())]
+    Io {
+        /// The file that was being read.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file name does not end in a supported extension (`.bpt`, `.bez`).
+    #[error("unsupported model file extension for {} (expected .bpt or .bez)", path.display())]
+    UnknownExtension {
+        /// The offending path.
+        path: PathBuf,
+    },
+    /// The file ended before a count (`what`: "patch count" or "vertex count").
+    #[error("line {line}: expected the {what}, found end of file")]
+    MissingCount {
+        /// Line where the count was expected.
+        line: usize,
+        /// Which count was expected.
+        what: &'static str,
+    },
+    /// A count line is not a single non-negative integer.
+    #[error("line {line}: expected the {what} (one non-negative integer), found {found:?}")]
+    InvalidCount {
+        /// Line of the bad count.
+        line: usize,
+        /// Which count was expected.
+        what: &'static str,
+        /// The text found instead.
+        found: String,
+    },
+    /// A `.bpt` degree line is not `3 3` (only bicubic patches are supported).
+    #[error("line {line}: unsupported patch degree {found:?} (expected \"3 3\": bicubic)")]
+    UnsupportedDegree {
+        /// Line of the degree.
+        line: usize,
+        /// The text found instead.
+        found: String,
+    },
+    /// A control-point or vertex line does not have exactly 3 coordinates.
+    #[error("line {line}: expected 3 coordinates (x y z), found {found}")]
+    WrongCoordinateCount {
+        /// Line of the point.
+        line: usize,
+        /// Number of coordinates found.
+        found: usize,
+    },
+    /// A token that should be a number (coordinate or vertex index) does not parse.
+    #[error("line {line}: expected a number, found {token:?}")]
+    InvalidNumber {
+        /// Line of the token.
+        line: usize,
+        /// The token.
+        token: String,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("line {line}: coordinate {token:?} is not finite")]
+    NonFiniteCoordinate {
+        /// Line of the coordinate.
+        line: usize,
+        /// The token as written in the file.
+        token: String,
+    },
+    /// The file ended before everything its counts declared.
+    #[error("line {line}: file ended early: expected {expected}")]
+    Truncated {
+        /// The line after the last line of the file.
+        line: usize,
+        /// What was still expected.
+        expected: String,
+    },
+    /// Non-blank text after the last declared patch or vertex.
+    #[error("line {line}: unexpected text after the end of the data: {text:?}")]
+    TrailingGarbage {
+        /// Line of the extra text.
+        line: usize,
+        /// The extra text (trimmed).
+        text: String,
+    },
+    /// A `.bez` vertex index is 0 or larger than the vertex count (indices are 1-based).
+    #[error("line {line}: vertex index {index} out of range 1..={vertex_count}")]
+    VertexIndexOutOfRange {
+        /// Line of the patch that uses the index.
+        line: usize,
+        /// The index as written.
+        index: u64,
+        /// Number of vertices in the file.
+        vertex_count: usize,
+    },
+    /// A `.bez` patch line does not have exactly 16 vertex indices.
+    #[error("line {line}: expected 16 comma-separated vertex indices, found {found}")]
+    WrongIndexCount {
+        /// Line of the patch.
+        line: usize,
+        /// Number of indices found.
+        found: usize,
+    },
+}
+
+impl LoadError {
+    /// The 1-based line number of a parse error (`None` for I/O and extension errors).
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            LoadError::Io { .. } | LoadError::UnknownExtension { .. } => None,
+            LoadError::MissingCount { line, .. }
+            | LoadError::InvalidCount { line, .. }
+            | LoadError::UnsupportedDegree { line, .. }
+            | LoadError::WrongCoordinateCount { line, .. }
+            | LoadError::InvalidNumber { line, .. }
+            | LoadError::NonFiniteCoordinate { line, .. }
+            | LoadError::Truncated { line, .. }
+            | LoadError::TrailingGarbage { line, .. }
+            | LoadError::VertexIndexOutOfRange { line, .. }
+            | LoadError::WrongIndexCount { line, .. } => Some(*line),
+        }
+    }
+}

@@ -1,0 +1,114 @@
+//! Line-oriented helpers shared by the two text formats: a cursor over the
+//! non-blank lines with their 1-based numbers, and number parsing that reports
+//! errors with those numbers.
+
+use glam::Vec3;
+
+use super::LoadError;
+
+/// A cursor over the non-blank, trimmed lines of a text, remembering line numbers.
+pub(crate) struct Lines<'a> {
+    inner: std::iter::Enumerate<std::str::Lines<'a>>,
+    /// Number of the last line seen (0 before the first), used to report the
+    /// position of a truncation: the line after the last one.
+    last_line: usize,
+}
+
+impl<'a> Lines<'a> {
+    pub(crate) fn new(text: &'a str) -> Self {
+        Lines {
+            inner: text.lines().enumerate(),
+            last_line: 0,
+        }
+    }
+
+    /// The next non-blank line as `(line_number, trimmed_text)`.
+    pub(crate) fn next_line(&mut self) -> Option<(usize, &'a str)> {
+        for (index, line) in self.inner.by_ref() {
+            self.last_line = index + 1;
+            let trimmed = line.trim();
+            if !trimmed.is_empty() {
+                return Some((index + 1, trimmed));
+            }
+        }
+        None
+    }
+
+    /// The next non-blank line, or [`LoadError::Truncated`] saying what was expected.
+    pub(crate) fn expect_line(
+        &mut self,
+        expected: impl FnOnce() -> String,
+    ) -> Result<(usize, &'a str), LoadError> {
+        match self.next_line() {
+            Some(found) => Ok(found),
+            None => Err(LoadError::Truncated {
+                line: self.last_line + 1,
+                expected: expected(),
+            }),
+        }
+    }
+
+    /// Reads a count line (a single non-negative integer).
+    pub(crate) fn expect_count(&mut self, what: &'static str) -> Result<(usize, usize), LoadError> {
+        let Some((line, text)) = self.next_line() else {
+            return Err(LoadError::MissingCount {
+                line: self.last_line + 1,
+                what,
+            });
+        };
+        let count = text.parse::<usize>().map_err(|_| LoadError::InvalidCount {
+            line,
+            what,
+            found: text.to_string(),
+        })?;
+        Ok((line, count))
+    }
+
+    /// Fails with [`LoadError::TrailingGarbage`] if any non-blank line is left.
+    pub(crate) fn expect_end(&mut self) -> Result<(), LoadError> {
+        match self.next_line() {
+            Some((line, text)) => Err(LoadError::TrailingGarbage {
+                line,
+                text: text.to_string(),
+            }),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Parses the three coordinates of a point given as tokens.
+pub(crate) fn parse_point<'a>(
+    line: usize,
+    tokens: impl Iterator<Item = &'a str>,
+) -> Result<Vec3, LoadError> {
+    let tokens: Vec<&str> = tokens.collect();
+    if tokens.len() != 3 {
+        return Err(LoadError::WrongCoordinateCount {
+            line,
+            found: tokens.len(),
+        });
+    }
+    let mut xyz = [0.0f32; 3];
+    for (slot, token) in xyz.iter_mut().zip(&tokens) {
+        let value = token.parse::<f32>().map_err(|_| LoadError::InvalidNumber {
+            line,
+            token: token.to_string(),
+        })?;
+        // Rust's float parser accepts "nan" and "inf"; a NaN or infinite control
+        // point would poison every bound and grid derived from it, so reject it here.
+        if !value.is_finite() {
+            return Err(LoadError::NonFiniteCoordinate {
+                line,
+                token: token.to_string(),
+            });
+        }
+        *slot = value;
+    }
+    Ok(Vec3::from_array(xyz))
+}
+
+/// Caps a declared count for pre-allocation, so that a bogus huge count in a
+/// small file cannot make us allocate gigabytes before failing as truncated.
+pub(crate) fn capacity_hint(declared: usize, text_len: usize) -> usize {
+    declared.min(text_len / 8 + 1)
+}

@@ -1,0 +1,18 @@
+//! Parsers (and writers) for the bicubic Bezier patch file formats.
+//!
+//! * [`bpt`]: the `.bpt` text format: a patch count, then per patch a degree
+//!   line `3 3` and 16 lines `x y z`.
+//! * [`bez`]: Newell's `.bez` format: a patch count, one line of 16
+//!   comma-separated 1-based vertex indices per patch, a vertex count, and one
+//!   `x,y,z` line per vertex.
+//!
+//! Both parsers work on `&str`, skip blank lines, tolerate extra whitespace,
+//! and report errors as [`LoadError`] with the 1-based line number.
+//! Use [`crate::model::Model::load`] to read a file by path.
+
+pub mod bez;
+pub mod bpt;
+mod error;
+mod lines;
+
+pub use error::LoadError;

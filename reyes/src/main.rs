@@ -1,0 +1,290 @@
+//! `reyes`: render a scene or a Bezier patch model on the GPU.
+//!
+//! ```text
+//! reyes render [SCENE] -o out.png [--width W] [--height H] [--spp N]
+//!              [--sampling bbox|nearest] [--stats] [--stats-json FILE]
+//!              [--eye x,y,z] [--target x,y,z] [--up x,y,z] [--fov DEG] [--cpu]
+//! ```
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use glam::Vec3;
+use reyes::gpu::{GpuOptions, GpuRenderer};
+use reyes::model::Model;
+use reyes::prepare::PreparedScene;
+use reyes::scene::{CameraDesc, Sampling, Scene};
+use reyes::stats::RenderStats;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "reyes",
+    version,
+    about = "A Reyes renderer for bicubic Bezier patches on the GPU"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Render a scene (.toml), a model (.bpt/.bez) or, without SCENE, the teapot.
+    Render(RenderArgs),
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum SamplingArg {
+    /// Test every sample in each micropolygon triangle's bounding box.
+    Bbox,
+    /// Write only the sample nearest each micropolygon's centroid.
+    Nearest,
+}
+
+#[derive(Debug, clap::Args)]
+struct RenderArgs {
+    /// A scene file (.toml) or a bare model (.bpt/.bez, framed automatically
+    /// with a default light). Default: the embedded teapot.
+    scene: Option<PathBuf>,
+    /// Output PNG.
+    #[arg(short, long, default_value = "reyes.png")]
+    output: PathBuf,
+    /// Image width in pixels (default: the scene's, 800).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels (default: the scene's, 600).
+    #[arg(long)]
+    height: Option<u32>,
+    /// Samples per pixel: 1, 4, 9, 16, 25, 36, 49 or 64 (default: the scene's, 4).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Sampling mode (default: the scene's, bbox).
+    #[arg(long, value_enum)]
+    sampling: Option<SamplingArg>,
+    /// Print the statistics table.
+    #[arg(long)]
+    stats: bool,
+    /// Write the statistics as JSON to FILE.
+    #[arg(long, value_name = "FILE")]
+    stats_json: Option<PathBuf>,
+    /// Camera position, e.g. `4,-12,7`.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    eye: Option<Vec3>,
+    /// Point the camera looks at.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    target: Option<Vec3>,
+    /// Camera up direction.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    up: Option<Vec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long)]
+    fov: Option<f32>,
+    /// Render with the CPU reference instead of the GPU.
+    #[arg(long)]
+    cpu: bool,
+}
+
+fn parse_vec3(text: &str) -> Result<Vec3, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!(
+            "expected x,y,z (three comma-separated numbers), got {text:?}"
+        ));
+    }
+    let mut v = [0.0f32; 3];
+    for (slot, part) in v.iter_mut().zip(&parts) {
+        *slot = part
+            .parse()
+            .map_err(|e| format!("{part:?} is not a number: {e}"))?;
+        if !slot.is_finite() {
+            return Err(format!("{part:?} is not finite"));
+        }
+    }
+    Ok(Vec3::from_array(v))
+}
+
+type BoxError = Box<dyn std::error::Error>;
+
+/// The scene named on the command line, before overrides.
+fn base_scene(path: Option<&Path>) -> Result<Scene, BoxError> {
+    let Some(path) = path else {
+        return Ok(Scene::default_teapot());
+    };
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("toml") => Ok(Scene::load(path)?),
+        Some("bpt" | "bez") => {
+            let model = Model::load(path)?;
+            Ok(Scene::for_model(path.to_string_lossy(), &model))
+        }
+        _ => Err(format!(
+            "{}: unknown scene type; expected a .toml scene or a .bpt/.bez model",
+            path.display()
+        )
+        .into()),
+    }
+}
+
+/// Loads the scene, applies the command-line overrides and prepares it.
+fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
+    let mut scene = base_scene(args.scene.as_deref())?;
+    let resized = args.width.is_some() || args.height.is_some();
+    if let Some(width) = args.width {
+        scene.resolution.width = width;
+    }
+    if let Some(height) = args.height {
+        scene.resolution.height = height;
+    }
+    if let Some(spp) = args.spp {
+        scene.spp = spp;
+    }
+    if let Some(sampling) = args.sampling {
+        scene.sampling = match sampling {
+            SamplingArg::Bbox => Sampling::Bbox,
+            SamplingArg::Nearest => Sampling::Nearest,
+        };
+    }
+    let camera_override =
+        args.eye.is_some() || args.target.is_some() || args.up.is_some() || args.fov.is_some();
+    // A bare model or the teapot was framed for 800x600: frame it again for
+    // the requested aspect ratio (through the same helper), unless the user
+    // places the camera.
+    let is_model = args
+        .scene
+        .as_deref()
+        .and_then(|p| p.extension())
+        .is_none_or(|e| !e.eq_ignore_ascii_case("toml"));
+    if resized && is_model && scene.camera.is_some() {
+        let models = scene.load_models()?;
+        let (lo, hi) = models[0].bounds();
+        let aspect = scene.resolution.width as f32 / scene.resolution.height.max(1) as f32;
+        scene.camera = Some(CameraDesc::framing(lo, hi, aspect));
+    }
+    if camera_override {
+        // Start from the camera the scene would use (framed if absent).
+        let camera = match scene.camera {
+            Some(desc) => desc,
+            None => {
+                let framed = PreparedScene::load(&scene)?.camera;
+                CameraDesc {
+                    eye: framed.eye,
+                    target: framed.target,
+                    up: framed.up,
+                    fov_y_degrees: framed.fov_y_radians.to_degrees(),
+                    near: framed.near,
+                    far: framed.far,
+                }
+            }
+        };
+        scene.camera = Some(CameraDesc {
+            eye: args.eye.unwrap_or(camera.eye),
+            target: args.target.unwrap_or(camera.target),
+            up: args.up.unwrap_or(camera.up),
+            fov_y_degrees: args.fov.unwrap_or(camera.fov_y_degrees),
+            ..camera
+        });
+    }
+    Ok(PreparedScene::load(&scene)?)
+}
+
+fn print_stats(stats: &RenderStats, backend: &str) {
+    let rows: [(&str, String); 10] = [
+        ("input patches", stats.input_patches.to_string()),
+        ("splits", stats.splits.to_string()),
+        ("culled patches", stats.culled_patches.to_string()),
+        ("depth-guard drops", stats.depth_guard_drops.to_string()),
+        ("grids diced", stats.grids_diced.to_string()),
+        ("micropolygons", stats.micropolygons.to_string()),
+        ("samples tested", stats.samples_tested.to_string()),
+        ("samples hit", stats.samples_hit.to_string()),
+        (
+            "largest micropolygon",
+            format!("{:.3} px", stats.largest_micropolygon_px),
+        ),
+        (
+            "frame time",
+            stats
+                .frame_time_ms
+                .map(|t| format!("{t:.3} ms ({backend})"))
+                .unwrap_or_else(|| "-".into()),
+        ),
+    ];
+    println!("{:<22}{:>24}", "statistic", "value");
+    for (name, value) in rows {
+        println!("{name:<22}{value:>24}");
+    }
+}
+
+fn render(args: &RenderArgs) -> Result<(), BoxError> {
+    let scene = prepare(args)?;
+    let (image, stats, backend) = if args.cpu {
+        let rendered = reyes::reference::render(&scene);
+        (rendered.image, rendered.stats, "CPU wall".to_owned())
+    } else {
+        let gpu = reyes::gpu::create_gpu()?;
+        let mut renderer = GpuRenderer::new(&gpu, GpuOptions::default())?;
+        let rendered = renderer.render(&scene)?;
+        if rendered.overflow_retries > 0 {
+            eprintln!(
+                "note: a queue overflowed; the frame was rendered again with doubled queue capacities"
+            );
+        }
+        let backend = if rendered.timings.megakernel_gpu_ms.is_some() {
+            "GPU megakernel"
+        } else {
+            "wall"
+        };
+        (
+            rendered.image,
+            rendered.stats,
+            format!("{backend}, {}", gpu.describe()),
+        )
+    };
+    reyes::output::write_png(&image, &args.output)?;
+    println!(
+        "wrote {} ({}x{}, {} spp)",
+        args.output.display(),
+        scene.camera.width,
+        scene.camera.height,
+        scene.spp
+    );
+    if args.stats {
+        print_stats(&stats, &backend);
+    }
+    if let Some(path) = &args.stats_json {
+        let json = serde_json::to_string_pretty(&stats)?;
+        std::fs::write(path, json + "\n")
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    env_logger::init();
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Render(args) => render(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error}");
+            // Print causes the message does not already include.
+            let mut shown = error.to_string();
+            let mut source = error.source();
+            while let Some(cause) = source {
+                let text = cause.to_string();
+                if !shown.contains(&text) {
+                    eprintln!("  caused by: {text}");
+                    shown.push_str(&text);
+                }
+                source = cause.source();
+            }
+            ExitCode::FAILURE
+        }
+    }
+}

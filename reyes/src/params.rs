@@ -1,0 +1,67 @@
+//! Constants of the Reyes pipeline.
+//!
+//! The CPU reference renderer ([`crate::reference`]) and the GPU implementation
+//! must use exactly these values, so that their statistics and images can be
+//! compared. Each constant documents the pipeline stage that uses it.
+
+/// Smallest clip-space `w` a point may have and still be projected.
+///
+/// The bound test splits (in object space) any patch with a control point at
+/// `w <= NEAR_EPS`, and the rasterizer skips any micropolygon triangle with a
+/// corner at `w <= NEAR_EPS`: dividing by a `w` this close to zero would give
+/// meaningless pixel positions.
+pub const NEAR_EPS: f32 = 1e-5;
+
+/// Number of grid points along each side of a diced grid (16 x 16 points).
+pub const GRID_POINTS: usize = 16;
+
+/// Number of micropolygons along each side of a diced grid (15 x 15 quads).
+pub const GRID_QUADS: usize = GRID_POINTS - 1;
+
+/// Number of micropolygons in one diced grid (`GRID_QUADS * GRID_QUADS`).
+pub const MICROPOLYGONS_PER_GRID: u64 = (GRID_QUADS * GRID_QUADS) as u64;
+
+/// Default screen-space size (pixels) below which a patch is diced: a patch is
+/// diced when the larger side of its projected control-point bounding box is
+/// `<= dice_threshold`.
+pub const DEFAULT_DICE_THRESHOLD: f32 = 16.0;
+
+/// Default maximum number of splits from an input patch to a diced piece.
+///
+/// A patch that still needs splitting at this depth is dropped and counted in
+/// `depth_guard_drops`; this bounds the work for patches that cross the eye
+/// plane or never shrink (degenerate geometry).
+pub const DEFAULT_MAX_SPLIT_DEPTH: u32 = 24;
+
+/// Largest accepted `max_split_depth`: a depth above this could not be reached
+/// in practice and would only hide a mistake in the scene file.
+pub const MAX_SPLIT_DEPTH_LIMIT: u32 = 64;
+
+/// Relative threshold of the degenerate-normal test: the normal
+/// `n = dP/ds x dP/dt` is degenerate when
+/// `|n|^2 <= DEGENERATE_NORMAL_REL_EPS * |dP/ds|^2 * |dP/dt|^2` (or `|n|^2 == 0`),
+/// i.e. when the tangents are (nearly) parallel or one of them vanishes, as at
+/// the collapsed edges of the teapot's lid and bottom.
+pub const DEGENERATE_NORMAL_REL_EPS: f32 = 1e-12;
+
+/// Lower clamp of the patch parameters `(s, t)` used to re-evaluate the
+/// tangents when the normal is degenerate: moving slightly inside the patch
+/// gets away from a collapsed edge, where the tangent vanishes.
+pub const DEGENERATE_PARAM_MIN: f32 = 0.01;
+
+/// Upper clamp of the patch parameters for the degenerate-normal fallback
+/// (see [`DEGENERATE_PARAM_MIN`]).
+pub const DEGENERATE_PARAM_MAX: f32 = 0.99;
+
+/// Accepted samples-per-pixel counts. The samples of a pixel form a `k x k`
+/// grid of strata (`k = sqrt(spp)`), so `spp` must be a perfect square.
+pub const VALID_SPP: [u32; 8] = [1, 4, 9, 16, 25, 36, 49, 64];
+
+/// Multipliers of the jitter hash, one per input: pixel x, pixel y, sample
+/// index, and channel (0 for the x offset, 1 for the y offset). See
+/// [`crate::sampling::hash`].
+pub const HASH_MULTIPLIERS: [u32; 4] = [0x8da6_b343, 0xd816_3841, 0xcb1a_b31f, 0x1656_67b1];
+
+/// The two multipliers of the jitter hash's final mixing steps
+/// (see [`crate::sampling::hash`]).
+pub const HASH_MIX: [u32; 2] = [0x7feb_352d, 0x846c_a68b];

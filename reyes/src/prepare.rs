@@ -1,0 +1,138 @@
+//! Host-side scene preparation, shared by the CPU reference and the GPU path:
+//! control points transformed to world space once, the camera built (or
+//! framed automatically), lights normalized.
+
+use glam::Vec3;
+
+use crate::camera::Camera;
+use crate::model::Model;
+use crate::scene::{CameraDesc, Sampling, Scene, SceneError};
+
+/// One input patch in world space, with the object it belongs to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WorldPatch {
+    /// Control points in world space, `points[v * 4 + u]`.
+    pub points: [Vec3; 16],
+    /// Index of the object (in [`PreparedScene::objects`]).
+    pub object: u32,
+}
+
+/// Per-object shading data.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PreparedObject {
+    /// Linear RGB albedo.
+    pub albedo: Vec3,
+}
+
+/// A directional light ready for shading.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PreparedLight {
+    /// Unit vector from the surface towards the light: `L = normalize(-direction)`.
+    pub to_light: Vec3,
+    /// `intensity * color`.
+    pub radiance: Vec3,
+}
+
+/// Everything a renderer needs for one frame, in world space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PreparedScene {
+    /// The camera (image size included).
+    pub camera: Camera,
+    /// All objects' patches, in object order.
+    pub patches: Vec<WorldPatch>,
+    /// Shading data per object.
+    pub objects: Vec<PreparedObject>,
+    /// The lights.
+    pub lights: Vec<PreparedLight>,
+    /// Ambient term.
+    pub ambient: f32,
+    /// Specular weight.
+    pub specular_strength: f32,
+    /// Blinn-Phong exponent.
+    pub shininess: f32,
+    /// Samples per pixel (a perfect square).
+    pub spp: u32,
+    /// Sampling mode.
+    pub sampling: Sampling,
+    /// Whether samples are jittered within their strata.
+    pub jitter: bool,
+    /// Linear RGB background.
+    pub background: Vec3,
+    /// Dice when the projected bound's larger side is `<=` this (pixels).
+    pub dice_threshold: f32,
+    /// Drop patches that still need a split at this depth.
+    pub max_split_depth: u32,
+}
+
+impl PreparedScene {
+    /// Prepares `scene` with its models already loaded (`models[i]` belongs to
+    /// `scene.objects[i]`). The scene is validated first. Without a camera in
+    /// the scene, the camera is framed around the world-space bounds of all
+    /// patches ([`CameraDesc::framing_points`]).
+    pub fn new(scene: &Scene, models: &[Model]) -> Result<PreparedScene, SceneError> {
+        scene.validate()?;
+        if models.len() != scene.objects.len() {
+            return Err(SceneError::ModelCountMismatch {
+                objects: scene.objects.len(),
+                models: models.len(),
+            });
+        }
+        let mut patches = Vec::with_capacity(models.iter().map(|m| m.patches.len()).sum());
+        for (index, (object, model)) in scene.objects.iter().zip(models).enumerate() {
+            let matrix = object.transform.matrix();
+            patches.extend(model.patches.iter().map(|patch| WorldPatch {
+                points: patch.points.map(|p| matrix.transform_point3(p)),
+                object: index as u32,
+            }));
+        }
+        let (width, height) = (scene.resolution.width, scene.resolution.height);
+        let desc = scene.camera.unwrap_or_else(|| {
+            CameraDesc::framing_points(
+                patches.iter().flat_map(|p| p.points.iter().copied()),
+                width as f32 / height as f32,
+            )
+        });
+        let camera = Camera::new(
+            desc.eye,
+            desc.target,
+            desc.up,
+            desc.fov_y_degrees.to_radians(),
+            width,
+            height,
+            desc.near,
+            desc.far,
+        );
+        Ok(PreparedScene {
+            camera,
+            patches,
+            objects: scene
+                .objects
+                .iter()
+                .map(|o| PreparedObject { albedo: o.color })
+                .collect(),
+            lights: scene
+                .lights
+                .iter()
+                .map(|l| PreparedLight {
+                    to_light: (-l.direction).normalize(),
+                    radiance: l.color * l.intensity,
+                })
+                .collect(),
+            ambient: scene.ambient,
+            specular_strength: scene.specular.strength,
+            shininess: scene.specular.shininess,
+            spp: scene.spp,
+            sampling: scene.sampling,
+            jitter: scene.jitter,
+            background: scene.background,
+            dice_threshold: scene.dice_threshold,
+            max_split_depth: scene.max_split_depth,
+        })
+    }
+
+    /// Loads the scene's models ([`Scene::load_models`]) and prepares it.
+    pub fn load(scene: &Scene) -> Result<PreparedScene, SceneError> {
+        let models = scene.load_models()?;
+        PreparedScene::new(scene, &models)
+    }
+}

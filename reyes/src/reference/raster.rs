@@ -1,0 +1,380 @@
+//! Rasterization of diced grids into the sample framebuffer.
+//!
+//! Two modes ([`crate::scene::Sampling`]):
+//! * **bbox**: each micropolygon is split into triangles `(a, b, c)` and
+//!   `(a, c, d)`; every sample in each triangle's pixel bounding box is tested
+//!   with edge functions and a top-left fill rule.
+//! * **nearest**: each micropolygon writes only the sample nearest its centroid.
+
+use glam::{Vec2, Vec3};
+
+use super::framebuffer::Framebuffer;
+use crate::color::pack_key;
+use crate::params::{GRID_POINTS, GRID_QUADS, NEAR_EPS};
+use crate::sampling::sample_offset;
+use crate::stats::RenderStats;
+
+/// A grid point after projection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScreenPoint {
+    /// `(px, py, depth)` from [`crate::camera::Camera::to_pixel`].
+    pub pixel: Vec3,
+    /// Clip-space w.
+    pub w: f32,
+}
+
+impl ScreenPoint {
+    /// Usable as a triangle corner: `w > NEAR_EPS` and depth in `[0, 1]`.
+    fn usable(&self) -> bool {
+        self.w > NEAR_EPS && (0.0..=1.0).contains(&self.pixel.z)
+    }
+}
+
+/// The sampling setup shared by every micropolygon of a frame.
+#[derive(Debug, Clone)]
+pub struct SampleGrid {
+    /// Samples per pixel side (`k = sqrt(spp)`).
+    pub k: u32,
+    /// Whether samples are jittered.
+    pub jitter: bool,
+    /// The un-jittered offsets of the `k * k` samples, indexed by sample.
+    offsets: Vec<Vec2>,
+}
+
+impl SampleGrid {
+    /// The sample layout for `k * k` samples per pixel.
+    pub fn new(k: u32, jitter: bool) -> SampleGrid {
+        SampleGrid {
+            k,
+            jitter,
+            offsets: (0..k * k)
+                .map(|s| sample_offset(0, 0, s, k, false))
+                .collect(),
+        }
+    }
+
+    /// Position of sample `s` of pixel `(x, y)`.
+    #[inline]
+    fn position(&self, x: u32, y: u32, s: u32) -> Vec2 {
+        if self.jitter {
+            Vec2::new(x as f32, y as f32) + sample_offset(x, y, s, self.k, true)
+        } else {
+            Vec2::new(x as f32, y as f32) + self.offsets[s as usize]
+        }
+    }
+}
+
+/// `(b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)`: positive when `p`
+/// is to the left of `a -> b` in a y-up frame (to the right on the y-down screen).
+#[inline]
+fn edge_raw(a: Vec2, b: Vec2, p: Vec2) -> f32 {
+    (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)
+}
+
+/// The edge function of `a -> b` at `p`, always computed from the
+/// lexicographically smaller endpoint, so that the two triangles sharing an
+/// edge get exactly opposite values (`E_ab = -E_ba` bit for bit). Without
+/// this, rounding could leave a sample on a shared edge in both triangles or
+/// in neither.
+#[inline]
+fn edge(a: Vec2, b: Vec2, p: Vec2) -> f32 {
+    if a.x < b.x || (a.x == b.x && a.y <= b.y) {
+        edge_raw(a, b, p)
+    } else {
+        -edge_raw(b, a, p)
+    }
+}
+
+/// Top-left rule for a triangle with positive area (clockwise on the y-down
+/// screen): the edge `a -> b` owns samples exactly on it if it is a *top* edge
+/// (horizontal, pointing right: the triangle lies below it) or a *left* edge
+/// (pointing up on the screen, `dy < 0`).
+#[inline]
+fn owns(a: Vec2, b: Vec2) -> bool {
+    let d = b - a;
+    d.y < 0.0 || (d.y == 0.0 && d.x > 0.0)
+}
+
+/// Whether a sample with edge value `e` is inside the half-plane of `a -> b`.
+#[inline]
+fn inside(e: f32, a: Vec2, b: Vec2) -> bool {
+    e > 0.0 || (e == 0.0 && owns(a, b))
+}
+
+/// Clamps a depth into `[0, 1]` and turns -0.0 into +0.0, so its bit pattern
+/// orders correctly inside a sample key.
+#[inline]
+fn key_depth(z: f32) -> f32 {
+    let z = z.clamp(0.0, 1.0);
+    if z == 0.0 { 0.0 } else { z }
+}
+
+/// Rasterizes one triangle in bbox mode, offering `packed_color` at the
+/// interpolated depth to every covered sample.
+pub fn raster_triangle(
+    framebuffer: &mut Framebuffer,
+    samples: &SampleGrid,
+    corners: [ScreenPoint; 3],
+    packed_color: u32,
+    stats: &mut RenderStats,
+) {
+    if !corners.iter().all(ScreenPoint::usable) {
+        return;
+    }
+    let [pa, pb, pc] = corners.map(|c| c.pixel);
+    let area = edge(pa.truncate(), pb.truncate(), pc.truncate());
+    if area == 0.0 || !area.is_finite() {
+        return;
+    }
+    // Normalise the orientation: with b and c swapped the area is positive,
+    // and "inside" means every edge function is positive.
+    let (pb, pc) = if area < 0.0 { (pc, pb) } else { (pb, pc) };
+    let area = area.abs();
+    let (a, b, c) = (pa.truncate(), pb.truncate(), pc.truncate());
+
+    let lo = a.min(b).min(c);
+    let hi = a.max(b).max(c);
+    // Saturating float-to-int casts keep huge coordinates harmless.
+    let x0 = (lo.x.floor() as i64).max(0);
+    let y0 = (lo.y.floor() as i64).max(0);
+    let x1 = (hi.x.floor() as i64).min(i64::from(framebuffer.width) - 1);
+    let y1 = (hi.y.floor() as i64).min(i64::from(framebuffer.height) - 1);
+    if x0 > x1 || y0 > y1 {
+        return;
+    }
+    let spp = samples.k * samples.k;
+    for y in y0 as u32..=y1 as u32 {
+        for x in x0 as u32..=x1 as u32 {
+            for s in 0..spp {
+                stats.samples_tested += 1;
+                let p = samples.position(x, y, s);
+                let e_bc = edge(b, c, p);
+                let e_ca = edge(c, a, p);
+                let e_ab = edge(a, b, p);
+                if inside(e_bc, b, c) && inside(e_ca, c, a) && inside(e_ab, a, b) {
+                    stats.samples_hit += 1;
+                    let z = (e_bc * pa.z + e_ca * pb.z + e_ab * pc.z) / area;
+                    framebuffer.offer(x, y, s, pack_key(key_depth(z), packed_color));
+                }
+            }
+        }
+    }
+}
+
+/// Nearest mode: offers `packed_color` to the one sample nearest the
+/// centroid of the micropolygon's 4 corners (their averaged px, py, depth):
+/// the sample whose stratum contains the centroid (the nearest sample
+/// exactly when jitter is off). The sample is written when the centroid is
+/// on screen, its depth is in `[0, 1]` and all 4 corners have `w > NEAR_EPS`.
+pub fn raster_nearest(
+    framebuffer: &mut Framebuffer,
+    k: u32,
+    corners: [ScreenPoint; 4],
+    packed_color: u32,
+    stats: &mut RenderStats,
+) {
+    stats.samples_tested += 1;
+    if !corners.iter().all(|c| c.w > NEAR_EPS) {
+        return;
+    }
+    let centroid = corners.iter().map(|c| c.pixel).sum::<Vec3>() * 0.25;
+    let (width, height) = (framebuffer.width as f32, framebuffer.height as f32);
+    let on_screen =
+        centroid.x >= 0.0 && centroid.x < width && centroid.y >= 0.0 && centroid.y < height;
+    if !on_screen || !(0.0..=1.0).contains(&centroid.z) {
+        return;
+    }
+    // Global sample column/row; the min() guards against rounding up to the edge.
+    let gx = ((centroid.x * k as f32).floor() as u32).min(framebuffer.width * k - 1);
+    let gy = ((centroid.y * k as f32).floor() as u32).min(framebuffer.height * k - 1);
+    let (x, y) = (gx / k, gy / k);
+    let s = (gy % k) * k + gx % k;
+    stats.samples_hit += 1;
+    framebuffer.offer(x, y, s, pack_key(key_depth(centroid.z), packed_color));
+}
+
+/// Largest side of the pixel bounding box of 4 corners.
+pub fn micropolygon_size(corners: &[ScreenPoint; 4]) -> f32 {
+    let first = corners[0].pixel.truncate();
+    let (lo, hi) = corners[1..].iter().fold((first, first), |(lo, hi), c| {
+        (lo.min(c.pixel.truncate()), hi.max(c.pixel.truncate()))
+    });
+    let size = hi - lo;
+    size.x.max(size.y)
+}
+
+/// The 4 corners `a = (i, j)`, `b = (i+1, j)`, `c = (i+1, j+1)`, `d = (i, j+1)`
+/// of micropolygon `(i, j)` of a grid.
+pub fn micropolygon_corners(
+    points: &[ScreenPoint; GRID_POINTS * GRID_POINTS],
+    i: usize,
+    j: usize,
+) -> [ScreenPoint; 4] {
+    debug_assert!(i < GRID_QUADS && j < GRID_QUADS);
+    let at = |i: usize, j: usize| points[j * GRID_POINTS + i];
+    [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::color::CLEAR_KEY;
+
+    fn point(x: f32, y: f32) -> ScreenPoint {
+        ScreenPoint {
+            pixel: Vec3::new(x, y, 0.5),
+            w: 1.0,
+        }
+    }
+
+    /// Two triangles sharing an edge (a quad split along its diagonal, and a
+    /// quad with a shared horizontal and vertical edge through sample
+    /// positions): every sample inside the union is hit exactly once.
+    #[test]
+    fn shared_edges_are_watertight() {
+        // Dense samples: 8x8 per pixel, 16x16 pixels; corners placed exactly on
+        // sample rows/columns and on irrational-ish positions.
+        let quads: [[(f32, f32); 4]; 4] = [
+            [(1.0, 1.0), (15.0, 1.0), (15.0, 15.0), (1.0, 15.0)],
+            [(0.0625, 2.0625), (13.3, 0.7), (15.1, 14.2), (2.2, 12.9)],
+            [(3.0, 0.5), (12.5, 3.0), (9.0, 15.5), (0.5, 9.0)],
+            [
+                (8.0625, 0.0625),
+                (15.9375, 8.0625),
+                (8.0625, 15.9375),
+                (0.0625, 8.0625),
+            ],
+        ];
+        for quad in quads {
+            for flip in [false, true] {
+                let [a, b, c, d] = quad.map(|(x, y)| point(x, y));
+                // Orientation must not matter: also try the mirrored winding.
+                let (b, d) = if flip { (d, b) } else { (b, d) };
+                let k = 8;
+                let samples = SampleGrid::new(k, false);
+                let mut hits = vec![0u32; 16 * 16 * 64];
+                let mut stats = RenderStats::default();
+                for (t, tri) in [[a, b, c], [a, c, d]].into_iter().enumerate() {
+                    let mut fb = Framebuffer::new(16, 16, k * k);
+                    raster_triangle(&mut fb, &samples, tri, t as u32, &mut stats);
+                    for (count, key) in hits.iter_mut().zip(&fb.keys) {
+                        *count += u32::from(*key != CLEAR_KEY);
+                    }
+                }
+                // Compare with an exact point-in-convex-quad test in f64.
+                let poly = [a, b, c, d].map(|p| (f64::from(p.pixel.x), f64::from(p.pixel.y)));
+                let fb = Framebuffer::new(16, 16, k * k);
+                let mut inside_count = 0;
+                for y in 0..16 {
+                    for x in 0..16 {
+                        for s in 0..k * k {
+                            let p = samples.position(x, y, s);
+                            let (px, py) = (f64::from(p.x), f64::from(p.y));
+                            let sides: Vec<f64> = (0..4)
+                                .map(|e| {
+                                    let (ax, ay) = poly[e];
+                                    let (bx, by) = poly[(e + 1) % 4];
+                                    (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+                                })
+                                .collect();
+                            let strictly_in =
+                                sides.iter().all(|&v| v > 0.0) || sides.iter().all(|&v| v < 0.0);
+                            let strictly_out =
+                                sides.iter().any(|&v| v > 0.0) && sides.iter().any(|&v| v < 0.0);
+                            let n = hits[fb.index(x, y, s)];
+                            assert!(n <= 1, "sample hit {n} times at ({x},{y},{s}) in {quad:?}");
+                            if strictly_in {
+                                inside_count += 1;
+                                assert_eq!(n, 1, "hole at ({x},{y},{s}) in {quad:?}");
+                            }
+                            if strictly_out {
+                                assert_eq!(n, 0, "hit outside at ({x},{y},{s})");
+                            }
+                        }
+                    }
+                }
+                assert!(inside_count > 1000);
+                assert_eq!(
+                    stats.samples_hit,
+                    hits.iter().map(|&h| u64::from(h)).sum::<u64>()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn top_left_rule_on_a_grid_of_squares() {
+        // A 4x4 tiling of squares whose edges lie exactly on sample positions
+        // (spp 1: samples at pixel centres, squares with corners on centres).
+        let k = 1;
+        let samples = SampleGrid::new(k, false);
+        let mut fb_hits = vec![0u32; 8 * 8];
+        let mut stats = RenderStats::default();
+        for j in 0..4 {
+            for i in 0..4 {
+                let (x0, y0) = (0.5 + i as f32 * 1.0, 0.5 + j as f32 * 1.0);
+                let a = point(x0, y0);
+                let b = point(x0 + 1.0, y0);
+                let c = point(x0 + 1.0, y0 + 1.0);
+                let d = point(x0, y0 + 1.0);
+                for tri in [[a, b, c], [a, c, d]] {
+                    let mut fb = Framebuffer::new(8, 8, 1);
+                    raster_triangle(&mut fb, &samples, tri, 0, &mut stats);
+                    for (h, key) in fb_hits.iter_mut().zip(&fb.keys) {
+                        *h += u32::from(*key != CLEAR_KEY);
+                    }
+                }
+            }
+        }
+        // The union covers centres (0.5..=4.5)^2; with the top-left rule the
+        // top and left boundary rows/columns are in, bottom and right are out:
+        // exactly pixels 0..4 x 0..4, each once.
+        for y in 0..8 {
+            for x in 0..8 {
+                let expected = u32::from(x < 4 && y < 4);
+                assert_eq!(fb_hits[y * 8 + x], expected, "pixel ({x},{y})");
+            }
+        }
+    }
+
+    #[test]
+    fn nearest_picks_the_stratum_of_the_centroid() {
+        let mut fb = Framebuffer::new(4, 4, 4);
+        let mut stats = RenderStats::default();
+        let corners = [
+            point(2.6, 1.2),
+            point(2.8, 1.2),
+            point(2.8, 1.4),
+            point(2.6, 1.4),
+        ];
+        raster_nearest(&mut fb, 2, corners, 7, &mut stats);
+        // Centroid (2.7, 1.3): pixel (2, 1), sample column 1, row 0 -> s = 1.
+        let i = fb.index(2, 1, 1);
+        assert_ne!(fb.keys[i], CLEAR_KEY);
+        assert_eq!(fb.keys.iter().filter(|&&k| k != CLEAR_KEY).count(), 1);
+        assert_eq!((stats.samples_tested, stats.samples_hit), (1, 1));
+        let off = [
+            point(-2.0, 1.0),
+            point(-1.0, 1.0),
+            point(-1.0, 2.0),
+            point(-2.0, 2.0),
+        ];
+        raster_nearest(&mut fb, 2, off, 7, &mut stats);
+        assert_eq!((stats.samples_tested, stats.samples_hit), (2, 1));
+    }
+
+    #[test]
+    fn skips_triangles_behind_the_eye_or_outside_depth() {
+        let mut fb = Framebuffer::new(8, 8, 1);
+        let mut stats = RenderStats::default();
+        let samples = SampleGrid::new(1, false);
+        let mut behind = [point(0.0, 0.0), point(8.0, 0.0), point(0.0, 8.0)];
+        behind[1].w = 0.0;
+        raster_triangle(&mut fb, &samples, behind, 0, &mut stats);
+        let mut beyond = [point(0.0, 0.0), point(8.0, 0.0), point(0.0, 8.0)];
+        beyond[2].pixel.z = 1.5;
+        raster_triangle(&mut fb, &samples, beyond, 0, &mut stats);
+        assert_eq!(stats.samples_tested, 0);
+        assert!(fb.keys.iter().all(|&k| k == CLEAR_KEY));
+    }
+}

@@ -1,0 +1,785 @@
+//! Scene descriptions in TOML.
+//!
+//! A scene names the models to render, where they are, how they are lit and
+//! seen, and how finely the pipeline samples them. Every field except an
+//! object's `model` has a default, so the smallest scene is
+//!
+//! ```toml
+//! [[objects]]
+//! model = "teapot"
+//! ```
+//!
+//! (with no `[camera]` table the camera is framed automatically around the
+//! objects when the scene is prepared; see [`crate::prepare::PreparedScene`]).
+//!
+//! A full example with every field (the values shown for optional fields are
+//! the defaults, except where a comment says otherwise):
+//!
+//! ```toml
+//! spp = 4                            # samples per pixel: 1, 4, 9, 16, 25, 36, 49 or 64
+//! sampling = "bbox"                  # "bbox" (stochastic sampling) or "nearest"
+//! jitter = false                     # jitter samples within their strata
+//! background = [0.05, 0.05, 0.07]    # linear RGB
+//! ambient = 0.1                      # ambient light, multiplied by the albedo
+//! dice_threshold = 16.0              # dice when the projected patch fits in this many pixels
+//! max_split_depth = 24               # drop patches that still need a split at this depth
+//!
+//! [resolution]
+//! width = 800
+//! height = 600
+//!
+//! [camera]                           # optional: framed automatically when absent
+//! eye = [4.0, -12.0, 7.0]            # required in a [camera] table
+//! target = [0.2, 0.0, 1.5]           # required in a [camera] table
+//! up = [0.0, 0.0, 1.0]
+//! fov_y_degrees = 40.0
+//! near = 0.1
+//! far = 1000.0
+//!
+//! [specular]
+//! strength = 0.25
+//! shininess = 32.0
+//!
+//! [[objects]]
+//! model = "teapot"                   # the embedded teapot, or a .bpt/.bez path
+//! color = [0.8, 0.8, 0.8]            # linear RGB albedo
+//! [objects.transform]
+//! translate = [0.0, 0.0, 0.0]
+//! rotate_degrees = [0.0, 0.0, 0.0]   # about x, then y, then z
+//! scale = 1.0                        # uniform, or per axis: [1.0, 1.0, 2.0]
+//!
+//! [[objects]]
+//! model = "models/killeroo.bpt"      # relative to the scene file's directory
+//! color = [0.3, 0.5, 0.8]            # (not the default)
+//! transform = { translate = [6.0, 0.0, 0.0], scale = 0.5 }
+//!
+//! [[lights]]                         # without any [[lights]]: one default light like this
+//! direction = [0.4, 0.8, -1.0]       # the direction the light travels
+//! color = [1.0, 1.0, 1.0]
+//! intensity = 1.0
+//! ```
+//!
+//! Parse with [`Scene::from_toml_str`] or [`Scene::load`]; both validate the
+//! values (see [`Scene::validate`]) and report [`SceneError`].
+
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec3};
+use serde::{Deserialize, Serialize};
+
+use crate::load::LoadError;
+use crate::model::Model;
+use crate::params::{
+    DEFAULT_DICE_THRESHOLD, DEFAULT_MAX_SPLIT_DEPTH, MAX_SPLIT_DEPTH_LIMIT, VALID_SPP,
+};
+
+/// The model name that selects the embedded teapot instead of a file.
+pub const TEAPOT_MODEL: &str = "teapot";
+
+/// Why a scene could not be loaded or is invalid.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The scene file could not be read.
+    #[error("cannot read scene file {}: {source}", path.display())]
+    Io {
+        /// The scene file.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The text is not valid TOML or does not match the scene format.
+    #[error("{}{}: {message}", path.as_ref().map(|p| format!("{}: ", p.display())).unwrap_or_default(), line.map(|l| format!("line {l}")).unwrap_or_else(|| "scene".to_string()))]
+    Parse {
+        /// The scene file, when parsing a file.
+        path: Option<PathBuf>,
+        /// 1-based line of the error, when the parser knows it.
+        line: Option<usize>,
+        /// The TOML/serde message.
+        message: String,
+    },
+    /// Width or height is zero.
+    #[error("invalid resolution {width}x{height}: width and height must be > 0")]
+    InvalidResolution {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+    },
+    /// `spp` is not one of the supported perfect squares.
+    #[error(
+        "spp = {spp} is not supported: use one of 1, 4, 9, 16, 25, 36, 49, 64 (the samples form a k x k grid)"
+    )]
+    InvalidSpp {
+        /// Requested samples per pixel.
+        spp: u32,
+    },
+    /// A number is NaN or infinite.
+    #[error("{field} must be finite")]
+    NonFinite {
+        /// The field, e.g. `objects[0].transform.translate`.
+        field: String,
+    },
+    /// The camera cannot produce a projection.
+    #[error("invalid camera: {reason}")]
+    InvalidCamera {
+        /// What is wrong.
+        reason: String,
+    },
+    /// Any other out-of-range value.
+    #[error("invalid {field}: {reason}")]
+    InvalidValue {
+        /// The field.
+        field: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// An object's model could not be loaded.
+    #[error("object {index} (model {model:?}): {source}")]
+    Model {
+        /// Index of the object in `objects`.
+        index: usize,
+        /// The object's `model` string.
+        model: String,
+        /// Why loading failed.
+        #[source]
+        source: LoadError,
+    },
+    /// A prepared scene was given a different number of models than objects.
+    #[error("the scene has {objects} objects but {models} models were given")]
+    ModelCountMismatch {
+        /// Number of objects in the scene.
+        objects: usize,
+        /// Number of models given.
+        models: usize,
+    },
+}
+
+/// How micropolygons are sampled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Sampling {
+    /// Test every sample in each micropolygon triangle's bounding box (default).
+    #[default]
+    Bbox,
+    /// Baseline: each micropolygon writes only the sample nearest its centroid.
+    Nearest,
+}
+
+/// The camera of a scene (`[camera]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    /// Eye position.
+    pub eye: Vec3,
+    /// Point looked at.
+    pub target: Vec3,
+    /// Up direction (default +z).
+    #[serde(default = "default_up")]
+    pub up: Vec3,
+    /// Vertical field of view in degrees, in (0, 180) (default 40).
+    #[serde(default = "default_fov")]
+    pub fov_y_degrees: f32,
+    /// Near plane distance, > 0 (default 0.1).
+    #[serde(default = "default_near")]
+    pub near: f32,
+    /// Far plane distance, > near (default 1000).
+    #[serde(default = "default_far")]
+    pub far: f32,
+}
+
+/// Image size in pixels (`[resolution]`, default 800 x 600).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Resolution {
+    /// Width in pixels (> 0).
+    pub width: u32,
+    /// Height in pixels (> 0).
+    pub height: u32,
+}
+
+impl Default for Resolution {
+    fn default() -> Self {
+        Resolution {
+            width: 800,
+            height: 600,
+        }
+    }
+}
+
+/// A uniform or per-axis scale.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Scale {
+    /// The same factor on every axis: `scale = 2.0`.
+    Uniform(f32),
+    /// One factor per axis: `scale = [1.0, 1.0, 2.0]`.
+    PerAxis(Vec3),
+}
+
+impl Default for Scale {
+    fn default() -> Self {
+        Scale::Uniform(1.0)
+    }
+}
+
+impl Scale {
+    /// The per-axis factors.
+    pub fn to_vec3(self) -> Vec3 {
+        match self {
+            Scale::Uniform(s) => Vec3::splat(s),
+            Scale::PerAxis(v) => v,
+        }
+    }
+}
+
+/// An object's placement (`transform`): scale, then rotate about x, y, z
+/// (in that order, degrees), then translate.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Transform {
+    /// Translation (default zero).
+    pub translate: Vec3,
+    /// Euler angles in degrees, applied about x, then y, then z (default zero).
+    pub rotate_degrees: Vec3,
+    /// Scale (default 1).
+    pub scale: Scale,
+}
+
+impl Transform {
+    /// The model-to-world matrix `T * Rz * Ry * Rx * S`.
+    pub fn matrix(&self) -> Mat4 {
+        let r = self.rotate_degrees;
+        Mat4::from_translation(self.translate)
+            * Mat4::from_rotation_z(r.z.to_radians())
+            * Mat4::from_rotation_y(r.y.to_radians())
+            * Mat4::from_rotation_x(r.x.to_radians())
+            * Mat4::from_scale(self.scale.to_vec3())
+    }
+}
+
+/// One object (`[[objects]]`): a model, its placement and its colour.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneObject {
+    /// `"teapot"` for the embedded teapot, or a `.bpt`/`.bez` path (relative
+    /// paths are resolved against the scene file's directory).
+    pub model: String,
+    /// Placement (default identity).
+    #[serde(default)]
+    pub transform: Transform,
+    /// Linear RGB albedo (default 0.8 grey).
+    #[serde(default = "default_color")]
+    pub color: Vec3,
+}
+
+/// A directional light (`[[lights]]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Light {
+    /// The direction the light travels (from the light towards the scene);
+    /// must be non-zero. Default `[0.4, 0.8, -1.0]`.
+    #[serde(default = "default_light_direction")]
+    pub direction: Vec3,
+    /// Linear RGB colour (default white).
+    #[serde(default = "default_white")]
+    pub color: Vec3,
+    /// Intensity multiplier (default 1).
+    #[serde(default = "default_one")]
+    pub intensity: f32,
+}
+
+impl Default for Light {
+    fn default() -> Self {
+        Light {
+            direction: default_light_direction(),
+            color: default_white(),
+            intensity: 1.0,
+        }
+    }
+}
+
+/// Blinn-Phong specular term (`[specular]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Specular {
+    /// Specular weight (default 0.25).
+    pub strength: f32,
+    /// Blinn-Phong exponent, >= 0 (default 32).
+    pub shininess: f32,
+}
+
+impl Default for Specular {
+    fn default() -> Self {
+        Specular {
+            strength: 0.25,
+            shininess: 32.0,
+        }
+    }
+}
+
+/// Where an object's model comes from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ModelSource {
+    /// The embedded teapot ([`Model::teapot`]).
+    Teapot,
+    /// A model file.
+    File(PathBuf),
+}
+
+/// A scene: what to render and how. See the [module documentation](self) for
+/// the TOML format.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Samples per pixel (default 4); one of [`VALID_SPP`].
+    #[serde(default = "default_spp")]
+    pub spp: u32,
+    /// Sampling mode (default bbox).
+    #[serde(default)]
+    pub sampling: Sampling,
+    /// Jitter samples within their strata (default false).
+    #[serde(default)]
+    pub jitter: bool,
+    /// Linear RGB background (default `[0.05, 0.05, 0.07]`).
+    #[serde(default = "default_background")]
+    pub background: Vec3,
+    /// Ambient term (default 0.1).
+    #[serde(default = "default_ambient")]
+    pub ambient: f32,
+    /// Dice threshold in pixels (default [`DEFAULT_DICE_THRESHOLD`]).
+    #[serde(default = "default_dice_threshold")]
+    pub dice_threshold: f32,
+    /// Maximum split depth (default [`DEFAULT_MAX_SPLIT_DEPTH`]).
+    #[serde(default = "default_max_split_depth")]
+    pub max_split_depth: u32,
+    /// Image size (default 800 x 600).
+    #[serde(default)]
+    pub resolution: Resolution,
+    /// The camera; `None` frames the objects automatically.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<CameraDesc>,
+    /// Specular term.
+    #[serde(default)]
+    pub specular: Specular,
+    /// The objects (default none).
+    #[serde(default)]
+    pub objects: Vec<SceneObject>,
+    /// The lights (default: one [`Light::default`]; write `lights = []` for none).
+    #[serde(default = "default_lights")]
+    pub lights: Vec<Light>,
+    /// Directory against which relative model paths are resolved: the scene
+    /// file's directory for [`Scene::load`], `None` (the current directory)
+    /// otherwise. Not part of the TOML.
+    #[serde(skip)]
+    pub base_dir: Option<PathBuf>,
+}
+
+fn default_up() -> Vec3 {
+    Vec3::Z
+}
+fn default_fov() -> f32 {
+    40.0
+}
+fn default_near() -> f32 {
+    0.1
+}
+fn default_far() -> f32 {
+    1000.0
+}
+fn default_color() -> Vec3 {
+    Vec3::splat(0.8)
+}
+fn default_white() -> Vec3 {
+    Vec3::ONE
+}
+fn default_one() -> f32 {
+    1.0
+}
+fn default_light_direction() -> Vec3 {
+    Vec3::new(0.4, 0.8, -1.0)
+}
+fn default_spp() -> u32 {
+    4
+}
+fn default_background() -> Vec3 {
+    Vec3::new(0.05, 0.05, 0.07)
+}
+fn default_ambient() -> f32 {
+    0.1
+}
+fn default_dice_threshold() -> f32 {
+    DEFAULT_DICE_THRESHOLD
+}
+fn default_max_split_depth() -> u32 {
+    DEFAULT_MAX_SPLIT_DEPTH
+}
+fn default_lights() -> Vec<Light> {
+    vec![Light::default()]
+}
+
+impl Default for Scene {
+    /// A scene with every default and no objects.
+    fn default() -> Self {
+        Scene {
+            spp: default_spp(),
+            sampling: Sampling::default(),
+            jitter: false,
+            background: default_background(),
+            ambient: default_ambient(),
+            dice_threshold: DEFAULT_DICE_THRESHOLD,
+            max_split_depth: DEFAULT_MAX_SPLIT_DEPTH,
+            resolution: Resolution::default(),
+            camera: None,
+            specular: Specular::default(),
+            objects: Vec::new(),
+            lights: default_lights(),
+            base_dir: None,
+        }
+    }
+}
+
+/// 1-based line of a byte offset in `text`.
+fn line_of(text: &str, offset: usize) -> usize {
+    text.as_bytes()[..offset.min(text.len())]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
+}
+
+fn parse_toml(text: &str, path: Option<&Path>) -> Result<Scene, SceneError> {
+    toml::from_str::<Scene>(text).map_err(|e| SceneError::Parse {
+        path: path.map(Path::to_path_buf),
+        line: e.span().map(|span| line_of(text, span.start)),
+        message: e.message().to_string(),
+    })
+}
+
+impl Scene {
+    /// Parses and validates a TOML scene. Relative model paths will be
+    /// resolved against the current directory (set [`Scene::base_dir`] to change that).
+    pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
+        let scene = parse_toml(text, None)?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Reads, parses and validates a TOML scene file; relative model paths are
+    /// resolved against the file's directory.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut scene = parse_toml(&text, Some(path))?;
+        scene.base_dir = Some(
+            path.parent()
+                .map(Path::to_path_buf)
+                .unwrap_or_else(|| PathBuf::from(".")),
+        );
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// The scene as TOML text (without [`Scene::base_dir`]).
+    pub fn to_toml_string(&self) -> String {
+        // Every field is representable in TOML (no maps with non-string keys,
+        // no None inside arrays), so serialization cannot fail.
+        toml::to_string(self).expect("a scene always serializes to TOML")
+    }
+
+    /// The default scene: the embedded teapot, 800 x 600, spp 4, framed from
+    /// the front, a little to the right of the spout and above.
+    pub fn default_teapot() -> Scene {
+        let teapot = Model::teapot();
+        let mut scene = Scene::for_model(TEAPOT_MODEL, &teapot);
+        scene.objects[0].color = Vec3::new(0.80, 0.36, 0.18);
+        scene
+    }
+
+    /// A scene with one object, `model_name` (a path, or `"teapot"`), using
+    /// `model` (already loaded) to frame the camera around it
+    /// ([`CameraDesc::framing_points`] over its control points): z up, eye in
+    /// front of and above the model, the whole model in view with a margin; one light from over the camera's left shoulder. Other fields
+    /// are defaults.
+    pub fn for_model(model_name: impl Into<String>, model: &Model) -> Scene {
+        let resolution = Resolution::default();
+        let (lo, hi) = model.bounds();
+        let camera =
+            CameraDesc::framing(lo, hi, resolution.width as f32 / resolution.height as f32);
+        let light = Light {
+            direction: camera.shoulder_light_direction(),
+            ..Light::default()
+        };
+        Scene {
+            resolution,
+            camera: Some(camera),
+            objects: vec![SceneObject {
+                model: model_name.into(),
+                transform: Transform::default(),
+                color: default_color(),
+            }],
+            lights: vec![light],
+            ..Scene::default()
+        }
+    }
+
+    /// Where object `object`'s model comes from.
+    pub fn model_source(&self, object: &SceneObject) -> ModelSource {
+        if object.model == TEAPOT_MODEL {
+            return ModelSource::Teapot;
+        }
+        let path = Path::new(&object.model);
+        match &self.base_dir {
+            Some(dir) if path.is_relative() => ModelSource::File(dir.join(path)),
+            _ => ModelSource::File(path.to_path_buf()),
+        }
+    }
+
+    /// Loads every object's model, in object order.
+    pub fn load_models(&self) -> Result<Vec<Model>, SceneError> {
+        self.objects
+            .iter()
+            .enumerate()
+            .map(|(index, object)| match self.model_source(object) {
+                ModelSource::Teapot => Ok(Model::teapot()),
+                ModelSource::File(path) => Model::load(&path).map_err(|source| SceneError::Model {
+                    index,
+                    model: object.model.clone(),
+                    source,
+                }),
+            })
+            .collect()
+    }
+
+    /// Checks every value: resolution > 0, spp in [`VALID_SPP`], all numbers
+    /// finite, `near > 0`, `far > near`, fov in (0, 180), `eye != target`,
+    /// `up` not parallel to the view direction, `dice_threshold > 0`,
+    /// `max_split_depth <= 64`, `shininess >= 0`, non-zero light directions.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let Resolution { width, height } = self.resolution;
+        if width == 0 || height == 0 {
+            return Err(SceneError::InvalidResolution { width, height });
+        }
+        if !VALID_SPP.contains(&self.spp) {
+            return Err(SceneError::InvalidSpp { spp: self.spp });
+        }
+        finite("background", self.background.to_array())?;
+        finite("ambient", [self.ambient])?;
+        finite("dice_threshold", [self.dice_threshold])?;
+        finite("specular.strength", [self.specular.strength])?;
+        finite("specular.shininess", [self.specular.shininess])?;
+        if self.dice_threshold <= 0.0 {
+            return Err(invalid("dice_threshold", "must be > 0 pixels"));
+        }
+        if self.max_split_depth > MAX_SPLIT_DEPTH_LIMIT {
+            return Err(invalid(
+                "max_split_depth",
+                &format!("must be <= {MAX_SPLIT_DEPTH_LIMIT}"),
+            ));
+        }
+        if self.specular.shininess < 0.0 {
+            return Err(invalid("specular.shininess", "must be >= 0"));
+        }
+        if let Some(camera) = &self.camera {
+            camera.validate()?;
+        }
+        for (i, object) in self.objects.iter().enumerate() {
+            let t = &object.transform;
+            finite(
+                &format!("objects[{i}].transform.translate"),
+                t.translate.to_array(),
+            )?;
+            finite(
+                &format!("objects[{i}].transform.rotate_degrees"),
+                t.rotate_degrees.to_array(),
+            )?;
+            finite(
+                &format!("objects[{i}].transform.scale"),
+                t.scale.to_vec3().to_array(),
+            )?;
+            finite(&format!("objects[{i}].color"), object.color.to_array())?;
+        }
+        for (i, light) in self.lights.iter().enumerate() {
+            finite(
+                &format!("lights[{i}].direction"),
+                light.direction.to_array(),
+            )?;
+            finite(&format!("lights[{i}].color"), light.color.to_array())?;
+            finite(&format!("lights[{i}].intensity"), [light.intensity])?;
+            if light.direction.length_squared() == 0.0 {
+                return Err(invalid(
+                    &format!("lights[{i}].direction"),
+                    "must be non-zero",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn finite<const N: usize>(field: &str, values: [f32; N]) -> Result<(), SceneError> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(SceneError::NonFinite {
+            field: field.to_string(),
+        })
+    }
+}
+
+fn invalid(field: &str, reason: &str) -> SceneError {
+    SceneError::InvalidValue {
+        field: field.to_string(),
+        reason: reason.to_string(),
+    }
+}
+
+impl CameraDesc {
+    /// Checks the camera (see [`Scene::validate`]).
+    pub fn validate(&self) -> Result<(), SceneError> {
+        finite("camera.eye", self.eye.to_array())?;
+        finite("camera.target", self.target.to_array())?;
+        finite("camera.up", self.up.to_array())?;
+        finite("camera.fov_y_degrees", [self.fov_y_degrees])?;
+        finite("camera.near", [self.near])?;
+        finite("camera.far", [self.far])?;
+        // All values are finite here (checked above), so plain comparisons suffice.
+        let reason = if self.near <= 0.0 {
+            "near must be > 0"
+        } else if self.far <= self.near {
+            "far must be > near"
+        } else if !(self.fov_y_degrees > 0.0 && self.fov_y_degrees < 180.0) {
+            "fov_y_degrees must be in (0, 180)"
+        } else if self.eye == self.target {
+            "eye and target must differ"
+        } else if (self.target - self.eye)
+            .normalize()
+            .cross(self.up.normalize_or_zero())
+            .length_squared()
+            < 1e-12
+        {
+            "up must be non-zero and not parallel to the view direction"
+        } else {
+            return Ok(());
+        };
+        Err(SceneError::InvalidCamera {
+            reason: reason.to_string(),
+        })
+    }
+
+    /// A camera (z up, fov 40 degrees) looking at the centre of the box
+    /// `[lo, hi]` from in front and above, at the smallest distance at which
+    /// all 8 box corners fall within 90% of the half-width and half-height of
+    /// an image of the given aspect ratio (width / height).
+    ///
+    /// "In front" is -y when the box is at least as wide in x as in y
+    /// (the teapot), and +x otherwise (the Killeroo, which is long in y), so
+    /// the longer horizontal side faces the camera; the view is turned about
+    /// 17 degrees off axis for a three-quarter view.
+    pub fn framing(lo: Vec3, hi: Vec3, aspect: f32) -> CameraDesc {
+        let corners = (0..8).map(|i| {
+            Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            )
+        });
+        CameraDesc::framing_points(corners, aspect)
+    }
+
+    /// Like [`CameraDesc::framing`], but the distance is fitted to the given
+    /// points (e.g. all control points, which contain the surface) rather than
+    /// to their bounding box's corners: a tighter fit for rounded models. The
+    /// view direction and target still come from the points' bounding box.
+    /// With no points, frames the unit box around the origin.
+    pub fn framing_points(
+        points: impl IntoIterator<Item = Vec3> + Clone,
+        aspect: f32,
+    ) -> CameraDesc {
+        const MARGIN: f32 = 0.9;
+        let fov_y_degrees = default_fov();
+        let (lo, hi) = points
+            .clone()
+            .into_iter()
+            .fold(None, |acc: Option<(Vec3, Vec3)>, p| match acc {
+                None => Some((p, p)),
+                Some((lo, hi)) => Some((lo.min(p), hi.max(p))),
+            })
+            .unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5)));
+        let center = (lo + hi) * 0.5;
+        let extent = hi - lo;
+        let radius = (extent.length() * 0.5).max(1e-3);
+        // Direction from the target to the eye.
+        let to_eye = if extent.x >= extent.y {
+            Vec3::new(0.3, -1.0, 0.55)
+        } else {
+            Vec3::new(1.0, 0.3, 0.55)
+        }
+        .normalize();
+        let forward = -to_eye;
+        let right = forward.cross(Vec3::Z).normalize();
+        let up = right.cross(forward);
+        let tan_y = (fov_y_degrees.to_radians() * 0.5).tan() * MARGIN;
+        let tan_x = tan_y * aspect;
+        // A point at offset q from the centre has depth (dist - q.to_eye) and
+        // must satisfy |q.right| <= depth * tan_x and |q.up| <= depth * tan_y.
+        let mut distance = radius * 0.1;
+        for point in points {
+            let q = point - center;
+            let along = q.dot(to_eye);
+            distance = distance
+                .max(along + q.dot(right).abs() / tan_x)
+                .max(along + q.dot(up).abs() / tan_y);
+        }
+        let near = ((distance - radius) * 0.5).max(distance * 1e-3);
+        let far = distance + radius * 4.0;
+        CameraDesc {
+            eye: center + to_eye * distance,
+            target: center,
+            up: Vec3::Z,
+            fov_y_degrees,
+            near,
+            far,
+        }
+    }
+
+    /// The travel direction of a light coming from over the camera's left
+    /// shoulder (above and to the left of the eye, as seen from the eye).
+    pub fn shoulder_light_direction(&self) -> Vec3 {
+        let forward = (self.target - self.eye).normalize();
+        let right = forward.cross(self.up).normalize();
+        let up = right.cross(forward);
+        (forward + right * 0.6 - up * 0.8).normalize()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The full example in this module's documentation stays valid.
+    #[test]
+    fn module_doc_example_parses() {
+        let source = include_str!("scene.rs");
+        let marker = "//! ```toml\n//! spp = 4";
+        let start = source.find(marker).expect("the full example") + "//! ```toml\n".len();
+        let end = start + source[start..].find("//! ```").unwrap();
+        let text: String = source[start..end]
+            .lines()
+            .map(|l| {
+                l.strip_prefix("//!")
+                    .unwrap_or(l)
+                    .strip_prefix(' ')
+                    .unwrap_or("")
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        let scene = Scene::from_toml_str(&text).unwrap();
+        assert_eq!(scene.objects.len(), 2);
+        assert_eq!(scene.lights, vec![Light::default()]);
+        assert_eq!(scene.specular, Specular::default());
+    }
+}

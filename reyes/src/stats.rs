@@ -1,0 +1,34 @@
+//! Render statistics, shared by the CPU reference and the GPU renderer so the
+//! two can be compared field by field.
+
+use serde::{Deserialize, Serialize};
+
+/// Counters collected during one frame. See `docs/reyes.md` for the precise
+/// definitions; every counter counts the same events on the CPU and the GPU.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct RenderStats {
+    /// Patches handed to the pipeline (all objects' patches).
+    pub input_patches: u64,
+    /// Split operations (one per split parent; each produces two children).
+    pub splits: u64,
+    /// Patches (input or split children) rejected because all 16 control
+    /// points are outside the same clip plane.
+    pub culled_patches: u64,
+    /// Patches dropped because they still needed a split at `max_split_depth`.
+    pub depth_guard_drops: u64,
+    /// Patches diced into a 16 x 16 grid.
+    pub grids_diced: u64,
+    /// Micropolygons produced: `grids_diced * 225`.
+    pub micropolygons: u64,
+    /// Sample positions tested against a micropolygon (bbox mode: every sample
+    /// of every pixel in each triangle's clamped bounding box; nearest mode:
+    /// one per micropolygon).
+    pub samples_tested: u64,
+    /// Sample tests that hit (a key was offered to the framebuffer).
+    pub samples_hit: u64,
+    /// Largest side, in pixels, of any micropolygon's screen bounding box.
+    pub largest_micropolygon_px: f32,
+    /// Wall-clock time of the frame in milliseconds, when measured.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame_time_ms: Option<f64>,
+}

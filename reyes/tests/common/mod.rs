@@ -1,0 +1,31 @@
+//! Helpers shared by the integration tests (included with `mod common;`).
+
+#![allow(dead_code, reason = "each test binary uses a different subset")]
+
+use std::path::PathBuf;
+
+/// `shared/data` next to the workspace (`<workspace>/../shared/data`).
+pub fn shared_data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/data")
+        .join(name)
+}
+
+/// The Killeroo model path, or `None` (with a printed notice) when absent.
+pub fn killeroo_path() -> Option<PathBuf> {
+    let path = shared_data("killeroo.bpt");
+    if path.exists() {
+        Some(path)
+    } else {
+        println!(
+            "NOTICE: {} not found; skipping the Killeroo check",
+            path.display()
+        );
+        None
+    }
+}
+
+/// `<workspace>/target`.
+pub fn target_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target")
+}

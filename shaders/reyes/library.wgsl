@@ -1,0 +1,542 @@
+// Reyes library shared by the procedure bodies: patch access, De Casteljau,
+// projection, the bound test, Bernstein evaluation with exact tangents,
+// shading, sampling, rasterization and packing. Every function mirrors the
+// CPU reference (`reyes::reference`, `reyes::bezier`, `reyes::camera`,
+// `reyes::color`, `reyes::sampling`) operation for operation, in the same
+// order, so that both produce the same decisions and (up to the GPU's float
+// contraction) the same values. The constants (NEAR_EPS, STAT_*, DECIDE_*,
+// ...) are generated from the Rust side and prepended to this file.
+
+struct Frame {
+    view_proj: mat4x4<f32>,
+    eye: vec3<f32>,
+    dice_threshold: f32,
+    width: u32,
+    height: u32,
+    spp: u32,
+    // Samples per pixel side: spp = k * k.
+    k: u32,
+    max_split_depth: u32,
+    sampling: u32,
+    jitter: u32,
+    light_count: u32,
+    ambient: f32,
+    specular_strength: f32,
+    shininess: f32,
+    pad0: u32,
+}
+
+struct Light {
+    // Unit vector towards the light (w unused).
+    to_light: vec4<f32>,
+    // intensity * colour (w unused).
+    radiance: vec4<f32>,
+}
+
+// ---------------------------------------------------------------- statistics
+
+// Adds to a 64-bit counter kept as (low, high) words: the add that wraps the
+// low word is the only one that sees `old > MAX - n`, so it carries exactly once.
+fn stat_add64(index: u32, n: u32) {
+    if (n == 0u) {
+        return;
+    }
+    let old = atomicAdd(&stats[index], n);
+    if (old > 0xffffffffu - n) {
+        atomicAdd(&stats[index + 1u], 1u);
+    }
+}
+
+// ------------------------------------------------------------ float helpers
+
+// Written with bit tests: the driver may assume no NaN/Inf in comparisons.
+fn is_finite_f32(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn is_nan_f32(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u;
+}
+
+// Rust's `f32::round` for x >= 0 (halves away from zero); WGSL's round()
+// rounds halves to even, which would differ from the reference on ties.
+fn round_half_up(x: f32) -> f32 {
+    let f = floor(x);
+    return select(f, f + 1.0, x - f >= 0.5);
+}
+
+fn dot3(a: vec3<f32>, b: vec3<f32>) -> f32 {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+// glam's cross product, term for term.
+fn cross3(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
+}
+
+// glam's normalize_or_zero: v * (1 / |v|) when that reciprocal is finite and > 0.
+fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let rcp = 1.0 / sqrt(dot3(v, v));
+    if (is_finite_f32(rcp) && rcp > 0.0) {
+        return v * rcp;
+    }
+    return vec3<f32>(0.0);
+}
+
+fn dist2(a: vec2<f32>, b: vec2<f32>) -> f32 {
+    let d = b - a;
+    return sqrt(d.x * d.x + d.y * d.y);
+}
+
+fn dist3(a: vec3<f32>, b: vec3<f32>) -> f32 {
+    return sqrt(dot3(b - a, b - a));
+}
+
+// ------------------------------------------------------------ patch access
+
+fn patch_point(p: ptr<function, array<f32, 48>>, index: u32) -> vec3<f32> {
+    return vec3<f32>((*p)[3u * index], (*p)[3u * index + 1u], (*p)[3u * index + 2u]);
+}
+
+fn set_patch_point(p: ptr<function, array<f32, 48>>, index: u32, value: vec3<f32>) {
+    (*p)[3u * index] = value.x;
+    (*p)[3u * index + 1u] = value.y;
+    (*p)[3u * index + 2u] = value.z;
+}
+
+// Control point k (0..4) of line `line` along direction u (a row, points
+// line * 4 + k) or v (a column, points k * 4 + line).
+fn line_index(along_u: bool, line: u32, k: u32) -> u32 {
+    return select(k * 4u + line, line * 4u + k, along_u);
+}
+
+// ------------------------------------------------------------ De Casteljau
+
+// Splits row or column `line` at 1/2 (reyes::bezier::split_cubic, same order)
+// and stores the halves into `lo` (lower parameter half) and `hi`.
+fn split_line(
+    p: ptr<function, array<f32, 48>>,
+    along_u: bool,
+    line: u32,
+    lo: ptr<function, array<f32, 48>>,
+    hi: ptr<function, array<f32, 48>>,
+) {
+    let i0 = line_index(along_u, line, 0u);
+    let i1 = line_index(along_u, line, 1u);
+    let i2 = line_index(along_u, line, 2u);
+    let i3 = line_index(along_u, line, 3u);
+    let p0 = patch_point(p, i0);
+    let p1 = patch_point(p, i1);
+    let p2 = patch_point(p, i2);
+    let p3 = patch_point(p, i3);
+    let l1 = (p0 + p1) * 0.5;
+    let m = (p1 + p2) * 0.5;
+    let r2 = (p2 + p3) * 0.5;
+    let l2 = (l1 + m) * 0.5;
+    let r1 = (m + r2) * 0.5;
+    let mid = (l2 + r1) * 0.5;
+    set_patch_point(lo, i0, p0);
+    set_patch_point(lo, i1, l1);
+    set_patch_point(lo, i2, l2);
+    set_patch_point(lo, i3, mid);
+    set_patch_point(hi, i0, mid);
+    set_patch_point(hi, i1, r1);
+    set_patch_point(hi, i2, r2);
+    set_patch_point(hi, i3, p3);
+}
+
+// The whole split, written out for the 4 lines (no loop: cheap and exempt
+// from the driver's loop limiter).
+fn split_patch(
+    p: ptr<function, array<f32, 48>>,
+    along_u: bool,
+    lo: ptr<function, array<f32, 48>>,
+    hi: ptr<function, array<f32, 48>>,
+) {
+    split_line(p, along_u, 0u, lo, hi);
+    split_line(p, along_u, 1u, lo, hi);
+    split_line(p, along_u, 2u, lo, hi);
+    split_line(p, along_u, 3u, lo, hi);
+}
+
+// The (u0, v0, u1, v1) rectangle of half `which` (0: lower) of `uv`.
+fn split_uv(uv: vec4<f32>, along_u: bool, which: u32) -> vec4<f32> {
+    if (along_u) {
+        let um = (uv.x + uv.z) * 0.5;
+        return select(vec4<f32>(um, uv.y, uv.z, uv.w), vec4<f32>(uv.x, uv.y, um, uv.w), which == 0u);
+    }
+    let vm = (uv.y + uv.w) * 0.5;
+    return select(vec4<f32>(uv.x, vm, uv.z, uv.w), vec4<f32>(uv.x, uv.y, uv.z, vm), which == 0u);
+}
+
+// ------------------------------------------------------------ projection
+
+// glam's Mat4 * Vec4 order: ((c0 x + c1 y) + c2 z) + c3 (w = 1).
+fn to_clip(p: vec3<f32>) -> vec4<f32> {
+    let m = frame.view_proj;
+    return ((m[0] * p.x + m[1] * p.y) + m[2] * p.z) + m[3];
+}
+
+// reyes::camera::Camera::to_pixel: (px, py, ndc depth), y down.
+fn to_pixel(c: vec4<f32>) -> vec3<f32> {
+    let ndc = c.xyz / c.w;
+    return vec3<f32>(
+        (ndc.x * 0.5 + 0.5) * f32(frame.width),
+        (0.5 - ndc.y * 0.5) * f32(frame.height),
+        ndc.z,
+    );
+}
+
+fn to_pixel2(p: vec3<f32>) -> vec2<f32> {
+    return to_pixel(to_clip(p)).xy;
+}
+
+// Clip-plane outcode of one point (bits 0..5, reference order: left, right,
+// bottom, top, far, near) plus UNPROJECTABLE when w <= NEAR_EPS or z < 0.
+fn outcode(c: vec4<f32>) -> u32 {
+    var code = 0u;
+    if (c.x < -c.w) { code |= 1u; }
+    if (c.x > c.w) { code |= 2u; }
+    if (c.y < -c.w) { code |= 4u; }
+    if (c.y > c.w) { code |= 8u; }
+    if (c.z > c.w) { code |= 16u; }
+    if (c.z < 0.0) { code |= 32u; }
+    if (c.w <= NEAR_EPS || c.z < 0.0) { code |= UNPROJECTABLE; }
+    return code;
+}
+
+// Merges outcodes: planes all points are outside of (AND), and whether any
+// point is unprojectable (OR). Start from FLAGS_IDENTITY.
+fn merge_flags(a: u32, b: u32) -> u32 {
+    return ((a & b) & PLANE_BITS) | ((a | b) & UNPROJECTABLE);
+}
+
+// ------------------------------------------------------------ bound test
+
+// reyes::reference::bound::bound, given the reductions: `flags` (merged
+// outcodes), `size` (larger side of the pixel bbox), the u/v extents in
+// pixels (`u2`, `v2`) and in world space (`u3`, `v3`).
+fn decide(flags: u32, size: f32, u2: f32, v2: f32, u3: f32, v3: f32, split_depth: u32) -> u32 {
+    if ((flags & PLANE_BITS) != 0u) {
+        return DECIDE_CULL;
+    }
+    if ((flags & UNPROJECTABLE) != 0u) {
+        if (split_depth >= frame.max_split_depth) {
+            return DECIDE_DROP;
+        }
+        return select(DECIDE_SPLIT_V, DECIDE_SPLIT_U, u3 >= v3);
+    }
+    if (size <= frame.dice_threshold) {
+        return DECIDE_DICE;
+    }
+    if (split_depth >= frame.max_split_depth) {
+        return DECIDE_DROP;
+    }
+    return select(DECIDE_SPLIT_V, DECIDE_SPLIT_U, u2 >= v2);
+}
+
+// f32::max semantics (a NaN operand is ignored), for the bbox size.
+fn max_ignoring_nan(a: f32, b: f32) -> f32 {
+    if (is_nan_f32(a)) { return b; }
+    if (is_nan_f32(b)) { return a; }
+    return max(a, b);
+}
+
+// Sends a piece where the bound test says, counting what it drops.
+fn route(decision: u32, piece: PatchItem) {
+    switch decision {
+        case DECIDE_CULL: {
+            atomicAdd(&stats[STAT_CULLED], 1u);
+        }
+        case DECIDE_DROP: {
+            atomicAdd(&stats[STAT_DEPTH_GUARD_DROPS], 1u);
+        }
+        case DECIDE_DICE: {
+            enqueue_DiceShadeSample(piece);
+        }
+        case DECIDE_SPLIT_U: {
+            atomicAdd(&stats[STAT_SPLITS], 1u);
+            enqueue_SplitU(piece);
+        }
+        default: {
+            atomicAdd(&stats[STAT_SPLITS], 1u);
+            enqueue_SplitV(piece);
+        }
+    }
+}
+
+// ------------------------------------------------------------ evaluation
+
+// reyes::bezier::bernstein and bernstein_derivative.
+fn bernstein(t: f32) -> vec4<f32> {
+    let mt = 1.0 - t;
+    return vec4<f32>(mt * mt * mt, 3.0 * t * mt * mt, 3.0 * t * t * mt, t * t * t);
+}
+
+fn bernstein_derivative(t: f32) -> vec4<f32> {
+    let mt = 1.0 - t;
+    return vec4<f32>(
+        -3.0 * mt * mt,
+        3.0 * mt * mt - 6.0 * t * mt,
+        6.0 * t * mt - 3.0 * t * t,
+        3.0 * t * t,
+    );
+}
+
+// sum over rows v of wv[v] * (sum over u of wu[u] * p[v * 4 + u]), rows
+// written out in the reference's order.
+fn tensor_row(p: ptr<function, array<f32, 48>>, v: u32, wu: vec4<f32>) -> vec3<f32> {
+    return patch_point(p, v * 4u) * wu.x
+        + patch_point(p, v * 4u + 1u) * wu.y
+        + patch_point(p, v * 4u + 2u) * wu.z
+        + patch_point(p, v * 4u + 3u) * wu.w;
+}
+
+fn tensor(p: ptr<function, array<f32, 48>>, wu: vec4<f32>, wv: vec4<f32>) -> vec3<f32> {
+    var sum = tensor_row(p, 0u, wu) * wv.x;
+    sum += tensor_row(p, 1u, wu) * wv.y;
+    sum += tensor_row(p, 2u, wu) * wv.z;
+    sum += tensor_row(p, 3u, wu) * wv.w;
+    return sum;
+}
+
+// reyes::reference::dice::degenerate.
+fn degenerate(n: vec3<f32>, a: vec3<f32>, b: vec3<f32>) -> bool {
+    let n2 = dot3(n, n);
+    return !(n2 > DEGENERATE_NORMAL_REL_EPS * (dot3(a, a) * dot3(b, b))) || n2 == 0.0;
+}
+
+// The unnormalized normal dP/ds x dP/dt at (s, t).
+fn tangent_normal(p: ptr<function, array<f32, 48>>, s: f32, t: f32) -> vec3<f32> {
+    let bs = bernstein(s);
+    let bt = bernstein(t);
+    let d_ds = tensor(p, bernstein_derivative(s), bt);
+    let d_dt = tensor(p, bs, bernstein_derivative(t));
+    let n = cross3(d_ds, d_dt);
+    if (degenerate(n, d_ds, d_dt)) {
+        return vec3<f32>(0.0);
+    }
+    return n;
+}
+
+// reyes::reference::dice::surface_point: the unit normal facing `eye` at
+// (s, t), with the degenerate-edge fallback (tangents re-evaluated at the
+// clamped parameters, then the direction to the eye, then +z).
+fn surface_normal(p: ptr<function, array<f32, 48>>, s: f32, t: f32, position: vec3<f32>, eye: vec3<f32>) -> vec3<f32> {
+    var n = tangent_normal(p, s, t);
+    if (all(n == vec3<f32>(0.0))) {
+        n = tangent_normal(
+            p,
+            clamp(s, DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
+            clamp(t, DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
+        );
+        if (all(n == vec3<f32>(0.0))) {
+            n = eye - position;
+        }
+    }
+    n = normalize_or_zero(n);
+    if (all(n == vec3<f32>(0.0))) {
+        n = vec3<f32>(0.0, 0.0, 1.0);
+    }
+    if (dot3(n, eye - position) < 0.0) {
+        n = -n;
+    }
+    return n;
+}
+
+// ------------------------------------------------------------ shading
+
+// Rust's powf on [0, inf): 0^0 = 1, 0^y = 0; WGSL leaves pow(0, y) undefined.
+fn pow_nonneg(x: f32, y: f32) -> f32 {
+    if (x <= 0.0) {
+        return select(0.0, 1.0, y == 0.0);
+    }
+    return pow(x, y);
+}
+
+// reyes::reference::shade::shade_with: Lambert + two-sided Blinn-Phong
+// (the normal already faces the eye), clamped to [0, 1].
+fn shade(position: vec3<f32>, normal: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
+    let view = normalize_or_zero(frame.eye - position);
+    var diffuse = vec3<f32>(0.0);
+    var specular = vec3<f32>(0.0);
+    for (var l = 0u; l < frame.light_count; l += 1u) {
+        let light = lights[l];
+        let to_light = light.to_light.xyz;
+        diffuse += light.radiance.xyz * max(dot3(normal, to_light), 0.0);
+        let half_vector = normalize_or_zero(to_light + view);
+        specular += light.radiance.xyz * pow_nonneg(max(dot3(normal, half_vector), 0.0), frame.shininess);
+    }
+    let color = albedo * (vec3<f32>(frame.ambient) + diffuse) + specular * frame.specular_strength;
+    return clamp(color, vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+// ------------------------------------------------------------ packing
+
+// reyes::color::pack_rgb10.
+fn pack_rgb10(c: vec3<f32>) -> u32 {
+    let q = vec3<u32>(
+        u32(round_half_up(clamp(c.x, 0.0, 1.0) * 1023.0)),
+        u32(round_half_up(clamp(c.y, 0.0, 1.0) * 1023.0)),
+        u32(round_half_up(clamp(c.z, 0.0, 1.0) * 1023.0)),
+    );
+    return q.x | (q.y << 10u) | (q.z << 20u);
+}
+
+// Clamps a depth into [0, 1] and turns -0.0 into +0.0 (reference key_depth).
+fn key_depth(z: f32) -> f32 {
+    let d = clamp(z, 0.0, 1.0);
+    return select(d, 0.0, d == 0.0);
+}
+
+// The depth test: keeps the minimum (depth bits << 32 | colour) per sample.
+fn offer(x: u32, y: u32, s: u32, depth: f32, color: u32) {
+    let index = (y * frame.width + x) * frame.spp + s;
+    let key = (u64(bitcast<u32>(key_depth(depth))) << 32u) | u64(color);
+    atomicMin(&framebuffer[index], key);
+}
+
+// ------------------------------------------------------------ sampling
+
+// reyes::sampling::hash.
+fn jitter_hash(x: u32, y: u32, s: u32, c: u32) -> u32 {
+    var h = (x * HASH_MUL_X) ^ (y * HASH_MUL_Y) ^ (s * HASH_MUL_S) ^ (c * HASH_MUL_C);
+    h ^= h >> 16u;
+    h *= HASH_MIX_0;
+    h ^= h >> 15u;
+    h *= HASH_MIX_1;
+    h ^= h >> 16u;
+    return h;
+}
+
+// reyes::sampling::sample_position.
+fn sample_position(x: u32, y: u32, s: u32) -> vec2<f32> {
+    let kf = f32(frame.k);
+    var offset = vec2<f32>((f32(s % frame.k) + 0.5) / kf, (f32(s / frame.k) + 0.5) / kf);
+    if (frame.jitter != 0u) {
+        let jx = (f32(jitter_hash(x, y, s, 0u)) / 4294967296.0 - 0.5) / kf;
+        let jy = (f32(jitter_hash(x, y, s, 1u)) / 4294967296.0 - 0.5) / kf;
+        offset += vec2<f32>(jx, jy);
+    }
+    return vec2<f32>(f32(x), f32(y)) + offset;
+}
+
+// ------------------------------------------------------------ rasterization
+
+// A projected grid point: (px, py, depth, clip w).
+fn usable(p: vec4<f32>) -> bool {
+    return p.w > NEAR_EPS && p.z >= 0.0 && p.z <= 1.0;
+}
+
+fn edge_raw(a: vec2<f32>, b: vec2<f32>, p: vec2<f32>) -> f32 {
+    return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+}
+
+// Edge function evaluated from the lexicographically smaller endpoint, so
+// two triangles sharing an edge get exactly opposite values (reference `edge`).
+fn edge(a: vec2<f32>, b: vec2<f32>, p: vec2<f32>) -> f32 {
+    if (a.x < b.x || (a.x == b.x && a.y <= b.y)) {
+        return edge_raw(a, b, p);
+    }
+    return -edge_raw(b, a, p);
+}
+
+// Top-left rule (reference `owns`): a top edge (horizontal, pointing right)
+// or a left edge (pointing up on the y-down screen) owns samples on it.
+fn owns(a: vec2<f32>, b: vec2<f32>) -> bool {
+    let d = b - a;
+    return d.y < 0.0 || (d.y == 0.0 && d.x > 0.0);
+}
+
+fn inside(e: f32, a: vec2<f32>, b: vec2<f32>) -> bool {
+    return e > 0.0 || (e == 0.0 && owns(a, b));
+}
+
+// Samples tested and hit by one thread, added to the statistics once per item.
+struct SampleCounts {
+    tested: u32,
+    hit: u32,
+}
+
+// reyes::reference::raster::raster_triangle (bbox mode). The bbox loop is
+// flattened into one loop over (pixel, sample); a loop the driver cut short
+// is detected (n < total afterwards) and counted, never silently ignored.
+fn raster_triangle(pa: vec4<f32>, pb_in: vec4<f32>, pc_in: vec4<f32>, color: u32, counts: ptr<function, SampleCounts>) {
+    if (!(usable(pa) && usable(pb_in) && usable(pc_in))) {
+        return;
+    }
+    let signed_area = edge(pa.xy, pb_in.xy, pc_in.xy);
+    if (signed_area == 0.0 || !is_finite_f32(signed_area)) {
+        return;
+    }
+    // Normalize the orientation: with b and c swapped the area is positive.
+    let flip = signed_area < 0.0;
+    let pb = select(pb_in, pc_in, flip);
+    let pc = select(pc_in, pb_in, flip);
+    let area = abs(signed_area);
+    let a = pa.xy;
+    let b = pb.xy;
+    let c = pc.xy;
+    let lo = min(min(a, b), c);
+    let hi = max(max(a, b), c);
+    // Clamped in float first, so the integer conversions are always in range.
+    let x0 = max(floor(lo.x), 0.0);
+    let y0 = max(floor(lo.y), 0.0);
+    let x1 = min(floor(hi.x), f32(frame.width) - 1.0);
+    let y1 = min(floor(hi.y), f32(frame.height) - 1.0);
+    if (!(x0 <= x1 && y0 <= y1)) {
+        return;
+    }
+    let ix0 = u32(x0);
+    let iy0 = u32(y0);
+    let nx = u32(x1) - ix0 + 1u;
+    let ny = u32(y1) - iy0 + 1u;
+    let spp = frame.spp;
+    let total = nx * ny * spp;
+    var n = 0u;
+    loop {
+        if (n >= total) {
+            break;
+        }
+        let s = n % spp;
+        let pixel = n / spp;
+        let x = ix0 + pixel % nx;
+        let y = iy0 + pixel / nx;
+        let p = sample_position(x, y, s);
+        let e_bc = edge(b, c, p);
+        let e_ca = edge(c, a, p);
+        let e_ab = edge(a, b, p);
+        if (inside(e_bc, b, c) && inside(e_ca, c, a) && inside(e_ab, a, b)) {
+            (*counts).hit += 1u;
+            let z = (e_bc * pa.z + e_ca * pb.z + e_ab * pc.z) / area;
+            offer(x, y, s, z, color);
+        }
+        n += 1u;
+    }
+    (*counts).tested += n;
+    if (n < total) {
+        atomicAdd(&stats[STAT_LOOPS_CUT], 1u);
+    }
+}
+
+// reyes::reference::raster::raster_nearest: the sample whose stratum holds
+// the centroid of the 4 corners.
+fn raster_nearest(a: vec4<f32>, b: vec4<f32>, c: vec4<f32>, d: vec4<f32>, color: u32, counts: ptr<function, SampleCounts>) {
+    (*counts).tested += 1u;
+    if (!(a.w > NEAR_EPS && b.w > NEAR_EPS && c.w > NEAR_EPS && d.w > NEAR_EPS)) {
+        return;
+    }
+    let centroid = (((a.xyz + b.xyz) + c.xyz) + d.xyz) * 0.25;
+    let width = f32(frame.width);
+    let height = f32(frame.height);
+    let on_screen = centroid.x >= 0.0 && centroid.x < width && centroid.y >= 0.0 && centroid.y < height;
+    if (!on_screen || !(centroid.z >= 0.0 && centroid.z <= 1.0)) {
+        return;
+    }
+    let k = frame.k;
+    let gx = min(u32(floor(centroid.x * f32(k))), frame.width * k - 1u);
+    let gy = min(u32(floor(centroid.y * f32(k))), frame.height * k - 1u);
+    let s = (gy % k) * k + gx % k;
+    (*counts).hit += 1u;
+    offer(gx / k, gy / k, s, centroid.z, color);
+}

@@ -1,0 +1,277 @@
+//! The Reyes GPU renderer against the CPU reference (`reyes::reference`),
+//! on small scenes (256 x 256, spp 1-4) so that lavapipe runs them in
+//! seconds. Both implement the same algorithm in f32 with the same operation
+//! order; the thresholds below allow for the GPU's float contraction and its
+//! `pow`, which can move a split decision, an edge test or a rounded
+//! channel by one step.
+
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use glam::Vec3;
+use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer, RenderError};
+use reyes::prepare::PreparedScene;
+use reyes::reference::{self, Rendered};
+use reyes::scene::{CameraDesc, Sampling, Scene};
+
+/// lavapipe has 2 cores: renders from parallel tests would only compete for
+/// them (and for llvmpipe's loop budget, see
+/// `reyes::gpu::renderer::CPU_ITERATION_BUDGET`), so GPU tests take turns.
+static GPU_TURN: Mutex<()> = Mutex::new(());
+
+fn gpu_turn() -> MutexGuard<'static, ()> {
+    // A test that panicked while holding the lock does not poison the others.
+    GPU_TURN.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// A renderer on the shared test device. The device must have the int64
+/// features: like `tests::gpu()`, a machine that cannot run the test fails
+/// loudly instead of passing by skipping.
+fn renderer(gpu: &scheduler::Gpu, options: GpuOptions) -> GpuRenderer<'_> {
+    GpuRenderer::new(gpu, options).unwrap_or_else(|e| {
+        panic!(
+            "the Reyes GPU renderer cannot run on {}: {e}",
+            gpu.describe()
+        )
+    })
+}
+
+/// The default teapot scene at `size x size`, `spp` samples, framed for a
+/// square image and narrowed from 40 to 34 degrees so the teapot covers
+/// about a fifth of the image (the framing fits the whole bounding box,
+/// whose corners lie well outside the teapot's silhouette).
+fn teapot(size: u32, spp: u32) -> Scene {
+    let mut scene = Scene::default_teapot();
+    scene.resolution.width = size;
+    scene.resolution.height = size;
+    scene.spp = spp;
+    let (lo, hi) = reyes::model::Model::teapot().bounds();
+    let camera = CameraDesc::framing(lo, hi, 1.0);
+    scene.camera = Some(CameraDesc {
+        fov_y_degrees: 34.0,
+        ..camera
+    });
+    scene
+}
+
+/// How closely two renders agree.
+#[derive(Debug)]
+struct Agreement {
+    /// Fraction of pixels the GPU covered.
+    coverage: f64,
+    /// Intersection over union of the coverage masks.
+    iou: f64,
+    /// Fraction of pixels covered by both whose channels all differ by <= 2.
+    within_2: f64,
+    /// Largest channel difference over pixels covered by both.
+    max_diff: u8,
+    /// Pixels covered by both.
+    both: usize,
+}
+
+fn agreement(gpu: &GpuRendered, cpu: &Rendered) -> Agreement {
+    assert_eq!(gpu.coverage.len(), cpu.coverage.len());
+    let pixels = gpu.coverage.len();
+    let (mut both, mut either, mut within, mut max_diff) = (0usize, 0usize, 0usize, 0u8);
+    for (i, (&g, &c)) in gpu.coverage.iter().zip(&cpu.coverage).enumerate() {
+        either += usize::from(g || c);
+        if g && c {
+            both += 1;
+            let diff = (0..3)
+                .map(|ch| gpu.image.as_raw()[4 * i + ch].abs_diff(cpu.image.as_raw()[4 * i + ch]))
+                .max()
+                .unwrap_or(0);
+            max_diff = max_diff.max(diff);
+            within += usize::from(diff <= 2);
+        }
+    }
+    Agreement {
+        coverage: gpu.coverage.iter().filter(|&&c| c).count() as f64 / pixels as f64,
+        iou: if either == 0 {
+            1.0
+        } else {
+            both as f64 / either as f64
+        },
+        within_2: if both == 0 {
+            1.0
+        } else {
+            within as f64 / both as f64
+        },
+        max_diff,
+        both,
+    }
+}
+
+/// Renders `scene` on both and returns both with their agreement.
+fn compare(renderer: &mut GpuRenderer<'_>, scene: &Scene) -> (GpuRendered, Rendered, Agreement) {
+    let prepared = PreparedScene::load(scene).expect("scene prepares");
+    let gpu = renderer.render(&prepared).expect("GPU render");
+    let cpu = reference::render(&prepared);
+    let agreement = agreement(&gpu, &cpu);
+    eprintln!("GPU stats: {:?}", gpu.stats);
+    eprintln!("CPU stats: {:?}", cpu.stats);
+    eprintln!(
+        "agreement: {agreement:?}; retries: overflow {}, loop limit {}",
+        gpu.overflow_retries, gpu.loop_retries
+    );
+    if let Some(report) = &gpu.report {
+        eprintln!("{report}");
+    }
+    (gpu, cpu, agreement)
+}
+
+/// The counters that describe the same work on both sides. They are exactly
+/// equal unless float contraction moves a bound decision at a threshold;
+/// one such flip changes the counts by a few pieces, so 1% is allowed.
+fn assert_counts_close(what: &str, gpu: u64, cpu: u64) {
+    let tolerance = (cpu / 100).max(2);
+    assert!(
+        gpu.abs_diff(cpu) <= tolerance,
+        "{what}: GPU {gpu}, CPU {cpu} (tolerance {tolerance})"
+    );
+}
+
+#[test]
+fn teapot_matches_the_reference() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let (g, c, a) = compare(&mut renderer, &teapot(256, 4));
+    assert!(a.coverage >= 0.15, "coverage {:.3} < 15%", a.coverage);
+    assert!(a.iou >= 0.995, "coverage IoU {:.5} < 0.995", a.iou);
+    assert!(
+        a.within_2 >= 0.99,
+        "only {:.4} of {} object pixels within 2/255 (max diff {})",
+        a.within_2,
+        a.both,
+        a.max_diff
+    );
+    assert_eq!(g.stats.input_patches, c.stats.input_patches);
+    assert_counts_close("grids diced", g.stats.grids_diced, c.stats.grids_diced);
+    assert_counts_close("splits", g.stats.splits, c.stats.splits);
+    assert_counts_close("culled", g.stats.culled_patches, c.stats.culled_patches);
+    assert_eq!(g.stats.micropolygons, 225 * g.stats.grids_diced);
+    assert_counts_close("samples hit", g.stats.samples_hit, c.stats.samples_hit);
+    assert_eq!(g.stats.depth_guard_drops, 0);
+    assert_eq!(g.overflow_retries, 0);
+}
+
+#[test]
+fn renders_are_deterministic_across_runs_and_workgroup_counts() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let scene = PreparedScene::load(&teapot(256, 4)).expect("scene prepares");
+    let mut default = renderer(gpu, GpuOptions::default());
+    let first = default.render(&scene).expect("first render");
+    let second = default.render(&scene).expect("second render");
+    assert!(
+        first.image.as_raw() == second.image.as_raw(),
+        "two runs on the same renderer differ"
+    );
+    let mut single = renderer(
+        gpu,
+        GpuOptions {
+            workgroups: Some(1),
+            ..GpuOptions::default()
+        },
+    );
+    let one = single.render(&scene).expect("1-workgroup render");
+    assert_eq!(one.report.as_ref().map(|r| r.workgroups), Some(1));
+    assert!(
+        first.image.as_raw() == one.image.as_raw(),
+        "1 workgroup and the default count give different images"
+    );
+    // The counters do not depend on the schedule either.
+    let mut a = first.stats.clone();
+    let mut b = one.stats.clone();
+    a.frame_time_ms = None;
+    b.frame_time_ms = None;
+    assert_eq!(a, b);
+}
+
+/// The camera inside the teapot's bounding box, looking across the body,
+/// with a near plane (1.5) farther than the nearest walls: patches cross the
+/// near/eye planes, are split in object space, pieces entirely in front of
+/// the near plane are culled, and those that still straddle it at the
+/// maximum depth are dropped (and counted). The run must finish, match the
+/// reference on what stays visible, and drop a bounded number of pieces.
+#[test]
+fn eye_inside_the_bounding_box() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut scene = teapot(256, 1);
+    let (lo, hi) = reyes::model::Model::teapot().bounds();
+    let centre = (lo + hi) * 0.5;
+    let eye = centre + Vec3::new(0.0, -0.2 * (hi.y - lo.y), 0.1 * (hi.z - lo.z));
+    assert!(
+        eye.cmpge(lo).all() && eye.cmple(hi).all(),
+        "eye inside the box"
+    );
+    scene.camera = Some(CameraDesc {
+        eye,
+        target: centre + Vec3::new(hi.x - lo.x, 0.0, 0.0),
+        up: Vec3::Z,
+        fov_y_degrees: 70.0,
+        near: 1.5,
+        far: 100.0,
+    });
+    // A lower guard keeps this run short; it is the bound the test states.
+    scene.max_split_depth = 16;
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let (g, c, a) = compare(&mut renderer, &scene);
+    assert!(a.coverage > 0.05, "the inside of the teapot is visible");
+    assert!(a.iou >= 0.99, "coverage IoU {:.5} < 0.99", a.iou);
+    assert!(a.within_2 >= 0.98, "only {:.4} within 2/255", a.within_2);
+    assert_counts_close(
+        "depth-guard drops",
+        g.stats.depth_guard_drops,
+        c.stats.depth_guard_drops,
+    );
+    // Each drop is a piece at depth 16 along the curve where the surface
+    // meets the near plane: 314 on lavapipe, as on the CPU. The bound allows
+    // for float differences but not for a guard that fails to stop splitting
+    // (2^16 per patch).
+    assert!(g.stats.depth_guard_drops > 0, "the guard was exercised");
+    assert!(
+        g.stats.depth_guard_drops <= 1_000,
+        "{} depth-guard drops",
+        g.stats.depth_guard_drops
+    );
+}
+
+#[test]
+fn nearest_mode_runs_and_matches() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut scene = teapot(256, 1);
+    scene.sampling = Sampling::Nearest;
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let (g, c, a) = compare(&mut renderer, &scene);
+    assert!(g.stats.samples_hit > 0);
+    // Nearest mode tests exactly one sample per micropolygon.
+    assert_eq!(g.stats.samples_tested, g.stats.micropolygons);
+    assert_counts_close("grids diced", g.stats.grids_diced, c.stats.grids_diced);
+    assert!(a.iou >= 0.98, "coverage IoU {:.5}", a.iou);
+}
+
+#[test]
+fn too_large_resolution_is_a_typed_error() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut scene = teapot(256, 64);
+    scene.resolution.width = 60_000;
+    scene.resolution.height = 60_000;
+    let prepared = PreparedScene::load(&scene).expect("scene prepares");
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    match renderer.render(&prepared) {
+        Err(RenderError::TooLarge { needed, limit, .. }) => assert!(needed > limit),
+        other => panic!("expected RenderError::TooLarge, got {other:?}"),
+    }
+}
+
+/// The generated megakernel, for review of changes to the graph or the WGSL.
+#[test]
+fn reyes_megakernel_wgsl_snapshot() {
+    let compiled = reyes::gpu::graph::compile(scheduler::wgpu::Features::empty())
+        .expect("the Reyes graph compiles");
+    insta::assert_snapshot!(compiled.wgsl());
+}
