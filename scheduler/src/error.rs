@@ -207,10 +207,10 @@ pub enum RunError {
     /// A spin-wait of the queue protocol ran out of iterations on a driver
     /// that caps loops (llvmpipe), so the run's results cannot be trusted.
     #[error(
-        "{waits} queue spin-wait(s) were ended by the driver's loop limit; the results are not trustworthy (use fewer workgroups)"
+        "the driver's loop limit cut {waits} loop(s) short (llvmpipe); the results are not trustworthy. Run again (`Executor::run_with_retry` does), with fewer workgroups or a smaller iteration budget"
     )]
     LoopLimit {
-        /// How many waits were cut.
+        /// Spin-waits and invocations that found a loop cut.
         waits: u32,
     },
     /// The host-side timeout elapsed before the GPU finished.

@@ -55,9 +55,10 @@ pub use options::{CompileOptions, Policy, recommended_features};
 pub use runtime::config::{
     Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
 };
-pub use runtime::executor::{Binding, Executor};
+pub use runtime::executor::{Binding, Executor, ResetFn, Retry};
 pub use runtime::report::{ProcedureStats, RunReport};
 pub use runtime::seeds::Seeds;
+pub use runtime::strategy::{DEFAULT_ROUNDS_PER_BATCH, Strategy};
 
 // Re-exported so that users and the `item_type!` macro name the same versions.
 pub use bytemuck;

@@ -15,6 +15,11 @@
 // range is published. Consumers claim only published items and commit
 // `released` in the same in-order way. So no item is ever read half-written,
 // and no per-item flag is needed.
+//
+// The Rounds strategy (one entry point per procedure, dispatched round after
+// round) uses the same rings without any waiting: sched_prepare_round moves
+// `head`, `released` and `published` between dispatches, and the dispatch
+// boundary orders the writes. `sched_rounds` switches the waits off.
 
 fn sched_ctrl(q: u32, field: u32) -> u32 {
     return SCHED_CTRL_QUEUE_BASE + q * SCHED_CTRL_QUEUE_STRIDE + field;
@@ -34,24 +39,30 @@ fn sched_reached(index: u32, goal: u32) -> bool {
 
 // Spins until control word `index` has reached `goal` (wrapping compare).
 // llvmpipe (Mesa's software driver behind lavapipe) gives each invocation one
-// budget of 65535 loop iterations shared by all its loops and ends whichever
-// loop is running when it runs out (docs/scheduler.md, "Loop limits"). So the
-// protocol moves data without loops, and this wait survives being cut: the
-// outer loop restarts the inner one, and the wait ends only when the condition
-// holds. Eight checks per iteration keep the shared budget from draining.
-// Should even the outer loop run out, the run is flagged and fails loudly.
+// budget of 65535 loop iterations shared by all its loops (docs/scheduler.md,
+// "Loop limits"). So the protocol moves data without loops, and each spin
+// iteration makes 32 checks in straight-line code: a wait on a workgroup whose
+// CPU thread was descheduled for milliseconds then spends only a few thousand
+// iterations. Should a wait still run the budget out, the run is flagged and
+// fails loudly.
 fn sched_wait_reached(index: u32, goal: u32) {
     for (var round = 0u; round < 65535u; round += 1u) {
         loop {
             sched_spins += 1u;
-            if (sched_reached(index, goal) || sched_reached(index, goal) || sched_reached(index, goal)
-                || sched_reached(index, goal) || sched_reached(index, goal) || sched_reached(index, goal)
-                || sched_reached(index, goal) || sched_reached(index, goal)) {
+            if (sched_reached_8(index, goal) || sched_reached_8(index, goal)
+                || sched_reached_8(index, goal) || sched_reached_8(index, goal)) {
                 return;
             }
         }
     }
     atomicAdd(&sched_control[SCHED_CTRL_LOOPS_CUT], 1u);
+}
+
+// Eight checks of sched_reached, without a loop.
+fn sched_reached_8(index: u32, goal: u32) -> bool {
+    return sched_reached(index, goal) || sched_reached(index, goal) || sched_reached(index, goal)
+        || sched_reached(index, goal) || sched_reached(index, goal) || sched_reached(index, goal)
+        || sched_reached(index, goal) || sched_reached(index, goal);
 }
 
 // The in-order commit of `published` and `released`: wait until the ranges
@@ -88,12 +99,31 @@ fn sched_try_claim(q: u32, max_items: u32) -> vec2<u32> {
     return vec2<u32>(0u, 0u);
 }
 
+// All threads, once, after the persistent loop or a round. llvmpipe's loop
+// budget (docs/scheduler.md, "Loop limits") is shared by every loop of an
+// invocation and never renewed: once it is spent, every loop ends after at
+// most one iteration. This two-iteration loop is the canary: cut short, it
+// proves that some loop of this invocation was cut (a body's loop, or the
+// persistent loop itself, which leaves the workgroup's barriers out of step),
+// and the run fails with RunError::LoopLimit instead of returning wrong
+// results.
+fn sched_check_loop_budget() {
+    var iterations = 0u;
+    for (var i = 0u; i < 2u; i += 1u) {
+        iterations += 1u;
+    }
+    if (iterations != 2u) {
+        atomicAdd(&sched_control[SCHED_CTRL_LOOPS_CUT], 1u);
+    }
+}
+
 // Thread 0 only: choose the next batch. Returns (queue, first ticket, count, _),
 // or SCHED_IDLE / SCHED_EXIT in .x.
 fn sched_pick(workgroup: u32, iteration: u32) -> vec4<u32> {
     // A workgroup that spun a lot leaves at this batch boundary, so that on
-    // llvmpipe no invocation drains its shared loop budget (docs/scheduler.md,
-    // "Loop limits"). The host dispatches again while work is outstanding.
+    // llvmpipe its shared loop budget is not spent (docs/scheduler.md, "Loop
+    // limits"). The host dispatches again while work is outstanding. The
+    // limit is u32::MAX on other adapters.
     if (sched_spins > sched_config[SCHED_NUM_QUEUES].y) {
         return vec4<u32>(SCHED_EXIT, 0u, 0u, 0u);
     }
@@ -115,14 +145,16 @@ fn sched_pick(workgroup: u32, iteration: u32) -> vec4<u32> {
 }
 
 // Consumer side, all threads, after the generated runner copied the claimed
-// items into the inbox (one item per thread, without loops): hand the slots
-// back. The items were published (claims never pass `published`), so receiving
-// never waits on a producer. The runner puts a storageBarrier (acquire) before
-// its copy; this one is the release: the copies complete before the slots are
-// handed back.
+// items into the inbox (one item per thread, without loops) and ran the body:
+// hand the slots back. The items were published (claims never pass
+// `published`), so receiving never waits on a producer. The runner puts a
+// storageBarrier (acquire) before its copy; this one is the release: the
+// copies complete before the slots are handed back. It comes after the body so
+// that the body's loops never follow a wait, and before the
+// flushes, whose reservations may count on these very slots.
 fn sched_receive_done(lid: u32, q: u32, first: u32, count: u32) {
     storageBarrier();
-    if (lid == 0u) {
+    if (lid == 0u && !sched_rounds) {
         sched_commit(q, SCHED_Q_RELEASED, first, first + count);
     }
 }
@@ -158,7 +190,11 @@ fn sched_flush_reserve(lid: u32, q: u32, stage_capacity: u32) -> vec2<u32> {
                 // Our slots last held tickets up to first + accepted - capacity.
                 // The capacity test above guarantees those were claimed, and
                 // their consumers release them without waiting on producers.
-                sched_wait_reached(sched_ctrl(q, SCHED_Q_RELEASED), first + accepted - cap);
+                // In rounds, `fill` keeps counting the running round's items
+                // until the next prepare, so those slots are free already.
+                if (!sched_rounds) {
+                    sched_wait_reached(sched_ctrl(q, SCHED_Q_RELEASED), first + accepted - cap);
+                }
             }
         }
         atomicStore(&sched_wg_staged[q], 0u);
@@ -175,9 +211,45 @@ fn sched_flush_reserve(lid: u32, q: u32, stage_capacity: u32) -> vec2<u32> {
 // `published` covers it.
 fn sched_flush_publish(lid: u32, q: u32, flush: vec2<u32>) {
     storageBarrier();
-    if (lid == 0u) {
+    if (lid == 0u && !sched_rounds) {
         sched_commit(q, SCHED_Q_PUBLISHED, flush.x, flush.x + flush.y);
     }
+}
+
+// Rounds strategy, between two rounds (one thread, own dispatch): retire the
+// round that ran on queue q and snapshot the next one. The round ran tickets
+// [head, round_end); they are consumed, so their slots are released and leave
+// `fill`. Everything enqueued since is complete (the previous dispatches
+// ended), so `published` jumps to `tail` and the next round runs
+// [round_end, tail): exactly the items queued before it starts. Writes the
+// indirect dispatch size of q and returns the number of items in its round.
+fn sched_prepare_queue(q: u32) -> u32 {
+    let head = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_HEAD)]);
+    let end = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_ROUND_END)]);
+    atomicSub(&sched_control[sched_ctrl(q, SCHED_Q_FILL)], end - head);
+    atomicStore(&sched_control[sched_ctrl(q, SCHED_Q_RELEASED)], end);
+    atomicStore(&sched_control[sched_ctrl(q, SCHED_Q_HEAD)], end);
+    let tail = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_TAIL)]);
+    atomicStore(&sched_control[sched_ctrl(q, SCHED_Q_PUBLISHED)], tail);
+    atomicStore(&sched_control[sched_ctrl(q, SCHED_Q_ROUND_END)], tail);
+    let count = tail - end;
+    // Clamp to the workgroups the staging buffer has room for, which the host
+    // keeps within the device's per-dimension limit: an oversized indirect
+    // dispatch would be skipped silently. The round kernels loop over the
+    // remaining batches, so the clamp never drops an item.
+    let batches = (count + sched_items_per_workgroup[q] - 1u) / sched_items_per_workgroup[q];
+    sched_dispatch[3u * q] = min(batches, sched_config[SCHED_NUM_QUEUES].z);
+    sched_dispatch[3u * q + 1u] = 1u;
+    sched_dispatch[3u * q + 2u] = 1u;
+    return count;
+}
+
+// Rounds strategy, thread 0 of a round workgroup: the round's range of queue q
+// as (first ticket, count).
+fn sched_round_range(q: u32) -> vec2<u32> {
+    let head = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_HEAD)]);
+    let end = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_ROUND_END)]);
+    return vec2<u32>(head, end - head);
 }
 
 // First staging word of the `index`-th item staged for a queue.

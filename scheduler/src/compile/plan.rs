@@ -55,6 +55,8 @@ pub(crate) mod control {
     pub const PENDING: u32 = 0;
     /// Spin-waits that a driver's loop limiter ended early (llvmpipe).
     pub const LOOPS_CUT: u32 = 1;
+    /// Rounds strategy: rounds that found work.
+    pub const ROUNDS: u32 = 2;
     /// First per-queue block.
     pub const QUEUE_BASE: u32 = 4;
     /// Words per queue block.
@@ -81,6 +83,8 @@ pub(crate) mod control {
     pub const PUBLISHED: u32 = 9;
     /// Every ticket below it has been copied out (its slot is free).
     pub const RELEASED: u32 = 10;
+    /// Rounds strategy: end of the running round's tickets (it starts at `HEAD`).
+    pub const ROUND_END: u32 = 11;
 
     /// Number of control words for `queues` queues.
     pub fn words(queues: usize) -> u32 {

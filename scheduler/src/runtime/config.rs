@@ -27,9 +27,10 @@ pub const CPU_ITERATION_BUDGET: u32 = 64;
 
 /// Spin-wait iterations after which a workgroup leaves at its next batch
 /// boundary on CPU adapters (llvmpipe), for the same reason as
-/// [`CPU_ITERATION_BUDGET`]. Together they leave each invocation roughly 30,000
-/// loop iterations for procedure bodies: about 500 per batch.
-pub const CPU_SPIN_LIMIT: u32 = 16384;
+/// [`CPU_ITERATION_BUDGET`]. Each iteration makes 32 checks. Together they
+/// leave each invocation roughly 50,000 loop iterations for procedure bodies:
+/// about 800 per batch.
+pub const CPU_SPIN_LIMIT: u32 = 8192;
 
 /// Default host-side timeout of one run.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(60);

@@ -1,14 +1,18 @@
-//! Runs a compiled graph on a wgpu device: buffers, pipeline, seeding,
-//! dispatching until no work is left, and reading the counters back.
+//! Runs a compiled graph on a wgpu device: pipelines, dispatching under either
+//! strategy until no work is left, opt-in retry on overflow, and the report.
 
 use std::time::{Duration, Instant};
 
-use crate::compile::plan::{Plan, control};
+use crate::codegen::generate::{PREPARE_ENTRY_POINT, round_entry_point};
+use crate::compile::plan::control;
 use crate::readback::map_read;
 use crate::runtime::config::{
     CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, DEFAULT_WORKGROUPS, ExecutorConfig,
 };
-use crate::{Access, CompiledGraph, ProcedureStats, Resource, RunError, RunReport, Seeds};
+use crate::runtime::state::{Layouts, QueueState, Tuning, storage_entry, uniform_entry};
+use crate::{
+    Access, CompiledGraph, ProcedureStats, Resource, RunError, RunReport, Seeds, Strategy,
+};
 
 /// A user resource bound for a run, by its declared name.
 #[derive(Clone, Debug)]
@@ -29,7 +33,7 @@ impl<'a> Binding<'a> {
     }
 }
 
-/// Timestamp queries around each dispatch, when the device has them.
+/// Timestamp queries around each submission, when the device has them.
 #[derive(Debug)]
 struct Timestamps {
     queries: wgpu::QuerySet,
@@ -38,54 +42,77 @@ struct Timestamps {
     period_ns: f64,
 }
 
+/// The Rounds strategy's pipelines, created on its first use.
+#[derive(Debug)]
+struct RoundPipelines {
+    prepare: wgpu::ComputePipeline,
+    /// One per procedure, in declaration order.
+    procedures: Vec<wgpu::ComputePipeline>,
+}
+
+/// Restores the user's resources before a retry.
+pub type ResetFn<'a> = Box<dyn FnMut(&wgpu::Device, &wgpu::Queue) + 'a>;
+
+/// Opt-in automatic retry after a queue overflow, or after the driver cut a
+/// loop short ([`RunError::LoopLimit`], llvmpipe under CPU contention).
+///
+/// After an overflow, each retry grows every overflowing queue to at least its reported lower
+/// bound (and at least doubles it), reallocates the scheduler's buffers, calls
+/// `reset` so the user can restore their own resources (clear a framebuffer,
+/// zero counters), and runs again from the seeds. A run that succeeds after
+/// retries therefore gives the same results as one with large enough queues
+/// from the start. The grown capacities stay for later runs.
+pub struct Retry<'a> {
+    /// Attempts in all, the first included (at least 1).
+    pub max_attempts: u32,
+    /// Restores the user's resources before each retry.
+    pub reset: ResetFn<'a>,
+}
+
+impl<'a> Retry<'a> {
+    /// Up to `max_attempts` attempts, with `reset` called before each retry.
+    pub fn new(max_attempts: u32, reset: impl FnMut(&wgpu::Device, &wgpu::Queue) + 'a) -> Self {
+        Self {
+            max_attempts,
+            reset: Box::new(reset),
+        }
+    }
+
+    /// Up to `max_attempts` attempts, for graphs whose resources need no reset.
+    pub fn without_reset(max_attempts: u32) -> Self {
+        Self::new(max_attempts, |_, _| {})
+    }
+}
+
+impl std::fmt::Debug for Retry<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Retry")
+            .field("max_attempts", &self.max_attempts)
+            .finish_non_exhaustive()
+    }
+}
+
 /// The GPU objects for one compiled graph and one configuration. Runs reuse
 /// them; each run starts from empty queues.
 #[derive(Debug)]
 pub struct Executor {
     device: wgpu::Device,
     queue: wgpu::Queue,
-    plan: Plan,
-    pipeline: wgpu::ComputePipeline,
+    compiled: CompiledGraph,
+    module: wgpu::ShaderModule,
+    layouts: Layouts,
     resource_layout: Option<wgpu::BindGroupLayout>,
-    scheduler_bind_group: wgpu::BindGroup,
-    queue_words: wgpu::Buffer,
-    control: wgpu::Buffer,
-    control_readback: wgpu::Buffer,
+    megakernel: wgpu::ComputePipeline,
+    rounds: Option<RoundPipelines>,
+    state: QueueState,
     timestamps: Option<Timestamps>,
-    capacities: Vec<u32>,
-    workgroups: u32,
-    iteration_budget: u32,
+    tuning: Tuning,
     timeout: Duration,
 }
 
-fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
 impl Executor {
-    /// Creates the pipeline and allocates the queues for `config`.
+    /// Creates the megakernel pipeline and allocates the queues for `config`.
+    /// The Rounds strategy's pipelines are created on its first run.
     ///
     /// Fails with [`RunError::TooLarge`] when a buffer would exceed the
     /// device's limits and [`RunError::Gpu`] when the device rejects the module.
@@ -95,7 +122,7 @@ impl Executor {
         compiled: &CompiledGraph,
         config: &ExecutorConfig,
     ) -> Result<Self, RunError> {
-        let plan = compiled.plan.clone();
+        let plan = &compiled.plan;
         let missing = plan.features - device.features();
         if !missing.is_empty() {
             return Err(RunError::Gpu(format!(
@@ -122,23 +149,13 @@ impl Executor {
             None if cpu => CPU_ITERATION_BUDGET,
             None => u32::MAX,
         };
-        let spin_limit = if cpu { CPU_SPIN_LIMIT } else { u32::MAX };
-        let memory = compiled.memory_plan(config);
-        let binding_limit = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
-        for (what, bytes) in [
-            ("queue buffer", memory.queue_bytes),
-            ("staging buffer", memory.staging_bytes),
-        ] {
-            if bytes > binding_limit {
-                return Err(RunError::TooLarge {
-                    what,
-                    needed: bytes,
-                    limit: binding_limit,
-                });
-            }
-        }
+        let tuning = Tuning {
+            workgroups,
+            iteration_budget,
+            spin_limit: if cpu { CPU_SPIN_LIMIT } else { u32::MAX },
+        };
+        let layouts = Layouts::new(device);
+        let state = QueueState::new(device, queue, compiled, &layouts, capacities, tuning)?;
 
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         // SAFETY-free: `create_shader_module_trusted` is unsafe only because it
@@ -162,15 +179,6 @@ impl Executor {
                 },
             )
         };
-        let scheduler_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("scheduler state"),
-            entries: &[
-                storage_entry(0, false),
-                storage_entry(1, false),
-                storage_entry(2, false),
-                uniform_entry(3),
-            ],
-        });
         let resource_layout = (!plan.resources.is_empty()).then(|| {
             let entries: Vec<_> = plan
                 .resources
@@ -188,194 +196,205 @@ impl Executor {
                 entries: &entries,
             })
         });
-        let layouts = [Some(&scheduler_layout), resource_layout.as_ref()];
-        let layout_count = if resource_layout.is_some() { 2 } else { 1 };
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("megakernel"),
-            bind_group_layouts: &layouts[..layout_count],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("megakernel"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some(compiled.entry_point()),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let megakernel = procedure_pipeline(
+            device,
+            &module,
+            &layouts,
+            resource_layout.as_ref(),
+            compiled.entry_point(),
+        );
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(RunError::Gpu(error.to_string()));
         }
-
-        let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        use wgpu::BufferUsages as U;
-        let queue_words = buffer(
-            "scheduler queues",
-            memory.queue_bytes,
-            U::STORAGE | U::COPY_DST,
-        );
-        let staging = buffer("scheduler staging", memory.staging_bytes, U::STORAGE);
-        let control_bytes = memory.control_bytes / 2;
-        let control = buffer(
-            "scheduler control",
-            control_bytes,
-            U::STORAGE | U::COPY_DST | U::COPY_SRC,
-        );
-        let control_readback = buffer(
-            "scheduler control read-back",
-            control_bytes,
-            U::MAP_READ | U::COPY_DST,
-        );
-        let config_buffer = buffer(
-            "scheduler config",
-            memory.config_bytes,
-            U::UNIFORM | U::COPY_DST,
-        );
-
-        // Config: per queue (capacity - 1, first slot word, 0, 0), then
-        // (iteration budget, spin limit, 0, 0).
-        let mut words = Vec::with_capacity(4 * (plan.queues.len() + 1));
-        let mut next = 0u32;
-        for (q, queue_plan) in plan.queues.iter().enumerate() {
-            let slots = next;
-            next = slots + capacities[q] * queue_plan.item_words;
-            words.extend_from_slice(&[capacities[q] - 1, slots, 0, 0]);
-        }
-        words.extend_from_slice(&[iteration_budget, spin_limit, 0, 0]);
-        queue.write_buffer(&config_buffer, 0, bytemuck::cast_slice(&words));
-
-        let scheduler_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("scheduler state"),
-            layout: &scheduler_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: queue_words.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: control.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: staging.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: config_buffer.as_entire_binding(),
-                },
-            ],
-        });
 
         let timestamps = device
             .features()
             .contains(wgpu::Features::TIMESTAMP_QUERY)
             .then(|| Timestamps {
                 queries: device.create_query_set(&wgpu::QuerySetDescriptor {
-                    label: Some("megakernel timestamps"),
+                    label: Some("scheduler timestamps"),
                     ty: wgpu::QueryType::Timestamp,
                     count: 2,
                 }),
-                resolve: buffer("timestamp resolve", 16, U::QUERY_RESOLVE | U::COPY_SRC),
-                readback: buffer("timestamp read-back", 16, U::MAP_READ | U::COPY_DST),
+                resolve: device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("timestamp resolve"),
+                    size: 16,
+                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                }),
+                readback: device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("timestamp read-back"),
+                    size: 16,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }),
                 period_ns: f64::from(queue.get_timestamp_period()),
             });
 
         Ok(Self {
             device: device.clone(),
             queue: queue.clone(),
-            plan,
-            pipeline,
+            compiled: compiled.clone(),
+            module,
+            layouts,
             resource_layout,
-            scheduler_bind_group,
-            queue_words,
-            control,
-            control_readback,
+            megakernel,
+            rounds: None,
+            state,
             timestamps,
-            capacities,
-            workgroups,
-            iteration_budget,
+            tuning,
             timeout: config.timeout,
         })
     }
 
-    /// Workgroups launched per dispatch.
+    /// Workgroups launched per megakernel dispatch, and the most launched per
+    /// round dispatch.
     pub fn workgroups(&self) -> u32 {
-        self.workgroups
+        self.tuning.workgroups
     }
 
     /// Iterations after which a workgroup leaves (`u32::MAX`: no budget).
     pub fn iteration_budget(&self) -> u32 {
-        self.iteration_budget
+        self.tuning.iteration_budget
     }
 
     /// Allocated capacity of each queue, in declaration order.
     pub fn capacities(&self) -> &[u32] {
-        &self.capacities
+        &self.state.capacities
     }
 
-    /// Runs the graph from `seeds` until no work is left.
+    /// Runs the graph from `seeds` with the megakernel until no work is left.
     ///
     /// `bindings` must name every declared resource. Returns the report, or an
     /// error that carries it (overflow) or explains why there is none.
     pub fn run(&mut self, seeds: &Seeds, bindings: &[Binding<'_>]) -> Result<RunReport, RunError> {
-        let resource_group = self.resource_bind_group(bindings)?;
-        let seeded = self.seed(seeds)?;
+        self.run_with(Strategy::Megakernel, seeds, bindings)
+    }
+
+    /// Runs the graph from `seeds` with the given strategy.
+    pub fn run_with(
+        &mut self,
+        strategy: Strategy,
+        seeds: &Seeds,
+        bindings: &[Binding<'_>],
+    ) -> Result<RunReport, RunError> {
+        let resources = self.resource_bind_group(bindings)?;
+        self.attempt(strategy, seeds, resources.as_ref())
+    }
+
+    /// Runs like [`run_with`](Self::run_with), but on a queue overflow grows
+    /// the overflowing queues and runs again from a clean state (see
+    /// [`Retry`]). The report counts the attempts. Fails with the last
+    /// overflow once `retry.max_attempts` are spent, with
+    /// [`RunError::TooLarge`] when the grown queues no longer fit the device,
+    /// and at once on any other error.
+    pub fn run_with_retry(
+        &mut self,
+        strategy: Strategy,
+        seeds: &Seeds,
+        bindings: &[Binding<'_>],
+        mut retry: Retry<'_>,
+    ) -> Result<RunReport, RunError> {
+        let resources = self.resource_bind_group(bindings)?;
+        let mut attempt = 1;
+        loop {
+            match self.attempt(strategy, seeds, resources.as_ref()) {
+                Ok(mut report) => {
+                    report.attempts = attempt;
+                    return Ok(report);
+                }
+                Err(RunError::QueueOverflow { report, .. }) if attempt < retry.max_attempts => {
+                    let capacities = report
+                        .procedures
+                        .iter()
+                        .map(|p| {
+                            if p.dropped == 0 {
+                                return p.capacity;
+                            }
+                            let needed = p
+                                .needed_at_least
+                                .max(2 * u64::from(p.capacity))
+                                .min(1 << 31);
+                            (needed as u32).next_power_of_two()
+                        })
+                        .collect();
+                    log::info!(
+                        "attempt {attempt} overflowed; retrying with capacities {capacities:?}"
+                    );
+                    self.state = QueueState::new(
+                        &self.device,
+                        &self.queue,
+                        &self.compiled,
+                        &self.layouts,
+                        capacities,
+                        self.tuning,
+                    )?;
+                    (retry.reset)(&self.device, &self.queue);
+                    attempt += 1;
+                }
+                Err(RunError::LoopLimit { waits }) if attempt < retry.max_attempts => {
+                    // The driver cut a loop (llvmpipe, usually under CPU
+                    // contention): nothing is wrong with the graph, so run
+                    // the same configuration again from a clean state.
+                    log::info!("attempt {attempt}: {waits} loop(s) cut by the driver; retrying");
+                    (retry.reset)(&self.device, &self.queue);
+                    attempt += 1;
+                }
+                Err(error) => return Err(error),
+            }
+        }
+    }
+
+    /// One run from the seeds to the end of the work.
+    fn attempt(
+        &mut self,
+        strategy: Strategy,
+        seeds: &Seeds,
+        resources: Option<&wgpu::BindGroup>,
+    ) -> Result<RunReport, RunError> {
+        if let Strategy::Rounds { .. } = strategy {
+            self.create_round_pipelines()?;
+        }
+        let seeded = self.state.seed(&self.queue, &self.compiled.plan, seeds)?;
 
         let start = Instant::now();
         let deadline = start + self.timeout;
         let mut gpu_time = self.timestamps.as_ref().map(|_| Duration::ZERO);
-        let mut dispatches = 0;
+        let mut submissions = 0u32;
         let counters = loop {
             let mut encoder = self
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("megakernel"),
+                    label: Some("scheduler run"),
                 });
-            {
-                let timestamp_writes =
-                    self.timestamps
-                        .as_ref()
-                        .map(|t| wgpu::ComputePassTimestampWrites {
-                            query_set: &t.queries,
-                            beginning_of_pass_write_index: Some(0),
-                            end_of_pass_write_index: Some(1),
-                        });
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("megakernel"),
-                    timestamp_writes,
-                });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &self.scheduler_bind_group, &[]);
-                if let Some(group) = &resource_group {
-                    pass.set_bind_group(1, group, &[]);
-                }
-                pass.dispatch_workgroups(self.workgroups, 1, 1);
+            match strategy {
+                Strategy::Megakernel => self.encode_megakernel(&mut encoder, resources),
+                Strategy::Rounds { rounds_per_batch } => self.encode_rounds(
+                    &mut encoder,
+                    resources,
+                    submissions == 0,
+                    rounds_per_batch.max(1),
+                    submissions * rounds_per_batch.max(1),
+                ),
             }
+            let control = &self.state.control;
             encoder.copy_buffer_to_buffer(
-                &self.control,
+                control,
                 0,
-                &self.control_readback,
+                &self.state.control_readback,
                 0,
-                self.control.size(),
+                control.size(),
             );
             if let Some(t) = &self.timestamps {
                 encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
                 encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
             }
             let submission = self.queue.submit([encoder.finish()]);
-            dispatches += 1;
+            submissions += 1;
             let remaining = deadline.saturating_duration_since(Instant::now());
             let bytes = map_read(
                 &self.device,
-                &self.control_readback,
+                &self.state.control_readback,
                 submission.clone(),
                 remaining,
             )?;
@@ -394,16 +413,18 @@ impl Executor {
             if counters[control::PENDING as usize] == 0 {
                 break counters;
             }
-            // Work remains: the workgroups spent their iteration budget, or a
-            // driver ended the persistent loop early (llvmpipe stops any loop
-            // after 65535 iterations; that happens between batches, so nothing
-            // is lost). The queues persist, so dispatch again.
+            // Work remains: the megakernel's workgroups spent their iteration
+            // budget (or a driver ended the persistent loop early, between
+            // batches, so nothing is lost), or the batch of rounds ended. The
+            // queues persist, so submit again.
             if Instant::now() >= deadline {
                 return Err(RunError::Timeout(self.timeout));
             }
         };
         let report = RunReport {
+            strategy,
             procedures: self
+                .compiled
                 .plan
                 .queues
                 .iter()
@@ -412,7 +433,7 @@ impl Executor {
                     let word = |field| u64::from(counters[control::index(q, field)]);
                     ProcedureStats {
                         name: queue.name.clone(),
-                        capacity: self.capacities[q],
+                        capacity: self.state.capacities[q],
                         seeded: seeded[q],
                         executed: word(control::EXECUTED),
                         enqueued: word(control::ENQUEUED),
@@ -423,8 +444,13 @@ impl Executor {
                     }
                 })
                 .collect(),
-            workgroups: self.workgroups,
-            dispatches,
+            workgroups: self.tuning.workgroups,
+            dispatches: submissions,
+            rounds: match strategy {
+                Strategy::Megakernel => 0,
+                Strategy::Rounds { .. } => counters[control::ROUNDS as usize],
+            },
+            attempts: 1,
             wall_time: start.elapsed(),
             gpu_time,
         };
@@ -447,12 +473,148 @@ impl Executor {
         Ok(report)
     }
 
+    /// Timestamp writes for a pass that is the first and/or last of a submission.
+    fn timestamp_writes(
+        &self,
+        first: bool,
+        last: bool,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        self.timestamps.as_ref().filter(|_| first || last).map(|t| {
+            wgpu::ComputePassTimestampWrites {
+                query_set: &t.queries,
+                beginning_of_pass_write_index: first.then_some(0),
+                end_of_pass_write_index: last.then_some(1),
+            }
+        })
+    }
+
+    /// One megakernel dispatch of the persistent workgroups.
+    fn encode_megakernel(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        resources: Option<&wgpu::BindGroup>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("megakernel"),
+            timestamp_writes: self.timestamp_writes(true, true),
+        });
+        pass.set_pipeline(&self.megakernel);
+        pass.set_bind_group(0, &self.state.scheduler_group, &[]);
+        if let Some(group) = resources {
+            pass.set_bind_group(1, group, &[]);
+        }
+        pass.dispatch_workgroups(self.tuning.workgroups, 1, 1);
+    }
+
+    /// A batch of rounds: per round, one indirect dispatch per procedure (in
+    /// the policy's order), then the prepare kernel that retires the round and
+    /// sizes the next. The first batch starts with a prepare of its own.
+    /// Prepare kernels run in their own passes: their bind group writes the
+    /// indirect arguments that the round dispatches read.
+    fn encode_rounds(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        resources: Option<&wgpu::BindGroup>,
+        first_batch: bool,
+        rounds: u32,
+        first_round: u32,
+    ) {
+        let pipelines = self
+            .rounds
+            .as_ref()
+            .expect("round pipelines are created before encoding rounds");
+        let prepare = |encoder: &mut wgpu::CommandEncoder, first: bool, last: bool| {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("prepare round"),
+                timestamp_writes: self.timestamp_writes(first, last),
+            });
+            pass.set_pipeline(&pipelines.prepare);
+            pass.set_bind_group(0, &self.state.prepare_group, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+        };
+        if first_batch {
+            prepare(encoder, true, false);
+        }
+        let plan = &self.compiled.plan;
+        for r in 0..rounds {
+            {
+                let first = !first_batch && r == 0;
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("round"),
+                    timestamp_writes: self.timestamp_writes(first, false),
+                });
+                pass.set_bind_group(0, &self.state.scheduler_group, &[]);
+                if let Some(group) = resources {
+                    pass.set_bind_group(1, group, &[]);
+                }
+                for q in round_order(plan, first_round + r) {
+                    pass.set_pipeline(&pipelines.procedures[q]);
+                    pass.dispatch_workgroups_indirect(&self.state.dispatch, 12 * q as u64);
+                }
+            }
+            prepare(encoder, false, r + 1 == rounds);
+        }
+    }
+
+    fn create_round_pipelines(&mut self) -> Result<(), RunError> {
+        if self.rounds.is_some() {
+            return Ok(());
+        }
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let prepare_layout = self
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(PREPARE_ENTRY_POINT),
+                bind_group_layouts: &[Some(&self.layouts.prepare)],
+                immediate_size: 0,
+            });
+        let prepare = self
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(PREPARE_ENTRY_POINT),
+                layout: Some(&prepare_layout),
+                module: &self.module,
+                entry_point: Some(PREPARE_ENTRY_POINT),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        let procedures = self
+            .compiled
+            .plan
+            .queues
+            .iter()
+            .map(|q| {
+                procedure_pipeline(
+                    &self.device,
+                    &self.module,
+                    &self.layouts,
+                    self.resource_layout.as_ref(),
+                    &round_entry_point(&q.name),
+                )
+            })
+            .collect();
+        if let Some(error) = pollster::block_on(scope.pop()) {
+            return Err(RunError::Gpu(error.to_string()));
+        }
+        self.rounds = Some(RoundPipelines {
+            prepare,
+            procedures,
+        });
+        Ok(())
+    }
+
     fn resource_bind_group(
         &self,
         bindings: &[Binding<'_>],
     ) -> Result<Option<wgpu::BindGroup>, RunError> {
         for b in bindings {
-            if !self.plan.resources.iter().any(|r| r.name() == b.name) {
+            if !self
+                .compiled
+                .plan
+                .resources
+                .iter()
+                .any(|r| r.name() == b.name)
+            {
                 return Err(RunError::Binding(format!(
                     "`{}` is not a declared resource",
                     b.name
@@ -462,8 +624,8 @@ impl Executor {
         let Some(layout) = &self.resource_layout else {
             return Ok(None);
         };
-        let mut entries = Vec::with_capacity(self.plan.resources.len());
-        for (i, resource) in self.plan.resources.iter().enumerate() {
+        let mut entries = Vec::with_capacity(self.compiled.plan.resources.len());
+        for (i, resource) in self.compiled.plan.resources.iter().enumerate() {
             let binding = bindings
                 .iter()
                 .find(|b| b.name == resource.name())
@@ -486,75 +648,43 @@ impl Executor {
         }
         Ok(Some(group))
     }
+}
 
-    /// Empties every queue, then writes the seeds and the matching counters.
-    /// Returns the number of items seeded per queue.
-    fn seed(&self, seeds: &Seeds) -> Result<Vec<u64>, RunError> {
-        let n = self.plan.queues.len();
-        let mut per_queue: Vec<Vec<u8>> = vec![Vec::new(); n];
-        let mut counts = vec![0u64; n];
-        for entry in &seeds.entries {
-            let fail = |reason: String| RunError::Seed {
-                procedure: entry.procedure.clone(),
-                reason,
-            };
-            let q = self
-                .plan
-                .queue_index(&entry.procedure)
-                .ok_or_else(|| fail("no such procedure".into()))?;
-            let queue = &self.plan.queues[q];
-            if !queue.initial {
-                return Err(fail(
-                    "it does not accept initial items (declare it with `.initial(true)`)".into(),
-                ));
-            }
-            if entry.item_size != 4 * queue.item_words as usize {
-                return Err(fail(format!(
-                    "items are {} bytes but `{}` is {} bytes",
-                    entry.item_size,
-                    queue.item,
-                    4 * queue.item_words
-                )));
-            }
-            per_queue[q].extend_from_slice(&entry.bytes);
-            counts[q] += entry.count as u64;
-        }
-        for (q, &count) in counts.iter().enumerate() {
-            if count > u64::from(self.capacities[q]) {
-                return Err(RunError::Seed {
-                    procedure: self.plan.queues[q].name.clone(),
-                    reason: format!(
-                        "{count} seeds exceed the queue capacity {}",
-                        self.capacities[q]
-                    ),
-                });
-            }
-        }
+/// A pipeline over the scheduler's group 0 and the graph's resources.
+fn procedure_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layouts: &Layouts,
+    resources: Option<&wgpu::BindGroupLayout>,
+    entry_point: &str,
+) -> wgpu::ComputePipeline {
+    let groups = [Some(&layouts.scheduler), resources];
+    let count = if resources.is_some() { 2 } else { 1 };
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(entry_point),
+        bind_group_layouts: &groups[..count],
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry_point),
+        layout: Some(&layout),
+        module,
+        entry_point: Some(entry_point),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
 
-        // Stale payload in the queues is harmless: only tickets below
-        // `published` are ever read, so the queues need no clearing.
-        let mut control_words = vec![0u32; control::words(n) as usize];
-        let mut slot_base = 0u64;
-        for (q, queue) in self.plan.queues.iter().enumerate() {
-            if counts[q] > 0 {
-                self.queue
-                    .write_buffer(&self.queue_words, 4 * slot_base, &per_queue[q]);
-            }
-            // Seeds hold tickets 0..count, published and unclaimed.
-            let count = counts[q] as u32;
-            for field in [
-                control::TAIL,
-                control::PUBLISHED,
-                control::FILL,
-                control::HIGH_WATER,
-            ] {
-                control_words[control::index(q, field)] = count;
-            }
-            slot_base += u64::from(self.capacities[q]) * u64::from(queue.item_words);
-        }
-        control_words[control::PENDING as usize] = counts.iter().sum::<u64>() as u32;
-        self.queue
-            .write_buffer(&self.control, 0, bytemuck::cast_slice(&control_words));
-        Ok(counts)
-    }
+/// The order of the per-procedure dispatches in round `round`: the scan order
+/// (priority, highest first) or, under round-robin, that order rotated by one
+/// each round. Every round runs only the items queued before it started, so
+/// the order changes neither the counts nor the high-water marks, only the
+/// order in which bodies' writes land.
+fn round_order(plan: &crate::compile::plan::Plan, round: u32) -> Vec<usize> {
+    let n = plan.scan_order.len();
+    let shift = match plan.policy {
+        crate::Policy::Priority => 0,
+        crate::Policy::RoundRobin => round as usize % n.max(1),
+    };
+    (0..n).map(|i| plan.scan_order[(i + shift) % n]).collect()
 }

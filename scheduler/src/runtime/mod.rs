@@ -4,3 +4,5 @@ pub(crate) mod config;
 pub(crate) mod executor;
 pub(crate) mod report;
 pub(crate) mod seeds;
+pub(crate) mod state;
+pub(crate) mod strategy;

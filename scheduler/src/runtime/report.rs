@@ -29,12 +29,19 @@ pub struct ProcedureStats {
 /// The report of one run.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunReport {
+    /// The strategy that ran.
+    pub strategy: crate::Strategy,
     /// One entry per procedure, in declaration order.
     pub procedures: Vec<ProcedureStats>,
     /// Workgroups launched per dispatch.
     pub workgroups: u32,
-    /// Dispatches it took (more than one only with an iteration budget).
+    /// Submissions it took: megakernel dispatches (more than one only with an
+    /// iteration budget), or batches of rounds.
     pub dispatches: u32,
+    /// Rounds that found work (Rounds strategy; 0 for the megakernel).
+    pub rounds: u32,
+    /// Attempts it took (more than one only after overflow retries).
+    pub attempts: u32,
     /// Host wall time from the first submission to the final read-back.
     #[serde(with = "duration_ms")]
     pub wall_time: Duration,
@@ -76,11 +83,16 @@ impl fmt::Display for RunReport {
         }
         write!(
             f,
-            "{} workgroups, {} dispatch(es), wall {:.3} ms",
-            self.workgroups,
-            self.dispatches,
-            self.wall_time.as_secs_f64() * 1e3
+            "{}, {} workgroups, {} submission(s)",
+            self.strategy, self.workgroups, self.dispatches
         )?;
+        if self.rounds > 0 {
+            write!(f, ", {} rounds", self.rounds)?;
+        }
+        if self.attempts > 1 {
+            write!(f, ", {} attempts", self.attempts)?;
+        }
+        write!(f, ", wall {:.3} ms", self.wall_time.as_secs_f64() * 1e3)?;
         if let Some(gpu) = self.gpu_time {
             write!(f, ", GPU {:.3} ms", gpu.as_secs_f64() * 1e3)?;
         }

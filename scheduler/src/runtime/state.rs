@@ -1,0 +1,293 @@
+//! The device buffers of one executor configuration (queues, control words,
+//! staging, configuration, indirect dispatch sizes), their bind groups, and
+//! seeding them for a run. Rebuilt when a retry grows the queues.
+
+use crate::compile::plan::{Plan, control};
+use crate::{CompiledGraph, ExecutorConfig, RunError, Seeds};
+
+/// Bind group layouts shared by every [`QueueState`] of an executor.
+#[derive(Debug)]
+pub(crate) struct Layouts {
+    /// Group 0 of the megakernel and of the round kernels.
+    pub scheduler: wgpu::BindGroupLayout,
+    /// Group 0 of the prepare kernel: control, configuration and dispatch
+    /// sizes. It is separate because a buffer cannot be written as storage and
+    /// read as indirect arguments in one dispatch.
+    pub prepare: wgpu::BindGroupLayout,
+}
+
+fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A storage buffer layout entry.
+pub(crate) fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    buffer_entry(binding, wgpu::BufferBindingType::Storage { read_only })
+}
+
+/// A uniform buffer layout entry.
+pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    buffer_entry(binding, wgpu::BufferBindingType::Uniform)
+}
+
+impl Layouts {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let scheduler = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scheduler state"),
+            entries: &[
+                storage_entry(0, false),
+                storage_entry(1, false),
+                storage_entry(2, false),
+                uniform_entry(3),
+            ],
+        });
+        let prepare = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scheduler round preparation"),
+            entries: &[
+                storage_entry(1, false),
+                uniform_entry(3),
+                storage_entry(4, false),
+            ],
+        });
+        Self { scheduler, prepare }
+    }
+}
+
+/// Numbers written into the configuration uniform besides the capacities.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Tuning {
+    pub workgroups: u32,
+    pub iteration_budget: u32,
+    pub spin_limit: u32,
+}
+
+/// The buffers for one set of queue capacities.
+#[derive(Debug)]
+pub(crate) struct QueueState {
+    pub capacities: Vec<u32>,
+    queue_words: wgpu::Buffer,
+    pub control: wgpu::Buffer,
+    pub control_readback: wgpu::Buffer,
+    pub dispatch: wgpu::Buffer,
+    pub scheduler_group: wgpu::BindGroup,
+    pub prepare_group: wgpu::BindGroup,
+}
+
+impl QueueState {
+    /// Allocates the buffers for `capacities` (allocated sizes, powers of
+    /// two), failing with [`RunError::TooLarge`] beyond the device's limits.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        compiled: &CompiledGraph,
+        layouts: &Layouts,
+        capacities: Vec<u32>,
+        tuning: Tuning,
+    ) -> Result<Self, RunError> {
+        let plan = &compiled.plan;
+        let config = ExecutorConfig {
+            capacities: crate::Capacities {
+                default: 1,
+                per_procedure: plan
+                    .queues
+                    .iter()
+                    .zip(&capacities)
+                    .map(|(q, &c)| (q.name.clone(), c))
+                    .collect(),
+            },
+            workgroups: Some(tuning.workgroups),
+            ..ExecutorConfig::default()
+        };
+        let memory = compiled.memory_plan(&config);
+        let limits = device.limits();
+        let binding_limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        for (what, bytes) in [
+            ("queue buffer", memory.queue_bytes),
+            ("staging buffer", memory.staging_bytes),
+        ] {
+            if bytes > binding_limit {
+                return Err(RunError::TooLarge {
+                    what,
+                    needed: bytes,
+                    limit: binding_limit,
+                });
+            }
+        }
+
+        let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        use wgpu::BufferUsages as U;
+        let queue_words = buffer(
+            "scheduler queues",
+            memory.queue_bytes,
+            U::STORAGE | U::COPY_DST,
+        );
+        let staging = buffer("scheduler staging", memory.staging_bytes, U::STORAGE);
+        let control_bytes = memory.control_bytes / 2;
+        let control = buffer(
+            "scheduler control",
+            control_bytes,
+            U::STORAGE | U::COPY_DST | U::COPY_SRC,
+        );
+        let control_readback = buffer(
+            "scheduler control read-back",
+            control_bytes,
+            U::MAP_READ | U::COPY_DST,
+        );
+        let config_buffer = buffer(
+            "scheduler config",
+            memory.config_bytes,
+            U::UNIFORM | U::COPY_DST,
+        );
+        let dispatch = buffer(
+            "scheduler round dispatch sizes",
+            12 * plan.queues.len() as u64,
+            U::STORAGE | U::INDIRECT,
+        );
+
+        // Per queue (capacity - 1, first slot word, 0, 0), then (iteration
+        // budget, spin limit, workgroups per round dispatch, 0). The round
+        // clamp is the staging room, which `Executor::new` keeps within the
+        // device's workgroups-per-dimension limit.
+        let mut words = Vec::with_capacity(4 * (plan.queues.len() + 1));
+        let mut next = 0u32;
+        for (q, queue_plan) in plan.queues.iter().enumerate() {
+            let slots = next;
+            next = slots + capacities[q] * queue_plan.item_words;
+            words.extend_from_slice(&[capacities[q] - 1, slots, 0, 0]);
+        }
+        words.extend_from_slice(&[
+            tuning.iteration_budget,
+            tuning.spin_limit,
+            tuning.workgroups,
+            0,
+        ]);
+        queue.write_buffer(&config_buffer, 0, bytemuck::cast_slice(&words));
+
+        let scheduler_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scheduler state"),
+            layout: &layouts.scheduler,
+            entries: &[
+                entry(0, &queue_words),
+                entry(1, &control),
+                entry(2, &staging),
+                entry(3, &config_buffer),
+            ],
+        });
+        let prepare_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scheduler round preparation"),
+            layout: &layouts.prepare,
+            entries: &[
+                entry(1, &control),
+                entry(3, &config_buffer),
+                entry(4, &dispatch),
+            ],
+        });
+        Ok(Self {
+            capacities,
+            queue_words,
+            control,
+            control_readback,
+            dispatch,
+            scheduler_group,
+            prepare_group,
+        })
+    }
+
+    /// Empties every queue, then writes the seeds and the matching counters.
+    /// Returns the number of items seeded per queue.
+    pub fn seed(
+        &self,
+        queue: &wgpu::Queue,
+        plan: &Plan,
+        seeds: &Seeds,
+    ) -> Result<Vec<u64>, RunError> {
+        let n = plan.queues.len();
+        let mut per_queue: Vec<Vec<u8>> = vec![Vec::new(); n];
+        let mut counts = vec![0u64; n];
+        for entry in &seeds.entries {
+            let fail = |reason: String| RunError::Seed {
+                procedure: entry.procedure.clone(),
+                reason,
+            };
+            let q = plan
+                .queue_index(&entry.procedure)
+                .ok_or_else(|| fail("no such procedure".into()))?;
+            let queue_plan = &plan.queues[q];
+            if !queue_plan.initial {
+                return Err(fail(
+                    "it does not accept initial items (declare it with `.initial(true)`)".into(),
+                ));
+            }
+            if entry.item_size != 4 * queue_plan.item_words as usize {
+                return Err(fail(format!(
+                    "items are {} bytes but `{}` is {} bytes",
+                    entry.item_size,
+                    queue_plan.item,
+                    4 * queue_plan.item_words
+                )));
+            }
+            per_queue[q].extend_from_slice(&entry.bytes);
+            counts[q] += entry.count as u64;
+        }
+        for (q, &count) in counts.iter().enumerate() {
+            if count > u64::from(self.capacities[q]) {
+                return Err(RunError::Seed {
+                    procedure: plan.queues[q].name.clone(),
+                    reason: format!(
+                        "{count} seeds exceed the queue capacity {}",
+                        self.capacities[q]
+                    ),
+                });
+            }
+        }
+
+        // Stale payload in the queues is harmless: only tickets below
+        // `published` are ever read, so the queues need no clearing.
+        let mut control_words = vec![0u32; control::words(n) as usize];
+        let mut slot_base = 0u64;
+        for (q, queue_plan) in plan.queues.iter().enumerate() {
+            if counts[q] > 0 {
+                queue.write_buffer(&self.queue_words, 4 * slot_base, &per_queue[q]);
+            }
+            // Seeds hold tickets 0..count, published and unclaimed.
+            let count = counts[q] as u32;
+            for field in [
+                control::TAIL,
+                control::PUBLISHED,
+                control::FILL,
+                control::HIGH_WATER,
+            ] {
+                control_words[control::index(q, field)] = count;
+            }
+            slot_base += u64::from(self.capacities[q]) * u64::from(queue_plan.item_words);
+        }
+        control_words[control::PENDING as usize] = counts.iter().sum::<u64>() as u32;
+        queue.write_buffer(&self.control, 0, bytemuck::cast_slice(&control_words));
+        Ok(counts)
+    }
+}
+
+fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
+    }
+}
