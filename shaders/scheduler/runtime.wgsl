@@ -11,15 +11,18 @@
 //   head       next ticket a consumer claims (never beyond `published`)
 //   released   every ticket below it has been copied out; its slot is free
 // Producers and consumers move whole ranges: a producer reserves [b, b+n),
-// writes the items, and commits `published` from b to b+n once every earlier
-// range is published. Consumers claim only published items and commit
-// `released` in the same in-order way. So no item is ever read half-written,
-// and no per-item flag is needed.
+// writes the items, and leaves a marker "[b, b+n) is complete" at slot b.
+// `published` then moves over every complete range that starts where it
+// stands: whoever completes a range, or looks for work, moves it (helping), so
+// nobody waits for the owner of an earlier range, however late its thread
+// runs. Consumers claim only published items and release their ranges the
+// same way. So no item is ever read half-written, and no per-item flag is
+// needed. The only wait left is a producer's for free slots in a full ring.
 //
 // The Rounds strategy (one entry point per procedure, dispatched round after
-// round) uses the same rings without any waiting: sched_prepare_round moves
+// round) uses the same rings without markers: sched_prepare_round moves
 // `head`, `released` and `published` between dispatches, and the dispatch
-// boundary orders the writes. `sched_rounds` switches the waits off.
+// boundary orders the writes. `sched_rounds` switches the markers off.
 
 fn sched_ctrl(q: u32, field: u32) -> u32 {
     return SCHED_CTRL_QUEUE_BASE + q * SCHED_CTRL_QUEUE_STRIDE + field;
@@ -33,29 +36,66 @@ fn sched_slot_word(q: u32, ticket: u32) -> u32 {
     return sched_config[q].y + (ticket & sched_config[q].x) * sched_item_words[q];
 }
 
+// Control word of the marker for `ticket` of queue q: `markers` is 0 for
+// published ranges and the capacity for released ones.
+fn sched_marker(q: u32, markers: u32, ticket: u32) -> u32 {
+    return sched_config[q].z + markers + (ticket & sched_config[q].x);
+}
+
+// Thread 0 only: records that the range [first, end) of queue q is complete
+// (published, or released), then helps move the counter `field` over it.
+fn sched_complete_range(q: u32, field: u32, markers: u32, first: u32, end: u32) {
+    atomicStore(&sched_control[sched_marker(q, markers, first)], end);
+    sched_advance(q, field, markers);
+}
+
+// Moves counter `field` of queue q over each complete range that starts where
+// it stands. A marker left in the slot by an earlier lap lies behind the
+// counter, so its length wraps beyond the capacity and is ignored. Bounded:
+// whatever is left is picked up by the next helper.
+fn sched_advance(q: u32, field: u32, markers: u32) {
+    let index = sched_ctrl(q, field);
+    let capacity = sched_capacity(q);
+    for (var i = 0u; i < 64u; i += 1u) {
+        let at = atomicLoad(&sched_control[index]);
+        let end = atomicLoad(&sched_control[sched_marker(q, markers, at)]);
+        let length = end - at;
+        if (length == 0u || length > capacity) {
+            return;
+        }
+        // Losing the race means another helper moved it: look again.
+        _ = atomicCompareExchangeWeak(&sched_control[index], at, end);
+    }
+}
+
+// Thread 0 only: waits until `released` of queue q reaches `goal` (wrapping
+// compare), helping to move it. Consumers release without waiting on anyone,
+// so this ends. llvmpipe (Mesa's software driver behind lavapipe) gives an
+// invocation one budget of 65535 loop iterations for all its loops
+// (docs/scheduler.md, "Loop limits"), so each iteration checks 64 times in
+// straight-line code. Should the wait still run the budget out, the run is
+// flagged and fails loudly.
+fn sched_wait_released(q: u32, goal: u32) {
+    let index = sched_ctrl(q, SCHED_Q_RELEASED);
+    for (var round = 0u; round < 65535u; round += 1u) {
+        sched_spins += 1u;
+        if (sched_reached_64(index, goal)) {
+            return;
+        }
+        sched_advance(q, SCHED_Q_RELEASED, sched_capacity(q));
+    }
+    atomicAdd(&sched_control[SCHED_CTRL_LOOPS_CUT], 1u);
+}
+
 fn sched_reached(index: u32, goal: u32) -> bool {
     return i32(atomicLoad(&sched_control[index]) - goal) >= 0;
 }
 
-// Spins until control word `index` has reached `goal` (wrapping compare).
-// llvmpipe (Mesa's software driver behind lavapipe) gives each invocation one
-// budget of 65535 loop iterations shared by all its loops (docs/scheduler.md,
-// "Loop limits"). So the protocol moves data without loops, and each spin
-// iteration makes 32 checks in straight-line code: a wait on a workgroup whose
-// CPU thread was descheduled for milliseconds then spends only a few thousand
-// iterations. Should a wait still run the budget out, the run is flagged and
-// fails loudly.
-fn sched_wait_reached(index: u32, goal: u32) {
-    for (var round = 0u; round < 65535u; round += 1u) {
-        loop {
-            sched_spins += 1u;
-            if (sched_reached_8(index, goal) || sched_reached_8(index, goal)
-                || sched_reached_8(index, goal) || sched_reached_8(index, goal)) {
-                return;
-            }
-        }
-    }
-    atomicAdd(&sched_control[SCHED_CTRL_LOOPS_CUT], 1u);
+// 64 checks of sched_reached, without a loop.
+fn sched_reached_64(index: u32, goal: u32) -> bool {
+    return sched_reached_8(index, goal) || sched_reached_8(index, goal) || sched_reached_8(index, goal)
+        || sched_reached_8(index, goal) || sched_reached_8(index, goal) || sched_reached_8(index, goal)
+        || sched_reached_8(index, goal) || sched_reached_8(index, goal);
 }
 
 // Eight checks of sched_reached, without a loop.
@@ -65,16 +105,6 @@ fn sched_reached_8(index: u32, goal: u32) -> bool {
         || sched_reached(index, goal) || sched_reached(index, goal);
 }
 
-// The in-order commit of `published` and `released`: wait until the ranges
-// before ours are committed, then move the counter past ours. The range before
-// ours belongs to a workgroup that is running (it took its tickets) and that
-// waits only on ranges before its own, so the wait ends (docs/scheduler.md).
-fn sched_commit(q: u32, field: u32, value: u32, next: u32) {
-    let index = sched_ctrl(q, field);
-    sched_wait_reached(index, value);
-    atomicStore(&sched_control[index], next);
-}
-
 // Consumer side, thread 0 only: claim up to `max_items` published tickets of
 // queue q. Returns (first ticket, count); count 0 means nothing to take. The
 // compare-exchange loop is lock-free; after a bounded number of lost races the
@@ -82,7 +112,13 @@ fn sched_commit(q: u32, field: u32, value: u32, next: u32) {
 fn sched_try_claim(q: u32, max_items: u32) -> vec2<u32> {
     for (var attempt = 0u; attempt < 16u; attempt += 1u) {
         let head = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_HEAD)]);
-        let published = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_PUBLISHED)]);
+        var published = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_PUBLISHED)]);
+        if (published == head) {
+            // Help: a producer may have completed a range that nobody has
+            // published yet (its own attempt raced with an earlier range's).
+            sched_advance(q, SCHED_Q_PUBLISHED, 0u);
+            published = atomicLoad(&sched_control[sched_ctrl(q, SCHED_Q_PUBLISHED)]);
+        }
         let available = published - head;
         if (available == 0u || available > 0x80000000u) {
             return vec2<u32>(0u, 0u);
@@ -99,20 +135,18 @@ fn sched_try_claim(q: u32, max_items: u32) -> vec2<u32> {
     return vec2<u32>(0u, 0u);
 }
 
-// All threads, once, after the persistent loop or a round. llvmpipe's loop
-// budget (docs/scheduler.md, "Loop limits") is shared by every loop of an
-// invocation and never renewed: once it is spent, every loop ends after at
-// most one iteration. This two-iteration loop is the canary: cut short, it
-// proves that some loop of this invocation was cut (a body's loop, or the
-// persistent loop itself, which leaves the workgroup's barriers out of step),
-// and the run fails with RunError::LoopLimit instead of returning wrong
-// results.
-fn sched_check_loop_budget() {
-    var iterations = 0u;
-    for (var i = 0u; i < 2u; i += 1u) {
-        iterations += 1u;
-    }
-    if (iterations != 2u) {
+// All threads, once, after the persistent loop or a round's loop, with
+// whether the loop ended by its own condition. llvmpipe's loop budget
+// (docs/scheduler.md, "Loop limits") is shared by all loops nested in an
+// outermost loop and is not renewed while it runs: once spent, the loop that
+// is running ends early and so does every enclosing loop at its next turn.
+// Budgets are kept per group of SIMD lanes, so some threads of a workgroup may
+// leave the persistent loop while the others stay, which puts the barriers
+// out of step and corrupts items. Whatever was cut, the threads that left
+// early know it here, and the run fails with RunError::LoopLimit instead of
+// returning wrong results.
+fn sched_check_left_in_step(ended_by_condition: bool) {
+    if (!ended_by_condition) {
         atomicAdd(&sched_control[SCHED_CTRL_LOOPS_CUT], 1u);
     }
 }
@@ -145,17 +179,15 @@ fn sched_pick(workgroup: u32, iteration: u32) -> vec4<u32> {
 }
 
 // Consumer side, all threads, after the generated runner copied the claimed
-// items into the inbox (one item per thread, without loops) and ran the body:
-// hand the slots back. The items were published (claims never pass
-// `published`), so receiving never waits on a producer. The runner puts a
-// storageBarrier (acquire) before its copy; this one is the release: the
-// copies complete before the slots are handed back. It comes after the body so
-// that the body's loops never follow a wait, and before the
-// flushes, whose reservations may count on these very slots.
+// items into the inbox (one item per thread, without loops): hand the slots
+// back by completing the released range, which waits on nobody. The runner
+// puts a storageBarrier (acquire) before its copy; this one is the release:
+// the copies complete before the slots are handed back, and the inbox is
+// complete before any thread decodes its item.
 fn sched_receive_done(lid: u32, q: u32, first: u32, count: u32) {
     storageBarrier();
-    if (lid == 0u && !sched_rounds) {
-        sched_commit(q, SCHED_Q_RELEASED, first, first + count);
+    if (lid == 0u && !sched_rounds && count > 0u) {
+        sched_complete_range(q, SCHED_Q_RELEASED, sched_capacity(q), first, first + count);
     }
 }
 
@@ -193,7 +225,7 @@ fn sched_flush_reserve(lid: u32, q: u32, stage_capacity: u32) -> vec2<u32> {
                 // In rounds, `fill` keeps counting the running round's items
                 // until the next prepare, so those slots are free already.
                 if (!sched_rounds) {
-                    sched_wait_reached(sched_ctrl(q, SCHED_Q_RELEASED), first + accepted - cap);
+                    sched_wait_released(q, first + accepted - cap);
                 }
             }
         }
@@ -212,7 +244,7 @@ fn sched_flush_reserve(lid: u32, q: u32, stage_capacity: u32) -> vec2<u32> {
 fn sched_flush_publish(lid: u32, q: u32, flush: vec2<u32>) {
     storageBarrier();
     if (lid == 0u && !sched_rounds) {
-        sched_commit(q, SCHED_Q_PUBLISHED, flush.x, flush.x + flush.y);
+        sched_complete_range(q, SCHED_Q_PUBLISHED, 0u, flush.x, flush.x + flush.y);
     }
 }
 

@@ -486,8 +486,7 @@ fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
         queue.item_words
     ));
     f.line("}");
-    f.line("// The inbox is complete before any thread decodes its item.");
-    f.line("storageBarrier();");
+    f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
     f.line(format!("var item: {};", queue.item));
     f.line("if (valid) {");
     f.line(format!(
@@ -500,7 +499,6 @@ fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
         "{}(item, valid, thread, slot);",
         body_name(&queue.name)
     ));
-    f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
     for &(t, _) in &queue.targets {
         let target = &plan.queues[t];
         let flush = format!("flush_{}", target.name);
@@ -552,12 +550,15 @@ fn entry_point(plan: &Plan) -> Function {
         .push(format!("@compute @workgroup_size({})", plan.workgroup_size));
     f.line("sched_wg_base = workgroup.x * SCHED_WORKGROUP_WORDS;");
     f.line("let budget = sched_config[SCHED_NUM_QUEUES].x;");
-    f.line("for (var iteration = 0u; iteration < budget; iteration += 1u) {");
+    f.line("var iteration = 0u;");
+    f.line("var finished = false;");
+    f.line("for (; iteration < budget; iteration += 1u) {");
     f.line("    if (lid == 0u) {");
     f.line("        sched_wg_pick = sched_pick(workgroup.x, iteration);");
     f.line("    }");
     f.line("    let pick = workgroupUniformLoad(&sched_wg_pick);");
     f.line("    if (pick.x == SCHED_EXIT) {");
+    f.line("        finished = true;");
     f.line("        break;");
     f.line("    }");
     f.line("    switch pick.x {");
@@ -570,7 +571,7 @@ fn entry_point(plan: &Plan) -> Function {
     f.line("        default: {}");
     f.line("    }");
     f.line("}");
-    f.line("sched_check_loop_budget();");
+    f.line("sched_check_left_in_step(finished || iteration >= budget);");
     f
 }
 
@@ -622,9 +623,6 @@ fn round_entry(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     f.line("}");
     f.line("// A driver that cut a loop short (llvmpipe's loop limit) may have");
     f.line("// skipped items or part of a body: flag it so the run fails loudly.");
-    f.line("if (lid == 0u && batch * per < range.y) {");
-    f.line("    atomicAdd(&sched_control[SCHED_CTRL_LOOPS_CUT], 1u);");
-    f.line("}");
-    f.line("sched_check_loop_budget();");
+    f.line("sched_check_left_in_step(batch * per >= range.y);");
     f
 }

@@ -112,7 +112,7 @@ pub struct MemoryPlan {
     pub queue_bytes: u64,
     /// Per-workgroup inbox and staging.
     pub staging_bytes: u64,
-    /// Counters (plus their read-back copy).
+    /// Counters (plus their read-back copy) and per-slot range markers.
     pub control_bytes: u64,
     /// Uniform configuration.
     pub config_bytes: u64,
@@ -133,7 +133,16 @@ impl CompiledGraph {
         let queue_bytes = 4 * queue_words.max(1);
         let staging_bytes =
             4 * (workgroups * u64::from(self.plan.inbox_words + self.plan.stage_words)).max(1);
-        let control_bytes = 2 * 4 * u64::from(control::words(self.plan.queues.len()));
+        // Counters (and their read-back copy), then two range markers per
+        // queue slot (published and released ranges).
+        let slots: u64 = self
+            .plan
+            .queues
+            .iter()
+            .map(|q| u64::from(config.capacities.of(&q.name)))
+            .sum();
+        let control_bytes =
+            2 * 4 * u64::from(control::words(self.plan.queues.len())) + 4 * 2 * slots;
         let config_bytes = 16 * (self.plan.queues.len() as u64 + 1);
         MemoryPlan {
             queue_bytes,

@@ -355,7 +355,9 @@ impl Executor {
         if let Strategy::Rounds { .. } = strategy {
             self.create_round_pipelines()?;
         }
-        let seeded = self.state.seed(&self.queue, &self.compiled.plan, seeds)?;
+        let seeded = self
+            .state
+            .seed(&self.device, &self.queue, &self.compiled.plan, seeds)?;
 
         let start = Instant::now();
         let deadline = start + self.timeout;
@@ -383,7 +385,7 @@ impl Executor {
                 0,
                 &self.state.control_readback,
                 0,
-                control.size(),
+                self.state.control_readback.size(),
             );
             if let Some(t) = &self.timestamps {
                 encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);

@@ -140,15 +140,23 @@ impl QueueState {
             U::STORAGE | U::COPY_DST,
         );
         let staging = buffer("scheduler staging", memory.staging_bytes, U::STORAGE);
-        let control_bytes = memory.control_bytes / 2;
+        let header_bytes = 4 * u64::from(control::words(plan.queues.len()));
+        if memory.control_bytes - header_bytes > binding_limit {
+            return Err(RunError::TooLarge {
+                what: "control buffer",
+                needed: memory.control_bytes - header_bytes,
+                limit: binding_limit,
+            });
+        }
         let control = buffer(
             "scheduler control",
-            control_bytes,
+            memory.control_bytes - header_bytes,
             U::STORAGE | U::COPY_DST | U::COPY_SRC,
         );
+        // Only the counters come back to the host, not the markers.
         let control_readback = buffer(
             "scheduler control read-back",
-            control_bytes,
+            header_bytes,
             U::MAP_READ | U::COPY_DST,
         );
         let config_buffer = buffer(
@@ -162,16 +170,18 @@ impl QueueState {
             U::STORAGE | U::INDIRECT,
         );
 
-        // Per queue (capacity - 1, first slot word, 0, 0), then (iteration
+        // Per queue (capacity - 1, first slot word, first marker word, 0), then (iteration
         // budget, spin limit, workgroups per round dispatch, 0). The round
         // clamp is the staging room, which `Executor::new` keeps within the
         // device's workgroups-per-dimension limit.
         let mut words = Vec::with_capacity(4 * (plan.queues.len() + 1));
         let mut next = 0u32;
+        let mut markers = control::words(plan.queues.len());
         for (q, queue_plan) in plan.queues.iter().enumerate() {
             let slots = next;
             next = slots + capacities[q] * queue_plan.item_words;
-            words.extend_from_slice(&[capacities[q] - 1, slots, 0, 0]);
+            words.extend_from_slice(&[capacities[q] - 1, slots, markers, 0]);
+            markers += 2 * capacities[q];
         }
         words.extend_from_slice(&[
             tuning.iteration_budget,
@@ -215,6 +225,7 @@ impl QueueState {
     /// Returns the number of items seeded per queue.
     pub fn seed(
         &self,
+        device: &wgpu::Device,
         queue: &wgpu::Queue,
         plan: &Plan,
         seeds: &Seeds,
@@ -281,6 +292,13 @@ impl QueueState {
         }
         control_words[control::PENDING as usize] = counts.iter().sum::<u64>() as u32;
         queue.write_buffer(&self.control, 0, bytemuck::cast_slice(&control_words));
+        // Markers of an earlier run could look like complete ranges: clear them.
+        let header = 4 * control_words.len() as u64;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("clear range markers"),
+        });
+        encoder.clear_buffer(&self.control, header, None);
+        queue.submit([encoder.finish()]);
         Ok(counts)
     }
 }
