@@ -33,11 +33,18 @@ pub fn map_read(
     buffer.map_async(wgpu::MapMode::Read, .., move |result| {
         let _ = sender.send(result);
     });
-    wait(device, submission, timeout)?;
-    receiver
-        .recv_timeout(timeout)
-        .map_err(|_| RunError::Timeout(timeout))?
-        .map_err(|e| RunError::Gpu(e.to_string()))?;
+    let mapped = wait(device, submission, timeout).and_then(|()| {
+        receiver
+            .recv_timeout(timeout)
+            .map_err(|_| RunError::Timeout(timeout))?
+            .map_err(|e| RunError::Gpu(e.to_string()))
+    });
+    if let Err(error) = mapped {
+        // Cancel the pending map, so that the buffer can be used (and mapped)
+        // again by a later run instead of failing as "still mapped".
+        buffer.unmap();
+        return Err(error);
+    }
     let bytes = buffer
         .get_mapped_range(..)
         .map_err(|e| RunError::Gpu(e.to_string()))?

@@ -55,3 +55,4 @@ pub fn seed(test: &str) -> u64 {
 }
 
 pub mod graphs;
+pub mod random_graph;

@@ -329,13 +329,17 @@ if (valid && h == 7u) {
         timeout: Duration::from_millis(1),
         ..config(2, 1 << 15)
     };
-    let result = run(
-        &gpu,
-        &compiled,
-        config,
-        &Seeds::new().add("Slow", &seeds),
-        &[],
+    let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config).unwrap();
+    let seeds = Seeds::new().add("Slow", &seeds);
+    let result = executor.run(&seeds, &[]);
+    // The error names the configured limit.
+    assert!(
+        matches!(result, Err(RunError::Timeout(limit)) if limit == Duration::from_millis(1)),
+        "{result:?}"
     );
-    assert!(matches!(result, Err(RunError::Timeout(_))), "{result:?}");
+    let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
+    // The executor stays usable: its read-back buffer was not left mapped.
+    let again = executor.run(&seeds, &[]);
+    assert!(matches!(again, Err(RunError::Timeout(_))), "{again:?}");
     let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
 }

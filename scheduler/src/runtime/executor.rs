@@ -394,15 +394,22 @@ impl Executor {
             let submission = self.queue.submit([encoder.finish()]);
             submissions += 1;
             let remaining = deadline.saturating_duration_since(Instant::now());
+            // A timeout reports the configured limit, not the time that was left.
+            let limit = |error| match error {
+                RunError::Timeout(_) => RunError::Timeout(self.timeout),
+                other => other,
+            };
             let bytes = map_read(
                 &self.device,
                 &self.state.control_readback,
                 submission.clone(),
                 remaining,
-            )?;
+            )
+            .map_err(limit)?;
             let counters: Vec<u32> = bytemuck::cast_slice(&bytes).to_vec();
             if let (Some(t), Some(total)) = (&self.timestamps, gpu_time.as_mut()) {
-                let stamps = map_read(&self.device, &t.readback, submission, remaining)?;
+                let stamps =
+                    map_read(&self.device, &t.readback, submission, remaining).map_err(limit)?;
                 let stamps: &[u64] = bytemuck::cast_slice(&stamps);
                 let ticks = stamps[1].saturating_sub(stamps[0]) as f64;
                 *total += Duration::from_nanos((ticks * t.period_ns) as u64);
