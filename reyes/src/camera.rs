@@ -75,6 +75,18 @@ impl Camera {
         self.proj * self.view
     }
 
+    /// How far each clip coordinate can move per world unit: component `r`
+    /// is the length of `(m[0][r], m[1][r], m[2][r])`, the linear part of
+    /// row `r` of [`Camera::view_proj`]. A world-space ball of radius `b`
+    /// around a point with clip coordinates `c` lies within `c +- b * clip_pad()`
+    /// in every clip coordinate (Cauchy-Schwarz), which is how the bound test
+    /// grows control points by a displacement bound.
+    pub fn clip_pad(&self) -> Vec4 {
+        let m = self.view_proj();
+        let row = |r: usize| Vec3::new(m.x_axis[r], m.y_axis[r], m.z_axis[r]).length();
+        Vec4::new(row(0), row(1), row(2), row(3))
+    }
+
     /// Transforms a world-space point to clip space: `view_proj * (p, 1)`.
     pub fn to_clip(&self, p: Vec3) -> Vec4 {
         self.view_proj() * p.extend(1.0)
@@ -119,6 +131,25 @@ mod tests {
             "{p}"
         );
         assert!(p.z > 0.0 && p.z < 1.0);
+    }
+
+    #[test]
+    fn clip_pad_bounds_the_clip_motion_of_a_ball() {
+        let cam = camera();
+        let pad = cam.clip_pad();
+        let centre = Vec3::new(0.3, 1.0, -0.2);
+        let c = cam.to_clip(centre);
+        for k in 0..200 {
+            let a = k as f32 * 0.731;
+            let b = k as f32 * 0.377;
+            let offset = Vec3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos()) * 0.5;
+            let moved = cam.to_clip(centre + offset);
+            let delta = (moved - c).abs();
+            assert!(
+                delta.cmple(pad * 0.5 * 1.0001 + 1e-6).all(),
+                "{delta} {pad}"
+            );
+        }
     }
 
     #[test]

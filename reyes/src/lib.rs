@@ -4,6 +4,8 @@
 //!
 //! * [`model`] and [`load`]: patch models and the `.bpt`/`.bez` loaders;
 //! * [`scene`]: the TOML scene description;
+//! * [`displacement`]: displacement sources (height maps, procedural and
+//!   user WGSL heights) and their preparation;
 //! * [`prepare`]: host preparation (world-space patches, camera, lights);
 //! * [`camera`], [`color`], [`sampling`], [`bezier`], [`params`]: the
 //!   conventions and building blocks that every implementation of the
@@ -17,6 +19,7 @@
 pub mod bezier;
 pub mod camera;
 pub mod color;
+pub mod displacement;
 pub mod load;
 pub mod model;
 pub mod output;

@@ -4,6 +4,8 @@
 //! reyes render [SCENE] -o out.png [--width W] [--height H] [--spp N]
 //!              [--sampling bbox|nearest] [--stats] [--stats-json FILE]
 //!              [--eye x,y,z] [--target x,y,z] [--up x,y,z] [--fov DEG] [--cpu]
+//!              [--displace bumps|sines|FILE.png|FILE.wgsl --displace-scale S
+//!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -11,6 +13,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use glam::Vec3;
+use reyes::displacement::DisplacementDesc;
+use reyes::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use reyes::gpu::{GpuOptions, GpuRenderer};
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
@@ -83,6 +87,37 @@ struct RenderArgs {
     /// Render with the CPU reference instead of the GPU.
     #[arg(long)]
     cpu: bool,
+    /// Displace every object: `bumps` (the embedded height map), `sines`
+    /// (built-in procedural bumps), a grey PNG height map, or a `.wgsl` file
+    /// defining `fn displacement_user(u: f32, v: f32) -> f32` (GPU only;
+    /// needs --displace-bound). Replaces any displacement of the scene.
+    #[arg(long, value_name = "SOURCE", requires = "displace_scale")]
+    displace: Option<String>,
+    /// World units of displacement per unit of height (negative: inwards).
+    #[arg(
+        long,
+        value_name = "S",
+        requires = "displace",
+        allow_hyphen_values = true
+    )]
+    displace_scale: Option<f32>,
+    /// Displacement bound in world units (default: |scale| * max height).
+    #[arg(
+        long,
+        value_name = "B",
+        requires = "displace",
+        allow_hyphen_values = true
+    )]
+    displace_bound: Option<f32>,
+    /// Repetitions of the displacement source per patch (default 1).
+    #[arg(long, value_name = "T", requires = "displace")]
+    displace_tiling: Option<f32>,
+    /// Longest a GPU frame may take, in seconds (default 60). It includes the
+    /// driver's first compile of the megakernel, which takes longer than a
+    /// minute on lavapipe when its shader cache is cold (e.g. for a new
+    /// `--displace FILE.wgsl` function).
+    #[arg(long, value_name = "SECONDS")]
+    timeout: Option<u64>,
 }
 
 fn parse_vec3(text: &str) -> Result<Vec3, String> {
@@ -129,9 +164,55 @@ fn base_scene(path: Option<&Path>) -> Result<Scene, BoxError> {
     }
 }
 
+/// The displacement the command line asks for, if any. A `.wgsl` source is
+/// read here; the values are checked with the scene.
+fn displacement(args: &RenderArgs) -> Result<Option<DisplacementDesc>, BoxError> {
+    let (Some(source), Some(scale)) = (&args.displace, args.displace_scale) else {
+        return Ok(None);
+    };
+    let is_wgsl = Path::new(source)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("wgsl"));
+    let (source, wgsl) = if is_wgsl {
+        let text = std::fs::read_to_string(source)
+            .map_err(|e| format!("cannot read displacement function {source}: {e}"))?;
+        (SOURCE_WGSL.to_owned(), Some(text))
+    } else if source == SOURCE_WGSL {
+        return Err(format!(
+            "--displace {SOURCE_WGSL} needs the function: pass the path of a .wgsl file"
+        )
+        .into());
+    } else {
+        // A relative PNG path means the current directory, not the scene's:
+        // make it absolute so the scene's base directory does not apply.
+        let path = Path::new(source);
+        let source = if source == SOURCE_BUMPS || source == SOURCE_SINES || path.is_absolute() {
+            source.clone()
+        } else {
+            std::env::current_dir()?
+                .join(path)
+                .to_string_lossy()
+                .into_owned()
+        };
+        (source, None)
+    };
+    Ok(Some(DisplacementDesc {
+        source,
+        scale,
+        bound: args.displace_bound,
+        tiling: args.displace_tiling.unwrap_or(1.0),
+        wgsl,
+    }))
+}
+
 /// Loads the scene, applies the command-line overrides and prepares it.
 fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
     let mut scene = base_scene(args.scene.as_deref())?;
+    if let Some(desc) = displacement(args)? {
+        for object in &mut scene.objects {
+            object.displacement = Some(desc.clone());
+        }
+    }
     let resized = args.width.is_some() || args.height.is_some();
     if let Some(width) = args.width {
         scene.resolution.width = width;
@@ -192,7 +273,7 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
 }
 
 fn print_stats(stats: &RenderStats, backend: &str) {
-    let rows: [(&str, String); 10] = [
+    let rows: [(&str, String); 11] = [
         ("input patches", stats.input_patches.to_string()),
         ("splits", stats.splits.to_string()),
         ("culled patches", stats.culled_patches.to_string()),
@@ -204,6 +285,10 @@ fn print_stats(stats: &RenderStats, backend: &str) {
         (
             "largest micropolygon",
             format!("{:.3} px", stats.largest_micropolygon_px),
+        ),
+        (
+            "beyond displ. bound",
+            stats.displacement_bound_exceeded.to_string(),
         ),
         (
             "frame time",
@@ -222,11 +307,15 @@ fn print_stats(stats: &RenderStats, backend: &str) {
 fn render(args: &RenderArgs) -> Result<(), BoxError> {
     let scene = prepare(args)?;
     let (image, stats, backend) = if args.cpu {
-        let rendered = reyes::reference::render(&scene);
+        let rendered = reyes::reference::try_render(&scene)?;
         (rendered.image, rendered.stats, "CPU wall".to_owned())
     } else {
         let gpu = reyes::gpu::create_gpu()?;
-        let mut renderer = GpuRenderer::new(&gpu, GpuOptions::default())?;
+        let mut options = GpuOptions::default();
+        if let Some(seconds) = args.timeout {
+            options.timeout = std::time::Duration::from_secs(seconds.max(1));
+        }
+        let mut renderer = GpuRenderer::new(&gpu, options)?;
         let rendered = renderer.render(&scene)?;
         if rendered.overflow_retries > 0 {
             eprintln!(
@@ -254,6 +343,12 @@ fn render(args: &RenderArgs) -> Result<(), BoxError> {
     );
     if args.stats {
         print_stats(&stats, &backend);
+    }
+    if stats.displacement_bound_exceeded > 0 {
+        eprintln!(
+            "warning: {} displaced grid point(s) moved further than the displacement bound; surfaces near the screen edges may be culled wrongly (raise the bound)",
+            stats.displacement_bound_exceeded
+        );
     }
     if let Some(path) = &args.stats_json {
         let json = serde_json::to_string_pretty(&stats)?;

@@ -65,3 +65,37 @@ pub const HASH_MULTIPLIERS: [u32; 4] = [0x8da6_b343, 0xd816_3841, 0xcb1a_b31f, 0
 /// The two multipliers of the jitter hash's final mixing steps
 /// (see [`crate::sampling::hash`]).
 pub const HASH_MIX: [u32; 2] = [0x7feb_352d, 0x846c_a68b];
+
+/// With a displacement bound, a piece's screen box grows by the bound's
+/// projection `g` on every side, and the piece is diced when its undisplaced
+/// box fits `dice_threshold - 2 g`. Splitting shrinks the surface but not
+/// the growth, so the growth may take at most this fraction of the
+/// threshold: the undisplaced box must fit
+/// `max(dice_threshold - 2 g, dice_threshold * DISPLACED_DICE_FRACTION)`.
+/// Without the floor a bound wider than a quarter of the threshold on screen
+/// would split forever. Undisplaced objects have `g = 0`.
+pub const DISPLACED_DICE_FRACTION: f32 = 0.5;
+
+/// Relative tolerance of the displacement-bound check: a grid point counts in
+/// `displacement_bound_exceeded` when `|height * scale| > bound * (1 + this)`,
+/// so that a bilinear blend of texels that rounds one ulp above the largest
+/// texel is not reported.
+pub const DISPLACEMENT_BOUND_TOLERANCE: f32 = 1e-5;
+
+/// Largest side of an accepted height map, in texels. With
+/// [`MAX_DISPLACEMENT_TILING`] it keeps texel coordinates below 2^23, where
+/// `f32` still holds every integer and both implementations pick the same texels.
+pub const MAX_HEIGHT_MAP_SIDE: u32 = 4096;
+
+/// Largest accepted displacement `tiling`.
+pub const MAX_DISPLACEMENT_TILING: f32 = 1024.0;
+
+/// Frequency of the second octave of the built-in `"sines"` heights.
+pub const SINES_OCTAVE_2_FREQUENCY: f32 = 3.0;
+
+/// Weight of the second octave of the built-in `"sines"` heights.
+pub const SINES_OCTAVE_2_WEIGHT: f32 = 0.5;
+
+/// Normalization of the built-in `"sines"` heights: `1 / (1 + weight)`, so
+/// the largest `|height|` is exactly 1.
+pub const SINES_NORMALIZATION: f32 = 2.0 / 3.0;

@@ -5,6 +5,7 @@
 use glam::Vec3;
 
 use crate::camera::Camera;
+use crate::displacement::PreparedDisplacement;
 use crate::model::Model;
 use crate::scene::{CameraDesc, Sampling, Scene, SceneError};
 
@@ -17,11 +18,20 @@ pub struct WorldPatch {
     pub object: u32,
 }
 
-/// Per-object shading data.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Per-object shading and displacement data.
+#[derive(Debug, Clone, PartialEq)]
 pub struct PreparedObject {
     /// Linear RGB albedo.
     pub albedo: Vec3,
+    /// Displacement mapping, if any.
+    pub displacement: Option<PreparedDisplacement>,
+}
+
+impl PreparedObject {
+    /// The displacement bound in world units (0 without displacement).
+    pub fn displacement_bound(&self) -> f32 {
+        self.displacement.as_ref().map_or(0.0, |d| d.bound)
+    }
 }
 
 /// A directional light ready for shading.
@@ -66,7 +76,8 @@ pub struct PreparedScene {
 
 impl PreparedScene {
     /// Prepares `scene` with its models already loaded (`models[i]` belongs to
-    /// `scene.objects[i]`). The scene is validated first. Without a camera in
+    /// `scene.objects[i]`). The scene is validated first; height maps named
+    /// by displacement tables are read here. Without a camera in
     /// the scene, the camera is framed around the world-space bounds of all
     /// patches ([`CameraDesc::framing_points`]).
     pub fn new(scene: &Scene, models: &[Model]) -> Result<PreparedScene, SceneError> {
@@ -75,6 +86,26 @@ impl PreparedScene {
             return Err(SceneError::ModelCountMismatch {
                 objects: scene.objects.len(),
                 models: models.len(),
+            });
+        }
+        let mut prepared_objects = Vec::with_capacity(scene.objects.len());
+        for (index, object) in scene.objects.iter().enumerate() {
+            let mirrored = object.transform.matrix().determinant() < 0.0;
+            let displacement = object
+                .displacement
+                .as_ref()
+                .map(|desc| {
+                    desc.prepare(scene.base_dir.as_deref(), mirrored)
+                        .map_err(|source| SceneError::Displacement {
+                            index,
+                            displacement: desc.source.clone(),
+                            source,
+                        })
+                })
+                .transpose()?;
+            prepared_objects.push(PreparedObject {
+                albedo: object.color,
+                displacement,
             });
         }
         let mut patches = Vec::with_capacity(models.iter().map(|m| m.patches.len()).sum());
@@ -105,11 +136,7 @@ impl PreparedScene {
         Ok(PreparedScene {
             camera,
             patches,
-            objects: scene
-                .objects
-                .iter()
-                .map(|o| PreparedObject { albedo: o.color })
-                .collect(),
+            objects: prepared_objects,
             lights: scene
                 .lights
                 .iter()
@@ -128,6 +155,14 @@ impl PreparedScene {
             dice_threshold: scene.dice_threshold,
             max_split_depth: scene.max_split_depth,
         })
+    }
+
+    /// The one user WGSL displacement function of the scene, if any object
+    /// uses one (the GPU renderer compiles it into the megakernel).
+    pub fn user_displacement_wgsl(&self) -> Option<&str> {
+        self.objects
+            .iter()
+            .find_map(|o| o.displacement.as_ref().and_then(|d| d.user_wgsl()))
     }
 
     /// Loads the scene's models ([`Scene::load_models`]) and prepares it.

@@ -47,6 +47,11 @@
 //! translate = [0.0, 0.0, 0.0]
 //! rotate_degrees = [0.0, 0.0, 0.0]   # about x, then y, then z
 //! scale = 1.0                        # uniform, or per axis: [1.0, 1.0, 2.0]
+//! [objects.displacement]             # optional: no displacement when absent
+//! source = "bumps"                   # "bumps", "sines", "wgsl" or a grey PNG path
+//! scale = 0.05                       # required: world units per unit of height
+//! bound = 0.05                       # default: |scale| * the source's max height
+//! tiling = 1.0                       # repetitions of the source per patch
 //!
 //! [[objects]]
 //! model = "models/killeroo.bpt"      # relative to the scene file's directory
@@ -67,6 +72,7 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec3};
 use serde::{Deserialize, Serialize};
 
+use crate::displacement::{DisplacementDesc, DisplacementError, desc::SourceKind};
 use crate::load::LoadError;
 use crate::model::Model;
 use crate::params::{
@@ -144,6 +150,18 @@ pub enum SceneError {
         /// Why loading failed.
         #[source]
         source: LoadError,
+    },
+    /// An object's displacement could not be prepared (its height map could
+    /// not be read, or its bound is too small for its source).
+    #[error("object {index} (displacement source {displacement:?}): {source}")]
+    Displacement {
+        /// Index of the object in `objects`.
+        index: usize,
+        /// The object's displacement `source` string.
+        displacement: String,
+        /// Why preparing failed.
+        #[source]
+        source: DisplacementError,
     },
     /// A prepared scene was given a different number of models than objects.
     #[error("the scene has {objects} objects but {models} models were given")]
@@ -271,6 +289,9 @@ pub struct SceneObject {
     /// Linear RGB albedo (default 0.8 grey).
     #[serde(default = "default_color")]
     pub color: Vec3,
+    /// Displacement mapping (default none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement: Option<DisplacementDesc>,
 }
 
 /// A directional light (`[[lights]]`).
@@ -520,6 +541,7 @@ impl Scene {
                 model: model_name.into(),
                 transform: Transform::default(),
                 color: default_color(),
+                displacement: None,
             }],
             lights: vec![light],
             ..Scene::default()
@@ -557,7 +579,10 @@ impl Scene {
     /// Checks every value: resolution > 0, spp in [`VALID_SPP`], all numbers
     /// finite, `near > 0`, `far > near`, fov in (0, 180), `eye != target`,
     /// `up` not parallel to the view direction, `dice_threshold > 0`,
-    /// `max_split_depth <= 64`, `shininess >= 0`, non-zero light directions.
+    /// `max_split_depth <= 64`, `shininess >= 0`, non-zero light directions,
+    /// and every displacement table ([`DisplacementDesc::validate`]), with at
+    /// most one distinct user WGSL function per scene (it becomes part of
+    /// the one megakernel).
     pub fn validate(&self) -> Result<(), SceneError> {
         let Resolution { width, height } = self.resolution;
         if width == 0 || height == 0 {
@@ -601,6 +626,30 @@ impl Scene {
                 t.scale.to_vec3().to_array(),
             )?;
             finite(&format!("objects[{i}].color"), object.color.to_array())?;
+            if let Some(displacement) = &object.displacement {
+                displacement.validate().map_err(|problem| {
+                    let field = format!("objects[{i}].displacement.{}", problem.field);
+                    match problem.reason {
+                        None => SceneError::NonFinite { field },
+                        Some(reason) => SceneError::InvalidValue { field, reason },
+                    }
+                })?;
+            }
+        }
+        let mut user_wgsl = self
+            .objects
+            .iter()
+            .enumerate()
+            .filter_map(|(i, o)| o.displacement.as_ref().map(|d| (i, d)))
+            .filter(|(_, d)| d.kind() == SourceKind::Wgsl)
+            .filter_map(|(i, d)| d.wgsl.as_deref().map(|w| (i, w)));
+        if let Some((_, first)) = user_wgsl.next() {
+            if let Some((i, _)) = user_wgsl.find(|(_, w)| *w != first) {
+                return Err(invalid(
+                    &format!("objects[{i}].displacement.wgsl"),
+                    "differs from an earlier object's: a scene may use one user WGSL function (it is compiled into the megakernel)",
+                ));
+            }
         }
         for (i, light) in self.lights.iter().enumerate() {
             finite(

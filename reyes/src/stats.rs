@@ -26,8 +26,13 @@ pub struct RenderStats {
     pub samples_tested: u64,
     /// Sample tests that hit (a key was offered to the framebuffer).
     pub samples_hit: u64,
-    /// Largest side, in pixels, of any micropolygon's screen bounding box.
+    /// Largest side, in pixels, of any micropolygon's screen bounding box
+    /// (after displacement).
     pub largest_micropolygon_px: f32,
+    /// Displaced grid points that moved further than their object's
+    /// displacement bound (0 when every bound holds; see `docs/reyes.md`).
+    #[serde(default)]
+    pub displacement_bound_exceeded: u64,
     /// Wall-clock time of the frame in milliseconds, when measured.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frame_time_ms: Option<f64>,

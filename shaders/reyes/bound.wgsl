@@ -1,15 +1,21 @@
 // Body of `Bound` (16 threads per input patch, one per control point).
-// Each thread projects its control point and publishes its outcode and pixel
-// position in scratch; after the barrier thread 0 reduces them in the
-// reference's order (reyes::reference::bound::bound) and routes the patch.
-// Scratch: 3 words per point (outcode, px, py).
+// Each thread projects its control point and publishes its outcode (of the
+// ball the object's displacement bound grows it to), its pixel position and
+// the bound's growth on screen in scratch; after the barrier thread 0
+// reduces them in the reference's order (reyes::reference::bound::bound)
+// and routes the patch.
+// Scratch: 4 words per point (outcode, px, py, growth in pixels).
 if (valid) {
     var p = item.p;
+    let bound = objects[item.object].displace_bound;
+    let radius = clip_radius(bound);
     let clip = to_clip(patch_point(&p, thread));
     let pixel = to_pixel(clip);
-    scratch_store_u32(slot, 3u * thread, outcode(clip));
-    scratch_store_f32(slot, 3u * thread + 1u, pixel.x);
-    scratch_store_f32(slot, 3u * thread + 2u, pixel.y);
+    let w = 4u * thread;
+    scratch_store_u32(slot, w, outcode(clip, radius));
+    scratch_store_f32(slot, w + 1u, pixel.x);
+    scratch_store_f32(slot, w + 2u, pixel.y);
+    scratch_store_f32(slot, w + 3u, pixel_growth(clip, bound, radius));
 }
 workgroupBarrier();
 if (valid && thread == 0u) {
@@ -17,9 +23,11 @@ if (valid && thread == 0u) {
     var p = item.p;
     var flags = FLAGS_IDENTITY;
     var pixels: array<vec2<f32>, 16>;
+    var growth = 0.0;
     for (var i = 0u; i < 16u; i += 1u) {
-        flags = merge_flags(flags, scratch_load_u32(slot, 3u * i));
-        pixels[i] = vec2<f32>(scratch_load_f32(slot, 3u * i + 1u), scratch_load_f32(slot, 3u * i + 2u));
+        flags = merge_flags(flags, scratch_load_u32(slot, 4u * i));
+        pixels[i] = vec2<f32>(scratch_load_f32(slot, 4u * i + 1u), scratch_load_f32(slot, 4u * i + 2u));
+        growth = max(growth, scratch_load_f32(slot, 4u * i + 3u));
     }
     var lo = pixels[0];
     var hi = pixels[0];
@@ -39,5 +47,5 @@ if (valid && thread == 0u) {
         v3 += dist3(patch_point(&p, k), patch_point(&p, 12u + k));
     }
     let size = max_ignoring_nan(hi.x - lo.x, hi.y - lo.y);
-    route(decide(flags, size, u2, v2, u3, v3, item.split_depth), item);
+    route(decide(flags, size, growth, u2, v2, u3, v3, item.split_depth), item);
 }

@@ -1,35 +1,68 @@
-// Body of `DiceShadeSample` (256 threads per piece). Thread t evaluates grid
-// point (t % 16, t / 16) at s = i / 15, t = j / 15 (position, exact normal,
-// shading, projection) and stores it in scratch; after the barrier threads
-// 0..225 each rasterize micropolygon (t % 15, t / 15) as the two triangles
-// (a, b, c) and (a, c, d), or its nearest sample.
-// Scratch: 7 words per grid point (px, py, depth, clip w, r, g, b).
+// Body of `DiceShadeSample` (256 threads per piece). Thread t owns grid point
+// (t % 16, t / 16) at s = i / 15, t = j / 15.
+//
+// Phase 1: the position and the exact shading normal of the undisplaced
+// surface; a displaced object's point also moves along the exact normal
+// by height(u, v) * scale. Both go to scratch.
+// Phase 2: the shading normal (displaced objects: from the displaced
+// neighbours, reyes::reference::displace, falling back to the exact one),
+// shading and projection.
+// Phase 3: threads 0..225 each rasterize micropolygon (t % 15, t / 15) as the
+// two triangles (a, b, c) and (a, c, d), or its nearest sample.
+// Scratch: words 0..768 the (displaced) positions (x, y, z per point), words
+// 768..1536 the exact shading normals (x, y, z); from word POINT_BASE, 7
+// words per point (px, py, depth, clip w, r, g, b).
+// llvmpipe turns every workgroupBarrier into a coroutine suspension, whose
+// compile cost grows with the state that lives across it, so the phases
+// hand their results over in scratch, and every object takes one path.
+let NORMAL_BASE = 3u * GRID_POINTS * GRID_POINTS;
+let POINT_BASE = 6u * GRID_POINTS * GRID_POINTS;
 if (valid) {
     var p = item.p;
+    let object = objects[item.object];
     let i = thread % GRID_POINTS;
     let j = thread / GRID_POINTS;
     let s = f32(i) / f32(GRID_QUADS);
     let t = f32(j) / f32(GRID_QUADS);
     let position = tensor(&p, bernstein(s), bernstein(t));
-    let normal = surface_normal(&p, s, t, position, frame.eye);
-    let color = shade(position, normal, objects[item.object].xyz);
-    let clip = to_clip(position);
-    let pixel = to_pixel(clip);
-    let w = 7u * thread;
-    scratch_store_f32(slot, w, pixel.x);
-    scratch_store_f32(slot, w + 1u, pixel.y);
-    scratch_store_f32(slot, w + 2u, pixel.z);
-    scratch_store_f32(slot, w + 3u, clip.w);
-    scratch_store_f32(slot, w + 4u, color.x);
-    scratch_store_f32(slot, w + 5u, color.y);
-    scratch_store_f32(slot, w + 6u, color.z);
+    var moved = position;
+    if (object.displace_kind != DISPLACE_NONE) {
+        let u = lerp_param(item.uv.x, item.uv.z, s);
+        let v = lerp_param(item.uv.y, item.uv.w, t);
+        let offset = displacement_height(object, u, v) * object.displace_scale;
+        if (abs(offset) > object.displace_bound * DISPLACEMENT_BOUND_SLACK) {
+            atomicAdd(&stats[STAT_DISPLACEMENT_BOUND_EXCEEDED], 1u);
+        }
+        moved = position + displacement_normal(&p, s, t) * offset;
+    }
+    store_vec3(slot, 3u * thread, moved);
+    store_vec3(slot, NORMAL_BASE + 3u * thread, surface_normal(&p, s, t, position, frame.eye));
+}
+workgroupBarrier();
+if (valid) {
+    let object = objects[item.object];
+    let i = thread % GRID_POINTS;
+    let j = thread / GRID_POINTS;
+    let moved = displaced_point(slot, i, j);
+    var normal = vec3<f32>(0.0);
+    if (object.displace_kind != DISPLACE_NONE) {
+        normal = grid_normal(slot, i, j);
+        if (dot3(normal, frame.eye - moved) < 0.0) {
+            normal = -normal;
+        }
+    }
+    if (all(normal == vec3<f32>(0.0))) {
+        // Undisplaced, or degenerate (a collapsed patch edge): the exact normal.
+        normal = load_vec3(slot, NORMAL_BASE + 3u * thread);
+    }
+    store_grid_point(slot, POINT_BASE + 7u * thread, moved, shade(moved, normal, object.albedo.xyz));
 }
 workgroupBarrier();
 if (valid && thread < GRID_QUADS * GRID_QUADS) {
     let i = thread % GRID_QUADS;
     let j = thread / GRID_QUADS;
     // Corners a = (i, j), b = (i+1, j), c = (i+1, j+1), d = (i, j+1).
-    let wa = 7u * (j * GRID_POINTS + i);
+    let wa = POINT_BASE + 7u * (j * GRID_POINTS + i);
     let wb = wa + 7u;
     let wd = wa + 7u * GRID_POINTS;
     let wc = wd + 7u;

@@ -1,10 +1,11 @@
 // Reyes library shared by the procedure bodies: patch access, De Casteljau,
-// projection, the bound test, Bernstein evaluation with exact tangents,
-// shading, sampling, rasterization and packing. Every function mirrors the
-// CPU reference (`reyes::reference`, `reyes::bezier`, `reyes::camera`,
-// `reyes::color`, `reyes::sampling`) operation for operation, in the same
-// order, so that both produce the same decisions and (up to the GPU's float
-// contraction) the same values. The constants (NEAR_EPS, STAT_*, DECIDE_*,
+// projection, the bound test (with displacement bounds), Bernstein
+// evaluation with exact tangents, shading, sampling, rasterization and
+// packing; displacement heights live in displacement.wgsl. Every function
+// mirrors the CPU reference (`reyes::reference`, `reyes::bezier`,
+// `reyes::camera`, `reyes::color`, `reyes::sampling`) operation for
+// operation, in the same order, so that both produce the same decisions and
+// (up to the GPU's float contraction) the same values. The constants (NEAR_EPS, STAT_*, DECIDE_*,
 // ...) are generated from the Rust side and prepended to this file.
 
 struct Frame {
@@ -23,6 +24,28 @@ struct Frame {
     ambient: f32,
     specular_strength: f32,
     shininess: f32,
+    pad0: u32,
+    // How far each clip coordinate moves per world unit (reyes::camera::
+    // Camera::clip_pad): a ball of radius b lies within c +- b * clip_pad.
+    clip_pad: vec4<f32>,
+}
+
+// One object (reyes::gpu::objects::ObjectData).
+struct Object {
+    // Linear RGB albedo (w unused).
+    albedo: vec4<f32>,
+    // DISPLACE_NONE, DISPLACE_IMAGE, DISPLACE_SINES or DISPLACE_USER.
+    displace_kind: u32,
+    // First texel of the height map in `height_texels` and its size.
+    map_offset: u32,
+    map_width: u32,
+    map_height: u32,
+    // World units per unit of height, along dP/du x dP/dv.
+    displace_scale: f32,
+    // The displacement bound in world units (0 without displacement).
+    displace_bound: f32,
+    // Repetitions of the source per input patch.
+    tiling: f32,
     pad0: u32,
 }
 
@@ -191,16 +214,21 @@ fn to_pixel2(p: vec3<f32>) -> vec2<f32> {
     return to_pixel(to_clip(p)).xy;
 }
 
-// Clip-plane outcode of one point (bits 0..5, reference order: left, right,
-// bottom, top, far, near) plus UNPROJECTABLE when w <= NEAR_EPS or z < 0.
-fn outcode(c: vec4<f32>) -> u32 {
+// reyes::reference::bound::outcode: the clip planes (bits 0..5, reference
+// order: left, right, bottom, top, far, near) that the ball around a point
+// with clip-space `radius` is entirely outside of, plus UNPROJECTABLE when
+// the point itself has w <= NEAR_EPS or z < 0. A zero radius gives the
+// point's own outcode.
+fn outcode(c: vec4<f32>, radius: vec4<f32>) -> u32 {
+    let lo = c - radius;
+    let hi = c + radius;
     var code = 0u;
-    if (c.x < -c.w) { code |= 1u; }
-    if (c.x > c.w) { code |= 2u; }
-    if (c.y < -c.w) { code |= 4u; }
-    if (c.y > c.w) { code |= 8u; }
-    if (c.z > c.w) { code |= 16u; }
-    if (c.z < 0.0) { code |= 32u; }
+    if (hi.x < -hi.w) { code |= 1u; }
+    if (lo.x > hi.w) { code |= 2u; }
+    if (hi.y < -hi.w) { code |= 4u; }
+    if (lo.y > hi.w) { code |= 8u; }
+    if (lo.z > hi.w) { code |= 16u; }
+    if (hi.z < 0.0) { code |= 32u; }
     if (c.w <= NEAR_EPS || c.z < 0.0) { code |= UNPROJECTABLE; }
     return code;
 }
@@ -213,10 +241,47 @@ fn merge_flags(a: u32, b: u32) -> u32 {
 
 // ------------------------------------------------------------ bound test
 
+// The clip-space radius of a ball of `bound` world units.
+fn clip_radius(bound: f32) -> vec4<f32> {
+    return frame.clip_pad * bound;
+}
+
+// reyes::reference::bound::pixel_growth: how far (pixels) the ball around a
+// projectable point with clip-space `radius` reaches beyond the point on
+// screen; 0 without displacement or when the ball reaches the eye plane.
+fn pixel_growth(c: vec4<f32>, bound: f32, radius: vec4<f32>) -> f32 {
+    if (bound == 0.0) {
+        return 0.0;
+    }
+    let lo = c - radius;
+    let hi = c + radius;
+    if (lo.w <= NEAR_EPS) {
+        return 0.0;
+    }
+    let p = to_pixel(c).xy;
+    let xl = min(lo.x / lo.w, lo.x / hi.w);
+    let xh = max(hi.x / lo.w, hi.x / hi.w);
+    let yl = min(lo.y / lo.w, lo.y / hi.w);
+    let yh = max(hi.y / lo.w, hi.y / hi.w);
+    let width = f32(frame.width);
+    let height = f32(frame.height);
+    let box_lo = vec2<f32>((xl * 0.5 + 0.5) * width, (0.5 - yh * 0.5) * height);
+    let box_hi = vec2<f32>((xh * 0.5 + 0.5) * width, (0.5 - yl * 0.5) * height);
+    return max(max(max(p.x - box_lo.x, box_hi.x - p.x), p.y - box_lo.y), box_hi.y - p.y);
+}
+
+// reyes::reference::bound::fits: the undisplaced box, grown by `growth` on
+// every side, fits the threshold; the growth takes at most a fraction of it.
+fn fits(size: f32, growth: f32) -> bool {
+    let t = frame.dice_threshold;
+    return size <= max(t - 2.0 * growth, t * DISPLACED_DICE_FRACTION);
+}
+
 // reyes::reference::bound::bound, given the reductions: `flags` (merged
-// outcodes), `size` (larger side of the pixel bbox), the u/v extents in
-// pixels (`u2`, `v2`) and in world space (`u3`, `v3`).
-fn decide(flags: u32, size: f32, u2: f32, v2: f32, u3: f32, v3: f32, split_depth: u32) -> u32 {
+// outcodes), `size` (larger side of the pixel bbox), `growth` (largest
+// pixel_growth of the points), the u/v extents in pixels (`u2`, `v2`) and
+// in world space (`u3`, `v3`).
+fn decide(flags: u32, size: f32, growth: f32, u2: f32, v2: f32, u3: f32, v3: f32, split_depth: u32) -> u32 {
     if ((flags & PLANE_BITS) != 0u) {
         return DECIDE_CULL;
     }
@@ -226,7 +291,7 @@ fn decide(flags: u32, size: f32, u2: f32, v2: f32, u3: f32, v3: f32, split_depth
         }
         return select(DECIDE_SPLIT_V, DECIDE_SPLIT_U, u3 >= v3);
     }
-    if (size <= frame.dice_threshold) {
+    if (fits(size, growth)) {
         return DECIDE_DICE;
     }
     if (split_depth >= frame.max_split_depth) {
@@ -450,6 +515,20 @@ fn owns(a: vec2<f32>, b: vec2<f32>) -> bool {
 
 fn inside(e: f32, a: vec2<f32>, b: vec2<f32>) -> bool {
     return e > 0.0 || (e == 0.0 && owns(a, b));
+}
+
+// Projects a shaded grid point and stores it for sampling at scratch words
+// w..w+7 of DiceShadeSample: px, py, depth, clip w, r, g, b.
+fn store_grid_point(slot: u32, w: u32, position: vec3<f32>, color: vec3<f32>) {
+    let clip = to_clip(position);
+    let pixel = to_pixel(clip);
+    scratch_store_f32(slot, w, pixel.x);
+    scratch_store_f32(slot, w + 1u, pixel.y);
+    scratch_store_f32(slot, w + 2u, pixel.z);
+    scratch_store_f32(slot, w + 3u, clip.w);
+    scratch_store_f32(slot, w + 4u, color.x);
+    scratch_store_f32(slot, w + 5u, color.y);
+    scratch_store_f32(slot, w + 6u, color.z);
 }
 
 // Samples tested and hit by one thread, added to the statistics once per item.

@@ -1,7 +1,9 @@
-//! GPU buffers of one frame: the frame uniform, the objects' albedos, the
-//! lights, the sample framebuffer and the statistics, plus their read-back.
+//! GPU buffers of one frame: the frame uniform, the objects (albedo and
+//! displacement), the lights, the height-map texels, the sample framebuffer
+//! and the statistics, plus their read-back.
 
 use super::graph::{sampling, stat};
+use super::objects::{ObjectData, ObjectTables};
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::scene::Sampling;
@@ -41,6 +43,8 @@ pub struct FrameUniform {
     pub shininess: f32,
     /// Padding.
     pub pad0: u32,
+    /// [`crate::camera::Camera::clip_pad`].
+    pub clip_pad: [f32; 4],
 }
 
 impl FrameUniform {
@@ -67,6 +71,7 @@ impl FrameUniform {
             specular_strength: scene.specular_strength,
             shininess: scene.shininess,
             pad0: 0,
+            clip_pad: camera.clip_pad().to_array(),
         }
     }
 }
@@ -85,7 +90,7 @@ struct LightData {
 pub struct FrameBuffers {
     /// `frame`: the [`FrameUniform`].
     pub frame: wgpu::Buffer,
-    /// `objects`: albedo per object (`vec4`, w unused).
+    /// `objects`: [`ObjectData`] per object.
     pub objects: wgpu::Buffer,
     /// `lights`.
     pub lights: wgpu::Buffer,
@@ -93,10 +98,14 @@ pub struct FrameBuffers {
     pub framebuffer: wgpu::Buffer,
     /// `stats`: [`stat::WORDS`] counters.
     pub stats: wgpu::Buffer,
+    /// `height_texels`: the height maps' texels (f32), concatenated.
+    pub height_texels: wgpu::Buffer,
     /// Samples in `framebuffer`.
     pub samples: u64,
     objects_len: usize,
     lights_len: usize,
+    /// The tables last written (their maps are in `height_texels`).
+    tables: Option<ObjectTables>,
 }
 
 impl FrameBuffers {
@@ -114,6 +123,7 @@ impl FrameBuffers {
             })
         };
         let samples = framebuffer_samples(scene);
+        let tables = ObjectTables::new(scene);
         let buffers = Self {
             frame: buffer(
                 "reyes frame",
@@ -124,7 +134,7 @@ impl FrameBuffers {
             // still gets one (unused) element.
             objects: buffer(
                 "reyes objects",
-                16 * scene.objects.len().max(1) as u64,
+                std::mem::size_of::<ObjectData>() as u64 * scene.objects.len().max(1) as u64,
                 U::STORAGE | U::COPY_DST,
             ),
             lights: buffer(
@@ -138,10 +148,17 @@ impl FrameBuffers {
                 4 * u64::from(stat::WORDS),
                 U::STORAGE | U::COPY_SRC | U::COPY_DST,
             ),
+            height_texels: buffer(
+                "reyes height texels",
+                tables.texel_bytes(),
+                U::STORAGE | U::COPY_DST,
+            ),
             samples,
             objects_len: scene.objects.len(),
             lights_len: scene.lights.len(),
+            tables: None,
         };
+        let mut buffers = buffers;
         buffers.write(queue, scene);
         buffers
     }
@@ -152,15 +169,13 @@ impl FrameBuffers {
         self.samples == framebuffer_samples(scene)
             && self.objects_len == scene.objects.len()
             && self.lights_len == scene.lights.len()
+            && self.height_texels.size() == ObjectTables::new(scene).texel_bytes()
     }
 
-    /// Writes the frame uniform, the albedos and the lights of `scene`.
-    pub fn write(&self, queue: &wgpu::Queue, scene: &PreparedScene) {
-        let albedos: Vec<[f32; 4]> = scene
-            .objects
-            .iter()
-            .map(|o| o.albedo.extend(0.0).to_array())
-            .collect();
+    /// Writes the frame uniform, the objects, the lights and (when they
+    /// changed) the height maps of `scene`.
+    pub fn write(&mut self, queue: &wgpu::Queue, scene: &PreparedScene) {
+        let tables = ObjectTables::new(scene);
         let lights: Vec<LightData> = scene
             .lights
             .iter()
@@ -174,12 +189,24 @@ impl FrameBuffers {
             0,
             bytemuck::bytes_of(&FrameUniform::new(scene)),
         );
-        if !albedos.is_empty() {
-            queue.write_buffer(&self.objects, 0, bytemuck::cast_slice(&albedos));
+        if !tables.objects.is_empty() {
+            queue.write_buffer(&self.objects, 0, bytemuck::cast_slice(&tables.objects));
         }
         if !lights.is_empty() {
             queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
         }
+        if !self.tables.as_ref().is_some_and(|w| w.same_maps(&tables)) {
+            let mut offset = 0u64;
+            for map in &tables.maps {
+                queue.write_buffer(
+                    &self.height_texels,
+                    offset,
+                    bytemuck::cast_slice(&map.texels),
+                );
+                offset += 4 * map.texels.len() as u64;
+            }
+        }
+        self.tables = Some(tables);
     }
 
     /// Zeroes the statistics.
@@ -188,13 +215,14 @@ impl FrameBuffers {
     }
 
     /// The bindings of the megakernel's resources, by name.
-    pub fn bindings(&self) -> [scheduler::Binding<'_>; 5] {
+    pub fn bindings(&self) -> [scheduler::Binding<'_>; 6] {
         [
             scheduler::Binding::buffer("frame", &self.frame),
             scheduler::Binding::buffer("objects", &self.objects),
             scheduler::Binding::buffer("lights", &self.lights),
             scheduler::Binding::buffer("framebuffer", &self.framebuffer),
             scheduler::Binding::buffer("stats", &self.stats),
+            scheduler::Binding::buffer("height_texels", &self.height_texels),
         ]
     }
 }
@@ -246,6 +274,7 @@ impl GpuCounters {
             largest_micropolygon_px: f32::from_bits(
                 self.words[stat::LARGEST_MICROPOLYGON as usize],
             ),
+            displacement_bound_exceeded: w(stat::DISPLACEMENT_BOUND_EXCEEDED),
             frame_time_ms: None,
         }
     }

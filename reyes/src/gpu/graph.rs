@@ -1,5 +1,6 @@
 //! The Reyes procedure graph: the work item, the four procedures, their
-//! connections, the shared WGSL library and the extra resources.
+//! connections, the shared WGSL library (with the displacement sources and
+//! the scene's user displacement function) and the extra resources.
 //!
 //! ```text
 //!   Bound (16 threads, initial) --+--> SplitU (4 threads) --+
@@ -12,21 +13,25 @@
 //! drift apart.
 
 use scheduler::{
-    CompileError, CompileOptions, CompiledGraph, Graph, Procedure, Resource, item_type,
+    CompileError, CompileOptions, CompiledGraph, Graph, Policy, Procedure, Resource, item_type,
 };
 
 use crate::params::{
-    DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX, DEGENERATE_PARAM_MIN, GRID_POINTS, GRID_QUADS,
-    HASH_MIX, HASH_MULTIPLIERS, NEAR_EPS,
+    DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX, DEGENERATE_PARAM_MIN, DISPLACED_DICE_FRACTION,
+    DISPLACEMENT_BOUND_TOLERANCE, GRID_POINTS, GRID_QUADS, HASH_MIX, HASH_MULTIPLIERS, NEAR_EPS,
+    SINES_NORMALIZATION, SINES_OCTAVE_2_FREQUENCY, SINES_OCTAVE_2_WEIGHT,
 };
 use crate::prepare::WorldPatch;
 
 const PATCH_ITEM_WGSL: &str = include_str!("../../../shaders/reyes/patch_item.wgsl");
 const LIBRARY_WGSL: &str = include_str!("../../../shaders/reyes/library.wgsl");
 const BOUND_WGSL: &str = include_str!("../../../shaders/reyes/bound.wgsl");
-const SPLIT_U_WGSL: &str = include_str!("../../../shaders/reyes/split_u.wgsl");
-const SPLIT_V_WGSL: &str = include_str!("../../../shaders/reyes/split_v.wgsl");
+const SPLIT_WGSL: &str = include_str!("../../../shaders/reyes/split.wgsl");
 const DICE_WGSL: &str = include_str!("../../../shaders/reyes/dice_shade_sample.wgsl");
+const DISPLACEMENT_WGSL: &str = include_str!("../../../shaders/reyes/displacement.wgsl");
+/// The `displacement_user` of scenes without a user function (returns 0).
+pub const DEFAULT_USER_DISPLACEMENT_WGSL: &str =
+    include_str!("../../../shaders/reyes/displacement_user_default.wgsl");
 
 /// Procedure names (also the names of their queues in a [`scheduler::RunReport`]).
 pub const BOUND: &str = "Bound";
@@ -42,10 +47,13 @@ pub const DICE: &str = "DiceShadeSample";
 pub const REQUIRED_FEATURES: wgpu::Features =
     wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
 
-/// Scratch words per item of each procedure (see the bodies' headers).
-const BOUND_SCRATCH_WORDS: u32 = 3 * 16;
-const SPLIT_SCRATCH_WORDS: u32 = 8 + 6 * 8;
-const DICE_SCRATCH_WORDS: u32 = 7 * (GRID_POINTS * GRID_POINTS) as u32;
+/// Scratch words per item of each procedure (see the bodies' headers). The
+/// split's 60 words times its 64 items per workgroup (15,360 bytes) are the
+/// largest need and must stay within the 16 KiB of workgroup memory that
+/// WebGPU guarantees, next to the scheduler's own words.
+const BOUND_SCRATCH_WORDS: u32 = 4 * 16;
+const SPLIT_SCRATCH_WORDS: u32 = 4 + 7 * 8;
+const DICE_SCRATCH_WORDS: u32 = (3 + 3 + 7) * (GRID_POINTS * GRID_POINTS) as u32;
 
 /// Indices into the statistics buffer (`array<atomic<u32>>`). 64-bit
 /// counters take two words (low, high).
@@ -70,8 +78,23 @@ pub mod stat {
     pub const LARGEST_MICROPOLYGON: u32 = 11;
     /// Rasterization loops the driver ended early (must stay 0).
     pub const LOOPS_CUT: u32 = 12;
+    /// Displaced grid points that left their object's displacement bound.
+    pub const DISPLACEMENT_BOUND_EXCEEDED: u32 = 13;
     /// Words in the buffer.
-    pub const WORDS: u32 = 13;
+    pub const WORDS: u32 = 14;
+}
+
+/// Displacement sources, as [`super::objects::ObjectData::displace_kind`]
+/// encodes them.
+pub mod displace {
+    /// No displacement.
+    pub const NONE: u32 = 0;
+    /// A height map in the `height_texels` buffer.
+    pub const IMAGE: u32 = 1;
+    /// The built-in sines.
+    pub const SINES: u32 = 2;
+    /// The user's WGSL `displacement_user`.
+    pub const USER: u32 = 3;
 }
 
 /// Bound decisions, as the WGSL `decide` returns them.
@@ -131,6 +154,10 @@ impl PatchItem {
 fn constants_wgsl() -> String {
     let [mx, my, ms, mc] = HASH_MULTIPLIERS;
     let [m0, m1] = HASH_MIX;
+    // The same f32 value the reference multiplies with in
+    // PreparedDisplacement::exceeds_bound.
+    let bound_slack = 1.0f32 + DISPLACEMENT_BOUND_TOLERANCE;
+    let tau = std::f32::consts::TAU;
     format!(
         "// Generated from reyes::params and reyes::gpu::graph.
 const NEAR_EPS: f32 = {NEAR_EPS:e};
@@ -165,6 +192,17 @@ const STAT_SAMPLES_TESTED: u32 = {}u;
 const STAT_SAMPLES_HIT: u32 = {}u;
 const STAT_LARGEST_MICROPOLYGON: u32 = {}u;
 const STAT_LOOPS_CUT: u32 = {}u;
+const STAT_DISPLACEMENT_BOUND_EXCEEDED: u32 = {}u;
+const DISPLACE_NONE: u32 = {}u;
+const DISPLACE_IMAGE: u32 = {}u;
+const DISPLACE_SINES: u32 = {}u;
+const DISPLACE_USER: u32 = {}u;
+const DISPLACED_DICE_FRACTION: f32 = {DISPLACED_DICE_FRACTION:?};
+const DISPLACEMENT_BOUND_SLACK: f32 = {bound_slack:?};
+const TAU: f32 = {tau:?};
+const SINES_OCTAVE_2_FREQUENCY: f32 = {SINES_OCTAVE_2_FREQUENCY:?};
+const SINES_OCTAVE_2_WEIGHT: f32 = {SINES_OCTAVE_2_WEIGHT:?};
+const SINES_NORMALIZATION: f32 = {SINES_NORMALIZATION:?};
 ",
         decide::CULL,
         decide::DICE,
@@ -183,16 +221,28 @@ const STAT_LOOPS_CUT: u32 = {}u;
         stat::SAMPLES_HIT,
         stat::LARGEST_MICROPOLYGON,
         stat::LOOPS_CUT,
+        stat::DISPLACEMENT_BOUND_EXCEEDED,
+        displace::NONE,
+        displace::IMAGE,
+        displace::SINES,
+        displace::USER,
     )
 }
 
-/// The Reyes procedure graph.
+/// The Reyes procedure graph, with the default (zero) user displacement function.
+pub fn reyes_graph() -> Graph {
+    reyes_graph_with(None)
+}
+
+/// The Reyes procedure graph with the scene's user displacement function
+/// (WGSL defining `fn displacement_user(u: f32, v: f32) -> f32`), or the
+/// default one for `None`.
 ///
 /// Priorities make the scheduler work depth-first (leaves first), which
 /// keeps the split queues short: DiceShadeSample > SplitU = SplitV > Bound.
 /// Fan-outs: Bound routes its one patch to exactly one target; a split
 /// routes each of its two halves to one target, so at most 2 per target.
-pub fn reyes_graph() -> Graph {
+pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
     let patch = item_type!(
         PatchItem,
         PATCH_ITEM_WGSL,
@@ -201,12 +251,15 @@ pub fn reyes_graph() -> Graph {
     let mut graph = Graph::new("reyes");
     graph.library(&constants_wgsl());
     graph.library(LIBRARY_WGSL);
+    graph.library(DISPLACEMENT_WGSL);
+    graph.library(user_displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));
     // Declaration order = binding order in group 1 (see `buffers.rs`).
     graph.resource(Resource::uniform("frame", "Frame"));
-    graph.resource(Resource::storage_read("objects", "array<vec4<f32>>"));
+    graph.resource(Resource::storage_read("objects", "array<Object>"));
     graph.resource(Resource::storage_read("lights", "array<Light>"));
     graph.resource(Resource::storage("framebuffer", "array<atomic<u64>>"));
     graph.resource(Resource::storage("stats", "array<atomic<u32>>"));
+    graph.resource(Resource::storage_read("height_texels", "array<f32>"));
     graph.procedure(
         Procedure::new(BOUND, patch.clone())
             .initial(true)
@@ -220,14 +273,14 @@ pub fn reyes_graph() -> Graph {
             .threads_per_item(4)
             .scratch_bytes(4 * SPLIT_SCRATCH_WORDS)
             .priority(1)
-            .body(SPLIT_U_WGSL),
+            .body(split_body(true)),
     );
     graph.procedure(
         Procedure::new(SPLIT_V, patch.clone())
             .threads_per_item(4)
             .scratch_bytes(4 * SPLIT_SCRATCH_WORDS)
             .priority(1)
-            .body(SPLIT_V_WGSL),
+            .body(split_body(false)),
     );
     graph.procedure(
         Procedure::new(DICE, patch)
@@ -244,6 +297,12 @@ pub fn reyes_graph() -> Graph {
     graph
 }
 
+/// The body of SplitU (`along_u`) or SplitV: the shared split body with its
+/// direction prepended.
+fn split_body(along_u: bool) -> String {
+    format!("let along_u = {along_u};\n{SPLIT_WGSL}")
+}
+
 /// Compile options for a device with `features`: the scheduler's recommended
 /// features plus [`REQUIRED_FEATURES`]. Pass `wgpu::Features::empty()` for
 /// the machine-independent module (as the snapshot test does).
@@ -253,5 +312,29 @@ pub fn compile_options(recommended: wgpu::Features) -> CompileOptions {
 
 /// Compiles the Reyes graph with [`compile_options`].
 pub fn compile(recommended: wgpu::Features) -> Result<CompiledGraph, CompileError> {
-    reyes_graph().compile(&compile_options(recommended))
+    compile_with(recommended, None)
+}
+
+/// Compiles the Reyes graph with a user displacement function (see
+/// [`reyes_graph_with`]).
+pub fn compile_with(
+    recommended: wgpu::Features,
+    user_displacement: Option<&str>,
+) -> Result<CompiledGraph, CompileError> {
+    compile_for(recommended, user_displacement, Policy::Priority)
+}
+
+/// Like [`compile_with`], with the given queue policy. The graph's
+/// priorities (DiceShadeSample > SplitU = SplitV > Bound) count under
+/// [`Policy::Priority`] only.
+pub fn compile_for(
+    recommended: wgpu::Features,
+    user_displacement: Option<&str>,
+    policy: Policy,
+) -> Result<CompiledGraph, CompileError> {
+    let options = CompileOptions {
+        policy,
+        ..compile_options(recommended)
+    };
+    reyes_graph_with(user_displacement).compile(&options)
 }

@@ -3,6 +3,8 @@
 //! * [`graph`]: the procedure graph (Bound, SplitU, SplitV,
 //!   DiceShadeSample) and its WGSL (`shaders/reyes/`);
 //! * [`buffers`]: the frame uniform, scene buffers, framebuffer and statistics;
+//! * [`objects`]: the per-object table (albedo, displacement) and the
+//!   height-map texels' layout;
 //! * [`resolve`]: the clear and resolve passes (a plain compute shader);
 //! * [`renderer`]: [`GpuRenderer`], which runs a frame and returns the image
 //!   and [`crate::stats::RenderStats`].
@@ -21,10 +23,11 @@
 
 pub mod buffers;
 pub mod graph;
+pub mod objects;
 pub mod renderer;
 pub mod resolve;
 
-pub use renderer::{GpuOptions, GpuRendered, GpuRenderer, RenderError};
+pub use renderer::{DEFAULT_RENDER_TIMEOUT, GpuOptions, GpuRendered, GpuRenderer, RenderError};
 
 /// Creates a device with the features the renderer needs
 /// ([`graph::REQUIRED_FEATURES`]); fails with a clear message when the

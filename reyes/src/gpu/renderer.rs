@@ -6,12 +6,13 @@ use std::time::{Duration, Instant};
 use image::RgbaImage;
 use scheduler::readback::read_buffer;
 use scheduler::{
-    Capacities, CompileError, CompiledGraph, DeviceError, Executor, ExecutorConfig, Gpu, RunError,
-    RunReport, Seeds,
+    Capacities, CompileError, CompiledGraph, DeviceError, Executor, ExecutorConfig, Gpu, Policy,
+    RunError, RunReport, Seeds, Strategy,
 };
 
 use super::buffers::{FrameBuffers, GpuCounters, framebuffer_samples};
 use super::graph::{self, BOUND, DICE, PatchItem, REQUIRED_FEATURES, SPLIT_U, SPLIT_V};
+use super::objects::ObjectTables;
 use super::resolve::{ResolveTarget, Resolver};
 use crate::prepare::PreparedScene;
 use crate::stats::RenderStats;
@@ -84,9 +85,36 @@ pub enum RenderError {
         /// Bytes allowed.
         limit: u64,
     },
+    /// The scene's height maps do not fit into one device buffer.
+    #[error(
+        "the scene's height maps need {needed} bytes of texels but the device allows at most {limit} bytes per buffer; use fewer or smaller height maps"
+    )]
+    HeightMapsTooLarge {
+        /// Bytes needed.
+        needed: u64,
+        /// Bytes allowed.
+        limit: u64,
+    },
     /// The megakernel did not compile (a bug in the renderer's WGSL).
     #[error("the Reyes megakernel did not compile: {0}")]
     Compile(#[from] CompileError),
+    /// The megakernel did not compile with the scene's user displacement
+    /// function (most likely an error in that function).
+    #[error(
+        "the user displacement function (WGSL defining `fn displacement_user(u: f32, v: f32) -> f32`) does not compile into the megakernel: {0}"
+    )]
+    UserDisplacement(#[source] CompileError),
+    /// Objects use different user displacement functions; the megakernel
+    /// holds one.
+    #[error(
+        "objects {first} and {other} use different user displacement functions; a scene may use one (it is compiled into the megakernel)"
+    )]
+    ConflictingUserDisplacement {
+        /// The first object with a user function.
+        first: usize,
+        /// An object whose function differs.
+        other: usize,
+    },
     /// The scheduler could not run the megakernel (after one retry with
     /// doubled capacities when a queue overflowed).
     #[error("the Reyes megakernel failed: {0}")]
@@ -111,7 +139,18 @@ pub struct GpuOptions {
     pub work_capacity: u32,
     /// Host-side limit of one run.
     pub timeout: Duration,
+    /// How the scheduler runs the graph: the persistent megakernel (default)
+    /// or kernel-by-kernel rounds. The image is the same either way.
+    pub strategy: Strategy,
+    /// Queue policy the graph is compiled for (default: priority, which
+    /// works the patches depth-first).
+    pub policy: Policy,
 }
+
+/// Default host-side limit of one megakernel run. It includes the driver's
+/// compilation of the pipeline on its first dispatch, which lavapipe does
+/// lazily: over a minute for the Reyes megakernel on a cold shader cache.
+pub const DEFAULT_RENDER_TIMEOUT: Duration = Duration::from_secs(600);
 
 impl Default for GpuOptions {
     fn default() -> Self {
@@ -119,7 +158,9 @@ impl Default for GpuOptions {
             workgroups: None,
             iteration_budget: None,
             work_capacity: DEFAULT_WORK_CAPACITY,
-            timeout: scheduler::DEFAULT_TIMEOUT,
+            timeout: DEFAULT_RENDER_TIMEOUT,
+            strategy: Strategy::Megakernel,
+            policy: Policy::Priority,
         }
     }
 }
@@ -164,6 +205,8 @@ pub struct GpuRenderer<'a> {
     gpu: &'a Gpu,
     options: GpuOptions,
     compiled: CompiledGraph,
+    /// The user displacement function compiled into `compiled`, if any.
+    compiled_user: Option<String>,
     resolver: Resolver,
     executor: Option<(Capacities, Option<u32>, Executor)>,
     frame: Option<(FrameBuffers, ResolveTarget)>,
@@ -177,20 +220,58 @@ impl<'a> GpuRenderer<'a> {
         if !missing.is_empty() {
             return Err(RenderError::MissingFeatures { missing });
         }
-        let compiled = graph::compile(scheduler::recommended_features(&gpu.device))?;
+        let compiled = graph::compile_for(
+            scheduler::recommended_features(&gpu.device),
+            None,
+            options.policy,
+        )?;
         Ok(Self {
             gpu,
             options,
             compiled,
+            compiled_user: None,
             resolver: Resolver::new(&gpu.device),
             executor: None,
             frame: None,
         })
     }
 
-    /// The compiled megakernel.
+    /// The compiled megakernel (of the last scene's user displacement
+    /// function, if it had one).
     pub fn compiled(&self) -> &CompiledGraph {
         &self.compiled
+    }
+
+    /// Compiles the megakernel again when `scene` needs a different user
+    /// displacement function than the one compiled in (the executor, which
+    /// holds the pipeline, is then rebuilt).
+    fn prepare_megakernel(&mut self, scene: &PreparedScene) -> Result<(), RenderError> {
+        let mut users = scene.objects.iter().enumerate().filter_map(|(i, o)| {
+            o.displacement
+                .as_ref()
+                .and_then(|d| d.user_wgsl())
+                .map(|w| (i, w))
+        });
+        let user = users.next();
+        if let Some((first, wgsl)) = user {
+            if let Some((other, _)) = users.find(|(_, w)| *w != wgsl) {
+                return Err(RenderError::ConflictingUserDisplacement { first, other });
+            }
+        }
+        let user = user.map(|(_, w)| w);
+        if user == self.compiled_user.as_deref() {
+            return Ok(());
+        }
+        let features = scheduler::recommended_features(&self.gpu.device);
+        let compiled =
+            graph::compile_for(features, user, self.options.policy).map_err(|e| match user {
+                Some(_) => RenderError::UserDisplacement(e),
+                None => RenderError::Compile(e),
+            })?;
+        self.executor = None;
+        self.compiled = compiled;
+        self.compiled_user = user.map(str::to_owned);
+        Ok(())
     }
 
     /// Largest buffer the device binds as storage.
@@ -228,6 +309,12 @@ impl<'a> GpuRenderer<'a> {
         let pixels = u64::from(width) * u64::from(height);
         if 4 * pixels > limit {
             return Err(too_large("image", 4 * pixels, limit));
+        }
+        let needed = ObjectTables::new(scene).texel_bytes();
+        // The shaders index texels with u32.
+        let limit = limit.min(4 * u64::from(u32::MAX));
+        if needed > limit {
+            return Err(RenderError::HeightMapsTooLarge { needed, limit });
         }
         Ok(())
     }
@@ -269,10 +356,14 @@ impl<'a> GpuRenderer<'a> {
     fn config(&self, capacities: Capacities, iteration_budget: Option<u32>) -> ExecutorConfig {
         ExecutorConfig {
             capacities,
-            workgroups: self
-                .options
-                .workgroups
-                .or_else(|| self.is_cpu().then(cpu_workgroups)),
+            // Rounds launch as many workgroups as a round has batches, up to
+            // this count; on llvmpipe each workgroup's loops share one budget
+            // for all the batches it strides over, so Rounds keep the
+            // scheduler's default there instead of one per core.
+            workgroups: self.options.workgroups.or_else(|| {
+                (self.is_cpu() && self.options.strategy == Strategy::Megakernel)
+                    .then(cpu_workgroups)
+            }),
             iteration_budget,
             timeout: self.options.timeout,
         }
@@ -306,7 +397,7 @@ impl<'a> GpuRenderer<'a> {
     fn frame_buffers(&mut self, scene: &PreparedScene) {
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
         let camera = &scene.camera;
-        match &self.frame {
+        match &mut self.frame {
             Some((buffers, target))
                 if buffers.fits(scene)
                     && target.width == camera.width
@@ -339,6 +430,7 @@ impl<'a> GpuRenderer<'a> {
     /// [`CPU_RETRY_ITERATION_BUDGET`]; the result reports both retries.
     pub fn render(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
         self.check_size(scene)?;
+        self.prepare_megakernel(scene)?;
         let start = Instant::now();
         self.frame_buffers(scene);
         let seeds: Vec<PatchItem> = scene.patches.iter().map(PatchItem::input).collect();
@@ -357,9 +449,14 @@ impl<'a> GpuRenderer<'a> {
             let run_start = Instant::now();
             // The executor borrows `self` mutably; take the buffers out meanwhile.
             let frame = self.frame.take().expect("prepared above");
+            let strategy = self.options.strategy;
             let result = self.executor(&capacities, budget).and_then(|executor| {
                 executor
-                    .run(&Seeds::new().add(BOUND, &seeds), &frame.0.bindings())
+                    .run_with(
+                        strategy,
+                        &Seeds::new().add(BOUND, &seeds),
+                        &frame.0.bindings(),
+                    )
                     .map_err(RenderError::Run)
             });
             self.frame = Some(frame);

@@ -1,11 +1,13 @@
 //! The bound test: decide whether a patch is culled, diced, split (and in
-//! which direction) or dropped.
+//! which direction) or dropped. With a displacement bound `b`, every control
+//! point stands for the ball of radius `b` around it (the displaced surface
+//! lies in the control points' convex hull grown by `b`).
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::bezier::{SplitDirection, split_direction_2d, split_direction_3d};
 use crate::camera::Camera;
-use crate::params::NEAR_EPS;
+use crate::params::{DISPLACED_DICE_FRACTION, NEAR_EPS};
 
 /// The outcome of the bound test for one patch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -28,13 +30,89 @@ const TOP: u8 = 8; // y > w
 const FAR: u8 = 16; // z > w
 const NEAR: u8 = 32; // z < 0 (wgpu depth range)
 
-/// Runs the bound test on a patch's 16 world-space control points.
+/// The clip planes that a ball is entirely outside of. The ball has clip
+/// coordinates within `[lo, hi] = c -+ radius` (see [`Camera::clip_pad`]);
+/// e.g. it is left of `x = -w` when even `hi.x + hi.w < 0`. With a zero
+/// radius this is the plain outcode of `c`.
+pub fn outcode(c: Vec4, radius: Vec4) -> u8 {
+    let (lo, hi) = (c - radius, c + radius);
+    let mut code = 0;
+    if hi.x < -hi.w {
+        code |= LEFT;
+    }
+    if lo.x > hi.w {
+        code |= RIGHT;
+    }
+    if hi.y < -hi.w {
+        code |= BOTTOM;
+    }
+    if lo.y > hi.w {
+        code |= TOP;
+    }
+    if lo.z > hi.w {
+        code |= FAR;
+    }
+    if hi.z < 0.0 {
+        code |= NEAR;
+    }
+    code
+}
+
+/// How far, in pixels, the ball around a projectable point (clip `c`,
+/// `w > NEAR_EPS`) with clip-space `radius` reaches beyond the point's own
+/// pixel position on screen: over `w` in `[lo.w, hi.w]` and `x` in
+/// `[lo.x, hi.x]`, `x / w` is extreme at the interval ends, so `ndc.x` lies
+/// in `[min(lo.x/lo.w, lo.x/hi.w), max(hi.x/lo.w, hi.x/hi.w)]` (likewise y,
+/// flipped on screen), and the growth is the largest distance from the
+/// point to that box's sides. A ball that reaches the eye plane
+/// (`lo.w <= NEAR_EPS`) has no bounded projection: its growth is taken as 0
+/// (the dice test then sees the undisplaced size, and micropolygon corners
+/// behind the eye are skipped at sampling). Without displacement
+/// (`bound == 0`) the growth is 0.
+pub fn pixel_growth(camera: &Camera, c: Vec4, bound: f32, radius: Vec4) -> f32 {
+    if bound == 0.0 {
+        return 0.0;
+    }
+    let (lo, hi) = (c - radius, c + radius);
+    if lo.w <= NEAR_EPS {
+        return 0.0;
+    }
+    let p = camera.to_pixel(c).truncate();
+    let xl = (lo.x / lo.w).min(lo.x / hi.w);
+    let xh = (hi.x / lo.w).max(hi.x / hi.w);
+    let yl = (lo.y / lo.w).min(lo.y / hi.w);
+    let yh = (hi.y / lo.w).max(hi.y / hi.w);
+    let (width, height) = (camera.width as f32, camera.height as f32);
+    let box_lo = Vec2::new((xl * 0.5 + 0.5) * width, (0.5 - yh * 0.5) * height);
+    let box_hi = Vec2::new((xh * 0.5 + 0.5) * width, (0.5 - yl * 0.5) * height);
+    (p.x - box_lo.x)
+        .max(box_hi.x - p.x)
+        .max(p.y - box_lo.y)
+        .max(box_hi.y - p.y)
+}
+
+/// The dice test: the larger side `size` of the control points' pixel box,
+/// grown on every side by `growth` (the largest [`pixel_growth`] of the
+/// points), fits `threshold`; splitting shrinks `size` but not `growth`, so
+/// the growth may take at most [`DISPLACED_DICE_FRACTION`] of the threshold:
+/// `size <= max(threshold - 2 growth, threshold * DISPLACED_DICE_FRACTION)`.
+/// Without displacement (`growth == 0`) this is `size <= threshold`.
+pub fn fits(size: f32, growth: f32, threshold: f32) -> bool {
+    size <= (threshold - 2.0 * growth).max(threshold * DISPLACED_DICE_FRACTION)
+}
+
+/// Runs the bound test on a patch's 16 world-space control points, each
+/// grown by `displacement_bound` (world units; 0 without displacement).
 ///
-/// 1. Cull if all points are outside one clip plane.
-/// 2. If any point has `w <= NEAR_EPS` or `z < 0`, the patch cannot be
-///    projected: split by world-space extents (or drop at `max_split_depth`).
-/// 3. Otherwise project; dice if the pixel bounding box's larger side is
-///    `<= dice_threshold`, else split by pixel-space extents (or drop).
+/// 1. Cull if all (grown) points are outside one clip plane.
+/// 2. If any point itself has `w <= NEAR_EPS` or `z < 0`, the patch cannot
+///    be projected: split by world-space extents (or drop at
+///    `max_split_depth`). The growth does not count here: a bound that
+///    reaches the near plane would otherwise split a whole band of surface
+///    to the depth guard.
+/// 3. Otherwise project; dice if the points' pixel bounding box, grown by
+///    the displacement bound, [`fits`] `dice_threshold`, else split by the
+///    points' pixel-space extents (or drop).
 pub fn bound(
     points: &[Vec3; 16],
     split_depth: u32,
@@ -42,32 +120,19 @@ pub fn bound(
     camera: &Camera,
     dice_threshold: f32,
     max_split_depth: u32,
+    displacement_bound: f32,
 ) -> BoundDecision {
     let clip = points.map(|p| *view_proj * p.extend(1.0));
+    let radius = if displacement_bound == 0.0 {
+        Vec4::ZERO
+    } else {
+        camera.clip_pad() * displacement_bound
+    };
 
     let mut outside_all = u8::MAX;
     let mut unprojectable = false;
     for c in &clip {
-        let mut code = 0;
-        if c.x < -c.w {
-            code |= LEFT;
-        }
-        if c.x > c.w {
-            code |= RIGHT;
-        }
-        if c.y < -c.w {
-            code |= BOTTOM;
-        }
-        if c.y > c.w {
-            code |= TOP;
-        }
-        if c.z > c.w {
-            code |= FAR;
-        }
-        if c.z < 0.0 {
-            code |= NEAR;
-        }
-        outside_all &= code;
+        outside_all &= outcode(*c, radius);
         unprojectable |= c.w <= NEAR_EPS || c.z < 0.0;
     }
     if outside_all != 0 {
@@ -85,8 +150,11 @@ pub fn bound(
     let (lo, hi) = pixels.iter().fold((pixels[0], pixels[0]), |(lo, hi), &p| {
         (lo.min(p), hi.max(p))
     });
+    let growth = clip.iter().fold(0.0f32, |g, &c| {
+        g.max(pixel_growth(camera, c, displacement_bound, radius))
+    });
     let size = hi - lo;
-    if size.x.max(size.y) <= dice_threshold {
+    if fits(size.x.max(size.y), growth, dice_threshold) {
         BoundDecision::Dice
     } else if split_depth >= max_split_depth {
         BoundDecision::Drop

@@ -40,11 +40,33 @@ pub fn dice(points: &[Vec3; 16], eye: Vec3) -> Grid {
 
 /// Whether `n = a x b` is degenerate: `|n|^2 <= eps * |a|^2 |b|^2`, `|n|^2 == 0`,
 /// or not finite.
-fn degenerate(n: Vec3, a: Vec3, b: Vec3) -> bool {
+pub(crate) fn degenerate(n: Vec3, a: Vec3, b: Vec3) -> bool {
     let n2 = n.length_squared();
     !n2.is_finite()
         || n2 <= DEGENERATE_NORMAL_REL_EPS * (a.length_squared() * b.length_squared())
         || n2 == 0.0
+}
+
+/// The unit geometric normal `normalize(dP/ds x dP/dt)` at `(s, t)`, not
+/// turned towards the eye: the direction displacement moves a point. A
+/// degenerate normal is re-evaluated at the clamped parameters as in
+/// [`surface_point`]; if that is degenerate too the result is zero (the
+/// point is not displaced: there is no direction to move it along).
+pub fn displacement_normal(points: &[Vec3; 16], s: f32, t: f32) -> Vec3 {
+    let e = bezier::evaluate(points, s, t);
+    let mut n = e.d_ds.cross(e.d_dt);
+    if degenerate(n, e.d_ds, e.d_dt) {
+        let inner = bezier::evaluate(
+            points,
+            s.clamp(DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
+            t.clamp(DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
+        );
+        n = inner.d_ds.cross(inner.d_dt);
+        if degenerate(n, inner.d_ds, inner.d_dt) {
+            return Vec3::ZERO;
+        }
+    }
+    n.normalize_or_zero()
 }
 
 /// Position and unit shading normal at `(s, t)`, facing `eye`. Never NaN.

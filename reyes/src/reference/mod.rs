@@ -15,6 +15,7 @@
 
 pub mod bound;
 pub mod dice;
+pub mod displace;
 pub mod framebuffer;
 pub mod raster;
 pub mod resolve;
@@ -27,6 +28,7 @@ use image::RgbaImage;
 
 use self::bound::{BoundDecision, bound};
 use self::dice::{GRID_LEN, dice};
+use self::displace::dice_displaced;
 use self::framebuffer::Framebuffer;
 use self::raster::{
     SampleGrid, ScreenPoint, micropolygon_corners, micropolygon_size, raster_nearest,
@@ -52,7 +54,38 @@ pub struct Rendered {
     pub stats: RenderStats,
 }
 
+/// Why the reference cannot render a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum ReferenceError {
+    /// An object is displaced by a user WGSL function without a Rust twin
+    /// ([`crate::displacement::UserFunction::cpu`]): only the GPU can run it.
+    #[error(
+        "object {object} is displaced by a user WGSL function, which the CPU reference cannot run; render it on the GPU, or give a Rust twin through the API (UserFunction::cpu)"
+    )]
+    UserDisplacement {
+        /// Index of the object.
+        object: usize,
+    },
+}
+
+/// Renders a prepared scene, or says why the reference cannot (see
+/// [`ReferenceError`]).
+pub fn try_render(scene: &PreparedScene) -> Result<Rendered, ReferenceError> {
+    if let Some(object) = scene
+        .objects
+        .iter()
+        .position(|o| o.displacement.as_ref().is_some_and(|d| !d.cpu_evaluable()))
+    {
+        return Err(ReferenceError::UserDisplacement { object });
+    }
+    Ok(render(scene))
+}
+
 /// Renders a prepared scene.
+///
+/// An object displaced by a user WGSL function without a Rust twin cannot be
+/// displaced on the CPU: it is rendered undisplaced (with a logged warning).
+/// Use [`try_render`] to get an error instead.
 pub fn render(scene: &PreparedScene) -> Rendered {
     let start = Instant::now();
     let (framebuffer, mut stats) = render_samples(scene);
@@ -83,6 +116,17 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
         ..RenderStats::default()
     };
 
+    for (index, object) in scene.objects.iter().enumerate() {
+        if object
+            .displacement
+            .as_ref()
+            .is_some_and(|d| !d.cpu_evaluable())
+        {
+            log::warn!(
+                "object {index}: the CPU reference cannot run a user WGSL displacement; rendering it undisplaced"
+            );
+        }
+    }
     // Depth-first: a stack keeps at most about max_split_depth pending
     // pieces per input patch. The order does not change the result, because
     // the framebuffer keeps the minimum key per sample.
@@ -100,6 +144,7 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
             camera,
             scene.dice_threshold,
             scene.max_split_depth,
+            scene.objects[item.object as usize].displacement_bound(),
         ) {
             BoundDecision::Cull => stats.culled_patches += 1,
             BoundDecision::Drop => stats.depth_guard_drops += 1,
@@ -136,8 +181,20 @@ fn dice_shade_sample(
 ) {
     stats.grids_diced += 1;
     stats.micropolygons += MICROPOLYGONS_PER_GRID;
-    let grid = dice(&item.points, scene.camera.eye);
-    let albedo = scene.objects[item.object as usize].albedo;
+    let object = &scene.objects[item.object as usize];
+    let eye = scene.camera.eye;
+    let displaced = object
+        .displacement
+        .as_ref()
+        .and_then(|d| dice_displaced(&item.points, item.uv, eye, d));
+    let grid = match displaced {
+        Some(displaced) => {
+            stats.displacement_bound_exceeded += displaced.bound_exceeded;
+            displaced.grid
+        }
+        None => dice(&item.points, eye),
+    };
+    let albedo = object.albedo;
 
     let mut colors = [glam::Vec3::ZERO; GRID_LEN];
     let mut screen = [ScreenPoint {

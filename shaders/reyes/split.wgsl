@@ -1,13 +1,20 @@
-// Body of `SplitU` (4 threads per piece, one per row): De Casteljau at the
-// middle along u, then the bound test of both halves in this procedure.
-// Every thread splits the whole piece (4 cubic splits: cheaper than sharing
-// 96 words through scratch); thread t projects row t of each half and
-// computes the u/v extent terms of row t and column t. Thread h (0 or 1)
-// reduces half h in the reference's order and routes it.
-// Scratch: words 0..8 the merged outcodes per (half, thread); words 8..56
-// per (half, thread): bbox lo.x, lo.y, hi.x, hi.y, u term, v term.
-let along_u = true;
+// Body of `SplitU` and `SplitV` (4 threads per piece, one per row for SplitU,
+// one per column for SplitV). reyes::gpu::graph prepends
+// `let along_u = true;` (SplitU) or `false` (SplitV).
+// De Casteljau at the middle along u or v, then the bound test of both
+// halves in this procedure. Every thread splits the whole piece (4 cubic
+// splits: cheaper than sharing 96 words through scratch); thread t projects
+// line t of each half (with the screen growth and outcodes of the object's
+// displacement bound) and computes the u/v extent terms of row t and
+// column t. Thread h (0 or 1) reduces half h in the reference's order and
+// routes it.
+// Scratch: words 0..4, per thread, the merged outcodes of its line in half 0
+// (low 16 bits) and half 1 (high 16 bits); from word 4, 7 words per (half h,
+// thread t) at 4 + 7 * (h * 4 + t): bbox lo.x, lo.y, hi.x, hi.y, growth
+// (pixels), u term, v term.
 var halves: array<array<f32, 48>, 2>;
+let bound = objects[item.object].displace_bound;
+let radius = clip_radius(bound);
 if (valid) {
     var p = item.p;
     var lo_half: array<f32, 48>;
@@ -15,14 +22,18 @@ if (valid) {
     split_patch(&p, along_u, &lo_half, &hi_half);
     halves[0] = lo_half;
     halves[1] = hi_half;
+    var packed = 0u;
     for (var h = 0u; h < 2u; h += 1u) {
         var q = halves[h];
         var flags = FLAGS_IDENTITY;
         var lo = vec2<f32>(0.0);
         var hi = vec2<f32>(0.0);
+        // From 0, as the reference folds it.
+        var growth = 0.0;
         for (var k = 0u; k < 4u; k += 1u) {
             let clip = to_clip(patch_point(&q, line_index(along_u, thread, k)));
-            flags = merge_flags(flags, outcode(clip));
+            flags = merge_flags(flags, outcode(clip, radius));
+            growth = max(growth, pixel_growth(clip, bound, radius));
             let pixel = to_pixel(clip).xy;
             if (k == 0u) {
                 lo = pixel;
@@ -32,23 +43,28 @@ if (valid) {
                 hi = max(hi, pixel);
             }
         }
-        let w = 8u + 6u * (h * 4u + thread);
-        scratch_store_u32(slot, h * 4u + thread, flags);
+        packed |= flags << (16u * h);
+        let w = 4u + 7u * (h * 4u + thread);
         scratch_store_f32(slot, w, lo.x);
         scratch_store_f32(slot, w + 1u, lo.y);
         scratch_store_f32(slot, w + 2u, hi.x);
         scratch_store_f32(slot, w + 3u, hi.y);
+        scratch_store_f32(slot, w + 4u, growth);
     }
+    scratch_store_u32(slot, thread, packed);
 }
 workgroupBarrier();
+// Each half's merged outcodes; thread h keeps half h's for the reduction.
+var merged = array<u32, 2>(FLAGS_IDENTITY, FLAGS_IDENTITY);
 if (valid) {
     // Each half's extents are measured in pixels, or in world space when the
     // half cannot be projected; every thread now knows which.
     for (var h = 0u; h < 2u; h += 1u) {
         var flags = FLAGS_IDENTITY;
         for (var t = 0u; t < 4u; t += 1u) {
-            flags = merge_flags(flags, scratch_load_u32(slot, h * 4u + t));
+            flags = merge_flags(flags, (scratch_load_u32(slot, t) >> (16u * h)) & 0xffffu);
         }
+        merged[h] = flags;
         var q = halves[h];
         let r0 = patch_point(&q, thread * 4u);
         let r3 = patch_point(&q, thread * 4u + 3u);
@@ -63,22 +79,22 @@ if (valid) {
             u_term = dist2(to_pixel2(r0), to_pixel2(r3));
             v_term = dist2(to_pixel2(c0), to_pixel2(c3));
         }
-        let w = 8u + 6u * (h * 4u + thread);
-        scratch_store_f32(slot, w + 4u, u_term);
-        scratch_store_f32(slot, w + 5u, v_term);
+        let w = 4u + 7u * (h * 4u + thread);
+        scratch_store_f32(slot, w + 5u, u_term);
+        scratch_store_f32(slot, w + 6u, v_term);
     }
 }
 workgroupBarrier();
 if (valid && thread < 2u) {
     let h = thread;
-    var flags = FLAGS_IDENTITY;
+    let flags = merged[h];
     var lo = vec2<f32>(0.0);
     var hi = vec2<f32>(0.0);
+    var growth = 0.0;
     var u_ext = 0.0;
     var v_ext = 0.0;
     for (var t = 0u; t < 4u; t += 1u) {
-        flags = merge_flags(flags, scratch_load_u32(slot, h * 4u + t));
-        let w = 8u + 6u * (h * 4u + t);
+        let w = 4u + 7u * (h * 4u + t);
         let t_lo = vec2<f32>(scratch_load_f32(slot, w), scratch_load_f32(slot, w + 1u));
         let t_hi = vec2<f32>(scratch_load_f32(slot, w + 2u), scratch_load_f32(slot, w + 3u));
         if (t == 0u) {
@@ -88,12 +104,13 @@ if (valid && thread < 2u) {
             lo = min(lo, t_lo);
             hi = max(hi, t_hi);
         }
+        growth = max(growth, scratch_load_f32(slot, w + 4u));
         // Summed in row/column order 0..3, as the reference does.
-        u_ext += scratch_load_f32(slot, w + 4u);
-        v_ext += scratch_load_f32(slot, w + 5u);
+        u_ext += scratch_load_f32(slot, w + 5u);
+        v_ext += scratch_load_f32(slot, w + 6u);
     }
     let size = max_ignoring_nan(hi.x - lo.x, hi.y - lo.y);
     let depth = item.split_depth + 1u;
     let piece = PatchItem(halves[h], split_uv(item.uv, along_u, h), item.object, depth, 0u, 0u);
-    route(decide(flags, size, u_ext, v_ext, u_ext, v_ext, depth), piece);
+    route(decide(flags, size, growth, u_ext, v_ext, u_ext, v_ext, depth), piece);
 }

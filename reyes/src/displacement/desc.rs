@@ -1,0 +1,223 @@
+//! The `[objects.displacement]` table of a scene file: what it may say,
+//! how it is checked, and how it becomes a [`PreparedDisplacement`].
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::error::DisplacementError;
+use super::height_map::HeightMap;
+use super::sines::SINES_MAX_HEIGHT;
+use super::{HeightSource, PreparedDisplacement, UserFunction};
+use crate::params::MAX_DISPLACEMENT_TILING;
+
+/// `source` value of the embedded height map.
+pub const SOURCE_BUMPS: &str = "bumps";
+/// `source` value of the built-in procedural heights.
+pub const SOURCE_SINES: &str = "sines";
+/// `source` value of a user WGSL function (given in `wgsl`).
+pub const SOURCE_WGSL: &str = "wgsl";
+/// The name the user WGSL must define.
+pub const USER_FUNCTION_NAME: &str = "displacement_user";
+
+/// An object's displacement as written in a scene file:
+///
+/// ```toml
+/// [objects.displacement]
+/// source = "bumps"     # "bumps", "sines", "wgsl", or the path of a grey PNG
+/// scale = 0.05         # world units per unit of height (negative: inwards)
+/// bound = 0.05         # optional: default |scale| * max height
+/// tiling = 2.0         # optional: source repeats per patch (default 1)
+/// # wgsl = "fn displacement_user(u: f32, v: f32) -> f32 { ... }"   # for source = "wgsl"
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DisplacementDesc {
+    /// `"bumps"` (the embedded height map), `"sines"` (built-in procedural
+    /// bumps), `"wgsl"` (the function in [`DisplacementDesc::wgsl`]), or the
+    /// path of an 8/16-bit grey PNG (relative to the scene file's directory;
+    /// write `./sines` for a file of that name).
+    pub source: String,
+    /// World units of displacement per unit of height, along the surface
+    /// normal `dP/du x dP/dv`. Must be finite; may be negative or zero.
+    pub scale: f32,
+    /// The displacement bound in world units (>= 0). Default: `|scale|` times
+    /// the source's largest `|height|`. Required for `"wgsl"`, whose heights
+    /// are unknown to the host.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bound: Option<f32>,
+    /// How many times the source repeats across each input patch, in
+    /// `(0, 1024]` (default 1). Integers keep seams between patches continuous.
+    #[serde(default = "default_tiling")]
+    pub tiling: f32,
+    /// The WGSL of `fn displacement_user(u: f32, v: f32) -> f32` (source `"wgsl"` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wgsl: Option<String>,
+}
+
+fn default_tiling() -> f32 {
+    1.0
+}
+
+/// The kind of `source`, parsed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum SourceKind {
+    /// The embedded bumps map.
+    Bumps,
+    /// Built-in sines.
+    Sines,
+    /// User WGSL.
+    Wgsl,
+    /// A PNG file (not yet resolved against the scene's directory).
+    Image(PathBuf),
+}
+
+/// A value problem in a displacement table: the field (relative to the
+/// table, e.g. `scale`) and what is wrong. [`crate::scene::Scene::validate`]
+/// turns it into a [`crate::scene::SceneError`] naming the object.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DescProblem {
+    /// The field within `[objects.displacement]`.
+    pub field: &'static str,
+    /// What is wrong; `None` means "must be finite".
+    pub reason: Option<String>,
+}
+
+impl DescProblem {
+    fn not_finite(field: &'static str) -> Self {
+        DescProblem {
+            field,
+            reason: None,
+        }
+    }
+
+    fn invalid(field: &'static str, reason: impl Into<String>) -> Self {
+        DescProblem {
+            field,
+            reason: Some(reason.into()),
+        }
+    }
+}
+
+impl DisplacementDesc {
+    /// The kind of [`DisplacementDesc::source`].
+    pub fn kind(&self) -> SourceKind {
+        match self.source.as_str() {
+            SOURCE_BUMPS => SourceKind::Bumps,
+            SOURCE_SINES => SourceKind::Sines,
+            SOURCE_WGSL => SourceKind::Wgsl,
+            path => SourceKind::Image(PathBuf::from(path)),
+        }
+    }
+
+    /// Checks the values without reading files: `scale`, `bound` and
+    /// `tiling` finite, `bound >= 0`, `0 < tiling <= 1024`, a non-empty
+    /// `source`, `wgsl` given exactly when `source = "wgsl"` and then
+    /// defining `displacement_user`, and a `bound` for `"wgsl"`.
+    pub fn validate(&self) -> Result<(), DescProblem> {
+        if !self.scale.is_finite() {
+            return Err(DescProblem::not_finite("scale"));
+        }
+        if let Some(bound) = self.bound {
+            if !bound.is_finite() {
+                return Err(DescProblem::not_finite("bound"));
+            }
+            if bound < 0.0 {
+                return Err(DescProblem::invalid("bound", "must be >= 0"));
+            }
+        }
+        if !self.tiling.is_finite() {
+            return Err(DescProblem::not_finite("tiling"));
+        }
+        if !(self.tiling > 0.0 && self.tiling <= MAX_DISPLACEMENT_TILING) {
+            return Err(DescProblem::invalid(
+                "tiling",
+                format!("must be in (0, {MAX_DISPLACEMENT_TILING}]"),
+            ));
+        }
+        if self.source.trim().is_empty() {
+            return Err(DescProblem::invalid(
+                "source",
+                "must be \"bumps\", \"sines\", \"wgsl\" or the path of a grey PNG",
+            ));
+        }
+        match (self.kind(), &self.wgsl) {
+            (SourceKind::Wgsl, None) => Err(DescProblem::invalid(
+                "wgsl",
+                "source = \"wgsl\" needs the function in `wgsl`",
+            )),
+            (SourceKind::Wgsl, Some(wgsl)) => {
+                if !wgsl.contains(USER_FUNCTION_NAME) {
+                    return Err(DescProblem::invalid(
+                        "wgsl",
+                        format!("must define `fn {USER_FUNCTION_NAME}(u: f32, v: f32) -> f32`"),
+                    ));
+                }
+                if self.bound.is_none() {
+                    return Err(DescProblem::invalid(
+                        "bound",
+                        "is required for source = \"wgsl\" (the host cannot know the function's largest height)",
+                    ));
+                }
+                Ok(())
+            }
+            (_, Some(_)) => Err(DescProblem::invalid(
+                "wgsl",
+                "is only used with source = \"wgsl\"",
+            )),
+            (_, None) => Ok(()),
+        }
+    }
+
+    /// Loads the source (reading a PNG relative to `base_dir`), computes the
+    /// default bound and checks a declared one against the source's largest
+    /// height. `mirrored` is whether the object's transform has a negative
+    /// determinant (the scale is then negated, see
+    /// [`PreparedDisplacement::scale`]). Call [`DisplacementDesc::validate`] first.
+    pub fn prepare(
+        &self,
+        base_dir: Option<&Path>,
+        mirrored: bool,
+    ) -> Result<PreparedDisplacement, DisplacementError> {
+        let (source, max_height) = match self.kind() {
+            SourceKind::Bumps => {
+                let map = HeightMap::bumps();
+                let max = map.max_height;
+                (HeightSource::Image(map), Some(max))
+            }
+            SourceKind::Sines => (HeightSource::Sines, Some(SINES_MAX_HEIGHT)),
+            SourceKind::Wgsl => (
+                HeightSource::User(UserFunction {
+                    wgsl: self.wgsl.clone().unwrap_or_default(),
+                    cpu: None,
+                }),
+                None,
+            ),
+            SourceKind::Image(path) => {
+                let path = match base_dir {
+                    Some(dir) if path.is_relative() => dir.join(path),
+                    _ => path,
+                };
+                let map = HeightMap::load(&path)?;
+                let max = map.max_height;
+                (HeightSource::Image(std::sync::Arc::new(map)), Some(max))
+            }
+        };
+        let needed = max_height.map(|max| self.scale.abs() * max);
+        let bound = match (self.bound, needed) {
+            (Some(bound), Some(needed)) if bound < needed => {
+                return Err(DisplacementError::BoundTooSmall { bound, needed });
+            }
+            (Some(bound), _) => bound,
+            (None, Some(needed)) => needed,
+            // validate() requires a bound for WGSL sources.
+            (None, None) => 0.0,
+        };
+        Ok(PreparedDisplacement {
+            source,
+            scale: if mirrored { -self.scale } else { self.scale },
+            bound,
+            tiling: self.tiling,
+        })
+    }
+}

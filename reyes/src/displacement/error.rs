@@ -1,0 +1,65 @@
+//! Why a displacement source could not be prepared.
+
+use std::path::PathBuf;
+
+/// Errors found while preparing an object's displacement (reading its height
+/// map, checking its bound). Scene-level value errors (NaN, negative bound,
+/// ...) are [`crate::scene::SceneError`]s found by [`crate::scene::Scene::validate`].
+#[derive(Debug, thiserror::Error)]
+pub enum DisplacementError {
+    /// The height-map file could not be read.
+    #[error("cannot read height map {}: {source}", path.display())]
+    Io {
+        /// The PNG file.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file is not a PNG the `image` crate can decode.
+    #[error("height map {} is not a valid PNG: {source}", path.display())]
+    Decode {
+        /// The PNG file.
+        path: PathBuf,
+        /// The decoder's error.
+        #[source]
+        source: image::ImageError,
+    },
+    /// The image has colour (or alpha) channels: a height map has one grey channel.
+    #[error(
+        "height map {} is a {color} image; height maps must be 8- or 16-bit greyscale PNGs without alpha",
+        path.display()
+    )]
+    NotGrey {
+        /// The PNG file.
+        path: PathBuf,
+        /// The image's colour type, e.g. `Rgb8`.
+        color: String,
+    },
+    /// The image is larger than [`crate::params::MAX_HEIGHT_MAP_SIDE`] on a side.
+    #[error(
+        "height map {} is {width}x{height}; at most {max}x{max} texels are supported",
+        path.display()
+    )]
+    TooLarge {
+        /// The PNG file.
+        path: PathBuf,
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+        /// Largest accepted side.
+        max: u32,
+    },
+    /// The declared bound is smaller than the largest displacement the source
+    /// can produce, so culling could discard visible surface.
+    #[error(
+        "displacement bound {bound} is smaller than |scale| * max height = {needed}; displaced points could leave the bound and be culled (raise `bound`, or leave it out: the default is exactly |scale| * max height)"
+    )]
+    BoundTooSmall {
+        /// The declared bound.
+        bound: f32,
+        /// `|scale| * max height` of the source.
+        needed: f32,
+    },
+}

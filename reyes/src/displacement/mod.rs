@@ -1,0 +1,126 @@
+//! Displacement mapping: grid points move along the exact normal of the
+//! undisplaced surface by `height(u, v) * scale`.
+//!
+//! * [`desc`]: the `[objects.displacement]` table of a scene and its checks;
+//! * [`height_map`]: grey PNG height maps and their bilinear wrap-around lookup;
+//! * [`sines`]: the built-in procedural source;
+//! * [`error`]: why a source cannot be prepared ([`DisplacementError`]).
+//!
+//! `(u, v)` are the parameters of the *input* patch: every split carries
+//! its piece's rectangle of them (`WorkItem::uv` on the CPU, `PatchItem::uv`
+//! on the GPU), so a grid point at `(s, t)` of a piece covering
+//! `(u0, v0, u1, v1)` has `u = u0 + (u1 - u0) * s`, `v = v0 + (v1 - v0) * t`.
+//! Each source is evaluated at `(tiling * u, tiling * v)`. How the pipeline
+//! uses the result (the bound, the normals) is described in `docs/reyes.md`.
+
+pub mod desc;
+pub mod error;
+pub mod height_map;
+pub mod sines;
+
+use std::fmt;
+use std::sync::Arc;
+
+pub use self::desc::DisplacementDesc;
+pub use self::error::DisplacementError;
+pub use self::height_map::HeightMap;
+
+/// A Rust function of `(u, v)` that reproduces a user WGSL height function on
+/// the CPU (so the reference renderer can check it). Compared by identity.
+#[derive(Clone)]
+pub struct CpuHeight(pub Arc<dyn Fn(f32, f32) -> f32 + Send + Sync>);
+
+impl CpuHeight {
+    /// Wraps a function.
+    pub fn new(f: impl Fn(f32, f32) -> f32 + Send + Sync + 'static) -> CpuHeight {
+        CpuHeight(Arc::new(f))
+    }
+}
+
+impl fmt::Debug for CpuHeight {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("CpuHeight(<fn>)")
+    }
+}
+
+impl PartialEq for CpuHeight {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+/// A height function written by the user in WGSL.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UserFunction {
+    /// WGSL source defining `fn displacement_user(u: f32, v: f32) -> f32`
+    /// (it may define helpers too). It becomes part of the megakernel.
+    pub wgsl: String,
+    /// An optional Rust twin for the CPU reference. Scene files cannot give
+    /// one: without it the reference cannot render this object
+    /// ([`crate::reference::try_render`] reports it).
+    pub cpu: Option<CpuHeight>,
+}
+
+/// Where an object's heights come from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum HeightSource {
+    /// A grey height map, heights in `[0, 1]`.
+    Image(Arc<HeightMap>),
+    /// The built-in [`sines::sines`], heights in `[-1, 1]`.
+    Sines,
+    /// A user WGSL function.
+    User(UserFunction),
+}
+
+/// An object's displacement, ready for rendering.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PreparedDisplacement {
+    /// The height source.
+    pub source: HeightSource,
+    /// World units per unit of height along the surface normal
+    /// `dP/du x dP/dv`. Already negated for objects whose transform mirrors
+    /// (negative determinant), so a positive scene `scale` keeps pushing
+    /// along the model's own normal.
+    pub scale: f32,
+    /// The displacement bound in world units: no grid point moves further.
+    /// Bound and split tests grow every control point by it.
+    pub bound: f32,
+    /// Repetitions of the source across each input patch.
+    pub tiling: f32,
+}
+
+impl PreparedDisplacement {
+    /// The height at patch parameters `(u, v)` (before the tiling is
+    /// applied), or `None` for a user WGSL function without a CPU twin.
+    pub fn height(&self, u: f32, v: f32) -> Option<f32> {
+        let (u, v) = (u * self.tiling, v * self.tiling);
+        match &self.source {
+            HeightSource::Image(map) => Some(map.sample(u, v)),
+            HeightSource::Sines => Some(sines::sines(u, v)),
+            HeightSource::User(user) => user.cpu.as_ref().map(|f| (f.0)(u, v)),
+        }
+    }
+
+    /// Whether the CPU reference can evaluate this displacement.
+    pub fn cpu_evaluable(&self) -> bool {
+        !matches!(
+            &self.source,
+            HeightSource::User(UserFunction { cpu: None, .. })
+        )
+    }
+
+    /// The user WGSL function, if this displacement uses one.
+    pub fn user_wgsl(&self) -> Option<&str> {
+        match &self.source {
+            HeightSource::User(user) => Some(&user.wgsl),
+            _ => None,
+        }
+    }
+
+    /// Whether a displacement `offset = height * scale` leaves the bound
+    /// (beyond a relative tolerance for rounding, see
+    /// [`crate::params::DISPLACEMENT_BOUND_TOLERANCE`]).
+    pub fn exceeds_bound(&self, offset: f32) -> bool {
+        offset.abs() > self.bound * (1.0 + crate::params::DISPLACEMENT_BOUND_TOLERANCE)
+    }
+}

@@ -1,0 +1,116 @@
+//! The per-object GPU table (albedo and displacement parameters, twin of the
+//! WGSL `Object` struct) and the layout of the scene's height maps in the
+//! `height_texels` buffer.
+
+use std::sync::Arc;
+
+use super::graph::displace;
+use crate::displacement::{HeightMap, HeightSource};
+use crate::prepare::PreparedScene;
+
+/// Twin of the WGSL `Object` struct (`shaders/reyes/library.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ObjectData {
+    /// Linear RGB albedo (w unused).
+    pub albedo: [f32; 4],
+    /// One of [`displace`]'s constants.
+    pub displace_kind: u32,
+    /// First texel of the object's height map in the texel buffer.
+    pub map_offset: u32,
+    /// Height-map width in texels.
+    pub map_width: u32,
+    /// Height-map height in texels.
+    pub map_height: u32,
+    /// World units per unit of height.
+    pub displace_scale: f32,
+    /// Displacement bound in world units (0 without displacement).
+    pub displace_bound: f32,
+    /// Repetitions of the source per patch.
+    pub tiling: f32,
+    /// Padding.
+    pub pad0: u32,
+}
+
+/// The objects' GPU data and the height maps they use, concatenated.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectTables {
+    /// One entry per object.
+    pub objects: Vec<ObjectData>,
+    /// The distinct height maps, in the order their texels are laid out.
+    pub maps: Vec<Arc<HeightMap>>,
+    /// Total texels of `maps`.
+    pub texels: usize,
+}
+
+impl ObjectTables {
+    /// Builds the tables of `scene`; a map shared by several objects (the
+    /// same `Arc`) is stored once.
+    pub fn new(scene: &PreparedScene) -> Self {
+        let mut maps: Vec<Arc<HeightMap>> = Vec::new();
+        let mut offsets: Vec<usize> = Vec::new();
+        let mut texels = 0usize;
+        let objects = scene
+            .objects
+            .iter()
+            .map(|object| {
+                let mut data = ObjectData {
+                    albedo: object.albedo.extend(0.0).to_array(),
+                    displace_kind: displace::NONE,
+                    map_offset: 0,
+                    map_width: 0,
+                    map_height: 0,
+                    displace_scale: 0.0,
+                    displace_bound: 0.0,
+                    tiling: 1.0,
+                    pad0: 0,
+                };
+                let Some(d) = &object.displacement else {
+                    return data;
+                };
+                data.displace_scale = d.scale;
+                data.displace_bound = d.bound;
+                data.tiling = d.tiling;
+                data.displace_kind = match &d.source {
+                    HeightSource::Image(map) => {
+                        let index = maps.iter().position(|m| Arc::ptr_eq(m, map));
+                        let index = index.unwrap_or_else(|| {
+                            maps.push(map.clone());
+                            offsets.push(texels);
+                            texels += map.texels.len();
+                            maps.len() - 1
+                        });
+                        // Texel counts are bounded by the device check in the renderer.
+                        data.map_offset = offsets[index] as u32;
+                        data.map_width = map.width;
+                        data.map_height = map.height;
+                        displace::IMAGE
+                    }
+                    HeightSource::Sines => displace::SINES,
+                    HeightSource::User(_) => displace::USER,
+                };
+                data
+            })
+            .collect();
+        Self {
+            objects,
+            maps,
+            texels,
+        }
+    }
+
+    /// Bytes of the texel buffer (at least one texel: a binding may not be empty).
+    pub fn texel_bytes(&self) -> u64 {
+        4 * self.texels.max(1) as u64
+    }
+
+    /// Whether the maps are the same `Arc`s in the same order (no re-upload needed).
+    pub fn same_maps(&self, other: &Self) -> bool {
+        self.maps.len() == other.maps.len()
+            && self
+                .maps
+                .iter()
+                .zip(&other.maps)
+                .all(|(a, b)| Arc::ptr_eq(a, b))
+    }
+}

@@ -1,0 +1,117 @@
+// Displacement: the height sources (grey height map, built-in sines, the
+// user's WGSL function) and the normals displacement needs. Every function
+// mirrors reyes::displacement and reyes::reference::displace operation for
+// operation. DISPLACE_*, TAU and SINES_* are generated from the Rust side;
+// `displacement_user` is the user's function (or a stub returning 0).
+
+// i modulo n, in 0..n also for negative i (reyes::displacement::height_map::wrap).
+fn wrap_index(i: i32, n: u32) -> u32 {
+    let m = i32(n);
+    return u32(((i % m) + m) % m);
+}
+
+fn map_texel(o: Object, i: u32, j: u32) -> f32 {
+    return height_texels[o.map_offset + j * o.map_width + i];
+}
+
+// HeightMap::sample: bilinear, wrapping around; texel (i, j) is centred at
+// ((i + 0.5) / width, (j + 0.5) / height).
+fn height_image(o: Object, u: f32, v: f32) -> f32 {
+    let x = u * f32(o.map_width) - 0.5;
+    let y = v * f32(o.map_height) - 0.5;
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    let i0 = wrap_index(i32(x0), o.map_width);
+    let j0 = wrap_index(i32(y0), o.map_height);
+    let i1 = (i0 + 1u) % o.map_width;
+    let j1 = (j0 + 1u) % o.map_height;
+    let top = map_texel(o, i0, j0) + (map_texel(o, i1, j0) - map_texel(o, i0, j0)) * fx;
+    let bottom = map_texel(o, i0, j1) + (map_texel(o, i1, j1) - map_texel(o, i0, j1)) * fx;
+    return top + (bottom - top) * fy;
+}
+
+// reyes::displacement::sines::wave: -sin(2 pi x) with the argument reduced
+// to [-pi, pi) first.
+fn sine_wave(x: f32) -> f32 {
+    return sin(TAU * ((x - floor(x)) - 0.5));
+}
+
+// reyes::displacement::sines::sines: two octaves of egg-crate bumps, zero on
+// integer u or v, |h| <= 1.
+fn height_sines(u: f32, v: f32) -> f32 {
+    let first = sine_wave(u) * sine_wave(v);
+    let second = sine_wave(SINES_OCTAVE_2_FREQUENCY * u) * sine_wave(SINES_OCTAVE_2_FREQUENCY * v);
+    return (first + SINES_OCTAVE_2_WEIGHT * second) * SINES_NORMALIZATION;
+}
+
+// PreparedDisplacement::height: the source at (tiling * u, tiling * v).
+fn displacement_height(o: Object, u: f32, v: f32) -> f32 {
+    let tu = u * o.tiling;
+    let tv = v * o.tiling;
+    switch o.displace_kind {
+        case DISPLACE_IMAGE: {
+            return height_image(o, tu, tv);
+        }
+        case DISPLACE_SINES: {
+            return height_sines(tu, tv);
+        }
+        case DISPLACE_USER: {
+            return displacement_user(tu, tv);
+        }
+        default: {
+            return 0.0;
+        }
+    }
+}
+
+// reyes::reference::dice::displacement_normal: normalize(dP/ds x dP/dt),
+// not turned to the eye, re-evaluated at the clamped parameters when
+// degenerate, zero when that is degenerate too.
+fn displacement_normal(p: ptr<function, array<f32, 48>>, s: f32, t: f32) -> vec3<f32> {
+    var n = tangent_normal(p, s, t);
+    if (all(n == vec3<f32>(0.0))) {
+        n = tangent_normal(
+            p,
+            clamp(s, DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
+            clamp(t, DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
+        );
+    }
+    return normalize_or_zero(n);
+}
+
+// reyes::reference::displace::lerp_param.
+fn lerp_param(a: f32, b: f32, s: f32) -> f32 {
+    return a + (b - a) * s;
+}
+
+fn store_vec3(slot: u32, w: u32, value: vec3<f32>) {
+    scratch_store_f32(slot, w, value.x);
+    scratch_store_f32(slot, w + 1u, value.y);
+    scratch_store_f32(slot, w + 2u, value.z);
+}
+
+fn load_vec3(slot: u32, w: u32) -> vec3<f32> {
+    return vec3<f32>(scratch_load_f32(slot, w), scratch_load_f32(slot, w + 1u), scratch_load_f32(slot, w + 2u));
+}
+
+// Displaced grid point (i, j) from DiceShadeSample's scratch (3 words each
+// from word 0).
+fn displaced_point(slot: u32, i: u32, j: u32) -> vec3<f32> {
+    return load_vec3(slot, 3u * (j * GRID_POINTS + i));
+}
+
+// reyes::reference::displace::grid_normal: normalize(dS x dT) from the
+// neighbours (central differences, one-sided at the grid's edges), not yet
+// facing the eye; zero when degenerate.
+fn grid_normal(slot: u32, i: u32, j: u32) -> vec3<f32> {
+    let last = GRID_POINTS - 1u;
+    let d_s = displaced_point(slot, min(i + 1u, last), j) - displaced_point(slot, max(i, 1u) - 1u, j);
+    let d_t = displaced_point(slot, i, min(j + 1u, last)) - displaced_point(slot, i, max(j, 1u) - 1u);
+    let n = cross3(d_s, d_t);
+    if (degenerate(n, d_s, d_t)) {
+        return vec3<f32>(0.0);
+    }
+    return normalize_or_zero(n);
+}

@@ -1,0 +1,613 @@
+//! Displacement mapping: the GPU renderer against the CPU reference on
+//! displaced teapots, holes, the displacement bound, the statistics, and the
+//! scene-file errors of `[objects.displacement]`. Renders are small (160 x
+//! 120 or less, spp 4) so that lavapipe runs the whole file in seconds.
+
+use std::path::PathBuf;
+use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::time::Duration;
+
+use glam::Vec3;
+use reyes::displacement::{CpuHeight, DisplacementDesc, DisplacementError, HeightSource};
+use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer, RenderError};
+use reyes::model::{Model, Patch};
+use reyes::prepare::PreparedScene;
+use reyes::reference::{self, ReferenceError, Rendered};
+use reyes::scene::{CameraDesc, Sampling, Scene, SceneError};
+
+/// lavapipe has 2 cores: GPU tests take turns (see `reyes_gpu.rs`).
+static GPU_TURN: Mutex<()> = Mutex::new(());
+
+fn gpu_turn() -> MutexGuard<'static, ()> {
+    GPU_TURN.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Run time limit: llvmpipe compiles the megakernel lazily at its first
+/// dispatch, which takes more than the default minute on a 2-core machine
+/// when Mesa's shader cache does not hold it yet (a new user function
+/// always makes a new megakernel). Cached, every render here takes seconds.
+const TIMEOUT: Duration = Duration::from_secs(600);
+
+fn renderer(gpu: &scheduler::Gpu) -> GpuRenderer<'_> {
+    let options = GpuOptions {
+        timeout: TIMEOUT,
+        ..GpuOptions::default()
+    };
+    GpuRenderer::new(gpu, options).unwrap_or_else(|e| {
+        panic!(
+            "the Reyes GPU renderer cannot run on {}: {e}",
+            gpu.describe()
+        )
+    })
+}
+
+/// The default teapot at `width x height`, spp 4, framed for that aspect
+/// ratio with the field of view narrowed to 34 degrees (as in `reyes_gpu.rs`).
+fn teapot(width: u32, height: u32) -> Scene {
+    let mut scene = Scene::default_teapot();
+    scene.resolution.width = width;
+    scene.resolution.height = height;
+    scene.spp = 4;
+    let (lo, hi) = Model::teapot().bounds();
+    let camera = CameraDesc::framing(lo, hi, width as f32 / height as f32);
+    scene.camera = Some(CameraDesc {
+        fov_y_degrees: 34.0,
+        ..camera
+    });
+    scene
+}
+
+/// A displacement table.
+fn displacement(source: &str, scale: f32, tiling: f32) -> DisplacementDesc {
+    DisplacementDesc {
+        source: source.to_owned(),
+        scale,
+        bound: None,
+        tiling,
+        wgsl: None,
+    }
+}
+
+/// `scene` with every object displaced by `desc`.
+fn displaced(mut scene: Scene, desc: &DisplacementDesc) -> Scene {
+    for object in &mut scene.objects {
+        object.displacement = Some(desc.clone());
+    }
+    scene
+}
+
+/// How closely two renders agree (the metric of `reyes_gpu.rs`).
+#[derive(Debug)]
+struct Agreement {
+    /// Fraction of pixels the GPU covered.
+    coverage: f64,
+    /// Intersection over union of the coverage masks.
+    iou: f64,
+    /// Fraction of pixels covered by both whose channels all differ by <= 2.
+    within_2: f64,
+    /// Largest channel difference over pixels covered by both.
+    max_diff: u8,
+}
+
+fn agreement(gpu: &GpuRendered, cpu: &Rendered) -> Agreement {
+    assert_eq!(gpu.coverage.len(), cpu.coverage.len());
+    let (mut both, mut either, mut within, mut max_diff) = (0usize, 0usize, 0usize, 0u8);
+    for (i, (&g, &c)) in gpu.coverage.iter().zip(&cpu.coverage).enumerate() {
+        either += usize::from(g || c);
+        if g && c {
+            both += 1;
+            let diff = (0..3)
+                .map(|ch| gpu.image.as_raw()[4 * i + ch].abs_diff(cpu.image.as_raw()[4 * i + ch]))
+                .max()
+                .unwrap_or(0);
+            max_diff = max_diff.max(diff);
+            within += usize::from(diff <= 2);
+        }
+    }
+    Agreement {
+        coverage: gpu.coverage.iter().filter(|&&c| c).count() as f64 / gpu.coverage.len() as f64,
+        iou: if either == 0 {
+            1.0
+        } else {
+            both as f64 / either as f64
+        },
+        within_2: if both == 0 {
+            1.0
+        } else {
+            within as f64 / both as f64
+        },
+        max_diff,
+    }
+}
+
+/// Renders a prepared scene on both and reports their agreement.
+fn compare(
+    renderer: &mut GpuRenderer<'_>,
+    prepared: &PreparedScene,
+) -> (GpuRendered, Rendered, Agreement) {
+    let gpu = renderer.render(prepared).expect("GPU render");
+    let cpu = reference::try_render(prepared).expect("CPU render");
+    let agreement = agreement(&gpu, &cpu);
+    eprintln!("GPU stats: {:?}", gpu.stats);
+    eprintln!("CPU stats: {:?}", cpu.stats);
+    eprintln!(
+        "agreement: {agreement:?}; retries: overflow {}, loop limit {}",
+        gpu.overflow_retries, gpu.loop_retries
+    );
+    (gpu, cpu, agreement)
+}
+
+/// Pinholes: uncovered pixels whose 4 neighbours are all covered and which
+/// `reference` (if given) covers.
+fn pinholes(coverage: &[bool], width: u32, reference: Option<&[bool]>) -> usize {
+    let w = width as usize;
+    let h = coverage.len() / w;
+    let mut count = 0;
+    for y in 1..h.saturating_sub(1) {
+        for x in 1..w - 1 {
+            let i = y * w + x;
+            let hole = !coverage[i]
+                && coverage[i - 1]
+                && coverage[i + 1]
+                && coverage[i - w]
+                && coverage[i + w]
+                && reference.is_none_or(|r| r[i]);
+            count += usize::from(hole);
+        }
+    }
+    count
+}
+
+/// Counters that describe the same work: equal unless float contraction
+/// moves a bound decision at a threshold (1% allowed, as in `reyes_gpu.rs`).
+fn assert_counts_close(what: &str, gpu: u64, cpu: u64) {
+    let tolerance = (cpu / 100).max(2);
+    assert!(
+        gpu.abs_diff(cpu) <= tolerance,
+        "{what}: GPU {gpu}, CPU {cpu} (tolerance {tolerance})"
+    );
+}
+
+#[test]
+fn displaced_teapot_matches_the_reference() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu);
+    let scene = displaced(teapot(160, 120), &displacement("bumps", 0.06, 2.0));
+    let prepared = PreparedScene::load(&scene).expect("scene prepares");
+    let (g, c, a) = compare(&mut renderer, &prepared);
+    assert!(a.coverage >= 0.15, "coverage {:.3} < 15%", a.coverage);
+    assert!(a.iou >= 0.995, "coverage IoU {:.5} < 0.995", a.iou);
+    assert!(
+        a.within_2 >= 0.99,
+        "only {:.4} of the object pixels within 2/255 (max diff {})",
+        a.within_2,
+        a.max_diff
+    );
+    assert_counts_close("grids diced", g.stats.grids_diced, c.stats.grids_diced);
+    assert_counts_close("splits", g.stats.splits, c.stats.splits);
+    assert_counts_close("samples hit", g.stats.samples_hit, c.stats.samples_hit);
+    assert_eq!(g.stats.depth_guard_drops, 0);
+    assert_eq!(g.stats.displacement_bound_exceeded, 0);
+    assert_eq!(c.stats.displacement_bound_exceeded, 0);
+    assert!(
+        (g.stats.largest_micropolygon_px - c.stats.largest_micropolygon_px).abs() < 0.05,
+        "largest micropolygon: GPU {}, CPU {}",
+        g.stats.largest_micropolygon_px,
+        c.stats.largest_micropolygon_px
+    );
+}
+
+/// A displacement large enough to stretch micropolygons to several pixels:
+/// bounding-box sampling still covers every pixel the surface covers, on
+/// both renderers, while nearest-sample mode (which writes one sample per
+/// micropolygon) leaves holes in the same scene, so the pinhole count does
+/// detect holes.
+#[test]
+fn large_displacement_leaves_no_pinholes() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu);
+    let scene = displaced(teapot(160, 120), &displacement("sines", 0.25, 2.0));
+    let prepared = PreparedScene::load(&scene).expect("scene prepares");
+    let (g, c, a) = compare(&mut renderer, &prepared);
+    assert!(
+        c.stats.largest_micropolygon_px > 2.0,
+        "the displacement stretches micropolygons beyond a pixel (largest {} px)",
+        c.stats.largest_micropolygon_px
+    );
+    let cpu_holes = pinholes(&c.coverage, 160, None);
+    let gpu_holes = pinholes(&g.coverage, 160, Some(&c.coverage));
+    assert_eq!(cpu_holes, 0, "pinholes in the CPU image");
+    assert_eq!(
+        gpu_holes, 0,
+        "pinholes in the GPU image that the CPU covers"
+    );
+    assert!(a.iou >= 0.99, "coverage IoU {:.5}", a.iou);
+
+    let mut nearest = prepared.clone();
+    nearest.sampling = Sampling::Nearest;
+    let sparse = reference::render(&nearest);
+    let nearest_holes = pinholes(&sparse.coverage, 160, Some(&c.coverage));
+    assert!(
+        nearest_holes > 0,
+        "nearest mode should leave holes where micropolygons exceed a pixel"
+    );
+}
+
+/// A flat square patch in the plane `x = x0`, `y` in `[-1, 1]`, `z` in
+/// `[-6, -4]`, whose normal `dP/du x dP/dv` is +x.
+fn wall(x0: f32) -> Model {
+    let points = std::array::from_fn(|k| {
+        let (u, v) = ((k % 4) as f32 / 3.0, (k / 4) as f32 / 3.0);
+        Vec3::new(x0, 1.0 - 2.0 * u, -4.0 - 2.0 * v)
+    });
+    let patch = Patch { points };
+    let n = (patch.point(1, 0) - patch.point(0, 0)).cross(patch.point(0, 1) - patch.point(0, 0));
+    assert!(n.x > 0.0, "the wall's normal points +x");
+    Model {
+        patches: vec![patch],
+    }
+}
+
+/// The wall scene: the eye at the origin looking down -z (60 degree square
+/// view, so the left clip plane is `x = -0.577 * depth`), the wall just left
+/// of it at `x = -3.6` (outside for every depth of the wall, 4..6) and
+/// displaced by a constant 1.0 (a white height map) towards +x, into the
+/// view for depths above 4.5. The prepared bound is then set to `bound`, as
+/// a program could: scene files refuse a bound below `|scale| * max height`.
+fn wall_scene(bound: f32) -> PreparedScene {
+    let dir = temp_dir("wall");
+    let map = dir.join("white.png");
+    image::GrayImage::from_pixel(2, 2, image::Luma([255]))
+        .save(&map)
+        .unwrap();
+    let mut scene = Scene::default();
+    scene.resolution.width = 96;
+    scene.resolution.height = 96;
+    scene.camera = Some(CameraDesc {
+        eye: Vec3::ZERO,
+        target: Vec3::new(0.0, 0.0, -1.0),
+        up: Vec3::Y,
+        fov_y_degrees: 60.0,
+        near: 0.1,
+        far: 100.0,
+    });
+    scene.lights[0].direction = Vec3::new(-1.0, -0.2, -0.5);
+    scene.objects.push(reyes::scene::SceneObject {
+        model: "wall".into(),
+        transform: Default::default(),
+        color: Vec3::splat(0.8),
+        displacement: Some(displacement(&map.to_string_lossy(), 1.0, 1.0)),
+    });
+    let mut prepared = PreparedScene::new(&scene, &[wall(-3.6)]).expect("scene prepares");
+    std::fs::remove_dir_all(&dir).ok();
+    let d = prepared.objects[0].displacement.as_mut().unwrap();
+    assert_eq!(d.bound, 1.0, "the default bound is |scale| * max height");
+    d.bound = bound;
+    prepared
+}
+
+/// The bound keeps a patch whose control points are all outside the view but
+/// whose displaced surface is inside: with the right bound both renderers
+/// draw it (and agree); with a zero bound the bound test culls it, which is
+/// what the bound prevents; with a bound that is too small the renderers
+/// report the grid points that leave it.
+#[test]
+fn displacement_bound_keeps_surface_displaced_into_view() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu);
+
+    let (g, c, a) = compare(&mut renderer, &wall_scene(1.0));
+    assert!(
+        a.coverage > 0.02,
+        "the displaced wall is visible (coverage {:.3})",
+        a.coverage
+    );
+    assert!(a.iou >= 0.99, "coverage IoU {:.5}", a.iou);
+    assert!(a.within_2 >= 0.99, "only {:.4} within 2/255", a.within_2);
+    assert_eq!(c.stats.culled_patches, 0);
+    assert_eq!(g.stats.culled_patches, 0);
+    assert_eq!(g.stats.displacement_bound_exceeded, 0);
+
+    // Without the bound the undisplaced patch is culled: nothing is drawn.
+    let (g, c, _) = compare(&mut renderer, &wall_scene(0.0));
+    assert_eq!(c.stats.culled_patches, 1);
+    assert_eq!(g.stats.culled_patches, 1);
+    assert!(!g.coverage.iter().any(|&c| c));
+
+    // Too small a bound that still keeps the patch: diced, and every point
+    // reported on both sides.
+    let (g, c, _) = compare(&mut renderer, &wall_scene(0.9));
+    assert_eq!(c.stats.culled_patches, 0);
+    let points = c.stats.grids_diced * 256;
+    assert_eq!(c.stats.displacement_bound_exceeded, points);
+    assert_eq!(
+        g.stats.displacement_bound_exceeded,
+        g.stats.grids_diced * 256
+    );
+}
+
+/// A user WGSL function with a Rust twin renders like the twin on the CPU;
+/// a broken function is a typed error, and so is asking the CPU reference
+/// to run one without a twin.
+#[test]
+fn user_wgsl_displacement() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu);
+    let wgsl = "fn displacement_user(u: f32, v: f32) -> f32 {
+        let du = u - floor(u) - 0.5;
+        let dv = v - floor(v) - 0.5;
+        return max(0.0, 0.2 - (du * du + dv * dv));
+    }";
+    let desc = DisplacementDesc {
+        bound: Some(0.2 * 0.3),
+        wgsl: Some(wgsl.into()),
+        ..displacement("wgsl", 0.3, 4.0)
+    };
+    let scene = displaced(teapot(128, 96), &desc);
+    let mut prepared = PreparedScene::load(&scene).expect("scene prepares");
+    assert!(matches!(
+        reference::try_render(&prepared),
+        Err(ReferenceError::UserDisplacement { object: 0 })
+    ));
+    if let Some(HeightSource::User(user)) = prepared.objects[0]
+        .displacement
+        .as_mut()
+        .map(|d| &mut d.source)
+    {
+        user.cpu = Some(CpuHeight::new(|u, v| {
+            let du = u - u.floor() - 0.5;
+            let dv = v - v.floor() - 0.5;
+            (0.2 - (du * du + dv * dv)).max(0.0)
+        }));
+    }
+    let (g, c, a) = compare(&mut renderer, &prepared);
+    assert!(a.iou >= 0.995, "coverage IoU {:.5}", a.iou);
+    assert!(a.within_2 >= 0.99, "only {:.4} within 2/255", a.within_2);
+    assert_counts_close("grids diced", g.stats.grids_diced, c.stats.grids_diced);
+    assert_eq!(g.stats.displacement_bound_exceeded, 0);
+
+    let mut broken = prepared.clone();
+    if let Some(HeightSource::User(user)) = broken.objects[0]
+        .displacement
+        .as_mut()
+        .map(|d| &mut d.source)
+    {
+        user.wgsl = "fn displacement_user(u: f32, v: f32) -> f32 { return u + ; }".into();
+    }
+    match renderer.render(&broken) {
+        Err(RenderError::UserDisplacement(_)) => {}
+        other => panic!("expected RenderError::UserDisplacement, got {other:?}"),
+    }
+    // The renderer recovers with a valid function.
+    assert!(renderer.render(&prepared).is_ok());
+}
+
+/// The largest-micropolygon statistic is present and grows with the
+/// displacement, on both renderers.
+#[test]
+fn largest_micropolygon_grows_with_displacement() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu);
+    let plain = PreparedScene::load(&teapot(128, 96)).expect("scene prepares");
+    let bumpy = PreparedScene::load(&displaced(
+        teapot(128, 96),
+        &displacement("sines", 0.3, 2.0),
+    ))
+    .expect("scene prepares");
+    let (g_plain, c_plain, _) = compare(&mut renderer, &plain);
+    let (g_bumpy, c_bumpy, _) = compare(&mut renderer, &bumpy);
+    for (what, plain, bumpy) in [
+        (
+            "GPU",
+            g_plain.stats.largest_micropolygon_px,
+            g_bumpy.stats.largest_micropolygon_px,
+        ),
+        (
+            "CPU",
+            c_plain.stats.largest_micropolygon_px,
+            c_bumpy.stats.largest_micropolygon_px,
+        ),
+    ] {
+        assert!(
+            plain > 0.1 && plain < 3.0,
+            "{what}: undisplaced micropolygons are about a pixel ({plain} px)"
+        );
+        assert!(
+            bumpy > 1.5 * plain,
+            "{what}: displacement stretches micropolygons ({plain} -> {bumpy} px)"
+        );
+    }
+    let json = serde_json::to_value(&g_bumpy.stats).unwrap();
+    assert!(json["largest_micropolygon_px"].as_f64().unwrap() > 0.0);
+    assert_eq!(json["displacement_bound_exceeded"], 0);
+}
+
+/// A fresh directory for files the test writes.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("reyes-displacement-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn scene_with(table: &str) -> String {
+    format!("[[objects]]\nmodel = \"teapot\"\n[objects.displacement]\n{table}\n")
+}
+
+fn field_of(error: &SceneError) -> Option<&str> {
+    match error {
+        SceneError::NonFinite { field } | SceneError::InvalidValue { field, .. } => Some(field),
+        _ => None,
+    }
+}
+
+#[test]
+fn scene_errors_for_displacement_fields() {
+    // Values: every problem names its field.
+    for (table, field) in [
+        (
+            "source = \"bumps\"\nscale = nan",
+            "objects[0].displacement.scale",
+        ),
+        (
+            "source = \"bumps\"\nscale = inf",
+            "objects[0].displacement.scale",
+        ),
+        (
+            "source = \"bumps\"\nscale = 0.1\nbound = -0.5",
+            "objects[0].displacement.bound",
+        ),
+        (
+            "source = \"bumps\"\nscale = 0.1\nbound = nan",
+            "objects[0].displacement.bound",
+        ),
+        (
+            "source = \"bumps\"\nscale = 0.1\ntiling = 0.0",
+            "objects[0].displacement.tiling",
+        ),
+        (
+            "source = \"bumps\"\nscale = 0.1\ntiling = 5000.0",
+            "objects[0].displacement.tiling",
+        ),
+        (
+            "source = \"\"\nscale = 0.1",
+            "objects[0].displacement.source",
+        ),
+        (
+            "source = \"wgsl\"\nscale = 0.1\nbound = 0.1",
+            "objects[0].displacement.wgsl",
+        ),
+        (
+            "source = \"wgsl\"\nscale = 0.1\nwgsl = \"fn displacement_user(u: f32, v: f32) -> f32 { return u; }\"",
+            "objects[0].displacement.bound",
+        ),
+        (
+            "source = \"wgsl\"\nscale = 0.1\nbound = 0.1\nwgsl = \"fn other(u: f32) -> f32 { return u; }\"",
+            "objects[0].displacement.wgsl",
+        ),
+        (
+            "source = \"sines\"\nscale = 0.1\nwgsl = \"fn displacement_user(u: f32, v: f32) -> f32 { return u; }\"",
+            "objects[0].displacement.wgsl",
+        ),
+    ] {
+        let error = Scene::from_toml_str(&scene_with(table)).unwrap_err();
+        assert_eq!(field_of(&error), Some(field), "{table:?}: {error}");
+    }
+    // Two different user functions in one scene.
+    let two = "[[objects]]\nmodel = \"teapot\"\n[objects.displacement]\nsource = \"wgsl\"\nscale = 1.0\nbound = 1.0\nwgsl = \"fn displacement_user(u: f32, v: f32) -> f32 { return u; }\"\n\
+               [[objects]]\nmodel = \"teapot\"\n[objects.displacement]\nsource = \"wgsl\"\nscale = 1.0\nbound = 1.0\nwgsl = \"fn displacement_user(u: f32, v: f32) -> f32 { return v; }\"\n";
+    let error = Scene::from_toml_str(two).unwrap_err();
+    assert_eq!(
+        field_of(&error),
+        Some("objects[1].displacement.wgsl"),
+        "{error}"
+    );
+
+    // Syntax: a missing scale, an unknown field, a wrong type (with the line).
+    for table in [
+        "source = \"bumps\"",
+        "source = \"bumps\"\nscale = 0.1\ncolour = 1",
+        "source = \"bumps\"\nscale = \"big\"",
+    ] {
+        let error = Scene::from_toml_str(&scene_with(table)).unwrap_err();
+        assert!(
+            matches!(error, SceneError::Parse { line: Some(_), .. }),
+            "{table:?}: {error}"
+        );
+    }
+
+    // Files, read when the scene is prepared: missing, not a PNG, not grey.
+    let dir = temp_dir("errors");
+    std::fs::write(dir.join("garbage.png"), b"not a png").unwrap();
+    image::RgbImage::from_pixel(4, 4, image::Rgb([10, 200, 30]))
+        .save(dir.join("colour.png"))
+        .unwrap();
+    image::GrayImage::from_pixel(4, 4, image::Luma([128]))
+        .save(dir.join("grey.png"))
+        .unwrap();
+    let prepare = |source: &str, extra: &str| {
+        let path = dir.join("scene.toml");
+        std::fs::write(
+            &path,
+            scene_with(&format!("source = \"{source}\"\nscale = 0.1\n{extra}")),
+        )
+        .unwrap();
+        PreparedScene::load(&Scene::load(&path).unwrap())
+    };
+    let displacement_error = |result: Result<PreparedScene, SceneError>| match result {
+        Err(SceneError::Displacement {
+            index: 0, source, ..
+        }) => source,
+        other => panic!("expected SceneError::Displacement, got {other:?}"),
+    };
+    assert!(matches!(
+        displacement_error(prepare("missing.png", "")),
+        DisplacementError::Io { .. }
+    ));
+    assert!(matches!(
+        displacement_error(prepare("garbage.png", "")),
+        DisplacementError::Decode { .. }
+    ));
+    let not_grey = displacement_error(prepare("colour.png", ""));
+    assert!(
+        matches!(not_grey, DisplacementError::NotGrey { .. }),
+        "{not_grey}"
+    );
+    assert!(not_grey.to_string().contains("greyscale"), "{not_grey}");
+    // A relative path is resolved against the scene's directory; the default
+    // bound is |scale| * the largest texel.
+    let grey = prepare("grey.png", "").expect("a grey PNG prepares");
+    let bound = grey.objects[0].displacement.as_ref().unwrap().bound;
+    assert!((bound - 0.1 * 128.0 / 255.0).abs() < 1e-6, "{bound}");
+    // A declared bound below |scale| * max height is refused.
+    assert!(matches!(
+        displacement_error(prepare("sines", "bound = 0.05")),
+        DisplacementError::BoundTooSmall { .. }
+    ));
+    assert!(prepare("sines", "bound = 0.1").is_ok());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The table round-trips through TOML and prepares with the documented
+/// defaults; a mirroring transform keeps the displacement on the model's side.
+#[test]
+fn displacement_table_defaults_and_round_trip() {
+    let text = scene_with("source = \"sines\"\nscale = -0.2");
+    let scene = Scene::from_toml_str(&text).unwrap();
+    let again = Scene::from_toml_str(&scene.to_toml_string()).unwrap();
+    assert_eq!(again, scene);
+    let desc = scene.objects[0].displacement.as_ref().unwrap();
+    assert_eq!((desc.tiling, desc.bound), (1.0, None));
+    let prepared = PreparedScene::load(&scene).unwrap();
+    let d = prepared.objects[0].displacement.as_ref().unwrap();
+    assert_eq!((d.scale, d.bound), (-0.2, 0.2));
+
+    let mut mirrored = scene.clone();
+    mirrored.objects[0].transform.scale = reyes::scene::Scale::PerAxis(Vec3::new(-1.0, 1.0, 1.0));
+    let prepared = PreparedScene::load(&mirrored).unwrap();
+    assert_eq!(
+        prepared.objects[0].displacement.as_ref().unwrap().scale,
+        0.2
+    );
+}
+
+/// Every TOML example in docs/reyes-scene.md parses and validates (the
+/// displacement examples included).
+#[test]
+fn documented_scene_examples_parse() {
+    let doc = include_str!("../../docs/reyes-scene.md");
+    let mut blocks = 0;
+    for (start, _) in doc.match_indices("```toml\n") {
+        let body = &doc[start + "```toml\n".len()..];
+        let text = &body[..body.find("```").expect("a closed block")];
+        let scene = Scene::from_toml_str(text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert!(!scene.objects.is_empty());
+        blocks += 1;
+    }
+    assert!(blocks >= 2, "the full example and the displacement example");
+}
