@@ -21,11 +21,15 @@
 //! - [`timing`]: time sources and medians.
 //! - [`suite`]: the whole comparison, producing [`suite::Row`]s.
 //! - [`table`]: printing the rows.
+//! - [`strategies`]: megakernel vs. Rounds under each policy, on the spawn
+//!   tree; [`reyes_strategies`]: the same on Reyes frames.
 
 pub mod error;
 pub mod flat;
 pub mod gpu;
 pub mod megakernel;
+pub mod reyes_strategies;
+pub mod strategies;
 pub mod suite;
 pub mod table;
 pub mod timing;

@@ -3,8 +3,8 @@
 use std::time::Duration;
 
 use scheduler::{
-    Binding, CompileOptions, CompiledGraph, Executor, ExecutorConfig, Graph, Procedure, Resource,
-    RunReport, Seeds, item_type, wgpu,
+    Binding, CompileOptions, CompiledGraph, Executor, ExecutorConfig, Graph, Policy, Procedure,
+    Resource, RunReport, Seeds, Strategy, item_type, wgpu,
 };
 
 use crate::gpu::out_buffer;
@@ -46,7 +46,19 @@ pub fn spawn_tree_graph(workload: &Workload) -> Graph {
 /// Compiles [`spawn_tree_graph`] with the features the scheduler recommends
 /// for `device` (coherent queue payloads where available).
 pub fn compile(workload: &Workload, device: &wgpu::Device) -> Result<CompiledGraph, BenchError> {
-    let options = CompileOptions::with_features(scheduler::recommended_features(device));
+    compile_with_policy(workload, device, Policy::Priority)
+}
+
+/// Like [`compile`], with the given queue policy.
+pub fn compile_with_policy(
+    workload: &Workload,
+    device: &wgpu::Device,
+    policy: Policy,
+) -> Result<CompiledGraph, BenchError> {
+    let options = CompileOptions {
+        policy,
+        ..CompileOptions::with_features(scheduler::recommended_features(device))
+    };
     Ok(spawn_tree_graph(workload).compile(&options)?)
 }
 
@@ -68,6 +80,7 @@ pub struct SpawnTree {
     executor: Executor,
     out: wgpu::Buffer,
     seeds: Seeds,
+    strategy: Strategy,
 }
 
 impl SpawnTree {
@@ -87,7 +100,13 @@ impl SpawnTree {
             executor,
             out: out_buffer(device, workload.items(), "megakernel out"),
             seeds: Seeds::new().add(PROCEDURE, &[SpawnItem::root()]),
+            strategy: Strategy::Megakernel,
         })
+    }
+
+    /// Runs later runs with `strategy` (the megakernel by default).
+    pub fn set_strategy(&mut self, strategy: Strategy) {
+        self.strategy = strategy;
     }
 
     /// The `out` buffer.
@@ -100,12 +119,14 @@ impl SpawnTree {
         self.executor.workgroups()
     }
 
-    /// Runs the tree once. The time is the report's GPU time (timestamps
-    /// around the megakernel's passes, which exclude seeding) or its wall time.
+    /// Runs the tree once with the current strategy. The time is the report's
+    /// GPU time (timestamps around the run's passes, which exclude seeding) or its wall time.
     pub fn run(&mut self) -> Result<(Sample, TimeSource), BenchError> {
-        let report = self
-            .executor
-            .run(&self.seeds, &[Binding::buffer("out", &self.out)])?;
+        let report = self.executor.run_with(
+            self.strategy,
+            &self.seeds,
+            &[Binding::buffer("out", &self.out)],
+        )?;
         let (time, source) = match report.gpu_time {
             Some(t) => (t, TimeSource::GpuTimestamps),
             None => (report.wall_time, TimeSource::WallClock),

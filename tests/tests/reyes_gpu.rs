@@ -275,3 +275,54 @@ fn reyes_megakernel_wgsl_snapshot() {
         .expect("the Reyes graph compiles");
     insta::assert_snapshot!(compiled.wgsl());
 }
+
+/// The Rounds strategy renders the same frame as the megakernel, under both
+/// policies: the image does not depend on the order in which items run, and
+/// the per-procedure counts are equal.
+#[test]
+fn rounds_render_the_same_frame_as_the_megakernel() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let prepared = PreparedScene::load(&teapot(160, 4)).unwrap();
+    let mut frames = Vec::new();
+    // Each policy is a module of its own, and llvmpipe compiles a Reyes
+    // megakernel for over a minute on a cold shader cache, so the
+    // round-robin module runs only its (quickly compiled) round kernels.
+    let configurations = [
+        (scheduler::Policy::Priority, scheduler::Strategy::Megakernel),
+        (scheduler::Policy::Priority, scheduler::Strategy::rounds()),
+        (scheduler::Policy::RoundRobin, scheduler::Strategy::rounds()),
+    ];
+    {
+        for (policy, strategy) in configurations {
+            let options = GpuOptions {
+                strategy,
+                policy,
+                ..GpuOptions::default()
+            };
+            let frame = renderer(gpu, options).render(&prepared).unwrap();
+            let report = frame.report.clone().expect("the teapot has patches");
+            assert_eq!(report.strategy, strategy);
+            if matches!(strategy, scheduler::Strategy::Rounds { .. }) {
+                assert!(report.rounds > 1, "{report}");
+            }
+            frames.push((policy, strategy, frame, report));
+        }
+    }
+    let (_, _, first, first_report) = &frames[0];
+    assert!(first.coverage.iter().filter(|&&c| c).count() > 1000);
+    for (policy, strategy, frame, report) in &frames[1..] {
+        assert!(
+            frame.image == first.image,
+            "{policy:?} {strategy}: the image differs from the megakernel's"
+        );
+        for (a, b) in report.procedures.iter().zip(&first_report.procedures) {
+            assert_eq!(
+                (a.executed, a.enqueued),
+                (b.executed, b.enqueued),
+                "{policy:?} {strategy}: `{}`",
+                a.name
+            );
+        }
+    }
+}
