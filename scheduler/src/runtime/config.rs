@@ -18,16 +18,17 @@ pub const DEFAULT_WORKGROUPS: u32 = 256;
 
 /// Iteration budget used when [`ExecutorConfig::iteration_budget`] is `None`
 /// and the adapter is a CPU (llvmpipe, behind lavapipe). llvmpipe counts the
-/// iterations of each loop across all of its runs within one invocation and
-/// silently ends whichever loop is running once that count passes 65535.
-/// Leaving the persistent loop after 64 batches starts fresh invocations often
-/// enough for bodies whose loops run up to ~500 iterations per batch.
+/// iterations of all loops nested in the persistent loop together and, once
+/// that count passes 65535, ends them all (the scheduler then reports
+/// [`RunError::LoopLimit`](crate::RunError::LoopLimit)). Leaving the
+/// persistent loop after 64 batches starts fresh invocations often enough for
+/// bodies whose loops run up to ~800 iterations per batch.
 /// docs/scheduler.md ("Loop limits") has details.
 pub const CPU_ITERATION_BUDGET: u32 = 64;
 
 /// Spin-wait iterations after which a workgroup leaves at its next batch
 /// boundary on CPU adapters (llvmpipe), for the same reason as
-/// [`CPU_ITERATION_BUDGET`]. Each iteration makes 32 checks. Together they
+/// [`CPU_ITERATION_BUDGET`]. Each iteration makes 64 checks. Together they
 /// leave each invocation roughly 50,000 loop iterations for procedure bodies:
 /// about 800 per batch.
 pub const CPU_SPIN_LIMIT: u32 = 8192;
