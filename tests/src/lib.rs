@@ -7,7 +7,7 @@
 
 use std::sync::OnceLock;
 
-use scheduler::{DeviceRequest, Gpu};
+use scheduler::{Capacities, DeviceRequest, ExecutorConfig, Gpu};
 
 /// Whether the user asked to skip GPU tests.
 pub fn skip_gpu_tests() -> bool {
@@ -56,3 +56,14 @@ pub fn seed(test: &str) -> u64 {
 
 pub mod graphs;
 pub mod random_graph;
+pub mod reyes_support;
+
+/// An executor configuration with `workgroups` persistent workgroups and
+/// every queue holding `capacity` items.
+pub fn config(workgroups: u32, capacity: u32) -> ExecutorConfig {
+    ExecutorConfig {
+        workgroups: Some(workgroups),
+        capacities: Capacities::uniform(capacity),
+        ..Default::default()
+    }
+}

@@ -4,7 +4,6 @@
 //! 120 or less, spp 4) so that lavapipe runs the whole file in seconds.
 
 use std::path::PathBuf;
-use std::sync::{Mutex, MutexGuard, PoisonError};
 use std::time::Duration;
 
 use glam::Vec3;
@@ -14,13 +13,7 @@ use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, ReferenceError, Rendered};
 use reyes::scene::{CameraDesc, Sampling, Scene, SceneError};
-
-/// lavapipe has 2 cores: GPU tests take turns (see `reyes_gpu.rs`).
-static GPU_TURN: Mutex<()> = Mutex::new(());
-
-fn gpu_turn() -> MutexGuard<'static, ()> {
-    GPU_TURN.lock().unwrap_or_else(PoisonError::into_inner)
-}
+use tests::reyes_support::{Agreement, agreement, assert_counts_close, gpu_turn};
 
 /// Run time limit: llvmpipe compiles the megakernel lazily at its first
 /// dispatch, which takes more than the default minute on a 2-core machine
@@ -76,50 +69,6 @@ fn displaced(mut scene: Scene, desc: &DisplacementDesc) -> Scene {
     scene
 }
 
-/// How closely two renders agree (the metric of `reyes_gpu.rs`).
-#[derive(Debug)]
-struct Agreement {
-    /// Fraction of pixels the GPU covered.
-    coverage: f64,
-    /// Intersection over union of the coverage masks.
-    iou: f64,
-    /// Fraction of pixels covered by both whose channels all differ by <= 2.
-    within_2: f64,
-    /// Largest channel difference over pixels covered by both.
-    max_diff: u8,
-}
-
-fn agreement(gpu: &GpuRendered, cpu: &Rendered) -> Agreement {
-    assert_eq!(gpu.coverage.len(), cpu.coverage.len());
-    let (mut both, mut either, mut within, mut max_diff) = (0usize, 0usize, 0usize, 0u8);
-    for (i, (&g, &c)) in gpu.coverage.iter().zip(&cpu.coverage).enumerate() {
-        either += usize::from(g || c);
-        if g && c {
-            both += 1;
-            let diff = (0..3)
-                .map(|ch| gpu.image.as_raw()[4 * i + ch].abs_diff(cpu.image.as_raw()[4 * i + ch]))
-                .max()
-                .unwrap_or(0);
-            max_diff = max_diff.max(diff);
-            within += usize::from(diff <= 2);
-        }
-    }
-    Agreement {
-        coverage: gpu.coverage.iter().filter(|&&c| c).count() as f64 / gpu.coverage.len() as f64,
-        iou: if either == 0 {
-            1.0
-        } else {
-            both as f64 / either as f64
-        },
-        within_2: if both == 0 {
-            1.0
-        } else {
-            within as f64 / both as f64
-        },
-        max_diff,
-    }
-}
-
 /// Renders a prepared scene on both and reports their agreement.
 fn compare(
     renderer: &mut GpuRenderer<'_>,
@@ -156,16 +105,6 @@ fn pinholes(coverage: &[bool], width: u32, reference: Option<&[bool]>) -> usize 
         }
     }
     count
-}
-
-/// Counters that describe the same work: equal unless float contraction
-/// moves a bound decision at a threshold (1% allowed, as in `reyes_gpu.rs`).
-fn assert_counts_close(what: &str, gpu: u64, cpu: u64) {
-    let tolerance = (cpu / 100).max(2);
-    assert!(
-        gpu.abs_diff(cpu) <= tolerance,
-        "{what}: GPU {gpu}, CPU {cpu} (tolerance {tolerance})"
-    );
 }
 
 #[test]

@@ -5,9 +5,10 @@ use std::time::Duration;
 
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::{
-    Binding, Capacities, CompileOptions, CompiledGraph, Executor, ExecutorConfig, Gpu, Graph,
-    Policy, Procedure, RunError, RunReport, Seeds, readback::read_buffer, wgpu,
+    Binding, CompileOptions, CompiledGraph, Executor, ExecutorConfig, Gpu, Graph, Policy,
+    Procedure, RunError, RunReport, Seeds, readback::read_buffer, wgpu,
 };
+use tests::config;
 use tests::graphs::{Node, binary_tree, node_type, ping_pong, ping_pong_counts, scratch_sum};
 
 /// Both payload paths: atomics, and coherent memory when the device has it.
@@ -33,14 +34,6 @@ fn run(
     bindings: &[Binding<'_>],
 ) -> Result<RunReport, RunError> {
     Executor::new(&gpu.device, &gpu.queue, compiled, &config)?.run(seeds, bindings)
-}
-
-fn config(workgroups: u32, capacity: u32) -> ExecutorConfig {
-    ExecutorConfig {
-        workgroups: Some(workgroups),
-        capacities: Capacities::uniform(capacity),
-        ..Default::default()
-    }
 }
 
 #[test]

@@ -6,18 +6,11 @@ use std::time::Duration;
 
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::{
-    Binding, Capacities, CompileOptions, Executor, ExecutorConfig, Policy, Retry, RunError, Seeds,
-    Strategy, readback::read_buffer, wgpu,
+    Binding, CompileOptions, Executor, Policy, Retry, RunError, Seeds, Strategy,
+    readback::read_buffer, wgpu,
 };
+use tests::config;
 use tests::graphs::{Node, binary_tree, ping_pong, ping_pong_counts, scratch_sum};
-
-fn config(workgroups: u32, capacity: u32) -> ExecutorConfig {
-    ExecutorConfig {
-        workgroups: Some(workgroups),
-        capacities: Capacities::uniform(capacity),
-        ..Default::default()
-    }
-}
 
 fn strategies() -> [Strategy; 3] {
     [

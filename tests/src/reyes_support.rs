@@ -1,0 +1,78 @@
+//! Shared support for the Reyes GPU tests: taking turns on the two cores,
+//! and comparing a GPU render with the CPU reference.
+
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use reyes::gpu::GpuRendered;
+use reyes::reference::Rendered;
+
+/// lavapipe has 2 cores: renders from parallel tests would only compete for
+/// them (and for llvmpipe's loop budget, see
+/// `reyes::gpu::renderer::CPU_ITERATION_BUDGET`), so GPU tests take turns.
+static GPU_TURN: Mutex<()> = Mutex::new(());
+
+/// Waits for this test's turn on the GPU.
+pub fn gpu_turn() -> MutexGuard<'static, ()> {
+    // A test that panicked while holding the lock does not poison the others.
+    GPU_TURN.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// How closely two renders agree.
+#[derive(Debug)]
+pub struct Agreement {
+    /// Fraction of pixels the GPU covered.
+    pub coverage: f64,
+    /// Intersection over union of the coverage masks.
+    pub iou: f64,
+    /// Fraction of pixels covered by both whose channels all differ by <= 2.
+    pub within_2: f64,
+    /// Largest channel difference over pixels covered by both.
+    pub max_diff: u8,
+    /// Pixels covered by both.
+    pub both: usize,
+}
+
+/// Coverage and colour agreement of a GPU render with the CPU reference.
+pub fn agreement(gpu: &GpuRendered, cpu: &Rendered) -> Agreement {
+    assert_eq!(gpu.coverage.len(), cpu.coverage.len());
+    let pixels = gpu.coverage.len();
+    let (mut both, mut either, mut within, mut max_diff) = (0usize, 0usize, 0usize, 0u8);
+    for (i, (&g, &c)) in gpu.coverage.iter().zip(&cpu.coverage).enumerate() {
+        either += usize::from(g || c);
+        if g && c {
+            both += 1;
+            let diff = (0..3)
+                .map(|ch| gpu.image.as_raw()[4 * i + ch].abs_diff(cpu.image.as_raw()[4 * i + ch]))
+                .max()
+                .unwrap_or(0);
+            max_diff = max_diff.max(diff);
+            within += usize::from(diff <= 2);
+        }
+    }
+    Agreement {
+        coverage: gpu.coverage.iter().filter(|&&c| c).count() as f64 / pixels as f64,
+        iou: if either == 0 {
+            1.0
+        } else {
+            both as f64 / either as f64
+        },
+        within_2: if both == 0 {
+            1.0
+        } else {
+            within as f64 / both as f64
+        },
+        max_diff,
+        both,
+    }
+}
+
+/// The counters that describe the same work on both sides. They are exactly
+/// equal unless float contraction moves a bound decision at a threshold;
+/// one such flip changes the counts by a few pieces, so 1% is allowed.
+pub fn assert_counts_close(what: &str, gpu: u64, cpu: u64) {
+    let tolerance = (cpu / 100).max(2);
+    assert!(
+        gpu.abs_diff(cpu) <= tolerance,
+        "{what}: GPU {gpu}, CPU {cpu} (tolerance {tolerance})"
+    );
+}
