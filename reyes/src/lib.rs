@@ -22,6 +22,7 @@ pub mod color;
 pub mod displacement;
 pub mod load;
 pub mod model;
+pub mod motion;
 pub mod output;
 pub mod params;
 pub mod prepare;
@@ -29,5 +30,6 @@ pub mod reference;
 pub mod sampling;
 pub mod scene;
 pub mod stats;
+pub mod uvt;
 
 pub mod gpu;

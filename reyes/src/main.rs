@@ -2,7 +2,9 @@
 //!
 //! ```text
 //! reyes render [SCENE] -o out.png [--width W] [--height H] [--spp N]
-//!              [--sampling bbox|nearest] [--stats] [--stats-json FILE]
+//!              [--sampling bbox|simple|interleave|interval|adaptive|nearest]
+//!              [--stats] [--stats-json FILE]
+//!              [--spin DEG] [--move x,y,z] [--shutter F] [--aperture R] [--focus D]
 //!              [--eye x,y,z] [--target x,y,z] [--up x,y,z] [--fov DEG] [--cpu]
 //!              [--displace bumps|sines|FILE.png|FILE.wgsl --displace-scale S
 //!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
@@ -40,9 +42,18 @@ enum Command {
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
 enum SamplingArg {
-    /// Test every sample in each micropolygon triangle's bounding box.
+    /// Test every sample in each micropolygon triangle's bounding box
+    /// (grown by its motion and circle of confusion).
     Bbox,
-    /// Write only the sample nearest each micropolygon's centroid.
+    /// Simple UVT: one time/lens tuple per sample index, shared by all pixels.
+    Simple,
+    /// Interleave UVT: 2x2-pixel tiles with 4 * spp distinct tuples.
+    Interleave,
+    /// INTERVAL: one box per time interval.
+    Interval,
+    /// INTERVAL or Interleave UVT per grid, whichever is cheaper.
+    Adaptive,
+    /// Write only the sample nearest each micropolygon's centroid (no blur).
     Nearest,
 }
 
@@ -118,6 +129,25 @@ struct RenderArgs {
     /// `--displace FILE.wgsl` function).
     #[arg(long, value_name = "SECONDS")]
     timeout: Option<u64>,
+    /// Motion blur: spin every object by DEG degrees about its vertical
+    /// (model z) axis between shutter open and close.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    spin: Option<f32>,
+    /// Motion blur: move every object by this world-space vector between
+    /// shutter open and close, e.g. `0.5,0,0`.
+    #[arg(long = "move", value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    move_by: Option<Vec3>,
+    /// Fraction of the open-to-close motion the shutter sees, in [0, 1]
+    /// (default: the scene's, 1).
+    #[arg(long, value_name = "F")]
+    shutter: Option<f32>,
+    /// Depth of field: lens radius in world units (default: the scene's, 0).
+    #[arg(long, value_name = "R")]
+    aperture: Option<f32>,
+    /// Depth of field: distance in focus (default: the scene's, or the
+    /// distance from the eye to the camera target).
+    #[arg(long, value_name = "D")]
+    focus: Option<f32>,
 }
 
 fn parse_vec3(text: &str) -> Result<Vec3, String> {
@@ -226,8 +256,29 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
     if let Some(sampling) = args.sampling {
         scene.sampling = match sampling {
             SamplingArg::Bbox => Sampling::Bbox,
+            SamplingArg::Simple => Sampling::Simple,
+            SamplingArg::Interleave => Sampling::Interleave,
+            SamplingArg::Interval => Sampling::Interval,
+            SamplingArg::Adaptive => Sampling::Adaptive,
             SamplingArg::Nearest => Sampling::Nearest,
         };
+    }
+    if args.spin.is_some() || args.move_by.is_some() {
+        for object in &mut scene.objects {
+            let mut close = object.transform_close.unwrap_or(object.transform);
+            close.rotate_degrees.z += args.spin.unwrap_or(0.0);
+            close.translate += args.move_by.unwrap_or(Vec3::ZERO);
+            object.transform_close = Some(close);
+        }
+    }
+    if let Some(shutter) = args.shutter {
+        scene.shutter = shutter;
+    }
+    if let Some(aperture) = args.aperture {
+        scene.lens.aperture = aperture;
+    }
+    if let Some(focus) = args.focus {
+        scene.lens.focus_distance = Some(focus);
     }
     let camera_override =
         args.eye.is_some() || args.target.is_some() || args.up.is_some() || args.fov.is_some();
@@ -273,7 +324,7 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
 }
 
 fn print_stats(stats: &RenderStats, backend: &str) {
-    let rows: [(&str, String); 11] = [
+    let rows: [(&str, String); 13] = [
         ("input patches", stats.input_patches.to_string()),
         ("splits", stats.splits.to_string()),
         ("culled patches", stats.culled_patches.to_string()),
@@ -282,6 +333,11 @@ fn print_stats(stats: &RenderStats, backend: &str) {
         ("micropolygons", stats.micropolygons.to_string()),
         ("samples tested", stats.samples_tested.to_string()),
         ("samples hit", stats.samples_hit.to_string()),
+        (
+            "sample test effic.",
+            format!("{:.4}", stats.sample_test_efficiency()),
+        ),
+        ("interleave grids", stats.interleave_grids.to_string()),
         (
             "largest micropolygon",
             format!("{:.3} px", stats.largest_micropolygon_px),

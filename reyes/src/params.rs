@@ -99,3 +99,10 @@ pub const SINES_OCTAVE_2_WEIGHT: f32 = 0.5;
 /// Normalization of the built-in `"sines"` heights: `1 / (1 + weight)`, so
 /// the largest `|height|` is exactly 1.
 pub const SINES_NORMALIZATION: f32 = 2.0 / 3.0;
+
+/// Adaptive sampling picks Interleave UVT for a grid when INTERVAL's
+/// estimated sample tests exceed Interleave UVT's by more than this factor
+/// (see `reyes::reference::raster5d::adaptive_choice`); it weighs the two
+/// algorithms' different costs per test, and was calibrated with
+/// `blur-bench` (docs/performance.md).
+pub const ADAPTIVE_INTERLEAVE_BIAS: f32 = 1.0;

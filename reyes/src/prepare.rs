@@ -7,6 +7,7 @@ use glam::Vec3;
 use crate::camera::Camera;
 use crate::displacement::PreparedDisplacement;
 use crate::model::Model;
+use crate::motion::{ObjectMotion, PreparedLens};
 use crate::scene::{CameraDesc, Sampling, Scene, SceneError};
 
 /// One input patch in world space, with the object it belongs to.
@@ -25,6 +26,8 @@ pub struct PreparedObject {
     pub albedo: Vec3,
     /// Displacement mapping, if any.
     pub displacement: Option<PreparedDisplacement>,
+    /// How the object moves during the shutter (`None`: it does not).
+    pub motion: Option<ObjectMotion>,
 }
 
 impl PreparedObject {
@@ -72,6 +75,8 @@ pub struct PreparedScene {
     pub dice_threshold: f32,
     /// Drop patches that still need a split at this depth.
     pub max_split_depth: u32,
+    /// The thin lens (aperture 0: a pinhole).
+    pub lens: PreparedLens,
 }
 
 impl PreparedScene {
@@ -103,9 +108,16 @@ impl PreparedScene {
                         })
                 })
                 .transpose()?;
+            let motion = object.transform_close.as_ref().and_then(|close| {
+                ObjectMotion::new(
+                    object.transform.matrix(),
+                    object.transform.interpolate(close, scene.shutter),
+                )
+            });
             prepared_objects.push(PreparedObject {
                 albedo: object.color,
                 displacement,
+                motion,
             });
         }
         let mut patches = Vec::with_capacity(models.iter().map(|m| m.patches.len()).sum());
@@ -133,7 +145,9 @@ impl PreparedScene {
             desc.near,
             desc.far,
         );
+        let lens = PreparedLens::new(&camera, scene.lens.aperture, scene.lens.focus_distance);
         Ok(PreparedScene {
+            lens,
             camera,
             patches,
             objects: prepared_objects,
@@ -155,6 +169,22 @@ impl PreparedScene {
             dice_threshold: scene.dice_threshold,
             max_split_depth: scene.max_split_depth,
         })
+    }
+
+    /// Whether any object moves during the shutter.
+    pub fn has_motion(&self) -> bool {
+        self.objects.iter().any(|o| o.motion.is_some())
+    }
+
+    /// Whether samples carry a time and a lens position: with motion, with a
+    /// lens, or with a sampling mode other than the plain bounding box (which
+    /// is then also used for a stationary, pinhole frame, as a check).
+    pub fn samples_time_and_lens(&self) -> bool {
+        match self.sampling {
+            Sampling::Nearest => false,
+            Sampling::Bbox => self.has_motion() || self.lens.aperture > 0.0,
+            _ => true,
+        }
     }
 
     /// The one user WGSL displacement function of the scene, if any object

@@ -17,8 +17,9 @@
 //!
 //! ```toml
 //! spp = 4                            # samples per pixel: 1, 4, 9, 16, 25, 36, 49 or 64
-//! sampling = "bbox"                  # "bbox" (stochastic sampling) or "nearest"
+//! sampling = "bbox"                  # "bbox", "simple", "interleave", "interval", "adaptive" or "nearest"
 //! jitter = false                     # jitter samples within their strata
+//! shutter = 1.0                      # fraction of the open-to-close motion the shutter sees
 //! background = [0.05, 0.05, 0.07]    # linear RGB
 //! ambient = 0.1                      # ambient light, multiplied by the albedo
 //! dice_threshold = 16.0              # dice when the projected patch fits in this many pixels
@@ -36,6 +37,10 @@
 //! near = 0.1
 //! far = 1000.0
 //!
+//! [lens]                             # depth of field (default: a pinhole)
+//! aperture = 0.0                     # lens radius in world units
+//! focus_distance = 12.5              # default: the distance from eye to target
+//!
 //! [specular]
 //! strength = 0.25
 //! shininess = 32.0
@@ -52,6 +57,8 @@
 //! scale = 0.05                       # required: world units per unit of height
 //! bound = 0.05                       # default: |scale| * the source's max height
 //! tiling = 1.0                       # repetitions of the source per patch
+//! [objects.transform_close]          # optional: the placement at shutter close (motion blur)
+//! rotate_degrees = [0.0, 0.0, 30.0]  # (not the default: the default is `transform`)
 //!
 //! [[objects]]
 //! model = "models/killeroo.bpt"      # relative to the scene file's directory
@@ -69,7 +76,7 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Quat, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::displacement::{DisplacementDesc, DisplacementError, desc::SourceKind};
@@ -173,15 +180,75 @@ pub enum SceneError {
     },
 }
 
-/// How micropolygons are sampled.
+/// How micropolygons are sampled. Every mode but `Nearest` handles motion
+/// blur and depth of field: a sample then has a time and a lens position as
+/// well as a screen position (see [`crate::uvt`] and `docs/reyes.md`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Sampling {
-    /// Test every sample in each micropolygon triangle's bounding box (default).
+    /// Bounding box: test every sample in each micropolygon triangle's
+    /// screen box, grown by its motion and circle of confusion, with the
+    /// sample's own time and lens position (default).
     #[default]
     Bbox,
-    /// Baseline: each micropolygon writes only the sample nearest its centroid.
+    /// Simple UVT: the `spp` time/lens tuples are shared by every pixel;
+    /// tuple `s` positions the triangle once and tests sample `s` of each
+    /// pixel in that box (an accumulation buffer in one pass).
+    Simple,
+    /// Interleave UVT (Fatahalian et al. 2009): 2x2-pixel tiles with
+    /// `4 * spp` distinct tuples each; a triangle positioned at a tuple tests
+    /// the one sample of that tuple in every tile its box overlaps.
+    Interleave,
+    /// INTERVAL: `spp` time intervals, one box per interval; a box tests
+    /// the samples whose time lies in its interval.
+    Interval,
+    /// Adaptive: INTERVAL or Interleave UVT per grid, whichever the grid's
+    /// motion and circle of confusion make cheaper.
+    Adaptive,
+    /// Baseline: each micropolygon writes only the sample nearest its
+    /// centroid (no motion blur or depth of field).
     Nearest,
+}
+
+impl Sampling {
+    /// Every mode, in the order of the docs and the benchmark tables.
+    pub const ALL: [Sampling; 6] = [
+        Sampling::Bbox,
+        Sampling::Simple,
+        Sampling::Interleave,
+        Sampling::Interval,
+        Sampling::Adaptive,
+        Sampling::Nearest,
+    ];
+
+    /// The name used in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sampling::Bbox => "bbox",
+            Sampling::Simple => "simple",
+            Sampling::Interleave => "interleave",
+            Sampling::Interval => "interval",
+            Sampling::Adaptive => "adaptive",
+            Sampling::Nearest => "nearest",
+        }
+    }
+
+    /// Whether the mode samples time and lens (everything but `Nearest`).
+    pub fn supports_blur(self) -> bool {
+        self != Sampling::Nearest
+    }
+}
+
+/// The thin lens of the camera (`[lens]`): depth of field.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Lens {
+    /// Lens radius in world units, >= 0 (default 0: a pinhole, everything sharp).
+    pub aperture: f32,
+    /// Distance from the eye, along the view direction, of the plane in
+    /// focus, > 0 (default: the distance from the eye to the camera target).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub focus_distance: Option<f32>,
 }
 
 /// The camera of a scene (`[camera]`).
@@ -265,6 +332,29 @@ pub struct Transform {
 }
 
 impl Transform {
+    /// The rotation `Rz * Ry * Rx` as a quaternion.
+    pub fn rotation(&self) -> Quat {
+        let r = self.rotate_degrees;
+        Quat::from_rotation_z(r.z.to_radians())
+            * Quat::from_rotation_y(r.y.to_radians())
+            * Quat::from_rotation_x(r.x.to_radians())
+    }
+
+    /// The placement a fraction `t` of the way from `self` to `other`:
+    /// translation and scale interpolated linearly, rotation by slerp (the
+    /// shorter way, so rotations of less than 180 degrees between the two).
+    /// Interpolating the matrices instead would shrink a spinning object.
+    /// `t = 0` gives exactly [`Transform::matrix`].
+    pub fn interpolate(&self, other: &Transform, t: f32) -> Mat4 {
+        if t == 0.0 {
+            return self.matrix();
+        }
+        let translate = self.translate.lerp(other.translate, t);
+        let scale = self.scale.to_vec3().lerp(other.scale.to_vec3(), t);
+        let rotation = self.rotation().slerp(other.rotation(), t);
+        Mat4::from_scale_rotation_translation(scale, rotation, translate)
+    }
+
     /// The model-to-world matrix `T * Rz * Ry * Rx * S`.
     pub fn matrix(&self) -> Mat4 {
         let r = self.rotate_degrees;
@@ -292,6 +382,11 @@ pub struct SceneObject {
     /// Displacement mapping (default none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub displacement: Option<DisplacementDesc>,
+    /// Placement at shutter close (default: `transform`, not moving). The
+    /// object moves from `transform` to this one, interpolated as
+    /// translation, rotation (slerp) and scale.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform_close: Option<Transform>,
 }
 
 /// A directional light (`[[lights]]`).
@@ -362,6 +457,14 @@ pub struct Scene {
     /// Jitter samples within their strata (default false).
     #[serde(default)]
     pub jitter: bool,
+    /// Fraction of the objects' open-to-close motion that happens while the
+    /// shutter is open, in [0, 1] (default 1): the objects are seen from
+    /// `transform` to the transform interpolated at this fraction.
+    #[serde(default = "default_one")]
+    pub shutter: f32,
+    /// The lens (default: a pinhole).
+    #[serde(default)]
+    pub lens: Lens,
     /// Linear RGB background (default `[0.05, 0.05, 0.07]`).
     #[serde(default = "default_background")]
     pub background: Vec3,
@@ -446,6 +549,8 @@ impl Default for Scene {
             spp: default_spp(),
             sampling: Sampling::default(),
             jitter: false,
+            shutter: 1.0,
+            lens: Lens::default(),
             background: default_background(),
             ambient: default_ambient(),
             dice_threshold: DEFAULT_DICE_THRESHOLD,
@@ -542,6 +647,7 @@ impl Scene {
                 transform: Transform::default(),
                 color: default_color(),
                 displacement: None,
+                transform_close: None,
             }],
             lights: vec![light],
             ..Scene::default()
@@ -592,6 +698,30 @@ impl Scene {
             return Err(SceneError::InvalidSpp { spp: self.spp });
         }
         finite("background", self.background.to_array())?;
+        finite("shutter", [self.shutter])?;
+        if !(0.0..=1.0).contains(&self.shutter) {
+            return Err(invalid("shutter", "must be in [0, 1]"));
+        }
+        finite("lens.aperture", [self.lens.aperture])?;
+        if self.lens.aperture < 0.0 {
+            return Err(invalid(
+                "lens.aperture",
+                "must be >= 0 (a lens radius in world units)",
+            ));
+        }
+        if let Some(focus) = self.lens.focus_distance {
+            finite("lens.focus_distance", [focus])?;
+            if focus <= 0.0 {
+                return Err(invalid("lens.focus_distance", "must be > 0"));
+            }
+        }
+        let moving = self.objects.iter().any(|o| o.transform_close.is_some());
+        if !self.sampling.supports_blur() && (moving || self.lens.aperture > 0.0) {
+            return Err(invalid(
+                "sampling",
+                "\"nearest\" samples neither time nor lens: use another mode for motion blur or depth of field",
+            ));
+        }
         finite("ambient", [self.ambient])?;
         finite("dice_threshold", [self.dice_threshold])?;
         finite("specular.strength", [self.specular.strength])?;
@@ -626,6 +756,27 @@ impl Scene {
                 t.scale.to_vec3().to_array(),
             )?;
             finite(&format!("objects[{i}].color"), object.color.to_array())?;
+            if let Some(t) = &object.transform_close {
+                finite(
+                    &format!("objects[{i}].transform_close.translate"),
+                    t.translate.to_array(),
+                )?;
+                finite(
+                    &format!("objects[{i}].transform_close.rotate_degrees"),
+                    t.rotate_degrees.to_array(),
+                )?;
+                finite(
+                    &format!("objects[{i}].transform_close.scale"),
+                    t.scale.to_vec3().to_array(),
+                )?;
+                let degenerate = |t: &Transform| t.scale.to_vec3().cmpeq(Vec3::ZERO).any();
+                if degenerate(t) || degenerate(&object.transform) {
+                    return Err(invalid(
+                        &format!("objects[{i}].transform_close"),
+                        "a moving object needs non-zero scales at open and close",
+                    ));
+                }
+            }
             if let Some(displacement) = &object.displacement {
                 displacement.validate().map_err(|problem| {
                     let field = format!("objects[{i}].displacement.{}", problem.field);

@@ -33,7 +33,23 @@ pub struct RenderStats {
     /// displacement bound (0 when every bound holds; see `docs/reyes.md`).
     #[serde(default)]
     pub displacement_bound_exceeded: u64,
+    /// Grids that Adaptive sampling (or Interleave UVT itself) sampled
+    /// with Interleave UVT.
+    #[serde(default)]
+    pub interleave_grids: u64,
     /// Wall-clock time of the frame in milliseconds, when measured.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frame_time_ms: Option<f64>,
+}
+
+impl RenderStats {
+    /// Sample test efficiency: samples hit per sample tested (0 when none
+    /// was tested).
+    pub fn sample_test_efficiency(&self) -> f64 {
+        if self.samples_tested == 0 {
+            0.0
+        } else {
+            self.samples_hit as f64 / self.samples_tested as f64
+        }
+    }
 }

@@ -1,18 +1,20 @@
 // Body of `Bound` (16 threads per input patch, one per control point).
 // Each thread projects its control point and publishes its outcode (of the
-// ball the object's displacement bound grows it to), its pixel position and
+// ball the object's displacement bound, motion and lens blur grow it to), its pixel position and
 // the bound's growth on screen in scratch; after the barrier thread 0
 // reduces them in the reference's order (reyes::reference::bound::bound)
 // and routes the patch.
 // Scratch: 4 words per point (outcode, px, py, growth in pixels).
 if (valid) {
     var p = item.p;
-    let bound = objects[item.object].displace_bound;
+    let object = objects[item.object];
+    let bound = object.displace_bound;
     let radius = clip_radius(bound);
-    let clip = to_clip(patch_point(&p, thread));
+    let point = patch_point(&p, thread);
+    let clip = to_clip(point);
     let pixel = to_pixel(clip);
     let w = 4u * thread;
-    scratch_store_u32(slot, w, outcode(clip, radius));
+    scratch_store_u32(slot, w, outcode(clip, cull_clip_radius(object, point, clip, radius)));
     scratch_store_f32(slot, w + 1u, pixel.x);
     scratch_store_f32(slot, w + 2u, pixel.y);
     scratch_store_f32(slot, w + 3u, pixel_growth(clip, bound, radius));

@@ -28,6 +28,23 @@ struct Frame {
     // How far each clip coordinate moves per world unit (reyes::camera::
     // Camera::clip_pad): a ball of radius b lies within c +- b * clip_pad.
     clip_pad: vec4<f32>,
+    // The thin lens (reyes::motion::PreparedLens): radius, view depth in
+    // focus, pixels per unit of x / w.
+    aperture: f32,
+    focus: f32,
+    pixel_scale: f32,
+    // 1 when samples carry a time and a lens position (the 5D path).
+    time_lens: u32,
+    // Float offsets in height_texels of the time/lens tables
+    // (reyes::uvt::UvtTables): simple, interleave, per-pixel, inverses.
+    uvt_simple: u32,
+    uvt_interleave: u32,
+    uvt_pixel: u32,
+    uvt_inverse: u32,
+    interleave_tuples: u32,
+    pad1: u32,
+    pad2: u32,
+    pad3: u32,
 }
 
 // One object (reyes::gpu::objects::ObjectData).
@@ -47,6 +64,14 @@ struct Object {
     // Repetitions of the source per input patch.
     tiling: f32,
     pad0: u32,
+    // Open to close world positions (reyes::motion::ObjectMotion), and
+    // whether the object moves at all.
+    motion: mat4x4<f32>,
+    moving: u32,
+    // How much the motion may stretch a length (>= 1).
+    motion_stretch: f32,
+    pad1: u32,
+    pad2: u32,
 }
 
 struct Light {
@@ -244,6 +269,48 @@ fn merge_flags(a: u32, b: u32) -> u32 {
 // The clip-space radius of a ball of `bound` world units.
 fn clip_radius(bound: f32) -> vec4<f32> {
     return frame.clip_pad * bound;
+}
+
+// ------------------------------------------------ motion and lens (bound)
+
+// glam's Mat4::transform_point3, term for term.
+fn motion_close(object: Object, p: vec3<f32>) -> vec3<f32> {
+    let m = object.motion;
+    return (((m[0] * p.x + m[1] * p.y) + m[2] * p.z) + m[3]).xyz;
+}
+
+// reyes::motion::PreparedLens::coc: signed circle of confusion (pixels).
+fn coc(w: f32) -> f32 {
+    if (frame.aperture == 0.0) {
+        return 0.0;
+    }
+    return frame.aperture * (1.0 / frame.focus - 1.0 / w) * frame.pixel_scale;
+}
+
+// reyes::motion::PreparedLens::world_shift.
+fn lens_world_shift(w: f32, e: f32) -> f32 {
+    if (frame.aperture == 0.0) {
+        return 0.0;
+    }
+    return frame.aperture * max(abs((w - e) / frame.focus - 1.0), abs((w + e) / frame.focus - 1.0));
+}
+
+// The clip-space radius the bound test grows control point `p` (clip `c`)
+// by for culling: the displacement radius `radius` of a sharp, still
+// object, else reyes::motion::cull_radius (displacement, motion and lens
+// shift; reyes::reference::bound::bound).
+fn cull_clip_radius(object: Object, p: vec3<f32>, c: vec4<f32>, radius: vec4<f32>) -> vec4<f32> {
+    if (object.moving == 0u && frame.aperture == 0.0) {
+        return radius;
+    }
+    var stretch = 1.0;
+    var moved = 0.0;
+    if (object.moving != 0u) {
+        stretch = object.motion_stretch;
+        moved = dist3(p, motion_close(object, p));
+    }
+    let reach = object.displace_bound * stretch + moved;
+    return frame.clip_pad * (reach + lens_world_shift(c.w, reach));
 }
 
 // reyes::reference::bound::pixel_growth: how far (pixels) the ball around a

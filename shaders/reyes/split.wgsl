@@ -4,16 +4,17 @@
 // De Casteljau at the middle along u or v, then the bound test of both
 // halves in this procedure. Every thread splits the whole piece (4 cubic
 // splits: cheaper than sharing 96 words through scratch); thread t projects
-// line t of each half (with the screen growth and outcodes of the object's
-// displacement bound) and computes the u/v extent terms of row t and
-// column t. Thread h (0 or 1) reduces half h in the reference's order and
+// line t of each half (with the screen growth of the object's displacement
+// bound, and outcodes grown also by its motion and lens blur) and computes
+// the u/v extent terms of row t and column t. Thread h (0 or 1) reduces half h in the reference's order and
 // routes it.
 // Scratch: words 0..4, per thread, the merged outcodes of its line in half 0
 // (low 16 bits) and half 1 (high 16 bits); from word 4, 7 words per (half h,
 // thread t) at 4 + 7 * (h * 4 + t): bbox lo.x, lo.y, hi.x, hi.y, growth
 // (pixels), u term, v term.
 var halves: array<array<f32, 48>, 2>;
-let bound = objects[item.object].displace_bound;
+let object = objects[item.object];
+let bound = object.displace_bound;
 let radius = clip_radius(bound);
 if (valid) {
     var p = item.p;
@@ -31,8 +32,9 @@ if (valid) {
         // From 0, as the reference folds it.
         var growth = 0.0;
         for (var k = 0u; k < 4u; k += 1u) {
-            let clip = to_clip(patch_point(&q, line_index(along_u, thread, k)));
-            flags = merge_flags(flags, outcode(clip, radius));
+            let point = patch_point(&q, line_index(along_u, thread, k));
+            let clip = to_clip(point);
+            flags = merge_flags(flags, outcode(clip, cull_clip_radius(object, point, clip, radius)));
             growth = max(growth, pixel_growth(clip, bound, radius));
             let pixel = to_pixel(clip).xy;
             if (k == 0u) {

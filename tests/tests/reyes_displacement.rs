@@ -218,6 +218,7 @@ fn wall_scene(bound: f32) -> PreparedScene {
         transform: Default::default(),
         color: Vec3::splat(0.8),
         displacement: Some(displacement(&map.to_string_lossy(), 1.0, 1.0)),
+        transform_close: None,
     });
     let mut prepared = PreparedScene::new(&scene, &[wall(-3.6)]).expect("scene prepares");
     std::fs::remove_dir_all(&dir).ok();

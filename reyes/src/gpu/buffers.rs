@@ -6,8 +6,8 @@ use super::graph::{sampling, stat};
 use super::objects::{ObjectData, ObjectTables};
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
-use crate::scene::Sampling;
 use crate::stats::RenderStats;
+use crate::uvt::UvtTables;
 
 /// Twin of the WGSL `Frame` struct (`shaders/reyes/library.wgsl`).
 #[repr(C)]
@@ -45,6 +45,21 @@ pub struct FrameUniform {
     pub pad0: u32,
     /// [`crate::camera::Camera::clip_pad`].
     pub clip_pad: [f32; 4],
+    /// Lens radius ([`crate::motion::PreparedLens`]).
+    pub aperture: f32,
+    /// View depth in focus.
+    pub focus: f32,
+    /// Pixels per unit of `x / w`.
+    pub pixel_scale: f32,
+    /// 1 when samples carry time and lens ([`PreparedScene::samples_time_and_lens`]).
+    pub time_lens: u32,
+    /// Offsets (floats) into `height_texels` of the [`UvtTables`]: simple
+    /// tuples, interleave tuples, per-pixel table, interleave inverses.
+    pub uvt: [u32; 4],
+    /// Interleave UVT tuples per tile.
+    pub interleave_tuples: u32,
+    /// Padding.
+    pub pad1: [u32; 3],
 }
 
 impl FrameUniform {
@@ -61,10 +76,7 @@ impl FrameUniform {
             spp: scene.spp,
             k: grid_size(scene.spp),
             max_split_depth: scene.max_split_depth,
-            sampling: match scene.sampling {
-                Sampling::Bbox => sampling::BBOX,
-                Sampling::Nearest => sampling::NEAREST,
-            },
+            sampling: sampling::code(scene.sampling),
             jitter: u32::from(scene.jitter),
             light_count: scene.lights.len() as u32,
             ambient: scene.ambient,
@@ -72,7 +84,46 @@ impl FrameUniform {
             shininess: scene.shininess,
             pad0: 0,
             clip_pad: camera.clip_pad().to_array(),
+            aperture: scene.lens.aperture,
+            focus: scene.lens.focus,
+            pixel_scale: scene.lens.pixel_scale,
+            time_lens: u32::from(scene.samples_time_and_lens()),
+            uvt: [0; 4],
+            interleave_tuples: 0,
+            pad1: [0; 3],
         }
+    }
+
+    /// Points the uniform at the time/lens tables stored at float `base` of
+    /// `height_texels`.
+    fn with_uvt(mut self, base: u32, tables: &UvtTables) -> Self {
+        let layout = tables.layout();
+        self.uvt = [
+            base + layout.simple,
+            base + layout.interleave,
+            base + layout.pixel,
+            base + layout.inverse,
+        ];
+        self.interleave_tuples = tables.interleave_tuples();
+        self
+    }
+}
+
+/// The `height_texels` buffer holds the height maps, then (when samples
+/// carry time and lens) the [`UvtTables`] from this float offset on.
+fn uvt_base(tables: &ObjectTables) -> u32 {
+    // The shaders index with u32; the renderer checks the texel count.
+    tables.texels as u32
+}
+
+/// Bytes of `height_texels` for `scene`: its maps and its time/lens tables.
+pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
+    let maps = ObjectTables::new(scene).texel_bytes();
+    if scene.samples_time_and_lens() {
+        let tables = UvtTables::new(scene.spp);
+        maps + 4 * u64::from(tables.layout().floats)
+    } else {
+        maps
     }
 }
 
@@ -106,6 +157,8 @@ pub struct FrameBuffers {
     lights_len: usize,
     /// The tables last written (their maps are in `height_texels`).
     tables: Option<ObjectTables>,
+    /// The time/lens tables last built (kept while `spp` stays the same).
+    uvt: Option<UvtTables>,
 }
 
 impl FrameBuffers {
@@ -123,7 +176,6 @@ impl FrameBuffers {
             })
         };
         let samples = framebuffer_samples(scene);
-        let tables = ObjectTables::new(scene);
         let buffers = Self {
             frame: buffer(
                 "reyes frame",
@@ -150,13 +202,14 @@ impl FrameBuffers {
             ),
             height_texels: buffer(
                 "reyes height texels",
-                tables.texel_bytes(),
+                texel_buffer_bytes(scene),
                 U::STORAGE | U::COPY_DST,
             ),
             samples,
             objects_len: scene.objects.len(),
             lights_len: scene.lights.len(),
             tables: None,
+            uvt: None,
         };
         let mut buffers = buffers;
         buffers.write(queue, scene);
@@ -169,7 +222,7 @@ impl FrameBuffers {
         self.samples == framebuffer_samples(scene)
             && self.objects_len == scene.objects.len()
             && self.lights_len == scene.lights.len()
-            && self.height_texels.size() == ObjectTables::new(scene).texel_bytes()
+            && self.height_texels.size() == texel_buffer_bytes(scene)
     }
 
     /// Writes the frame uniform, the objects, the lights and (when they
@@ -184,11 +237,22 @@ impl FrameBuffers {
                 radiance: l.radiance.extend(0.0).to_array(),
             })
             .collect();
-        queue.write_buffer(
-            &self.frame,
-            0,
-            bytemuck::bytes_of(&FrameUniform::new(scene)),
-        );
+        let mut frame = FrameUniform::new(scene);
+        if scene.samples_time_and_lens() {
+            let uvt = match self.uvt.take() {
+                Some(uvt) if uvt.spp == scene.spp => uvt,
+                _ => UvtTables::new(scene.spp),
+            };
+            let base = uvt_base(&tables);
+            frame = frame.with_uvt(base, &uvt);
+            queue.write_buffer(
+                &self.height_texels,
+                4 * u64::from(base),
+                bytemuck::cast_slice(&uvt.to_floats()),
+            );
+            self.uvt = Some(uvt);
+        }
+        queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&frame));
         if !tables.objects.is_empty() {
             queue.write_buffer(&self.objects, 0, bytemuck::cast_slice(&tables.objects));
         }
@@ -275,6 +339,7 @@ impl GpuCounters {
                 self.words[stat::LARGEST_MICROPOLYGON as usize],
             ),
             displacement_bound_exceeded: w(stat::DISPLACEMENT_BOUND_EXCEEDED),
+            interleave_grids: w(stat::INTERLEAVE_GRIDS),
             frame_time_ms: None,
         }
     }

@@ -17,11 +17,13 @@ use scheduler::{
 };
 
 use crate::params::{
-    DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX, DEGENERATE_PARAM_MIN, DISPLACED_DICE_FRACTION,
-    DISPLACEMENT_BOUND_TOLERANCE, GRID_POINTS, GRID_QUADS, HASH_MIX, HASH_MULTIPLIERS, NEAR_EPS,
-    SINES_NORMALIZATION, SINES_OCTAVE_2_FREQUENCY, SINES_OCTAVE_2_WEIGHT,
+    ADAPTIVE_INTERLEAVE_BIAS, DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX,
+    DEGENERATE_PARAM_MIN, DISPLACED_DICE_FRACTION, DISPLACEMENT_BOUND_TOLERANCE, GRID_POINTS,
+    GRID_QUADS, HASH_MIX, HASH_MULTIPLIERS, NEAR_EPS, SINES_NORMALIZATION,
+    SINES_OCTAVE_2_FREQUENCY, SINES_OCTAVE_2_WEIGHT,
 };
 use crate::prepare::WorldPatch;
+use crate::uvt::{INTERLEAVE_PERMUTATIONS, INTERLEAVE_TILE, PERMUTATION_CHANNEL, TABLE_SIDE};
 
 const PATCH_ITEM_WGSL: &str = include_str!("../../../shaders/reyes/patch_item.wgsl");
 const LIBRARY_WGSL: &str = include_str!("../../../shaders/reyes/library.wgsl");
@@ -29,6 +31,7 @@ const BOUND_WGSL: &str = include_str!("../../../shaders/reyes/bound.wgsl");
 const SPLIT_WGSL: &str = include_str!("../../../shaders/reyes/split.wgsl");
 const DICE_WGSL: &str = include_str!("../../../shaders/reyes/dice_shade_sample.wgsl");
 const DISPLACEMENT_WGSL: &str = include_str!("../../../shaders/reyes/displacement.wgsl");
+const RASTER5D_WGSL: &str = include_str!("../../../shaders/reyes/raster5d.wgsl");
 /// The `displacement_user` of scenes without a user function (returns 0).
 pub const DEFAULT_USER_DISPLACEMENT_WGSL: &str =
     include_str!("../../../shaders/reyes/displacement_user_default.wgsl");
@@ -53,7 +56,7 @@ pub const REQUIRED_FEATURES: wgpu::Features =
 /// WebGPU guarantees, next to the scheduler's own words.
 const BOUND_SCRATCH_WORDS: u32 = 4 * 16;
 const SPLIT_SCRATCH_WORDS: u32 = 4 + 7 * 8;
-const DICE_SCRATCH_WORDS: u32 = (3 + 3 + 7) * (GRID_POINTS * GRID_POINTS) as u32;
+const DICE_SCRATCH_WORDS: u32 = (3 + 3 + 8) * (GRID_POINTS * GRID_POINTS) as u32;
 
 /// Indices into the statistics buffer (`array<atomic<u32>>`). 64-bit
 /// counters take two words (low, high).
@@ -80,8 +83,10 @@ pub mod stat {
     pub const LOOPS_CUT: u32 = 12;
     /// Displaced grid points that left their object's displacement bound.
     pub const DISPLACEMENT_BOUND_EXCEEDED: u32 = 13;
+    /// Grids sampled with Interleave UVT.
+    pub const INTERLEAVE_GRIDS: u32 = 14;
     /// Words in the buffer.
-    pub const WORDS: u32 = 14;
+    pub const WORDS: u32 = 15;
 }
 
 /// Displacement sources, as [`super::objects::ObjectData::displace_kind`]
@@ -112,6 +117,27 @@ pub mod sampling {
     pub const BBOX: u32 = 0;
     /// The sample nearest the micropolygon's centroid.
     pub const NEAREST: u32 = 1;
+    /// Simple UVT.
+    pub const SIMPLE: u32 = 2;
+    /// Interleave UVT.
+    pub const INTERLEAVE: u32 = 3;
+    /// INTERVAL.
+    pub const INTERVAL: u32 = 4;
+    /// Adaptive (INTERVAL or Interleave UVT per grid).
+    pub const ADAPTIVE: u32 = 5;
+
+    /// The code of `mode`.
+    pub fn code(mode: crate::scene::Sampling) -> u32 {
+        use crate::scene::Sampling;
+        match mode {
+            Sampling::Bbox => BBOX,
+            Sampling::Nearest => NEAREST,
+            Sampling::Simple => SIMPLE,
+            Sampling::Interleave => INTERLEAVE,
+            Sampling::Interval => INTERVAL,
+            Sampling::Adaptive => ADAPTIVE,
+        }
+    }
 }
 
 /// The work item of every procedure; twin of `shaders/reyes/patch_item.wgsl`.
@@ -182,6 +208,15 @@ const DECIDE_SPLIT_V: u32 = {}u;
 const DECIDE_DROP: u32 = {}u;
 const SAMPLING_BBOX: u32 = {}u;
 const SAMPLING_NEAREST: u32 = {}u;
+const SAMPLING_SIMPLE: u32 = {}u;
+const SAMPLING_INTERLEAVE: u32 = {}u;
+const SAMPLING_INTERVAL: u32 = {}u;
+const SAMPLING_ADAPTIVE: u32 = {}u;
+const INTERLEAVE_TILE: u32 = {INTERLEAVE_TILE}u;
+const INTERLEAVE_PERMUTATIONS: u32 = {INTERLEAVE_PERMUTATIONS}u;
+const PERMUTATION_CHANNEL: u32 = {PERMUTATION_CHANNEL}u;
+const TABLE_SIDE: u32 = {TABLE_SIDE}u;
+const ADAPTIVE_INTERLEAVE_BIAS: f32 = {ADAPTIVE_INTERLEAVE_BIAS:?};
 const STAT_INPUT_PATCHES: u32 = {}u;
 const STAT_SPLITS: u32 = {}u;
 const STAT_CULLED: u32 = {}u;
@@ -193,6 +228,7 @@ const STAT_SAMPLES_HIT: u32 = {}u;
 const STAT_LARGEST_MICROPOLYGON: u32 = {}u;
 const STAT_LOOPS_CUT: u32 = {}u;
 const STAT_DISPLACEMENT_BOUND_EXCEEDED: u32 = {}u;
+const STAT_INTERLEAVE_GRIDS: u32 = {}u;
 const DISPLACE_NONE: u32 = {}u;
 const DISPLACE_IMAGE: u32 = {}u;
 const DISPLACE_SINES: u32 = {}u;
@@ -211,6 +247,10 @@ const SINES_NORMALIZATION: f32 = {SINES_NORMALIZATION:?};
         decide::DROP,
         sampling::BBOX,
         sampling::NEAREST,
+        sampling::SIMPLE,
+        sampling::INTERLEAVE,
+        sampling::INTERVAL,
+        sampling::ADAPTIVE,
         stat::INPUT_PATCHES,
         stat::SPLITS,
         stat::CULLED,
@@ -222,6 +262,7 @@ const SINES_NORMALIZATION: f32 = {SINES_NORMALIZATION:?};
         stat::LARGEST_MICROPOLYGON,
         stat::LOOPS_CUT,
         stat::DISPLACEMENT_BOUND_EXCEEDED,
+        stat::INTERLEAVE_GRIDS,
         displace::NONE,
         displace::IMAGE,
         displace::SINES,
@@ -251,6 +292,7 @@ pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
     let mut graph = Graph::new("reyes");
     graph.library(&constants_wgsl());
     graph.library(LIBRARY_WGSL);
+    graph.library(RASTER5D_WGSL);
     graph.library(DISPLACEMENT_WGSL);
     graph.library(user_displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));
     // Declaration order = binding order in group 1 (see `buffers.rs`).

@@ -30,6 +30,17 @@ pub struct ObjectData {
     pub tiling: f32,
     /// Padding.
     pub pad0: u32,
+    /// Open to close world positions ([`crate::motion::ObjectMotion::matrix`]),
+    /// column-major; identity when the object does not move.
+    pub motion: [f32; 16],
+    /// 1 when the object moves.
+    pub moving: u32,
+    /// [`crate::motion::ObjectMotion::stretch`] (1 when not moving).
+    pub motion_stretch: f32,
+    /// Padding.
+    pub pad1: u32,
+    /// Padding.
+    pub pad2: u32,
 }
 
 /// The objects' GPU data and the height maps they use, concatenated.
@@ -64,7 +75,17 @@ impl ObjectTables {
                     displace_bound: 0.0,
                     tiling: 1.0,
                     pad0: 0,
+                    motion: glam::Mat4::IDENTITY.to_cols_array(),
+                    moving: 0,
+                    motion_stretch: 1.0,
+                    pad1: 0,
+                    pad2: 0,
                 };
+                if let Some(motion) = &object.motion {
+                    data.motion = motion.matrix.to_cols_array();
+                    data.moving = 1;
+                    data.motion_stretch = motion.stretch;
+                }
                 let Some(d) = &object.displacement else {
                     return data;
                 };

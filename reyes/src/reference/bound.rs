@@ -7,7 +7,25 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::bezier::{SplitDirection, split_direction_2d, split_direction_3d};
 use crate::camera::Camera;
+use crate::motion::{ObjectMotion, PreparedLens, cull_radius};
 use crate::params::{DISPLACED_DICE_FRACTION, NEAR_EPS};
+
+/// The motion and lens a piece is seen with (none of either: a sharp,
+/// still frame, whose bound test is exactly the plain one).
+#[derive(Debug, Clone, Copy)]
+pub struct Blur<'a> {
+    /// The object's motion, if it moves.
+    pub motion: Option<&'a ObjectMotion>,
+    /// The lens.
+    pub lens: &'a PreparedLens,
+}
+
+impl Blur<'_> {
+    /// Whether the piece moves or the lens blurs.
+    pub fn is_some(&self) -> bool {
+        self.motion.is_some() || self.lens.aperture > 0.0
+    }
+}
 
 /// The outcome of the bound test for one patch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -104,7 +122,10 @@ pub fn fits(size: f32, growth: f32, threshold: f32) -> bool {
 /// Runs the bound test on a patch's 16 world-space control points, each
 /// grown by `displacement_bound` (world units; 0 without displacement).
 ///
-/// 1. Cull if all (grown) points are outside one clip plane.
+/// 1. Cull if all (grown) points are outside one clip plane. With `blur`,
+///    each point is grown for culling by [`cull_radius`] instead: its
+///    displacement, its motion and its lens shift, so that the piece is
+///    culled only when it is outside at every time and lens position.
 /// 2. If any point itself has `w <= NEAR_EPS` or `z < 0`, the patch cannot
 ///    be projected: split by world-space extents (or drop at
 ///    `max_split_depth`). The growth does not count here: a bound that
@@ -121,6 +142,7 @@ pub fn bound(
     dice_threshold: f32,
     max_split_depth: u32,
     displacement_bound: f32,
+    blur: Blur<'_>,
 ) -> BoundDecision {
     let clip = points.map(|p| *view_proj * p.extend(1.0));
     let radius = if displacement_bound == 0.0 {
@@ -131,8 +153,16 @@ pub fn bound(
 
     let mut outside_all = u8::MAX;
     let mut unprojectable = false;
-    for c in &clip {
-        outside_all &= outcode(*c, radius);
+    for (c, p) in clip.iter().zip(points) {
+        // Culling sees every time and lens position: the ball also covers
+        // the point's motion and lens shift (crate::motion::cull_radius).
+        let cull = if blur.is_some() {
+            let reach = cull_radius(*p, c.w, displacement_bound, blur.motion, blur.lens);
+            camera.clip_pad() * reach
+        } else {
+            radius
+        };
+        outside_all &= outcode(*c, cull);
         unprojectable |= c.w <= NEAR_EPS || c.z < 0.0;
     }
     if outside_all != 0 {

@@ -18,6 +18,7 @@ pub mod dice;
 pub mod displace;
 pub mod framebuffer;
 pub mod raster;
+pub mod raster5d;
 pub mod resolve;
 pub mod shade;
 pub mod work;
@@ -26,7 +27,7 @@ use std::time::Instant;
 
 use image::RgbaImage;
 
-use self::bound::{BoundDecision, bound};
+use self::bound::{Blur, BoundDecision, bound};
 use self::dice::{GRID_LEN, dice};
 use self::displace::dice_displaced;
 use self::framebuffer::Framebuffer;
@@ -34,6 +35,7 @@ use self::raster::{
     SampleGrid, ScreenPoint, micropolygon_corners, micropolygon_size, raster_nearest,
     raster_triangle,
 };
+use self::raster5d::{Mode5d, MovingPoint, Sampler, raster_triangle_5d};
 use self::shade::shade;
 use self::work::WorkItem;
 use crate::color::pack_rgb10;
@@ -42,6 +44,7 @@ use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::scene::{Sampling, Scene, SceneError};
 use crate::stats::RenderStats;
+use crate::uvt::UvtTables;
 
 /// The result of a render.
 #[derive(Debug, Clone)]
@@ -111,6 +114,13 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
     let view_proj = camera.view_proj();
     let mut framebuffer = Framebuffer::new(camera.width, camera.height, scene.spp);
     let samples = SampleGrid::new(grid_size(scene.spp), scene.jitter);
+    let uvt = scene
+        .samples_time_and_lens()
+        .then(|| UvtTables::new(scene.spp));
+    let sampler = uvt.as_ref().map(|uvt| Sampler {
+        samples: &samples,
+        uvt,
+    });
     let mut stats = RenderStats {
         input_patches: scene.patches.len() as u64,
         ..RenderStats::default()
@@ -145,6 +155,10 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
             scene.dice_threshold,
             scene.max_split_depth,
             scene.objects[item.object as usize].displacement_bound(),
+            Blur {
+                motion: scene.objects[item.object as usize].motion.as_ref(),
+                lens: &scene.lens,
+            },
         ) {
             BoundDecision::Cull => stats.culled_patches += 1,
             BoundDecision::Drop => stats.depth_guard_drops += 1,
@@ -161,6 +175,7 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
                     &item,
                     &view_proj,
                     &samples,
+                    sampler.as_ref(),
                     &mut framebuffer,
                     &mut stats,
                 );
@@ -176,6 +191,7 @@ fn dice_shade_sample(
     item: &WorkItem,
     view_proj: &glam::Mat4,
     samples: &SampleGrid,
+    sampler: Option<&Sampler<'_>>,
     framebuffer: &mut Framebuffer,
     stats: &mut RenderStats,
 ) {
@@ -210,6 +226,32 @@ fn dice_shade_sample(
         };
     }
 
+    // With time and lens: every point at open and close, and the grid's
+    // algorithm (Adaptive decides per grid from its largest motion and blur).
+    let moving = sampler.map(|sampler| {
+        let motion = object.motion.as_ref();
+        let points: [MovingPoint; GRID_LEN] = std::array::from_fn(|k| {
+            let open = screen[k];
+            let close_position = motion.map_or(grid.positions[k], |m| m.close(grid.positions[k]));
+            let clip = *view_proj * close_position.extend(1.0);
+            let close = scene.camera.to_pixel(clip);
+            let coc = [scene.lens.coc(open.w), scene.lens.coc(clip.w)];
+            MovingPoint::new(open.pixel, open.w, close, clip.w, coc)
+        });
+        let extent = |f: fn(&MovingPoint) -> f32| points.iter().map(f).fold(0.0f32, f32::max);
+        let mode = Mode5d::for_grid(
+            scene.sampling,
+            extent(MovingPoint::motion),
+            extent(MovingPoint::blur),
+            scene.spp,
+        )
+        .unwrap_or(Mode5d::Bbox);
+        (sampler, points, mode)
+    });
+    if let Some((_, _, Mode5d::Interleave)) = &moving {
+        stats.interleave_grids += 1;
+    }
+
     for j in 0..GRID_QUADS {
         for i in 0..GRID_QUADS {
             let corners = micropolygon_corners(&screen, i, j);
@@ -220,13 +262,20 @@ fn dice_shade_sample(
             let color =
                 (corner_colors[0] + corner_colors[1] + corner_colors[2] + corner_colors[3]) * 0.25;
             let packed = pack_rgb10(color);
+            if let Some((sampler, points, mode)) = &moving {
+                let [a, b, c, d] = micropolygon_corners_of(points, i, j);
+                for triangle in [[a, b, c], [a, c, d]] {
+                    raster_triangle_5d(framebuffer, sampler, *mode, triangle, packed, stats);
+                }
+                continue;
+            }
             match scene.sampling {
-                Sampling::Bbox => {
+                Sampling::Nearest => raster_nearest(framebuffer, samples.k, corners, packed, stats),
+                _ => {
                     let [a, b, c, d] = corners;
                     raster_triangle(framebuffer, samples, [a, b, c], packed, stats);
                     raster_triangle(framebuffer, samples, [a, c, d], packed, stats);
                 }
-                Sampling::Nearest => raster_nearest(framebuffer, samples.k, corners, packed, stats),
             }
         }
     }

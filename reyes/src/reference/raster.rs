@@ -55,7 +55,7 @@ impl SampleGrid {
 
     /// Position of sample `s` of pixel `(x, y)`.
     #[inline]
-    fn position(&self, x: u32, y: u32, s: u32) -> Vec2 {
+    pub(crate) fn position(&self, x: u32, y: u32, s: u32) -> Vec2 {
         if self.jitter {
             Vec2::new(x as f32, y as f32) + sample_offset(x, y, s, self.k, true)
         } else {
@@ -77,7 +77,7 @@ fn edge_raw(a: Vec2, b: Vec2, p: Vec2) -> f32 {
 /// this, rounding could leave a sample on a shared edge in both triangles or
 /// in neither.
 #[inline]
-fn edge(a: Vec2, b: Vec2, p: Vec2) -> f32 {
+pub(crate) fn edge(a: Vec2, b: Vec2, p: Vec2) -> f32 {
     if a.x < b.x || (a.x == b.x && a.y <= b.y) {
         edge_raw(a, b, p)
     } else {
@@ -97,14 +97,14 @@ fn owns(a: Vec2, b: Vec2) -> bool {
 
 /// Whether a sample with edge value `e` is inside the half-plane of `a -> b`.
 #[inline]
-fn inside(e: f32, a: Vec2, b: Vec2) -> bool {
+pub(crate) fn inside(e: f32, a: Vec2, b: Vec2) -> bool {
     e > 0.0 || (e == 0.0 && owns(a, b))
 }
 
 /// Clamps a depth into `[0, 1]` and turns -0.0 into +0.0, so its bit pattern
 /// orders correctly inside a sample key.
 #[inline]
-fn key_depth(z: f32) -> f32 {
+pub(crate) fn key_depth(z: f32) -> f32 {
     let z = z.clamp(0.0, 1.0);
     if z == 0.0 { 0.0 } else { z }
 }
