@@ -3,8 +3,9 @@
 
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use reyes::gpu::GpuRendered;
+use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::reference::Rendered;
+use reyes::scene::{CameraDesc, Scene};
 
 /// lavapipe has 2 cores: renders from parallel tests would only compete for
 /// them (and for llvmpipe's loop budget, see
@@ -75,4 +76,34 @@ pub fn assert_counts_close(what: &str, gpu: u64, cpu: u64) {
         gpu.abs_diff(cpu) <= tolerance,
         "{what}: GPU {gpu}, CPU {cpu} (tolerance {tolerance})"
     );
+}
+
+/// A Reyes renderer on the shared test device. The device must have the
+/// int64 features: like `tests::gpu()`, a machine that cannot run the test
+/// fails loudly instead of passing by skipping.
+pub fn renderer(gpu: &scheduler::Gpu, options: GpuOptions) -> GpuRenderer<'_> {
+    GpuRenderer::new(gpu, options).unwrap_or_else(|e| {
+        panic!(
+            "the Reyes GPU renderer cannot run on {}: {e}",
+            gpu.describe()
+        )
+    })
+}
+
+/// The default teapot scene at `width x height`, `spp` samples, framed for
+/// that aspect ratio and narrowed from 40 to 34 degrees so the teapot
+/// covers about a fifth of the image (the framing fits the whole bounding
+/// box, whose corners lie well outside the teapot's silhouette).
+pub fn framed_teapot(width: u32, height: u32, spp: u32) -> Scene {
+    let mut scene = Scene::default_teapot();
+    scene.resolution.width = width;
+    scene.resolution.height = height;
+    scene.spp = spp;
+    let (lo, hi) = reyes::model::Model::teapot().bounds();
+    let camera = CameraDesc::framing(lo, hi, width as f32 / height as f32);
+    scene.camera = Some(CameraDesc {
+        fov_y_degrees: 34.0,
+        ..camera
+    });
+    scene
 }

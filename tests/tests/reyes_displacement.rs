@@ -13,7 +13,7 @@ use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, ReferenceError, Rendered};
 use reyes::scene::{CameraDesc, Sampling, Scene, SceneError};
-use tests::reyes_support::{Agreement, agreement, assert_counts_close, gpu_turn};
+use tests::reyes_support::{Agreement, agreement, assert_counts_close, framed_teapot, gpu_turn};
 
 /// Run time limit: llvmpipe compiles the megakernel lazily at its first
 /// dispatch, which takes more than the default minute on a 2-core machine
@@ -37,17 +37,7 @@ fn renderer(gpu: &scheduler::Gpu) -> GpuRenderer<'_> {
 /// The default teapot at `width x height`, spp 4, framed for that aspect
 /// ratio with the field of view narrowed to 34 degrees (as in `reyes_gpu.rs`).
 fn teapot(width: u32, height: u32) -> Scene {
-    let mut scene = Scene::default_teapot();
-    scene.resolution.width = width;
-    scene.resolution.height = height;
-    scene.spp = 4;
-    let (lo, hi) = Model::teapot().bounds();
-    let camera = CameraDesc::framing(lo, hi, width as f32 / height as f32);
-    scene.camera = Some(CameraDesc {
-        fov_y_degrees: 34.0,
-        ..camera
-    });
-    scene
+    framed_teapot(width, height, 4)
 }
 
 /// A displacement table.

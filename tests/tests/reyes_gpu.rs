@@ -10,36 +10,13 @@ use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer, RenderError};
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, Rendered};
 use reyes::scene::{CameraDesc, Sampling, Scene};
-use tests::reyes_support::{Agreement, agreement, assert_counts_close, gpu_turn};
+use tests::reyes_support::{
+    Agreement, agreement, assert_counts_close, framed_teapot, gpu_turn, renderer,
+};
 
-/// A renderer on the shared test device. The device must have the int64
-/// features: like `tests::gpu()`, a machine that cannot run the test fails
-/// loudly instead of passing by skipping.
-fn renderer(gpu: &scheduler::Gpu, options: GpuOptions) -> GpuRenderer<'_> {
-    GpuRenderer::new(gpu, options).unwrap_or_else(|e| {
-        panic!(
-            "the Reyes GPU renderer cannot run on {}: {e}",
-            gpu.describe()
-        )
-    })
-}
-
-/// The default teapot scene at `size x size`, `spp` samples, framed for a
-/// square image and narrowed from 40 to 34 degrees so the teapot covers
-/// about a fifth of the image (the framing fits the whole bounding box,
-/// whose corners lie well outside the teapot's silhouette).
+/// The default teapot at `size x size` (see [`framed_teapot`]).
 fn teapot(size: u32, spp: u32) -> Scene {
-    let mut scene = Scene::default_teapot();
-    scene.resolution.width = size;
-    scene.resolution.height = size;
-    scene.spp = spp;
-    let (lo, hi) = reyes::model::Model::teapot().bounds();
-    let camera = CameraDesc::framing(lo, hi, 1.0);
-    scene.camera = Some(CameraDesc {
-        fov_y_degrees: 34.0,
-        ..camera
-    });
-    scene
+    framed_teapot(size, size, spp)
 }
 
 /// Renders `scene` on both and returns both with their agreement.

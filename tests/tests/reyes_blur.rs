@@ -1,0 +1,457 @@
+//! Motion blur and depth of field (the 5D sampling modes of
+//! `reyes::scene::Sampling`), checked against independent references:
+//!
+//! * a stationary, in-focus frame samples the same in every mode as on the
+//!   plain path;
+//! * every mode on the GPU agrees with the CPU reference
+//!   (`reyes::reference::raster5d`) on a spinning, defocused teapot;
+//! * a moving card's streak spans its motion vector, as projected by the
+//!   camera, to within a pixel;
+//! * depth of field keeps the focal plane sharp and blurs a card off it by
+//!   about its circle of confusion;
+//! * a card that is off screen at shutter open and moves into view is not
+//!   culled;
+//! * invalid motion and lens settings are typed errors.
+
+use glam::Vec3;
+use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
+use reyes::model::{Model, Patch};
+use reyes::prepare::PreparedScene;
+use reyes::reference::{self, Rendered};
+use reyes::scene::{CameraDesc, Sampling, Scene, SceneError, SceneObject, Transform};
+use tests::reyes_support::{agreement, assert_counts_close, framed_teapot, gpu_turn, renderer};
+
+/// The 5D modes.
+const MODES: [Sampling; 5] = [
+    Sampling::Bbox,
+    Sampling::Simple,
+    Sampling::Interleave,
+    Sampling::Interval,
+    Sampling::Adaptive,
+];
+
+/// Image side of the card scenes.
+const SIDE: u32 = 128;
+
+fn render_gpu(renderer: &mut GpuRenderer<'_>, scene: &PreparedScene) -> GpuRendered {
+    let rendered = renderer.render(scene).expect("GPU render");
+    eprintln!(
+        "{:?}: tested {}, hit {}, efficiency {:.4}, interleave grids {}",
+        scene.sampling,
+        rendered.stats.samples_tested,
+        rendered.stats.samples_hit,
+        rendered.stats.sample_test_efficiency(),
+        rendered.stats.interleave_grids
+    );
+    rendered
+}
+
+#[test]
+fn a_still_sharp_frame_samples_alike_in_every_mode() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let mut scene = framed_teapot(128, 128, 4);
+    let plain = PreparedScene::load(&scene).expect("scene prepares");
+    assert!(!plain.samples_time_and_lens());
+    let plain = render_gpu(&mut renderer, &plain);
+    assert!(plain.stats.samples_hit > 10_000);
+    for mode in MODES {
+        scene.sampling = mode;
+        let prepared = PreparedScene::load(&scene).expect("scene prepares");
+        let rendered = render_gpu(&mut renderer, &prepared);
+        let cpu = reference::render(&prepared);
+        let a = agreement(&rendered, &plain_as_reference(&plain));
+        assert!(
+            a.iou >= 0.995,
+            "{mode:?}: coverage IoU {:.5} < 0.995",
+            a.iou
+        );
+        assert!(
+            a.within_2 >= 0.99,
+            "{mode:?}: only {:.4} of the pixels within 2/255 (max {})",
+            a.within_2,
+            a.max_diff
+        );
+        // Still and sharp, every mode tests each sample against the same
+        // triangles as the plain path, just grouped differently: the hits
+        // are the same, on the GPU and in the reference.
+        assert_eq!(
+            rendered.stats.samples_hit, plain.stats.samples_hit,
+            "{mode:?}"
+        );
+        assert_eq!(
+            cpu.stats.samples_hit, rendered.stats.samples_hit,
+            "{mode:?}"
+        );
+        assert!(rendered.stats.samples_tested >= rendered.stats.samples_hit);
+    }
+}
+
+/// A GPU render seen as a [`Rendered`], to compare two GPU renders with
+/// the same helper.
+fn plain_as_reference(gpu: &GpuRendered) -> Rendered {
+    Rendered {
+        image: gpu.image.clone(),
+        coverage: gpu.coverage.clone(),
+        stats: gpu.stats.clone(),
+    }
+}
+
+#[test]
+fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let mut scene = framed_teapot(96, 96, 4);
+    for object in &mut scene.objects {
+        object.transform_close = Some(Transform {
+            rotate_degrees: Vec3::new(0.0, 0.0, 10.0),
+            ..object.transform
+        });
+    }
+    // Focused on the camera target (the teapot's centre): grids near the
+    // spin axis and the focal plane stay sharp, the spout and handle blur.
+    scene.lens.aperture = 0.1;
+    let mut interleave_grids = Vec::new();
+    for mode in MODES {
+        scene.sampling = mode;
+        let prepared = PreparedScene::load(&scene).expect("scene prepares");
+        let g = render_gpu(&mut renderer, &prepared);
+        let c = reference::render(&prepared);
+        let a = agreement(&g, &c);
+        eprintln!("{mode:?}: {a:?}");
+        assert!(a.coverage >= 0.1, "{mode:?}: coverage {:.3}", a.coverage);
+        assert!(a.iou >= 0.99, "{mode:?}: coverage IoU {:.5} < 0.99", a.iou);
+        assert!(
+            a.within_2 >= 0.98,
+            "{mode:?}: only {:.4} of the pixels within 2/255 (max {})",
+            a.within_2,
+            a.max_diff
+        );
+        assert_counts_close("grids diced", g.stats.grids_diced, c.stats.grids_diced);
+        assert_counts_close(
+            "samples tested",
+            g.stats.samples_tested,
+            c.stats.samples_tested,
+        );
+        assert_counts_close("samples hit", g.stats.samples_hit, c.stats.samples_hit);
+        assert_counts_close(
+            "interleave grids",
+            g.stats.interleave_grids,
+            c.stats.interleave_grids,
+        );
+        interleave_grids.push(c.stats.interleave_grids);
+    }
+    // Interleave UVT samples every grid with it; the others none; Adaptive
+    // decides per grid (this frame has both small and large blur).
+    let grids = interleave_grids[2];
+    assert!(grids > 0);
+    assert_eq!(
+        interleave_grids[0] + interleave_grids[1] + interleave_grids[3],
+        0
+    );
+    assert!(
+        interleave_grids[4] > 0 && interleave_grids[4] < grids,
+        "adaptive sent {} of {grids} grids to Interleave UVT",
+        interleave_grids[4]
+    );
+}
+
+/// A flat square card facing +z, `2 * half` wide, centred at `centre`.
+fn card(centre: Vec3, half: f32) -> Model {
+    let points = std::array::from_fn(|k| {
+        let (u, v) = ((k % 4) as f32 / 3.0, (k / 4) as f32 / 3.0);
+        centre + Vec3::new(-half + 2.0 * half * u, half - 2.0 * half * v, 0.0)
+    });
+    Model {
+        patches: vec![Patch { points }],
+    }
+}
+
+/// The card scene: the eye at the origin looking down -z with a 60 degree
+/// view, `SIDE x SIDE` pixels, spp 64, white light from the eye, one object
+/// per card (moving from `transform` by `motion`).
+fn card_scene(cards: &[(Vec3, f32, Vec3)], sampling: Sampling) -> (Scene, Vec<Model>) {
+    let mut scene = Scene::default();
+    scene.resolution.width = SIDE;
+    scene.resolution.height = SIDE;
+    scene.spp = 64;
+    scene.sampling = sampling;
+    scene.camera = Some(CameraDesc {
+        eye: Vec3::ZERO,
+        target: Vec3::new(0.0, 0.0, -1.0),
+        up: Vec3::Y,
+        fov_y_degrees: 60.0,
+        near: 0.1,
+        far: 100.0,
+    });
+    scene.lights[0].direction = Vec3::new(0.0, 0.0, -1.0);
+    scene.specular.strength = 0.0;
+    let mut models = Vec::new();
+    for &(centre, half, motion) in cards {
+        scene.objects.push(SceneObject {
+            model: "card".into(),
+            transform: Transform::default(),
+            color: Vec3::ONE,
+            displacement: None,
+            transform_close: (motion != Vec3::ZERO).then(|| Transform {
+                translate: motion,
+                ..Transform::default()
+            }),
+        });
+        models.push(card(centre, half));
+    }
+    (scene, models)
+}
+
+/// The pixel x (or y) of a world point in the card scene.
+fn project(scene: &PreparedScene, p: Vec3) -> Vec3 {
+    scene.camera.to_pixel(scene.camera.to_clip(p))
+}
+
+/// The covered pixel columns and rows: `(x_lo, x_hi, y_lo, y_hi)` as pixel
+/// edges (the covered pixels span `[x_lo, x_hi)`).
+fn covered_extent(coverage: &[bool]) -> (f32, f32, f32, f32) {
+    let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (u32::MAX, 0, u32::MAX, 0);
+    for (i, _) in coverage.iter().enumerate().filter(|(_, c)| **c) {
+        let (x, y) = (i as u32 % SIDE, i as u32 / SIDE);
+        x_lo = x_lo.min(x);
+        x_hi = x_hi.max(x + 1);
+        y_lo = y_lo.min(y);
+        y_hi = y_hi.max(y + 1);
+    }
+    assert!(x_lo < x_hi, "nothing covered");
+    (x_lo as f32, x_hi as f32, y_lo as f32, y_hi as f32)
+}
+
+#[test]
+fn a_moving_card_streaks_along_its_motion_vector() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    // A card 1 unit wide at depth 5 (about 22 pixels) moving 1.2 units right
+    // and 0.3 up during the shutter.
+    let (centre, half, motion) = (Vec3::new(-0.5, -0.2, -5.0), 0.5, Vec3::new(1.2, 0.3, 0.0));
+    for sampling in [Sampling::Bbox, Sampling::Interleave, Sampling::Interval] {
+        let (scene, models) = card_scene(&[(centre, half, motion)], sampling);
+        let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+        // The screen box of the card's corners at open and at close.
+        let corners = [-half, half].into_iter().flat_map(|dx| {
+            [-half, half].into_iter().flat_map(move |dy| {
+                [Vec3::ZERO, motion].map(|m| centre + Vec3::new(dx, dy, 0.0) + m)
+            })
+        });
+        let pixels: Vec<Vec3> = corners.map(|p| project(&prepared, p)).collect();
+        let left = pixels.iter().map(|p| p.x).fold(f32::INFINITY, f32::min);
+        let right = pixels.iter().map(|p| p.x).fold(f32::NEG_INFINITY, f32::max);
+        let top = pixels.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
+        let bottom = pixels.iter().map(|p| p.y).fold(f32::NEG_INFINITY, f32::max);
+        let gpu = render_gpu(&mut renderer, &prepared);
+        let cpu = reference::render(&prepared);
+        for (who, coverage) in [("GPU", &gpu.coverage), ("CPU", &cpu.coverage)] {
+            let (x_lo, x_hi, y_lo, y_hi) = covered_extent(coverage);
+            eprintln!(
+                "{sampling:?} {who}: x {x_lo}..{x_hi} (expected {left:.2}..{right:.2}), y {y_lo}..{y_hi} (expected {top:.2}..{bottom:.2})"
+            );
+            for (got, want, what) in [
+                (x_lo, left, "left"),
+                (x_hi, right, "right"),
+                (y_lo, top, "top"),
+                (y_hi, bottom, "bottom"),
+            ] {
+                assert!(
+                    (got - want).abs() <= 1.0,
+                    "{sampling:?} {who}: streak {what} edge at {got}, the motion puts it at {want:.2}"
+                );
+            }
+        }
+        // The still card covers only its own square: the streak is the motion.
+        let (still, models) = card_scene(&[(centre, half, Vec3::ZERO)], sampling);
+        let still = reference::render(&PreparedScene::new(&still, &models).unwrap());
+        let (x_lo, x_hi, _, _) = covered_extent(&still.coverage);
+        assert!((x_hi - x_lo) < (right - left) - 20.0, "{x_lo}..{x_hi}");
+    }
+}
+
+/// Gradient energy of a row band's luminance across one vertical edge:
+/// the sum of squared horizontal differences over `x0..x1`, rows `y0..y1`.
+fn gradient_energy(rendered: &GpuRendered, x0: u32, x1: u32, y0: u32, y1: u32) -> f64 {
+    let luminance = |x: u32, y: u32| {
+        let p = rendered.image.get_pixel(x, y).0;
+        f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2])
+    };
+    let mut energy = 0.0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let d = luminance(x + 1, y) - luminance(x, y);
+            energy += d * d;
+        }
+    }
+    energy
+}
+
+#[test]
+fn depth_of_field_keeps_the_focal_plane_sharp_and_blurs_the_rest() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    // A near card at depth 4 (in focus) left of centre, a far card at
+    // depth 12 right of centre; both about 28 pixels wide.
+    let cards = [
+        (Vec3::new(-1.0, 0.0, -4.0), 0.5, Vec3::ZERO),
+        (Vec3::new(3.0, 0.0, -12.0), 1.5, Vec3::ZERO),
+    ];
+    for sampling in [Sampling::Bbox, Sampling::Interleave, Sampling::Adaptive] {
+        let (mut scene, models) = card_scene(&cards, sampling);
+        let pinhole = PreparedScene::new(&scene, &models).expect("scene prepares");
+        scene.lens.aperture = 0.25;
+        scene.lens.focus_distance = Some(4.0);
+        let lens = PreparedScene::new(&scene, &models).expect("scene prepares");
+        let far_coc = lens.lens.coc(12.0);
+        assert!(
+            far_coc > 4.0,
+            "the far card's circle of confusion is {far_coc} px"
+        );
+        assert_eq!(lens.lens.coc(4.0), 0.0);
+        let sharp = render_gpu(&mut renderer, &pinhole);
+        let blurred = render_gpu(&mut renderer, &lens);
+        // Each card's left edge, and a band of rows through its middle.
+        let near_edge = project(&lens, Vec3::new(-1.5, 0.0, -4.0)).x as u32;
+        let far_edge_x = project(&lens, Vec3::new(1.5, 0.0, -12.0)).x;
+        let far_edge = far_edge_x as u32;
+        let (y0, y1) = (SIDE / 2 - 6, SIDE / 2 + 6);
+        let window = |edge: u32| (edge - 8, edge + 8);
+        let energy = |r: &GpuRendered, edge: u32| {
+            let (x0, x1) = window(edge);
+            gradient_energy(r, x0, x1, y0, y1)
+        };
+        let near = energy(&blurred, near_edge) / energy(&sharp, near_edge);
+        let far = energy(&blurred, far_edge) / energy(&sharp, far_edge);
+        eprintln!(
+            "{sampling:?}: gradient energy with the lens / pinhole: near {near:.3}, far {far:.3}"
+        );
+        assert!(
+            near > 0.9,
+            "{sampling:?}: the focal plane lost sharpness ({near:.3})"
+        );
+        assert!(
+            far < 0.5,
+            "{sampling:?}: the far card stayed sharp ({far:.3})"
+        );
+        // The blur spreads the far card's edge over about 2 * coc pixels.
+        let (x0, x1) = window(far_edge);
+        let row = SIDE / 2;
+        let covered: Vec<bool> = (x0..x1)
+            .map(|x| blurred.coverage[(row * SIDE + x) as usize])
+            .collect();
+        let first = covered
+            .iter()
+            .position(|&c| c)
+            .expect("the far card is covered") as f32;
+        let expected = far_edge_x - far_coc - x0 as f32;
+        assert!(
+            (first - expected).abs() <= 1.5,
+            "{sampling:?}: blurred edge starts {first} px into the window, the circle of confusion puts it at {expected:.2}"
+        );
+    }
+}
+
+#[test]
+fn a_card_moving_into_view_is_not_culled() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    // Off screen to the left at open (the view is +-2.9 units wide at depth
+    // 5), in the middle at close.
+    let (centre, half, motion) = (Vec3::new(-4.0, 0.0, -5.0), 0.5, Vec3::new(4.0, 0.0, 0.0));
+    let (scene, models) = card_scene(&[(centre, half, motion)], Sampling::Adaptive);
+    let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+    let right = project(&prepared, centre + Vec3::new(half, 0.0, 0.0) + motion).x;
+    let gpu = render_gpu(&mut renderer, &prepared);
+    let cpu = reference::render(&prepared);
+    for (who, coverage, stats) in [
+        ("GPU", &gpu.coverage, &gpu.stats),
+        ("CPU", &cpu.coverage, &cpu.stats),
+    ] {
+        assert_eq!(stats.culled_patches, 0, "{who}");
+        let (x_lo, x_hi, _, _) = covered_extent(coverage);
+        assert_eq!(x_lo, 0.0, "{who}: the streak enters from the left edge");
+        assert!(
+            (x_hi - right).abs() <= 1.0,
+            "{who}: streak ends at {x_hi}, expected {right:.2}"
+        );
+    }
+    // A still card there is culled.
+    let (still, models) = card_scene(&[(centre, half, Vec3::ZERO)], Sampling::Adaptive);
+    let still = reference::render(&PreparedScene::new(&still, &models).unwrap());
+    assert_eq!(still.stats.culled_patches, 1);
+}
+
+#[test]
+fn invalid_motion_and_lens_settings_are_typed_errors() {
+    let teapot = |edit: &dyn Fn(&mut Scene)| {
+        let mut scene = Scene::default_teapot();
+        edit(&mut scene);
+        scene.validate()
+    };
+    let field_of = |result: Result<(), SceneError>| match result {
+        Err(SceneError::InvalidValue { field, .. } | SceneError::NonFinite { field }) => field,
+        other => panic!("expected an invalid value, got {other:?}"),
+    };
+    assert_eq!(field_of(teapot(&|s| s.shutter = 1.5)), "shutter");
+    assert_eq!(field_of(teapot(&|s| s.shutter = f32::NAN)), "shutter");
+    assert_eq!(
+        field_of(teapot(&|s| s.lens.aperture = -0.1)),
+        "lens.aperture"
+    );
+    assert_eq!(
+        field_of(teapot(&|s| s.lens.focus_distance = Some(0.0))),
+        "lens.focus_distance"
+    );
+    assert_eq!(
+        field_of(teapot(&|s| {
+            s.sampling = Sampling::Nearest;
+            s.lens.aperture = 0.1;
+        })),
+        "sampling"
+    );
+    assert_eq!(
+        field_of(teapot(&|s| {
+            s.objects[0].transform_close = Some(Transform {
+                scale: reyes::scene::Scale::Uniform(0.0),
+                ..Transform::default()
+            });
+        })),
+        "objects[0].transform_close"
+    );
+    assert_eq!(
+        field_of(teapot(&|s| {
+            s.objects[0].transform_close = Some(Transform {
+                translate: Vec3::new(f32::INFINITY, 0.0, 0.0),
+                ..Transform::default()
+            });
+        })),
+        "objects[0].transform_close.translate"
+    );
+    // The TOML spelling parses and round-trips.
+    let scene = Scene::from_toml_str(
+        r#"
+        sampling = "interleave"
+        shutter = 0.5
+        [lens]
+        aperture = 0.2
+        focus_distance = 8.0
+        [[objects]]
+        model = "teapot"
+        [objects.transform_close]
+        rotate_degrees = [0.0, 0.0, 30.0]
+        "#,
+    )
+    .expect("scene parses");
+    assert_eq!(scene.sampling, Sampling::Interleave);
+    assert_eq!(
+        Scene::from_toml_str(&scene.to_toml_string()).unwrap(),
+        scene
+    );
+}
