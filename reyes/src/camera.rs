@@ -35,6 +35,11 @@ pub struct Camera {
     pub view: Mat4,
     /// View-to-clip matrix.
     pub proj: Mat4,
+    /// Where this image's pixel (0, 0) lies in the full image: (0, 0)
+    /// unless the camera is a [`Camera::crop`] of a larger one. Sampling
+    /// hashes absolute pixel coordinates, so a tile samples exactly like
+    /// the same pixels of the whole frame.
+    pub origin: [u32; 2],
 }
 
 impl Camera {
@@ -67,6 +72,7 @@ impl Camera {
             height,
             view: Mat4::look_at_rh(eye, target, up),
             proj: Mat4::perspective_rh(fov_y_radians, aspect, near, far),
+            origin: [0, 0],
         }
     }
 
@@ -90,6 +96,45 @@ impl Camera {
     /// Transforms a world-space point to clip space: `view_proj * (p, 1)`.
     pub fn to_clip(&self, p: Vec3) -> Vec4 {
         self.view_proj() * p.extend(1.0)
+    }
+
+    /// The camera whose image is the sub-rectangle `[x0, x0 + width) x [y0,
+    /// y0 + height)` of this camera's image, at the same pixel scale: a point
+    /// at pixel `(px, py)` here is at `(px - x0, py - y0)` in the cropped
+    /// camera, with the same depth.
+    ///
+    /// The projection is post-multiplied by a clip-space scale and translate
+    /// of x and y only. Clip `w` (the view depth) and `z` are untouched, so
+    /// NDC depth, the near/far tests and the key depths stay the same; the
+    /// cropped frustum's side planes are those of the tile. From the pixel
+    /// convention, `ndc'.x = ndc.x * W / w + (W - 2 x0 - w) / w` and
+    /// `ndc'.y = ndc.y * H / h + (h - H + 2 y0) / h`, which is that map
+    /// applied to `clip.x / clip.w` and `clip.y / clip.w`.
+    ///
+    /// The rectangle may reach beyond the image (it is a frustum, not a
+    /// copy of pixels); a `width` or `height` of 0 is taken as 1.
+    pub fn crop(&self, x0: u32, y0: u32, width: u32, height: u32) -> Camera {
+        let (full_w, full_h) = (self.width as f32, self.height as f32);
+        let (w, h) = (width.max(1) as f32, height.max(1) as f32);
+        let (x0, y0) = (x0 as f32, y0 as f32);
+        let crop = Mat4::from_cols(
+            Vec4::new(full_w / w, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, full_h / h, 0.0, 0.0),
+            Vec4::Z,
+            Vec4::new(
+                (full_w - 2.0 * x0 - w) / w,
+                (h - full_h + 2.0 * y0) / h,
+                0.0,
+                1.0,
+            ),
+        );
+        Camera {
+            width: width.max(1),
+            height: height.max(1),
+            proj: crop * self.proj,
+            origin: [self.origin[0] + x0 as u32, self.origin[1] + y0 as u32],
+            ..*self
+        }
     }
 
     /// Converts a clip-space position to `(px, py, depth)`: pixel coordinates
@@ -149,6 +194,98 @@ mod tests {
                 delta.cmple(pad * 0.5 * 1.0001 + 1e-6).all(),
                 "{delta} {pad}"
             );
+        }
+    }
+
+    /// A small deterministic generator for the crop tests (xorshift64*).
+    struct Random(u64);
+
+    impl Random {
+        /// Uniform in `[lo, hi)`.
+        fn range(&mut self, lo: f32, hi: f32) -> f32 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            let bits = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 40;
+            lo + (hi - lo) * (bits as f32 / (1u64 << 24) as f32)
+        }
+    }
+
+    /// The crops exercised: the whole image, aligned bands and tiles, a
+    /// partial edge tile, an odd-sized tile, and one reaching past the image.
+    const CROPS: [(u32, u32, u32, u32); 6] = [
+        (0, 0, 200, 100),
+        (0, 64, 200, 36),
+        (64, 0, 64, 64),
+        (128, 64, 72, 36),
+        (13, 7, 101, 53),
+        (192, 64, 64, 64),
+    ];
+
+    #[test]
+    fn crop_shifts_pixels_by_the_origin() {
+        let cam = camera();
+        let mut random = Random(0x9e37_79b9_7f4a_7c15);
+        for &(x0, y0, w, h) in &CROPS {
+            let crop = cam.crop(x0, y0, w, h);
+            assert_eq!((crop.width, crop.height), (w, h));
+            assert_eq!(
+                (crop.eye, crop.target, crop.up, crop.view),
+                (cam.eye, cam.target, cam.up, cam.view)
+            );
+            for _ in 0..500 {
+                // Points in front of the camera, inside and well outside its frustum.
+                let p = Vec3::new(
+                    random.range(-12.0, 12.0),
+                    random.range(-8.0, 60.0),
+                    random.range(-8.0, 8.0),
+                );
+                let (full, tile) = (cam.to_clip(p), crop.to_clip(p));
+                assert!(full.w > 0.5, "{p} is not in front of the camera");
+                assert_eq!(tile.w, full.w, "crop changed w at {p}");
+                let (a, b) = (cam.to_pixel(full), crop.to_pixel(tile));
+                let expected = Vec3::new(a.x - x0 as f32, a.y - y0 as f32, a.z);
+                // Float rounding, relative to the pixel magnitudes involved.
+                let tolerance = 1e-5 * (1.0 + a.x.abs().max(a.y.abs()) + 200.0);
+                assert!(
+                    (b - expected).abs().cmple(Vec3::splat(tolerance)).all(),
+                    "crop {:?}: {p} at {b}, expected {expected}",
+                    (x0, y0, w, h)
+                );
+                assert_eq!(b.z, a.z, "crop changed the depth of {p}");
+            }
+        }
+    }
+
+    #[test]
+    fn clip_pad_bounds_the_clip_motion_of_a_ball_in_a_crop() {
+        let cam = camera();
+        let mut random = Random(0x2545_f491_4f6c_dd1d);
+        for &(x0, y0, w, h) in &CROPS {
+            let crop = cam.crop(x0, y0, w, h);
+            let pad = crop.clip_pad();
+            for _ in 0..50 {
+                let centre = Vec3::new(
+                    random.range(-3.0, 3.0),
+                    random.range(-3.0, 10.0),
+                    random.range(-3.0, 3.0),
+                );
+                let radius = random.range(0.01, 2.0);
+                let c = crop.to_clip(centre);
+                for k in 0..100 {
+                    let a = k as f32 * 0.731;
+                    let b = k as f32 * 0.377;
+                    let offset = Vec3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos()) * radius;
+                    let delta = (crop.to_clip(centre + offset) - c).abs();
+                    let bound =
+                        pad * radius * 1.0001 + Vec4::splat(1e-4 * (1.0 + c.abs().max_element()));
+                    assert!(
+                        delta.cmple(bound).all(),
+                        "crop {:?}: {delta} {pad}",
+                        (x0, y0, w, h)
+                    );
+                }
+            }
         }
     }
 

@@ -42,9 +42,11 @@ struct Frame {
     uvt_pixel: u32,
     uvt_inverse: u32,
     interleave_tuples: u32,
+    // This image's pixel (0, 0) in the full frame (a screen tile's origin):
+    // sampling hashes absolute pixel coordinates.
+    origin_x: u32,
+    origin_y: u32,
     pad1: u32,
-    pad2: u32,
-    pad3: u32,
 }
 
 // One object (reyes::gpu::objects::ObjectData).
@@ -546,8 +548,10 @@ fn sample_position(x: u32, y: u32, s: u32) -> vec2<f32> {
     let kf = f32(frame.k);
     var offset = vec2<f32>((f32(s % frame.k) + 0.5) / kf, (f32(s / frame.k) + 0.5) / kf);
     if (frame.jitter != 0u) {
-        let jx = (f32(jitter_hash(x, y, s, 0u)) / 4294967296.0 - 0.5) / kf;
-        let jy = (f32(jitter_hash(x, y, s, 1u)) / 4294967296.0 - 0.5) / kf;
+        let gx = x + frame.origin_x;
+        let gy = y + frame.origin_y;
+        let jx = (f32(jitter_hash(gx, gy, s, 0u)) / 4294967296.0 - 0.5) / kf;
+        let jy = (f32(jitter_hash(gx, gy, s, 1u)) / 4294967296.0 - 0.5) / kf;
         offset += vec2<f32>(jx, jy);
     }
     return vec2<f32>(f32(x), f32(y)) + offset;

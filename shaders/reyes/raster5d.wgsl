@@ -50,7 +50,9 @@ fn uvt_record(at: u32) -> vec3<f32> {
 
 // Float offset of sample s of pixel (x, y) in the per-pixel table.
 fn uvt_pixel_at(x: u32, y: u32, s: u32) -> u32 {
-    return frame.uvt_pixel + 4u * (((y % TABLE_SIDE) * TABLE_SIDE + x % TABLE_SIDE) * frame.spp + s);
+    let gx = x + frame.origin_x;
+    let gy = y + frame.origin_y;
+    return frame.uvt_pixel + 4u * (((gy % TABLE_SIDE) * TABLE_SIDE + gx % TABLE_SIDE) * frame.spp + s);
 }
 
 fn place(ma: Moving, mb: Moving, mc: Moving, tl: vec3<f32>) -> Placed {
@@ -209,7 +211,13 @@ fn raster_interleave(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr
                 }
                 let tx = tx0 + n % ntx;
                 let ty = ty0 + n / ntx;
-                let permutation = jitter_hash(tx, ty, 0u, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS;
+                // Tile origins are multiples of INTERLEAVE_TILE (TILE_ALIGN).
+                let permutation = jitter_hash(
+                    tx + frame.origin_x / INTERLEAVE_TILE,
+                    ty + frame.origin_y / INTERLEAVE_TILE,
+                    0u,
+                    PERMUTATION_CHANNEL,
+                ) % INTERLEAVE_PERMUTATIONS;
                 let j = u32(height_texels[frame.uvt_inverse + permutation * tuples + tuple]);
                 let q = j / frame.spp;
                 let x = tx * INTERLEAVE_TILE + q % INTERLEAVE_TILE;

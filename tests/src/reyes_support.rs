@@ -107,3 +107,13 @@ pub fn framed_teapot(width: u32, height: u32, spp: u32) -> Scene {
     });
     scene
 }
+
+/// A GPU frame in the form [`agreement`] compares against, to compare two
+/// GPU frames.
+pub fn as_reference(frame: &GpuRendered) -> Rendered {
+    Rendered {
+        image: frame.image.clone(),
+        coverage: frame.coverage.clone(),
+        stats: frame.stats.clone(),
+    }
+}

@@ -17,9 +17,11 @@ use glam::Vec3;
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
-use reyes::reference::{self, Rendered};
+use reyes::reference;
 use reyes::scene::{CameraDesc, Sampling, Scene, SceneError, SceneObject, Transform};
-use tests::reyes_support::{agreement, assert_counts_close, framed_teapot, gpu_turn, renderer};
+use tests::reyes_support::{
+    agreement, as_reference, assert_counts_close, framed_teapot, gpu_turn, renderer,
+};
 
 /// The 5D modes.
 const MODES: [Sampling; 5] = [
@@ -61,7 +63,7 @@ fn a_still_sharp_frame_samples_alike_in_every_mode() {
         let prepared = PreparedScene::load(&scene).expect("scene prepares");
         let rendered = render_gpu(&mut renderer, &prepared);
         let cpu = reference::render(&prepared);
-        let a = agreement(&rendered, &plain_as_reference(&plain));
+        let a = agreement(&rendered, &as_reference(&plain));
         assert!(
             a.iou >= 0.995,
             "{mode:?}: coverage IoU {:.5} < 0.995",
@@ -85,16 +87,6 @@ fn a_still_sharp_frame_samples_alike_in_every_mode() {
             "{mode:?}"
         );
         assert!(rendered.stats.samples_tested >= rendered.stats.samples_hit);
-    }
-}
-
-/// A GPU render seen as a [`Rendered`], to compare two GPU renders with
-/// the same helper.
-fn plain_as_reference(gpu: &GpuRendered) -> Rendered {
-    Rendered {
-        image: gpu.image.clone(),
-        coverage: gpu.coverage.clone(),
-        stats: gpu.stats.clone(),
     }
 }
 

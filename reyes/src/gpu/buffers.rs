@@ -58,8 +58,10 @@ pub struct FrameUniform {
     pub uvt: [u32; 4],
     /// Interleave UVT tuples per tile.
     pub interleave_tuples: u32,
+    /// The image's pixel (0, 0) in the full frame ([`crate::camera::Camera::origin`]).
+    pub origin: [u32; 2],
     /// Padding.
-    pub pad1: [u32; 3],
+    pub pad1: u32,
 }
 
 impl FrameUniform {
@@ -90,7 +92,8 @@ impl FrameUniform {
             time_lens: u32::from(scene.samples_time_and_lens()),
             uvt: [0; 4],
             interleave_tuples: 0,
-            pad1: [0; 3],
+            origin: camera.origin,
+            pad1: 0,
         }
     }
 

@@ -10,12 +10,27 @@ use scheduler::{
     RunError, RunReport, Seeds, Strategy,
 };
 
-use super::buffers::{FrameBuffers, GpuCounters, framebuffer_samples};
+use super::buffers::{FrameBuffers, GpuCounters, texel_buffer_bytes};
 use super::graph::{self, BOUND, DICE, PatchItem, REQUIRED_FEATURES, SPLIT_U, SPLIT_V};
-use super::objects::ObjectTables;
 use super::resolve::{ResolveTarget, Resolver};
 use crate::prepare::PreparedScene;
 use crate::stats::RenderStats;
+
+/// Screen tiles start at multiples of this many pixels. The renderer's
+/// per-pixel 5D sample table repeats every [`crate::uvt::TABLE_SIDE`] (64)
+/// pixels and its interleaved sampling works on
+/// [`crate::uvt::INTERLEAVE_TILE`] (2) pixel squares, both indexed by the
+/// pixel coordinates of the frame being rendered; a tile whose origin is a
+/// multiple of both gives every pixel the samples it has in the untiled
+/// frame, so tiling changes the image only through float rounding. The
+/// jitter and Interleave UVT's permutation per 2 x 2 square are hashed from
+/// absolute pixel coordinates ([`crate::camera::Camera::origin`]).
+pub const TILE_ALIGN: u32 = 64;
+const _: () = assert!(
+    TILE_ALIGN.is_multiple_of(crate::uvt::TABLE_SIDE)
+        && TILE_ALIGN.is_multiple_of(crate::uvt::INTERLEAVE_TILE),
+    "tile origins must keep the sample tables' period"
+);
 
 /// Default capacity (items) of the split and dice queues. With the
 /// depth-first priorities the queues hold roughly one wave of pieces per
@@ -145,6 +160,11 @@ pub struct GpuOptions {
     /// Queue policy the graph is compiled for (default: priority, which
     /// works the patches depth-first).
     pub policy: Policy,
+    /// Most samples the framebuffer of one screen tile may hold (`None`: as
+    /// many as the device's buffers and the shaders' u32 sample index
+    /// allow). A frame with more samples is rendered in tiles (see
+    /// [`plan_tiles`]); a small cap forces tiling on small frames.
+    pub max_tile_samples: Option<u64>,
 }
 
 /// Default host-side limit of one megakernel run. It includes the driver's
@@ -161,6 +181,7 @@ impl Default for GpuOptions {
             timeout: DEFAULT_RENDER_TIMEOUT,
             strategy: Strategy::Megakernel,
             policy: Policy::Priority,
+            max_tile_samples: None,
         }
     }
 }
@@ -189,12 +210,129 @@ pub struct GpuRendered {
     /// The scheduler's report of the (last) megakernel run; `None` for a
     /// scene without patches, where nothing runs.
     pub report: Option<RunReport>,
-    /// Runs repeated because a queue overflowed (0 or 1).
+    /// Runs repeated because a queue overflowed (0 or 1 per tile, summed
+    /// over the tiles).
     pub overflow_retries: u32,
-    /// Runs repeated because llvmpipe cut loops short (0 to 2).
+    /// Runs repeated because llvmpipe cut loops short (0 to 2 per tile,
+    /// summed over the tiles).
     pub loop_retries: u32,
-    /// Timings of the frame.
+    /// Timings of the frame (summed over the tiles).
     pub timings: FrameTimings,
+    /// Screen tiles the frame was rendered in (1 unless its sample
+    /// framebuffer exceeds the device's limits or
+    /// [`GpuOptions::max_tile_samples`]).
+    pub tiles: u32,
+}
+
+/// A screen tile: the pixels `[x0, x0 + width) x [y0, y0 + height)` of a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tile {
+    /// Left column.
+    pub x0: u32,
+    /// Top row.
+    pub y0: u32,
+    /// Columns.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+}
+
+/// Splits a `width x height` image into screen tiles of at most
+/// `max_pixels` pixels each, row by row from the top left.
+///
+/// One tile covers the whole image when it fits. Otherwise tile origins are
+/// multiples of [`TILE_ALIGN`] and the tiles are full-width bands of rows
+/// when a band of [`TILE_ALIGN`] rows fits (one band spans every column, so
+/// patches are bound and culled against fewer tiles), else tiles about as
+/// wide as they are high; either way the tile size is then evened out so
+/// that the last row or column of tiles is not much smaller than the others.
+/// Tiles at the right and bottom edges are clipped to the image.
+///
+/// `None` when even the smallest aligned tile, `min(width, 64) x
+/// min(height, 64)` pixels, exceeds `max_pixels`.
+pub fn plan_tiles(width: u32, height: u32, max_pixels: u64) -> Option<Vec<Tile>> {
+    let (w, h) = (u64::from(width), u64::from(height));
+    if w * h <= max_pixels {
+        return Some(vec![Tile {
+            x0: 0,
+            y0: 0,
+            width,
+            height,
+        }]);
+    }
+    let align = u64::from(TILE_ALIGN);
+    if w.min(align) * h.min(align) > max_pixels {
+        return None;
+    }
+    let down = |n: u64| n / align * align;
+    // In every branch the side that is smaller than its extent is a
+    // positive multiple of `align` (see the checks above), so evening out
+    // below keeps the tiles within `max_pixels`.
+    let rows = down(max_pixels / w);
+    let (tile_w, tile_h) = if rows >= align {
+        (w, rows)
+    } else if h <= align {
+        // Too few rows for aligned bands: columns of the full height.
+        (down(max_pixels / h), h)
+    } else {
+        // The largest aligned square that fits, widened to use the budget.
+        let side = down(max_pixels.isqrt()).max(align);
+        (down(max_pixels / side), side)
+    };
+    // The smallest aligned size that needs no more tiles than `tile`.
+    let even = |extent: u64, tile: u64| {
+        if tile >= extent {
+            extent
+        } else {
+            let count = extent.div_ceil(tile);
+            extent.div_ceil(count).div_ceil(align) * align
+        }
+    };
+    let (tile_w, tile_h) = (even(w, tile_w), even(h, tile_h));
+    let mut tiles = Vec::new();
+    for y0 in (0..h).step_by(tile_h as usize) {
+        for x0 in (0..w).step_by(tile_w as usize) {
+            // Every value is at most `width` or `height`, so these fit u32.
+            tiles.push(Tile {
+                x0: x0 as u32,
+                y0: y0 as u32,
+                width: tile_w.min(w - x0) as u32,
+                height: tile_h.min(h - y0) as u32,
+            });
+        }
+    }
+    Some(tiles)
+}
+
+/// Adds a tile's counters to a frame's: counts are summed, the largest
+/// micropolygon is the largest of any tile. `input_patches` (the scene's,
+/// not the tile's) and the frame time are set by the caller.
+fn add_tile_stats(total: &mut RenderStats, tile: &RenderStats) {
+    // Destructured without `..` so that a new counter has to be placed here.
+    let RenderStats {
+        input_patches: _,
+        splits,
+        culled_patches,
+        depth_guard_drops,
+        grids_diced,
+        micropolygons,
+        samples_tested,
+        samples_hit,
+        largest_micropolygon_px,
+        displacement_bound_exceeded,
+        interleave_grids,
+        frame_time_ms: _,
+    } = tile;
+    total.splits += splits;
+    total.culled_patches += culled_patches;
+    total.depth_guard_drops += depth_guard_drops;
+    total.grids_diced += grids_diced;
+    total.micropolygons += micropolygons;
+    total.samples_tested += samples_tested;
+    total.samples_hit += samples_hit;
+    total.largest_micropolygon_px = total.largest_micropolygon_px.max(*largest_micropolygon_px);
+    total.displacement_bound_exceeded += displacement_bound_exceeded;
+    total.interleave_grids += interleave_grids;
 }
 
 /// Renders prepared scenes with the Reyes megakernel. Pipelines, the
@@ -282,11 +420,12 @@ impl<'a> GpuRenderer<'a> {
             .min(limits.max_buffer_size)
     }
 
-    /// Checks the frame's buffers against the device limits.
-    fn check_size(&self, scene: &PreparedScene) -> Result<(), RenderError> {
+    /// Checks the frame against the device limits and splits it into screen
+    /// tiles whose sample framebuffers fit one device buffer, the shaders'
+    /// u32 sample index and [`GpuOptions::max_tile_samples`].
+    fn plan(&self, scene: &PreparedScene) -> Result<Vec<Tile>, RenderError> {
         let (width, height, spp) = (scene.camera.width, scene.camera.height, scene.spp);
         let limit = self.buffer_limit();
-        let samples = framebuffer_samples(scene);
         let too_large = |what, needed, limit| RenderError::TooLarge {
             what,
             width,
@@ -295,28 +434,41 @@ impl<'a> GpuRenderer<'a> {
             needed,
             limit,
         };
-        if 8 * samples > limit {
-            return Err(too_large("sample framebuffer", 8 * samples, limit));
-        }
-        // The shaders index samples with u32.
-        if samples > u64::from(u32::MAX) {
-            return Err(too_large(
-                "sample framebuffer",
-                8 * samples,
-                8 * u64::from(u32::MAX),
-            ));
-        }
+        // Only tiles are resolved on the device, but a frame whose whole RGBA
+        // image exceeds one device buffer is still refused: it would need
+        // thousands of tiles and gigabytes of host memory for the image.
         let pixels = u64::from(width) * u64::from(height);
         if 4 * pixels > limit {
             return Err(too_large("image", 4 * pixels, limit));
         }
-        let needed = ObjectTables::new(scene).texel_bytes();
+        // The height maps, and the time/lens tables behind them.
+        let needed = texel_buffer_bytes(scene);
         // The shaders index texels with u32.
-        let limit = limit.min(4 * u64::from(u32::MAX));
-        if needed > limit {
-            return Err(RenderError::HeightMapsTooLarge { needed, limit });
+        let texel_limit = limit.min(4 * u64::from(u32::MAX));
+        if needed > texel_limit {
+            return Err(RenderError::HeightMapsTooLarge {
+                needed,
+                limit: texel_limit,
+            });
         }
-        Ok(())
+        // 8 bytes per sample in one buffer; the shaders index samples with u32.
+        let device_samples = (limit / 8).min(u64::from(u32::MAX));
+        let (max_samples, what) = match self.options.max_tile_samples {
+            Some(cap) if cap < device_samples => (
+                cap,
+                "sample framebuffer of the smallest screen tile (capped by GpuOptions::max_tile_samples)",
+            ),
+            _ => (
+                device_samples,
+                "sample framebuffer of the smallest screen tile",
+            ),
+        };
+        let spp64 = u64::from(spp.max(1));
+        plan_tiles(width, height, max_samples / spp64).ok_or_else(|| {
+            let align = u64::from(TILE_ALIGN);
+            let smallest = u64::from(width).min(align) * u64::from(height).min(align) * spp64;
+            too_large(what, 8 * smallest, 8 * max_samples)
+        })
     }
 
     /// Queue capacities for `patches` input patches: every seed fits into
@@ -424,13 +576,98 @@ impl<'a> GpuRenderer<'a> {
 
     /// Renders one frame.
     ///
-    /// A queue overflow is retried once from scratch (cleared framebuffer
-    /// and statistics) with the work queues' capacities doubled, and a run
-    /// whose loops llvmpipe cut short is retried once with
+    /// A frame whose sample framebuffer exceeds the device's limits (or
+    /// [`GpuOptions::max_tile_samples`]) is rendered as screen tiles (see
+    /// [`plan_tiles`]), one after another, each through a camera cropped to
+    /// the tile ([`crate::camera::Camera::crop`]); their pixels are pasted
+    /// into the frame and their counters added up. A frame that fits is one
+    /// tile and is rendered exactly as without tiling.
+    ///
+    /// Within a tile, a queue overflow is retried once from scratch (cleared
+    /// framebuffer and statistics) with the work queues' capacities doubled,
+    /// and a run whose loops llvmpipe cut short is retried once with
     /// [`CPU_RETRY_ITERATION_BUDGET`]; the result reports both retries.
     pub fn render(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
-        self.check_size(scene)?;
+        let tiles = self.plan(scene)?;
         self.prepare_megakernel(scene)?;
+        if let [_] = tiles[..] {
+            return self.render_tile(scene);
+        }
+        self.render_tiles(scene, &tiles)
+    }
+
+    /// Renders `scene` tile by tile and pastes the tiles together.
+    fn render_tiles(
+        &mut self,
+        scene: &PreparedScene,
+        tiles: &[Tile],
+    ) -> Result<GpuRendered, RenderError> {
+        let start = Instant::now();
+        let (width, height) = (scene.camera.width, scene.camera.height);
+        log::info!(
+            "{width}x{height} at {} spp exceeds one framebuffer: rendering {} screen tiles",
+            scene.spp,
+            tiles.len()
+        );
+        // Only the camera differs between tiles: everything else the frame
+        // uniform and the tables derive from the scene stays the frame's.
+        let mut tile_scene = scene.clone();
+        let mut image = RgbaImage::new(width, height);
+        let mut coverage = vec![false; width as usize * height as usize];
+        let mut stats = RenderStats {
+            input_patches: scene.patches.len() as u64,
+            ..RenderStats::default()
+        };
+        let (mut report, mut overflow_retries, mut loop_retries) = (None, 0, 0);
+        let mut megakernel_gpu_ms = Some(0.0);
+        let mut megakernel_wall_ms = 0.0;
+        for tile in tiles {
+            tile_scene.camera = scene.camera.crop(tile.x0, tile.y0, tile.width, tile.height);
+            let rendered = self.render_tile(&tile_scene)?;
+            log::debug!(
+                "tile {tile:?}: {:.1} ms, {} grids",
+                rendered.timings.total_wall_ms,
+                rendered.stats.grids_diced
+            );
+            let (tw, x0) = (tile.width as usize, tile.x0 as usize);
+            for row in 0..tile.height as usize {
+                let y = tile.y0 as usize + row;
+                let source = row * tw..(row + 1) * tw;
+                let target = y * width as usize + x0..y * width as usize + x0 + tw;
+                coverage[target.clone()].copy_from_slice(&rendered.coverage[source.clone()]);
+                image.as_mut()[4 * target.start..4 * target.end]
+                    .copy_from_slice(&rendered.image.as_raw()[4 * source.start..4 * source.end]);
+            }
+            add_tile_stats(&mut stats, &rendered.stats);
+            megakernel_gpu_ms = megakernel_gpu_ms
+                .zip(rendered.timings.megakernel_gpu_ms)
+                .map(|(a, b)| a + b);
+            megakernel_wall_ms += rendered.timings.megakernel_wall_ms;
+            overflow_retries += rendered.overflow_retries;
+            loop_retries += rendered.loop_retries;
+            report = rendered.report.or(report);
+        }
+        // The tiles' frame times plus the pasting.
+        let total_wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        stats.frame_time_ms = Some(megakernel_gpu_ms.unwrap_or(total_wall_ms));
+        Ok(GpuRendered {
+            image,
+            coverage,
+            stats,
+            report,
+            overflow_retries,
+            loop_retries,
+            timings: FrameTimings {
+                megakernel_gpu_ms,
+                megakernel_wall_ms,
+                total_wall_ms,
+            },
+            tiles: tiles.len() as u32,
+        })
+    }
+
+    /// Renders `scene`, whose buffers fit the device, in one piece.
+    fn render_tile(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
         let start = Instant::now();
         self.frame_buffers(scene);
         let seeds: Vec<PatchItem> = scene.patches.iter().map(PatchItem::input).collect();
@@ -534,6 +771,7 @@ impl<'a> GpuRenderer<'a> {
                 megakernel_wall_ms: megakernel_wall.as_secs_f64() * 1e3,
                 total_wall_ms: total_wall.as_secs_f64() * 1e3,
             },
+            tiles: 1,
         })
     }
 
@@ -559,5 +797,110 @@ impl<'a> GpuRenderer<'a> {
             &buffers.framebuffer,
             buffers.samples,
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Checks that `tiles` cover the image exactly once, start at aligned
+    /// origins and each hold at most `max_pixels` pixels.
+    fn check_tiling(width: u32, height: u32, max_pixels: u64, tiles: &[Tile]) {
+        let mut covered = vec![0u8; width as usize * height as usize];
+        for tile in tiles {
+            assert!(tile.width > 0 && tile.height > 0, "{tile:?}");
+            assert!(
+                u64::from(tile.width) * u64::from(tile.height) <= max_pixels,
+                "{width}x{height}, {max_pixels}: {tile:?}"
+            );
+            if tiles.len() > 1 {
+                assert!(tile.x0.is_multiple_of(TILE_ALIGN), "{tile:?}");
+                assert!(tile.y0.is_multiple_of(TILE_ALIGN), "{tile:?}");
+            }
+            assert!(tile.x0 + tile.width <= width && tile.y0 + tile.height <= height);
+            for y in tile.y0..tile.y0 + tile.height {
+                for x in tile.x0..tile.x0 + tile.width {
+                    covered[(y * width + x) as usize] += 1;
+                }
+            }
+        }
+        assert!(
+            covered.iter().all(|&c| c == 1),
+            "{width}x{height}, {max_pixels}: {tiles:?}"
+        );
+    }
+
+    #[test]
+    fn a_frame_that_fits_is_one_tile() {
+        let tiles = plan_tiles(800, 600, 800 * 600).unwrap();
+        assert_eq!(
+            tiles,
+            [Tile {
+                x0: 0,
+                y0: 0,
+                width: 800,
+                height: 600
+            }]
+        );
+    }
+
+    #[test]
+    fn bands_are_preferred_and_evened_out() {
+        // 1920x1080 at 64 spp under lavapipe's 128 MiB: 2^24 samples per tile.
+        let tiles = plan_tiles(1920, 1080, (1 << 24) / 64).unwrap();
+        check_tiling(1920, 1080, (1 << 24) / 64, &tiles);
+        assert_eq!(tiles.len(), 9);
+        assert!(tiles.iter().all(|t| t.x0 == 0 && t.width == 1920));
+        // 800x600 at 64 spp: two bands (320 + 280 rows), not 320 + 256 + 24.
+        let tiles = plan_tiles(800, 600, (1 << 24) / 64).unwrap();
+        check_tiling(800, 600, (1 << 24) / 64, &tiles);
+        let heights: Vec<u32> = tiles.iter().map(|t| t.height).collect();
+        assert_eq!(heights, [320, 280]);
+    }
+
+    #[test]
+    fn narrow_budgets_give_square_ish_tiles() {
+        // 200x150 with room for 8192 pixels: no band of 64 rows fits.
+        let tiles = plan_tiles(200, 150, 8192).unwrap();
+        check_tiling(200, 150, 8192, &tiles);
+        assert_eq!(tiles.len(), 6);
+        assert!(tiles.iter().any(|t| !t.width.is_multiple_of(TILE_ALIGN)));
+        assert!(tiles.iter().any(|t| !t.height.is_multiple_of(TILE_ALIGN)));
+        // A short, wide image is cut into columns of its full height.
+        let tiles = plan_tiles(10_000, 3, 1000).unwrap();
+        check_tiling(10_000, 3, 1000, &tiles);
+        assert!(tiles.iter().all(|t| t.y0 == 0 && t.height == 3));
+    }
+
+    #[test]
+    fn impossible_budgets_are_refused() {
+        assert_eq!(plan_tiles(200, 150, 64 * 64 - 1), None);
+        assert_eq!(plan_tiles(10_000, 1, 63), None);
+        assert_eq!(plan_tiles(30, 10_000, 30 * 64 - 1), None);
+        assert!(plan_tiles(30, 10_000, 30 * 64).is_some());
+    }
+
+    #[test]
+    fn random_plans_cover_the_image() {
+        let mut state = 0x853c_49e6_748f_ea9bu64;
+        let mut next = |n: u64| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 33) % n
+        };
+        for _ in 0..300 {
+            let width = 1 + next(700) as u32;
+            let height = 1 + next(700) as u32;
+            let max_pixels = 1 + next(u64::from(width) * u64::from(height) + 5000);
+            match plan_tiles(width, height, max_pixels) {
+                Some(tiles) => check_tiling(width, height, max_pixels, &tiles),
+                None => assert!(
+                    u64::from(width.min(TILE_ALIGN)) * u64::from(height.min(TILE_ALIGN))
+                        > max_pixels
+                ),
+            }
+        }
     }
 }
