@@ -10,19 +10,22 @@ use crate::camera::Camera;
 use crate::motion::{ObjectMotion, PreparedLens, cull_radius};
 use crate::params::{DISPLACED_DICE_FRACTION, NEAR_EPS};
 
-/// The motion and lens a piece is seen with (none of either: a sharp,
-/// still frame, whose bound test is exactly the plain one).
+/// What grows a piece's control points in the bound test: its object's
+/// displacement bound, motion and the lens (without motion or lens: a
+/// sharp, still frame, whose bound test is exactly the plain one).
 #[derive(Debug, Clone, Copy)]
-pub struct Blur<'a> {
+pub struct Growth<'a> {
+    /// The object's displacement bound in world units (0 without displacement).
+    pub displacement_bound: f32,
     /// The object's motion, if it moves.
     pub motion: Option<&'a ObjectMotion>,
     /// The lens.
     pub lens: &'a PreparedLens,
 }
 
-impl Blur<'_> {
+impl Growth<'_> {
     /// Whether the piece moves or the lens blurs.
-    pub fn is_some(&self) -> bool {
+    pub fn blurs(&self) -> bool {
         self.motion.is_some() || self.lens.aperture > 0.0
     }
 }
@@ -120,9 +123,9 @@ pub fn fits(size: f32, growth: f32, threshold: f32) -> bool {
 }
 
 /// Runs the bound test on a patch's 16 world-space control points, each
-/// grown by `displacement_bound` (world units; 0 without displacement).
+/// grown by `growth.displacement_bound` (world units; 0 without displacement).
 ///
-/// 1. Cull if all (grown) points are outside one clip plane. With `blur`,
+/// 1. Cull if all (grown) points are outside one clip plane. With motion or a lens,
 ///    each point is grown for culling by [`cull_radius`] instead: its
 ///    displacement, its motion and its lens shift, so that the piece is
 ///    culled only when it is outside at every time and lens position.
@@ -141,9 +144,9 @@ pub fn bound(
     camera: &Camera,
     dice_threshold: f32,
     max_split_depth: u32,
-    displacement_bound: f32,
-    blur: Blur<'_>,
+    growth: Growth<'_>,
 ) -> BoundDecision {
+    let displacement_bound = growth.displacement_bound;
     let clip = points.map(|p| *view_proj * p.extend(1.0));
     let radius = if displacement_bound == 0.0 {
         Vec4::ZERO
@@ -156,8 +159,8 @@ pub fn bound(
     for (c, p) in clip.iter().zip(points) {
         // Culling sees every time and lens position: the ball also covers
         // the point's motion and lens shift (crate::motion::cull_radius).
-        let cull = if blur.is_some() {
-            let reach = cull_radius(*p, c.w, displacement_bound, blur.motion, blur.lens);
+        let cull = if growth.blurs() {
+            let reach = cull_radius(*p, c.w, displacement_bound, growth.motion, growth.lens);
             camera.clip_pad() * reach
         } else {
             radius

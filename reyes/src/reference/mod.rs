@@ -27,7 +27,7 @@ use std::time::Instant;
 
 use image::RgbaImage;
 
-use self::bound::{Blur, BoundDecision, bound};
+use self::bound::{BoundDecision, Growth, bound};
 use self::dice::{GRID_LEN, dice};
 use self::displace::dice_displaced;
 use self::framebuffer::Framebuffer;
@@ -154,8 +154,8 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
             camera,
             scene.dice_threshold,
             scene.max_split_depth,
-            scene.objects[item.object as usize].displacement_bound(),
-            Blur {
+            Growth {
+                displacement_bound: scene.objects[item.object as usize].displacement_bound(),
                 motion: scene.objects[item.object as usize].motion.as_ref(),
                 lens: &scene.lens,
             },
