@@ -21,9 +21,11 @@
 //! - [`timing`]: time sources and medians.
 //! - [`suite`]: the whole comparison, producing [`suite::Row`]s.
 //! - [`table`]: printing the rows.
+//! - [`blur`]: the 5D sampling modes of the Reyes renderer (`blur-bench`).
 //! - [`strategies`]: megakernel vs. Rounds under each policy, on the spawn
 //!   tree; [`reyes_strategies`]: the same on Reyes frames.
 
+pub mod blur;
 pub mod error;
 pub mod flat;
 pub mod gpu;

@@ -1,0 +1,241 @@
+//! Motion blur and depth of field: the 5D sampling modes timed side by side
+//! on the benchmark scene (a model spinning about its vertical axis during
+//! the shutter), for `blur-bench`.
+
+use std::time::Duration;
+
+use reyes::gpu::{GpuOptions, GpuRenderer};
+use reyes::model::Model;
+use reyes::prepare::PreparedScene;
+use reyes::scene::{CameraDesc, Sampling, Scene, Transform};
+
+use crate::BenchError;
+use crate::reyes_strategies::killeroo_path;
+use crate::timing::median;
+
+/// What blurs in a configuration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlurConfig {
+    /// Degrees the model spins about its vertical (z) axis during the shutter.
+    pub spin_degrees: f32,
+    /// Lens radius as a fraction of the model's bounding-box diagonal (0: pinhole).
+    pub aperture_fraction: f32,
+}
+
+impl BlurConfig {
+    /// A short label: `spin 30`, `dof 0.02`, `spin 30 + dof 0.02`.
+    pub fn label(&self) -> String {
+        match (self.spin_degrees > 0.0, self.aperture_fraction > 0.0) {
+            (true, true) => format!(
+                "spin {} + dof {}",
+                self.spin_degrees, self.aperture_fraction
+            ),
+            (true, false) => format!("spin {}", self.spin_degrees),
+            (false, true) => format!("dof {}", self.aperture_fraction),
+            (false, false) => "still".into(),
+        }
+    }
+}
+
+/// One measured cell: a mode on a configuration.
+#[derive(Debug, Clone)]
+pub struct BlurRow {
+    /// The configuration.
+    pub config: BlurConfig,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// The sampling mode.
+    pub mode: Sampling,
+    /// Median frame time (GPU timestamps when the adapter has them, else wall).
+    pub median: Duration,
+    /// Every run's time.
+    pub runs: Vec<Duration>,
+    /// Samples tested and hit in one frame.
+    pub tested: u64,
+    /// See `tested`.
+    pub hit: u64,
+    /// Grids Adaptive sent to Interleave UVT (and Interleave's own grids).
+    pub interleave_grids: u64,
+    /// Grids diced.
+    pub grids: u64,
+    /// Screen tiles per frame.
+    pub tiles: u32,
+}
+
+impl BlurRow {
+    /// Samples hit per sample tested.
+    pub fn efficiency(&self) -> f64 {
+        self.hit as f64 / self.tested.max(1) as f64
+    }
+}
+
+/// The benchmark model: the Killeroo from `../shared/data` (or the teapot).
+pub fn load_model(name: &str) -> Result<(String, Model), BenchError> {
+    let error = |e: reyes::load::LoadError| BenchError::Config(format!("{name}: {e}"));
+    match name {
+        "teapot" => Ok(("teapot".into(), Model::teapot())),
+        "killeroo" => {
+            let path = killeroo_path();
+            Ok((
+                path.to_string_lossy().into_owned(),
+                Model::load(&path).map_err(error)?,
+            ))
+        }
+        other => Ok((other.into(), Model::load(other).map_err(error)?)),
+    }
+}
+
+/// The benchmark scene: `model` framed at `width x height`, seen from
+/// above (the eye raised to 60 degrees over the model's centre), spinning
+/// and defocused as `config` says, focused on the model's centre.
+pub fn scene(
+    model_name: &str,
+    model: &Model,
+    config: BlurConfig,
+    width: u32,
+    height: u32,
+    spp: u32,
+    mode: Sampling,
+) -> Scene {
+    let mut scene = Scene::for_model(model_name, model);
+    scene.resolution.width = width;
+    scene.resolution.height = height;
+    scene.spp = spp;
+    scene.sampling = mode;
+    let (lo, hi) = model.bounds();
+    let framed = CameraDesc::framing(lo, hi, width as f32 / height as f32);
+    let distance = framed.eye.distance(framed.target);
+    let elevation = 60f32.to_radians();
+    let across = (framed.eye - framed.target).with_z(0.0).normalize_or_zero();
+    scene.camera = Some(CameraDesc {
+        eye: framed.target
+            + (across * elevation.cos() + glam::Vec3::Z * elevation.sin()) * distance,
+        ..framed
+    });
+    scene.lens.aperture = config.aperture_fraction * (hi - lo).length();
+    if config.spin_degrees != 0.0 {
+        let open = scene.objects[0].transform;
+        scene.objects[0].transform_close = Some(Transform {
+            rotate_degrees: open.rotate_degrees + glam::Vec3::new(0.0, 0.0, config.spin_degrees),
+            ..open
+        });
+    }
+    scene
+}
+
+fn render_error(e: impl std::fmt::Display) -> BenchError {
+    BenchError::Config(format!("Reyes: {e}"))
+}
+
+/// Times every mode of `scenes` (one prepared scene per mode, all of one
+/// configuration), interleaving the modes run by run after one warm-up
+/// frame each so that drift hits them alike. A mode whose frame fails (on
+/// llvmpipe: a loop the driver cut short, for the largest boxes) gets its
+/// error instead of a row, and the others go on.
+pub fn measure(
+    renderer: &mut GpuRenderer<'_>,
+    scenes: &[(Sampling, PreparedScene)],
+    config: BlurConfig,
+    runs: u32,
+) -> Vec<(Sampling, Result<BlurRow, String>)> {
+    let mut rows: Vec<(Sampling, Result<BlurRow, String>)> = Vec::new();
+    for (mode, prepared) in scenes {
+        let row = renderer
+            .render(prepared)
+            .map(|frame| BlurRow {
+                config,
+                spp: prepared.spp,
+                mode: *mode,
+                median: Duration::ZERO,
+                runs: Vec::new(),
+                tested: frame.stats.samples_tested,
+                hit: frame.stats.samples_hit,
+                interleave_grids: frame.stats.interleave_grids,
+                grids: frame.stats.grids_diced,
+                tiles: frame.tiles,
+            })
+            .map_err(|e| e.to_string());
+        rows.push((*mode, row));
+    }
+    for _ in 0..runs {
+        for ((_, row), (_, prepared)) in rows.iter_mut().zip(scenes) {
+            let Ok(measured) = row else { continue };
+            match renderer.render(prepared) {
+                Ok(frame) => {
+                    let ms = frame
+                        .timings
+                        .megakernel_gpu_ms
+                        .unwrap_or(frame.timings.megakernel_wall_ms);
+                    measured.runs.push(Duration::from_secs_f64(ms / 1e3));
+                }
+                Err(e) => *row = Err(e.to_string()),
+            }
+        }
+    }
+    for (_, row) in &mut rows {
+        if let Ok(row) = row {
+            let mut sorted = row.runs.clone();
+            sorted.sort();
+            row.median = median(&sorted);
+        }
+    }
+    rows
+}
+
+/// A renderer with a generous timeout (bounding-box sampling of large blur
+/// tests billions of samples on a CPU adapter).
+pub fn renderer(gpu: &scheduler::Gpu) -> Result<GpuRenderer<'_>, BenchError> {
+    GpuRenderer::new(
+        gpu,
+        GpuOptions {
+            timeout: Duration::from_secs(1800),
+            ..GpuOptions::default()
+        },
+    )
+    .map_err(render_error)
+}
+
+/// The rows as a table: one line per (configuration, spp, mode).
+pub fn format_rows(rows: &[(Sampling, Result<BlurRow, String>)]) -> String {
+    let mut s = format!(
+        "{:<22}{:>5}  {:<11}{:>12}{:>12}{:>14}{:>11}{:>12}{:>6}\n",
+        "blur", "spp", "mode", "median ms", "min ms", "tested", "STE", "ileave", "tiles"
+    );
+    for (mode, row) in rows {
+        let row = match row {
+            Ok(row) => row,
+            Err(e) => {
+                s += &format!("{:<22}{:>5}  {:<11}  failed: {e}\n", "", "", mode.name());
+                continue;
+            }
+        };
+        let min = row.runs.iter().min().copied().unwrap_or_default();
+        s += &format!(
+            "{:<22}{:>5}  {:<11}{:>12.1}{:>12.1}{:>14}{:>11.5}{:>12}{:>6}\n",
+            row.config.label(),
+            row.spp,
+            row.mode.name(),
+            row.median.as_secs_f64() * 1e3,
+            min.as_secs_f64() * 1e3,
+            row.tested,
+            row.efficiency(),
+            format!("{}/{}", row.interleave_grids, row.grids),
+            row.tiles,
+        );
+    }
+    s
+}
+
+/// The Adaptive acceptance check for one (configuration, spp): Adaptive's
+/// median over the better of INTERVAL's and Interleave UVT's; `None` when
+/// one of the three has no time.
+pub fn adaptive_ratio(rows: &[(Sampling, Result<BlurRow, String>)]) -> Option<f64> {
+    let time = |mode| {
+        rows.iter()
+            .find(|(m, _)| *m == mode)
+            .and_then(|(_, r)| r.as_ref().ok())
+            .map(|r| r.median)
+    };
+    let best = time(Sampling::Interval)?.min(time(Sampling::Interleave)?);
+    Some(time(Sampling::Adaptive)?.as_secs_f64() / best.as_secs_f64().max(1e-9))
+}
