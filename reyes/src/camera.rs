@@ -151,10 +151,12 @@ impl Camera {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn camera() -> Camera {
+    /// A 200 x 100 camera 10 units in front of the origin, z up (shared
+    /// with other modules' tests).
+    pub(crate) fn camera() -> Camera {
         Camera::new(
             Vec3::new(0.0, -10.0, 0.0),
             Vec3::ZERO,

@@ -186,16 +186,7 @@ mod tests {
 
     #[test]
     fn coc_vanishes_on_the_focal_plane_and_changes_sign_across_it() {
-        let camera = Camera::new(
-            Vec3::new(0.0, -10.0, 0.0),
-            Vec3::ZERO,
-            Vec3::Z,
-            60f32.to_radians(),
-            200,
-            100,
-            1.0,
-            100.0,
-        );
+        let camera = crate::camera::tests::camera();
         let lens = PreparedLens::new(&camera, 0.5, None);
         assert_eq!(lens.focus, 10.0);
         assert_eq!(lens.coc(10.0), 0.0);

@@ -217,17 +217,7 @@ impl UvtTables {
 
     /// Where each table starts in [`UvtTables::to_floats`], in floats.
     pub fn layout(&self) -> UvtLayout {
-        let simple = 0;
-        let interleave = simple + 4 * self.simple.len() as u32;
-        let pixel = interleave + 4 * self.interleave.len() as u32;
-        let inverse = pixel + 4 * self.pixel.len() as u32;
-        UvtLayout {
-            simple,
-            interleave,
-            pixel,
-            inverse,
-            floats: inverse + self.inverse.len() as u32,
-        }
+        UvtLayout::for_spp(self.spp)
     }
 }
 
@@ -244,6 +234,25 @@ pub struct UvtLayout {
     pub inverse: u32,
     /// Total floats.
     pub floats: u32,
+}
+
+impl UvtLayout {
+    /// The layout of the tables for `spp` samples per pixel, without
+    /// building them (buffer sizing needs only this).
+    pub fn for_spp(spp: u32) -> UvtLayout {
+        let tuples = spp * INTERLEAVE_TILE * INTERLEAVE_TILE;
+        let simple = 0;
+        let interleave = simple + 4 * spp;
+        let pixel = interleave + 4 * tuples;
+        let inverse = pixel + 4 * TABLE_SIDE * TABLE_SIDE * spp;
+        UvtLayout {
+            simple,
+            interleave,
+            pixel,
+            inverse,
+            floats: inverse + INTERLEAVE_PERMUTATIONS * tuples,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -319,6 +328,10 @@ mod tests {
         }
         let layout = tables.layout();
         assert_eq!(tables.to_floats().len(), layout.floats as usize);
+        assert_eq!(
+            layout.pixel as usize,
+            4 * (tables.simple.len() + tables.interleave.len())
+        );
         assert_eq!(layout.interleave, 4 * 16);
     }
 }

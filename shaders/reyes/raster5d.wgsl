@@ -71,6 +71,17 @@ fn place(ma: Moving, mb: Moving, mc: Moving, tl: vec3<f32>) -> Placed {
     return Placed(a, b, c, abs(area), true);
 }
 
+// Places the triangle at sample s's own time and lens (`tl`) and tests the
+// sample; a triangle without area there still counts as tested.
+fn place_and_test(ma: Moving, mb: Moving, mc: Moving, tl: vec3<f32>, x: u32, y: u32, s: u32, color: u32, counts: ptr<function, SampleCounts>) {
+    let placed = place(ma, mb, mc, tl);
+    if (placed.ok) {
+        test_sample(placed, x, y, s, color, counts);
+    } else {
+        (*counts).tested += 1u;
+    }
+}
+
 fn placed_lo(p: Placed) -> vec2<f32> {
     return min(min(p.a.xy, p.b.xy), p.c.xy);
 }
@@ -142,12 +153,7 @@ fn raster_bbox_5d(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<fu
         let pixel = n / spp;
         let x = range.x0 + pixel % range.nx;
         let y = range.y0 + pixel / range.nx;
-        let placed = place(ma, mb, mc, uvt_record(uvt_pixel_at(x, y, s)));
-        if (placed.ok) {
-            test_sample(placed, x, y, s, color, counts);
-        } else {
-            (*counts).tested += 1u;
-        }
+        place_and_test(ma, mb, mc, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, color, counts);
         n += 1u;
     }
     if (n < total) {
@@ -274,12 +280,7 @@ fn raster_interval(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<f
                 let x = range.x0 + n % range.nx;
                 let y = range.y0 + n / range.nx;
                 let s = u32(height_texels[uvt_pixel_at(x, y, i) + 3u]);
-                let placed = place(ma, mb, mc, uvt_record(uvt_pixel_at(x, y, s)));
-                if (placed.ok) {
-                    test_sample(placed, x, y, s, color, counts);
-                } else {
-                    (*counts).tested += 1u;
-                }
+                place_and_test(ma, mb, mc, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, color, counts);
                 n += 1u;
             }
             if (n < total) {

@@ -7,7 +7,7 @@ use super::objects::{ObjectData, ObjectTables};
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::stats::RenderStats;
-use crate::uvt::UvtTables;
+use crate::uvt::{INTERLEAVE_TILE, UvtLayout, UvtTables};
 
 /// Twin of the WGSL `Frame` struct (`shaders/reyes/library.wgsl`).
 #[repr(C)]
@@ -99,15 +99,15 @@ impl FrameUniform {
 
     /// Points the uniform at the time/lens tables stored at float `base` of
     /// `height_texels`.
-    fn with_uvt(mut self, base: u32, tables: &UvtTables) -> Self {
-        let layout = tables.layout();
+    fn with_uvt(mut self, base: u32, spp: u32) -> Self {
+        let layout = UvtLayout::for_spp(spp);
         self.uvt = [
             base + layout.simple,
             base + layout.interleave,
             base + layout.pixel,
             base + layout.inverse,
         ];
-        self.interleave_tuples = tables.interleave_tuples();
+        self.interleave_tuples = spp * INTERLEAVE_TILE * INTERLEAVE_TILE;
         self
     }
 }
@@ -123,8 +123,7 @@ fn uvt_base(tables: &ObjectTables) -> u32 {
 pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
     let maps = ObjectTables::new(scene).texel_bytes();
     if scene.samples_time_and_lens() {
-        let tables = UvtTables::new(scene.spp);
-        maps + 4 * u64::from(tables.layout().floats)
+        maps + 4 * u64::from(UvtLayout::for_spp(scene.spp).floats)
     } else {
         maps
     }
@@ -160,8 +159,9 @@ pub struct FrameBuffers {
     lights_len: usize,
     /// The tables last written (their maps are in `height_texels`).
     tables: Option<ObjectTables>,
-    /// The time/lens tables last built (kept while `spp` stays the same).
-    uvt: Option<UvtTables>,
+    /// The sample count and float offset of the time/lens tables last
+    /// uploaded to `height_texels` (they stay valid while both do).
+    uvt: Option<(u32, u32)>,
 }
 
 impl FrameBuffers {
@@ -242,18 +242,18 @@ impl FrameBuffers {
             .collect();
         let mut frame = FrameUniform::new(scene);
         if scene.samples_time_and_lens() {
-            let uvt = match self.uvt.take() {
-                Some(uvt) if uvt.spp == scene.spp => uvt,
-                _ => UvtTables::new(scene.spp),
-            };
             let base = uvt_base(&tables);
-            frame = frame.with_uvt(base, &uvt);
-            queue.write_buffer(
-                &self.height_texels,
-                4 * u64::from(base),
-                bytemuck::cast_slice(&uvt.to_floats()),
-            );
-            self.uvt = Some(uvt);
+            // Built and uploaded once per sample count and place in the
+            // buffer; the buffer keeps them between frames.
+            if self.uvt != Some((scene.spp, base)) {
+                queue.write_buffer(
+                    &self.height_texels,
+                    4 * u64::from(base),
+                    bytemuck::cast_slice(&UvtTables::new(scene.spp).to_floats()),
+                );
+                self.uvt = Some((scene.spp, base));
+            }
+            frame = frame.with_uvt(base, scene.spp);
         }
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&frame));
         if !tables.objects.is_empty() {

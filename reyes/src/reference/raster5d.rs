@@ -168,6 +168,23 @@ fn test(
     }
 }
 
+/// Places `corners` at sample `(x, y, s)`'s own time and lens `tl` and
+/// tests the sample; a triangle without area there still counts as tested.
+fn place_and_test(
+    framebuffer: &mut Framebuffer,
+    sampler: &Sampler<'_>,
+    corners: &[MovingPoint; 3],
+    tl: TimeLens,
+    sample: (u32, u32, u32),
+    color: u32,
+    stats: &mut RenderStats,
+) {
+    match place(corners, tl) {
+        Some(placed) => test(framebuffer, sampler, &placed, sample, color, stats),
+        None => stats.samples_tested += 1,
+    }
+}
+
 /// The mode a grid uses under [`Sampling::Adaptive`]: Interleave UVT when
 /// INTERVAL's estimated sample tests exceed Interleave's by more than
 /// [`ADAPTIVE_INTERLEAVE_BIAS`], else INTERVAL. For a micropolygon of about
@@ -251,13 +268,7 @@ pub fn raster_triangle_5d(
                 for x in x0..=x1 {
                     for s in 0..spp {
                         let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
-                        match place(&corners, tl) {
-                            Some(placed) => {
-                                test(framebuffer, sampler, &placed, (x, y, s), color, stats);
-                            }
-                            // Tested: the triangle has no area at this sample's time.
-                            None => stats.samples_tested += 1,
-                        }
+                        place_and_test(framebuffer, sampler, &corners, tl, (x, y, s), color, stats);
                     }
                 }
             }
@@ -328,13 +339,7 @@ pub fn raster_triangle_5d(
                     for x in x0..=x1 {
                         let s = uvt.sample_in_stratum[uvt.pixel_index(x, y, i)];
                         let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
-                        match place(&corners, tl) {
-                            Some(placed) => {
-                                test(framebuffer, sampler, &placed, (x, y, s), color, stats);
-                            }
-                            // Tested: the triangle has no area at this sample's time.
-                            None => stats.samples_tested += 1,
-                        }
+                        place_and_test(framebuffer, sampler, &corners, tl, (x, y, s), color, stats);
                     }
                 }
             }
