@@ -33,7 +33,7 @@ fn sched_capacity(q: u32) -> u32 {
 }
 
 fn sched_slot_word(q: u32, ticket: u32) -> u32 {
-    return sched_config[q].y + (ticket & sched_config[q].x) * sched_item_words[q];
+    return sched_config[q].y + (ticket & sched_config[q].x) * sched_slot_words[q];
 }
 
 // Control word of the marker for `ticket` of queue q: `markers` is 0 for
@@ -178,12 +178,11 @@ fn sched_pick(workgroup: u32, iteration: u32) -> vec4<u32> {
     return vec4<u32>(SCHED_IDLE, 0u, 0u, 0u);
 }
 
-// Consumer side, all threads, after the generated runner copied the claimed
-// items into the inbox (one item per thread, without loops): hand the slots
-// back by completing the released range, which waits on nobody. The runner
-// puts a storageBarrier (acquire) before its copy; this one is the release:
-// the copies complete before the slots are handed back, and the inbox is
-// complete before any thread decodes its item.
+// Consumer side, all threads, after every thread of the generated runner
+// decoded its item straight from the claimed slots (without loops): hand the
+// slots back by completing the released range, which waits on nobody. The
+// runner puts a storageBarrier (acquire) before its reads; this one is the
+// release: the reads complete before the slots are handed back.
 fn sched_receive_done(lid: u32, q: u32, first: u32, count: u32) {
     storageBarrier();
     if (lid == 0u && !sched_rounds && count > 0u) {
@@ -286,7 +285,7 @@ fn sched_round_range(q: u32) -> vec2<u32> {
 
 // First staging word of the `index`-th item staged for a queue.
 fn sched_stage_word(stage_offset: u32, words: u32, index: u32) -> u32 {
-    return sched_wg_base + SCHED_INBOX_WORDS + stage_offset + index * words;
+    return sched_wg_base + stage_offset + index * words;
 }
 
 // Staging: called from enqueue_<Target>. Returns the first staging word for the
@@ -298,7 +297,15 @@ fn sched_stage(q: u32, stage_offset: u32, stage_capacity: u32) -> u32 {
         atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_FANOUT_OVERFLOW)], 1u);
         return 0xffffffffu;
     }
-    return sched_stage_word(stage_offset, sched_item_words[q], index);
+    return sched_stage_word(stage_offset, sched_slot_words[q], index);
+}
+
+// Staging packets: `word` is a staging word index, a multiple of 4.
+fn sched_staging_load4(word: u32) -> vec4<u32> {
+    return sched_staging[word / 4u];
+}
+fn sched_staging_store4(word: u32, value: vec4<u32>) {
+    sched_staging[word / 4u] = value;
 }
 
 // Scratch accessors: `slot` is the item's slot in the workgroup, `index` a word

@@ -276,7 +276,8 @@ fn too_large_configurations_are_refused_before_allocating() {
         Err(RunError::TooLarge { .. })
     ));
     let plan = compiled.memory_plan(&huge);
-    assert_eq!(plan.queue_bytes, (1u64 << 31) * 8);
+    // A `Node` is 2 words; its slot is one 4-word packet.
+    assert_eq!(plan.queue_bytes, (1u64 << 31) * 16);
 }
 
 #[test]

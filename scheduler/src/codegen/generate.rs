@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
-use crate::compile::layout::{ItemLayout, decode_name, encode_name};
+use crate::compile::layout::{ItemLayout, PACKET_WORDS, decode_name, encode_name};
 use crate::compile::plan::{Plan, QueuePlan, control};
 use crate::graph::Procedure;
 use crate::{Access, Policy, Resource, SourceOrigin};
@@ -75,16 +75,10 @@ pub(crate) fn generate(
         "One queue per procedure.",
     ));
     c.push(constant(
-        "SCHED_INBOX_WORDS",
-        "u32",
-        format!("{}u", plan.inbox_words),
-        "Inbox words per workgroup (the largest batch).",
-    ));
-    c.push(constant(
         "SCHED_WORKGROUP_WORDS",
         "u32",
-        format!("{}u", plan.inbox_words + plan.stage_words),
-        "Words of the staging buffer per workgroup: inbox, then staging.",
+        format!("{}u", plan.stage_words),
+        "Words of the staging buffer per workgroup.",
     ));
     c.push(constant(
         "SCHED_IDLE",
@@ -158,10 +152,10 @@ pub(crate) fn generate(
         ));
     }
     c.push(constant(
-        "sched_item_words",
+        "sched_slot_words",
         &format!("array<u32, {n}>"),
-        u32_array(plan.queues.iter().map(|q| q.item_words)),
-        "Item size in words, per queue.",
+        u32_array(plan.queues.iter().map(|q| q.slot_words)),
+        "Slot size in words (the item rounded up to whole vec4<u32> packets), per queue.",
     ));
     c.push(constant(
         "sched_items_per_workgroup",
@@ -196,7 +190,7 @@ pub(crate) fn generate(
     if coherent {
         g.push(global(
             "@coherent @group(0) @binding(0)",
-            "var<storage, read_write> sched_queue_words: array<u32>".into(),
+            "var<storage, read_write> sched_queue_words: array<vec4<u32>>".into(),
             "Item slots of every queue (coherent: plain accesses are seen across workgroups after the fences).",
         ));
     } else {
@@ -213,8 +207,8 @@ pub(crate) fn generate(
     ));
     g.push(global(
         "@group(0) @binding(2)",
-        "var<storage, read_write> sched_staging: array<u32>".into(),
-        "Per-workgroup inbox (popped items) and staging (enqueued items).",
+        "var<storage, read_write> sched_staging: array<vec4<u32>>".into(),
+        "Per-workgroup staging of enqueued items, copied into queue slots at the flush.",
     ));
     g.push(global(
         "@group(0) @binding(3)",
@@ -310,7 +304,7 @@ pub(crate) fn generate(
         module.functions.push(layout.encode.clone());
     }
     for queue in &plan.queues {
-        module.functions.extend(copy_functions(queue));
+        module.functions.push(copy_out_function(queue));
     }
     for (q, queue) in plan.queues.iter().enumerate() {
         let mut f = Function::new(enqueue_name(&queue.name))
@@ -389,29 +383,16 @@ fn header(plan: &Plan) -> Vec<String> {
     lines
 }
 
-/// Name of the function that copies one item of `queue` from its slot into
-/// the inbox.
-fn copy_in_name(queue: &str) -> String {
-    format!("sched_copy_in_{queue}")
-}
-
 /// Name of the function that copies one staged item of `queue` into its slot.
 fn copy_out_name(queue: &str) -> String {
     format!("sched_copy_out_{queue}")
 }
 
-/// Straight-line word copies between a queue slot and the workgroup's region
-/// of the staging buffer. They are written out word by word on purpose: a loop
-/// here could be cut short by llvmpipe's loop limiter (docs/scheduler.md,
-/// "Loop limits"), publishing half-copied items.
-fn copy_functions(queue: &QueuePlan) -> [Function; 2] {
-    let mut copy_in = Function::new(copy_in_name(&queue.name))
-        .doc(format!(
-            "Copies one `{}` from queue slot word `slot` into the inbox at `inbox`.",
-            queue.item
-        ))
-        .param("slot", "u32")
-        .param("inbox", "u32");
+/// Straight-line packet copy from the workgroup's region of the staging buffer
+/// into a queue slot. It is written out word by word on purpose: a loop here
+/// could be cut short by llvmpipe's loop limiter (docs/scheduler.md, "Loop
+/// limits"), publishing half-copied items.
+fn copy_out_function(queue: &QueuePlan) -> Function {
     let mut copy_out = Function::new(copy_out_name(&queue.name))
         .doc(format!(
             "Copies one staged `{}` at `source` into queue slot word `slot`.",
@@ -419,35 +400,43 @@ fn copy_functions(queue: &QueuePlan) -> [Function; 2] {
         ))
         .param("source", "u32")
         .param("slot", "u32");
-    for w in 0..queue.item_words {
-        copy_in.line(format!(
-            "sched_staging[inbox + {w}u] = sched_payload_load(slot + {w}u);"
-        ));
+    for w in (0..queue.slot_words).step_by(PACKET_WORDS as usize) {
         copy_out.line(format!(
-            "sched_payload_store(slot + {w}u, sched_staging[source + {w}u]);"
+            "sched_payload_store4(slot + {w}u, sched_staging_load4(source + {w}u));"
         ));
     }
-    [copy_in, copy_out]
+    copy_out
 }
 
 /// Access to queue payload words. With coherent memory they are plain loads
 /// and stores; otherwise relaxed atomics, which are always coherent. Either
 /// way the runtime orders them with device-scope fences (storageBarrier).
 fn payload_functions(coherent: bool) -> [Function; 2] {
-    let mut load = Function::new("sched_payload_load")
-        .doc("Reads one word of a queue slot.")
-        .param("index", "u32")
-        .returns("u32");
-    let mut store = Function::new("sched_payload_store")
-        .doc("Writes one word of a queue slot.")
-        .param("index", "u32")
-        .param("value", "u32");
+    let mut load = Function::new("sched_payload_load4")
+        .doc("Reads the packet of a queue slot at word `word` (a multiple of 4).")
+        .param("word", "u32")
+        .returns("vec4<u32>");
+    let mut store = Function::new("sched_payload_store4")
+        .doc("Writes the packet of a queue slot at word `word` (a multiple of 4).")
+        .param("word", "u32")
+        .param("value", "vec4<u32>");
     if coherent {
-        load.line("return sched_queue_words[index];");
-        store.line("sched_queue_words[index] = value;");
+        load.line("return sched_queue_words[word / 4u];");
+        store.line("sched_queue_words[word / 4u] = value;");
     } else {
-        load.line("return atomicLoad(&sched_queue_words[index]);");
-        store.line("atomicStore(&sched_queue_words[index], value);");
+        load.line("return vec4<u32>(");
+        for c in 0..4 {
+            let comma = if c < 3 { "," } else { "" };
+            load.line(format!(
+                "    atomicLoad(&sched_queue_words[word + {c}u]){comma}"
+            ));
+        }
+        load.line(");");
+        for (c, component) in ["x", "y", "z", "w"].iter().enumerate() {
+            store.line(format!(
+                "atomicStore(&sched_queue_words[word + {c}u], value.{component});"
+            ));
+        }
     }
     [load, store]
 }
@@ -476,25 +465,18 @@ fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     f.line(format!("let thread = lid % {tpi}u;"));
     f.line("let valid = slot < count;");
     f.line(format!("sched_scratch_stride = {}u;", queue.scratch_words));
-    f.line("// Receive: one item per thread, copied without loops (docs/scheduler.md,");
-    f.line("// \"Loop limits\"). Acquire: the copy comes after the claim saw `published`.");
+    f.line("// Receive: every thread decodes its item straight from the slot, without");
+    f.line("// loops (docs/scheduler.md, \"Loop limits\"). Acquire: the reads come after");
+    f.line("// the claim saw `published`; the slots are released once all are done.");
     f.line("storageBarrier();");
-    f.line("if (lid < count) {");
-    f.line(format!(
-        "    {}(sched_slot_word({q}u, first + lid), sched_wg_base + lid * {}u);",
-        copy_in_name(&queue.name),
-        queue.item_words
-    ));
-    f.line("}");
-    f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
     f.line(format!("var item: {};", queue.item));
     f.line("if (valid) {");
     f.line(format!(
-        "    item = {}(sched_wg_base + slot * {}u);",
-        decode_name(&queue.item),
-        queue.item_words
+        "    item = {}(sched_slot_word({q}u, first + slot));",
+        decode_name(&queue.item)
     ));
     f.line("}");
+    f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
     f.line(format!(
         "{}(item, valid, thread, slot);",
         body_name(&queue.name)
@@ -523,7 +505,7 @@ fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
                 "        {}(sched_stage_word({}u, {}u, {k}), sched_slot_word({t}u, {flush}.x + {k}));",
                 copy_out_name(&target.name),
                 target.stage_offset,
-                target.item_words
+                target.slot_words
             ));
             f.line("    }");
         }

@@ -1,10 +1,14 @@
 //! Item layouts: checks the Rust type against naga's layout of its WGSL struct
 //! and generates the functions that move items between queues and values.
 //!
-//! Items travel as 32-bit words. Both codecs work on the workgroup's private
-//! region of the staging buffer with plain loads and stores: decoding reads the
-//! inbox the runtime copied the claimed items into, encoding writes the staging
-//! area the runtime later publishes. Only the runtime touches the shared queues.
+//! Items travel as 32-bit words, moved in packets of four (`vec4<u32>`): a
+//! slot is the item's words rounded up to whole packets. One vector access
+//! costs llvmpipe one per-lane loop instead of four (it scalarizes every
+//! storage access), and is one 16-byte access on a GPU. Decoding reads a
+//! claimed item straight from its queue slot (through `sched_payload_load4`,
+//! which is coherent); encoding writes the workgroup's private region of the
+//! staging buffer, which the runtime later copies into the slots it reserved
+//! and publishes.
 
 use naga::proc::Layouter;
 use naga::{ArraySize, Handle, Module, ScalarKind, Type, TypeInner, VectorSize};
@@ -15,12 +19,15 @@ use crate::{CompileError, ItemType};
 /// The checked layout of one item type and its codec functions.
 #[derive(Clone, Debug)]
 pub(crate) struct ItemLayout {
+    /// Words of the item itself (naga's array stride / 4).
     pub words: u32,
+    /// Words of its slot: `words` rounded up to whole packets.
+    pub slot_words: u32,
     pub decode: Function,
     pub encode: Function,
 }
 
-/// Name of the function that reads an item of `item` from a queue slot.
+/// Name of the function that reads an item of `item` from its queue slot.
 pub(crate) fn decode_name(item: &str) -> String {
     format!("sched_decode_{item}")
 }
@@ -92,12 +99,11 @@ pub(crate) fn analyze(
 
     let mut decode = Function::new(decode_name(&item.wgsl_name))
         .doc(format!(
-            "Reads a `{}` from the inbox at word `base`.",
+            "Reads a `{}` from the queue slot at word `base`.",
             item.wgsl_name
         ))
         .param("base", "u32")
         .returns(&item.wgsl_name);
-    decode.line(format!("var value: {};", item.wgsl_name));
     let mut encode = Function::new(encode_name(&item.wgsl_name))
         .doc(format!(
             "Writes a `{}` into staging at word `base`.",
@@ -105,60 +111,98 @@ pub(crate) fn analyze(
         ))
         .param("base", "u32")
         .param("item", &item.wgsl_name);
-    encode.line("var value = item;");
 
     let mut emitter = Emitter {
         module,
         item,
-        decode: &mut decode,
-        encode: &mut encode,
+        leaves: Vec::new(),
     };
     for member in members {
         let name = member.name.clone().unwrap_or_default();
         let offset = Offset {
             words: member.offset / 4,
-            terms: Vec::new(),
         };
-        emitter.emit(member.ty, &format!(".{name}"), &offset, "", &name)?;
+        emitter.emit(member.ty, &format!(".{name}"), &offset, &name)?;
+    }
+    let words = stride / 4;
+    let packets = words.div_ceil(PACKET_WORDS);
+    // Decode: load every packet, then pick the fields out of them.
+    for k in 0..packets {
+        decode.line(format!(
+            "let w{k} = sched_payload_load4(base + {}u);",
+            k * PACKET_WORDS
+        ));
+    }
+    decode.line(format!("var value: {};", item.wgsl_name));
+    for leaf in &emitter.leaves {
+        decode.line(format!(
+            "value{} = {};",
+            leaf.path,
+            leaf.load.replace("{}", &packet_word(leaf.word))
+        ));
     }
     decode.line("return value;");
+    // Encode: fill zeroed packets field by field, then store them whole.
+    encode.line("let value = item;");
+    for k in 0..packets {
+        encode.line(format!("var w{k} = vec4<u32>();"));
+    }
+    for leaf in &emitter.leaves {
+        encode.line(format!("{} = {};", packet_word(leaf.word), leaf.store));
+    }
+    for k in 0..packets {
+        encode.line(format!(
+            "sched_staging_store4(base + {}u, w{k});",
+            k * PACKET_WORDS
+        ));
+    }
     Ok(ItemLayout {
-        words: stride / 4,
+        words,
+        slot_words: packets * PACKET_WORDS,
         decode,
         encode,
     })
 }
 
-/// A word offset: a constant plus `loop variable * stride` terms.
+/// Words per packet: items move as `vec4<u32>`.
+pub(crate) const PACKET_WORDS: u32 = 4;
+
+/// The packet component that holds word `word` of an item, e.g. `w1.z`.
+fn packet_word(word: u32) -> String {
+    let component = ["x", "y", "z", "w"][(word % PACKET_WORDS) as usize];
+    format!("w{}.{component}", word / PACKET_WORDS)
+}
+
+/// A word offset inside the item.
 #[derive(Clone)]
 struct Offset {
     words: u32,
-    terms: Vec<String>,
 }
 
 impl Offset {
     fn plus(&self, words: u32) -> Self {
         Self {
             words: self.words + words,
-            terms: self.terms.clone(),
         }
     }
+}
 
-    fn render(&self) -> String {
-        let mut out = format!("base + {}u", self.words);
-        for term in &self.terms {
-            out.push_str(" + ");
-            out.push_str(term);
-        }
-        out
-    }
+/// One 32-bit field of an item: where it lives and how it converts.
+struct Leaf {
+    /// Path from the item, e.g. `.p[3].x`.
+    path: String,
+    /// Word offset in the item.
+    word: u32,
+    /// Expression that turns a `u32` (the `{}`) into the field's type.
+    load: String,
+    /// Expression that turns the field into a `u32`.
+    store: String,
 }
 
 struct Emitter<'a> {
     module: &'a Module,
     item: &'a ItemType,
-    decode: &'a mut Function,
-    encode: &'a mut Function,
+    leaves: Vec<Leaf>,
 }
 
 impl Emitter<'_> {
@@ -176,7 +220,6 @@ impl Emitter<'_> {
         width: u8,
         path: &str,
         offset: &Offset,
-        indent: &str,
         field: &str,
     ) -> Result<(), CompileError> {
         if width != 4 {
@@ -200,14 +243,12 @@ impl Emitter<'_> {
                 );
             }
         };
-        let word = offset.render();
-        let read = format!("sched_staging[{word}]");
-        self.decode.line(format!(
-            "{indent}value{path} = {};",
-            load.replace("{}", &read)
-        ));
-        self.encode
-            .line(format!("{indent}sched_staging[{word}] = {store};"));
+        self.leaves.push(Leaf {
+            path: path.to_owned(),
+            word: offset.words,
+            load,
+            store,
+        });
         Ok(())
     }
 
@@ -216,11 +257,10 @@ impl Emitter<'_> {
         ty: Handle<Type>,
         path: &str,
         offset: &Offset,
-        indent: &str,
         field: &str,
     ) -> Result<(), CompileError> {
         match &self.module.types[ty].inner {
-            TypeInner::Scalar(s) => self.leaf(s.kind, s.width, path, offset, indent, field),
+            TypeInner::Scalar(s) => self.leaf(s.kind, s.width, path, offset, field),
             TypeInner::Vector { size, scalar } => {
                 for (i, c) in ["x", "y", "z", "w"].iter().take(*size as usize).enumerate() {
                     self.leaf(
@@ -228,7 +268,6 @@ impl Emitter<'_> {
                         scalar.width,
                         &format!("{path}.{c}"),
                         &offset.plus(i as u32),
-                        indent,
                         field,
                     )?;
                 }
@@ -247,7 +286,6 @@ impl Emitter<'_> {
                             scalar.width,
                             &format!("{path}[{c}][{r}]"),
                             &offset.plus(c * column_words + r),
-                            indent,
                             field,
                         )?;
                     }
@@ -266,7 +304,6 @@ impl Emitter<'_> {
                         *base,
                         &format!("{path}[{i}]"),
                         &offset.plus(i * stride / 4),
-                        indent,
                         field,
                     )?;
                 }
@@ -279,7 +316,6 @@ impl Emitter<'_> {
                         member.ty,
                         &format!("{path}.{name}"),
                         &offset.plus(member.offset / 4),
-                        indent,
                         field,
                     )?;
                 }

@@ -158,6 +158,7 @@ impl Graph {
                 name: p.name.clone(),
                 item: p.item.wgsl_name.clone(),
                 item_words: items[&p.item.wgsl_name].1.words,
+                slot_words: items[&p.item.wgsl_name].1.slot_words,
                 threads_per_item: p.threads_per_item,
                 items_per_workgroup: workgroup_size / p.threads_per_item,
                 priority: p.priority,
@@ -178,7 +179,7 @@ impl Graph {
         let mut stage_words = 0u32;
         for queue in &mut queues {
             queue.stage_offset = stage_words;
-            stage_words += queue.stage_capacity * queue.item_words;
+            stage_words += queue.stage_capacity * queue.slot_words;
         }
 
         // One scratch region, sized by the largest procedure.
@@ -204,11 +205,6 @@ impl Graph {
             }
         }
 
-        let inbox_words = queues
-            .iter()
-            .map(|q| q.items_per_workgroup * q.item_words)
-            .max()
-            .unwrap_or(0);
         let scan_order = Plan::compute_scan_order(&queues, options.policy);
         let plan = Plan {
             graph_name: self.name.clone(),
@@ -216,7 +212,6 @@ impl Graph {
             policy: options.policy,
             queues,
             scan_order,
-            inbox_words,
             stage_words,
             scratch_words,
             resources: self.resources.clone(),

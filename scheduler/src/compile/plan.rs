@@ -12,6 +12,9 @@ pub struct QueuePlan {
     pub item: String,
     /// Item size in 32-bit words (naga's array stride / 4).
     pub item_words: u32,
+    /// Words of one slot, in the queue and in staging: `item_words` rounded
+    /// up to whole `vec4<u32>` packets, the unit items move in.
+    pub slot_words: u32,
     /// Threads that run one item.
     pub threads_per_item: u32,
     /// Items one workgroup pops at once: workgroup size / threads per item.
@@ -39,8 +42,6 @@ pub(crate) struct Plan {
     pub queues: Vec<QueuePlan>,
     /// Queue indices in the order a workgroup scans them.
     pub scan_order: Vec<usize>,
-    /// Inbox words per workgroup: the largest batch of items.
-    pub inbox_words: u32,
     /// Staging words per workgroup.
     pub stage_words: u32,
     /// Words of the shared scratch region.

@@ -111,7 +111,7 @@ impl Default for ExecutorConfig {
 pub struct MemoryPlan {
     /// Queue slots.
     pub queue_bytes: u64,
-    /// Per-workgroup inbox and staging.
+    /// Per-workgroup staging of enqueued items.
     pub staging_bytes: u64,
     /// Counters (plus their read-back copy) and per-slot range markers.
     pub control_bytes: u64,
@@ -129,11 +129,11 @@ impl CompiledGraph {
             .plan
             .queues
             .iter()
-            .map(|q| u64::from(config.capacities.of(&q.name)) * u64::from(q.item_words))
+            .map(|q| u64::from(config.capacities.of(&q.name)) * u64::from(q.slot_words))
             .sum();
-        let queue_bytes = 4 * queue_words.max(1);
-        let staging_bytes =
-            4 * (workgroups * u64::from(self.plan.inbox_words + self.plan.stage_words)).max(1);
+        // Both are arrays of vec4<u32>: at least one packet each.
+        let queue_bytes = 4 * queue_words.max(4);
+        let staging_bytes = 4 * (workgroups * u64::from(self.plan.stage_words)).max(4);
         // Counters (and their read-back copy), then two range markers per
         // queue slot (published and released ranges).
         let slots: u64 = self

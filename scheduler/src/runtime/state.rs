@@ -179,7 +179,7 @@ impl QueueState {
         let mut markers = control::words(plan.queues.len());
         for (q, queue_plan) in plan.queues.iter().enumerate() {
             let slots = next;
-            next = slots + capacities[q] * queue_plan.item_words;
+            next = slots + capacities[q] * queue_plan.slot_words;
             words.extend_from_slice(&[capacities[q] - 1, slots, markers, 0]);
             markers += 2 * capacities[q];
         }
@@ -255,7 +255,13 @@ impl QueueState {
                     4 * queue_plan.item_words
                 )));
             }
-            per_queue[q].extend_from_slice(&entry.bytes);
+            // Each item goes into a whole slot; the padding words stay zero.
+            let slot_bytes = 4 * queue_plan.slot_words as usize;
+            let slots = &mut per_queue[q];
+            for item in entry.bytes.chunks_exact(entry.item_size) {
+                slots.extend_from_slice(item);
+                slots.resize(slots.len() + slot_bytes - item.len(), 0);
+            }
             counts[q] += entry.count as u64;
         }
         for (q, &count) in counts.iter().enumerate() {
@@ -288,7 +294,7 @@ impl QueueState {
             ] {
                 control_words[control::index(q, field)] = count;
             }
-            slot_base += u64::from(self.capacities[q]) * u64::from(queue_plan.item_words);
+            slot_base += u64::from(self.capacities[q]) * u64::from(queue_plan.slot_words);
         }
         control_words[control::PENDING as usize] = counts.iter().sum::<u64>() as u32;
         queue.write_buffer(&self.control, 0, bytemuck::cast_slice(&control_words));
