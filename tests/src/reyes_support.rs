@@ -33,6 +33,25 @@ pub struct Agreement {
     pub both: usize,
 }
 
+impl Agreement {
+    /// Asserts the coverage IoU and the fraction of shared pixels within
+    /// 2/255 reach the given floors; `what` names the render in the message.
+    pub fn assert_at_least(&self, what: &str, iou: f64, within_2: f64) {
+        assert!(
+            self.iou >= iou,
+            "{what}: coverage IoU {:.5} < {iou}",
+            self.iou
+        );
+        assert!(
+            self.within_2 >= within_2,
+            "{what}: only {:.4} of {} object pixels within 2/255 < {within_2} (max diff {})",
+            self.within_2,
+            self.both,
+            self.max_diff
+        );
+    }
+}
+
 /// Coverage and colour agreement of a GPU render with the CPU reference.
 pub fn agreement(gpu: &GpuRendered, cpu: &Rendered) -> Agreement {
     assert_eq!(gpu.coverage.len(), cpu.coverage.len());

@@ -106,13 +106,7 @@ fn displaced_teapot_matches_the_reference() {
     let prepared = PreparedScene::load(&scene).expect("scene prepares");
     let (g, c, a) = compare(&mut renderer, &prepared);
     assert!(a.coverage >= 0.15, "coverage {:.3} < 15%", a.coverage);
-    assert!(a.iou >= 0.995, "coverage IoU {:.5} < 0.995", a.iou);
-    assert!(
-        a.within_2 >= 0.99,
-        "only {:.4} of the object pixels within 2/255 (max diff {})",
-        a.within_2,
-        a.max_diff
-    );
+    a.assert_at_least("render", 0.995, 0.99);
     assert_counts_close("grids diced", g.stats.grids_diced, c.stats.grids_diced);
     assert_counts_close("splits", g.stats.splits, c.stats.splits);
     assert_counts_close("samples hit", g.stats.samples_hit, c.stats.samples_hit);
@@ -235,8 +229,7 @@ fn displacement_bound_keeps_surface_displaced_into_view() {
         "the displaced wall is visible (coverage {:.3})",
         a.coverage
     );
-    assert!(a.iou >= 0.99, "coverage IoU {:.5}", a.iou);
-    assert!(a.within_2 >= 0.99, "only {:.4} within 2/255", a.within_2);
+    a.assert_at_least("render", 0.99, 0.99);
     assert_eq!(c.stats.culled_patches, 0);
     assert_eq!(g.stats.culled_patches, 0);
     assert_eq!(g.stats.displacement_bound_exceeded, 0);
@@ -295,8 +288,7 @@ fn user_wgsl_displacement() {
         }));
     }
     let (g, c, a) = compare(&mut renderer, &prepared);
-    assert!(a.iou >= 0.995, "coverage IoU {:.5}", a.iou);
-    assert!(a.within_2 >= 0.99, "only {:.4} within 2/255", a.within_2);
+    a.assert_at_least("render", 0.995, 0.99);
     assert_counts_close("grids diced", g.stats.grids_diced, c.stats.grids_diced);
     assert_eq!(g.stats.displacement_bound_exceeded, 0);
 

@@ -44,14 +44,7 @@ fn teapot_matches_the_reference() {
     let mut renderer = renderer(gpu, GpuOptions::default());
     let (g, c, a) = compare(&mut renderer, &teapot(256, 4));
     assert!(a.coverage >= 0.15, "coverage {:.3} < 15%", a.coverage);
-    assert!(a.iou >= 0.995, "coverage IoU {:.5} < 0.995", a.iou);
-    assert!(
-        a.within_2 >= 0.99,
-        "only {:.4} of {} object pixels within 2/255 (max diff {})",
-        a.within_2,
-        a.both,
-        a.max_diff
-    );
+    a.assert_at_least("render", 0.995, 0.99);
     assert_eq!(g.stats.input_patches, c.stats.input_patches);
     assert_counts_close("grids diced", g.stats.grids_diced, c.stats.grids_diced);
     assert_counts_close("splits", g.stats.splits, c.stats.splits);
@@ -126,8 +119,7 @@ fn eye_inside_the_bounding_box() {
     let mut renderer = renderer(gpu, GpuOptions::default());
     let (g, c, a) = compare(&mut renderer, &scene);
     assert!(a.coverage > 0.05, "the inside of the teapot is visible");
-    assert!(a.iou >= 0.99, "coverage IoU {:.5} < 0.99", a.iou);
-    assert!(a.within_2 >= 0.98, "only {:.4} within 2/255", a.within_2);
+    a.assert_at_least("render", 0.99, 0.98);
     assert_counts_close(
         "depth-guard drops",
         g.stats.depth_guard_drops,

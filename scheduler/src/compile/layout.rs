@@ -119,10 +119,7 @@ pub(crate) fn analyze(
     };
     for member in members {
         let name = member.name.clone().unwrap_or_default();
-        let offset = Offset {
-            words: member.offset / 4,
-        };
-        emitter.emit(member.ty, &format!(".{name}"), &offset, &name)?;
+        emitter.emit(member.ty, &format!(".{name}"), member.offset / 4, &name)?;
     }
     let words = stride / 4;
     let packets = words.div_ceil(PACKET_WORDS);
@@ -173,20 +170,6 @@ fn packet_word(word: u32) -> String {
     format!("w{}.{component}", word / PACKET_WORDS)
 }
 
-/// A word offset inside the item.
-#[derive(Clone)]
-struct Offset {
-    words: u32,
-}
-
-impl Offset {
-    fn plus(&self, words: u32) -> Self {
-        Self {
-            words: self.words + words,
-        }
-    }
-}
-
 /// One 32-bit field of an item: where it lives and how it converts.
 struct Leaf {
     /// Path from the item, e.g. `.p[3].x`.
@@ -219,7 +202,7 @@ impl Emitter<'_> {
         kind: ScalarKind,
         width: u8,
         path: &str,
-        offset: &Offset,
+        word: u32,
         field: &str,
     ) -> Result<(), CompileError> {
         if width != 4 {
@@ -245,7 +228,7 @@ impl Emitter<'_> {
         };
         self.leaves.push(Leaf {
             path: path.to_owned(),
-            word: offset.words,
+            word,
             load,
             store,
         });
@@ -256,18 +239,18 @@ impl Emitter<'_> {
         &mut self,
         ty: Handle<Type>,
         path: &str,
-        offset: &Offset,
+        word: u32,
         field: &str,
     ) -> Result<(), CompileError> {
         match &self.module.types[ty].inner {
-            TypeInner::Scalar(s) => self.leaf(s.kind, s.width, path, offset, field),
+            TypeInner::Scalar(s) => self.leaf(s.kind, s.width, path, word, field),
             TypeInner::Vector { size, scalar } => {
                 for (i, c) in ["x", "y", "z", "w"].iter().take(*size as usize).enumerate() {
                     self.leaf(
                         scalar.kind,
                         scalar.width,
                         &format!("{path}.{c}"),
-                        &offset.plus(i as u32),
+                        word + i as u32,
                         field,
                     )?;
                 }
@@ -285,7 +268,7 @@ impl Emitter<'_> {
                             scalar.kind,
                             scalar.width,
                             &format!("{path}[{c}][{r}]"),
-                            &offset.plus(c * column_words + r),
+                            word + c * column_words + r,
                             field,
                         )?;
                     }
@@ -300,12 +283,7 @@ impl Emitter<'_> {
                 // Written out element by element, not as a loop: llvmpipe's loop
                 // limiter could cut a loop short (docs/scheduler.md, "Loop limits").
                 for i in 0..count.get() {
-                    self.emit(
-                        *base,
-                        &format!("{path}[{i}]"),
-                        &offset.plus(i * stride / 4),
-                        field,
-                    )?;
+                    self.emit(*base, &format!("{path}[{i}]"), word + i * stride / 4, field)?;
                 }
                 Ok(())
             }
@@ -315,7 +293,7 @@ impl Emitter<'_> {
                     self.emit(
                         member.ty,
                         &format!("{path}.{name}"),
-                        &offset.plus(member.offset / 4),
+                        word + member.offset / 4,
                         field,
                     )?;
                 }
