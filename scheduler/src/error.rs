@@ -82,6 +82,14 @@ pub enum CompileError {
         /// What the limits allow.
         limit: u32,
     },
+    /// `chunks_per_batch` is 0 or above [`crate::MAX_CHUNKS_PER_BATCH`].
+    #[error("chunks per batch {chunks} must be between 1 and {max}")]
+    InvalidChunksPerBatch {
+        /// Requested chunks per batch.
+        chunks: u32,
+        /// The largest allowed.
+        max: u32,
+    },
     /// The shared scratch region (plus the scheduler's own workgroup memory)
     /// exceeds `max_compute_workgroup_storage_size`.
     #[error(

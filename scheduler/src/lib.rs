@@ -51,7 +51,7 @@ pub use compile::plan::QueuePlan;
 pub use error::{CompileError, DeviceError, RunError, SourceOrigin};
 pub use graph::{Access, Connection, DEFAULT_PRIORITY, Graph, Procedure, Resource};
 pub use item::ItemType;
-pub use options::{CompileOptions, Policy, recommended_features};
+pub use options::{CompileOptions, MAX_CHUNKS_PER_BATCH, Policy, recommended_features};
 pub use runtime::config::{
     CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT,
     DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,

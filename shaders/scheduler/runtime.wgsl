@@ -164,7 +164,7 @@ fn sched_pick(workgroup: u32, iteration: u32) -> vec4<u32> {
     let start = sched_policy_start(workgroup, iteration);
     for (var i = 0u; i < SCHED_NUM_QUEUES; i += 1u) {
         let q = sched_queue_order[(start + i) % SCHED_NUM_QUEUES];
-        let claim = sched_try_claim(q, sched_items_per_workgroup[q]);
+        let claim = sched_try_claim(q, sched_items_per_batch[q]);
         if (claim.y > 0u) {
             return vec4<u32>(q, claim.x, claim.y, 0u);
         }
@@ -268,7 +268,7 @@ fn sched_prepare_queue(q: u32) -> u32 {
     // keeps within the device's per-dimension limit: an oversized indirect
     // dispatch would be skipped silently. The round kernels loop over the
     // remaining batches, so the clamp never drops an item.
-    let batches = (count + sched_items_per_workgroup[q] - 1u) / sched_items_per_workgroup[q];
+    let batches = (count + sched_items_per_batch[q] - 1u) / sched_items_per_batch[q];
     sched_dispatch[3u * q] = min(batches, sched_config[SCHED_NUM_QUEUES].z);
     sched_dispatch[3u * q + 1u] = 1u;
     sched_dispatch[3u * q + 2u] = 1u;

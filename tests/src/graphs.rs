@@ -44,16 +44,18 @@ pub fn scratch_sum() -> Graph {
     graph.procedure(
         Procedure::new("Sum", node_type())
             .initial(true)
-            .threads_per_item(4)
-            .scratch_bytes(16)
+            .threads_per_item(16)
+            .scratch_bytes(64)
             .body(
                 "if (valid) {
-    scratch_store_u32(slot, thread, item.id * 4u + thread + 1u);
+    scratch_store_u32(slot, thread, item.id * 16u + thread + 1u);
 }
 workgroupBarrier();
-if (valid && thread == 0u) {
+// The last thread sums, so that the words it reads were written by other
+// groups of SIMD lanes too (llvmpipe runs 8 lanes at a time).
+if (valid && thread == 15u) {
     var total = 0u;
-    for (var t = 0u; t < 4u; t += 1u) {
+    for (var t = 0u; t < 16u; t += 1u) {
         total += scratch_load_u32(slot, t);
     }
     out[item.id] = total;

@@ -238,6 +238,8 @@ pub struct RandomGraph {
     pub seed: u64,
     /// Threads per workgroup to compile for.
     pub workgroup_size: u32,
+    /// Chunks per batch to compile for (1 in half the graphs).
+    pub chunks_per_batch: u32,
     /// The procedures, in declaration order.
     pub procedures: Vec<ProcedureSpec>,
     /// Seeds per procedure (empty for procedures that are not initial).
@@ -343,6 +345,7 @@ impl RandomGraph {
         let mut graph = Self {
             seed,
             workgroup_size,
+            chunks_per_batch: 1,
             procedures,
             seeds,
         };
@@ -359,6 +362,8 @@ impl RandomGraph {
                 p.depth_limit = p.depth_limit.saturating_sub(1);
             }
         }
+        // Drawn last, so the draws above stay those of earlier versions.
+        graph.chunks_per_batch = rng.pick(&[1, 1, 1, 2, 3, 4]);
         graph
     }
 
@@ -424,6 +429,7 @@ impl RandomGraph {
     pub fn compile_options(&self, policy: Policy) -> CompileOptions {
         CompileOptions {
             workgroup_size: self.workgroup_size,
+            chunks_per_batch: self.chunks_per_batch,
             policy,
             ..CompileOptions::default()
         }
@@ -482,8 +488,8 @@ impl fmt::Display for RandomGraph {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "random graph (seed {}, workgroup size {}):",
-            self.seed, self.workgroup_size
+            "random graph (seed {}, workgroup size {}, {} chunk(s) per batch):",
+            self.seed, self.workgroup_size, self.chunks_per_batch
         )?;
         for (p, seeds) in self.procedures.iter().zip(&self.seeds) {
             write!(

@@ -102,6 +102,34 @@ fn invalid_workgroup_size() {
 }
 
 #[test]
+fn chunks_per_batch_out_of_range() {
+    for chunks in [0, scheduler::MAX_CHUNKS_PER_BATCH + 1] {
+        let options = CompileOptions {
+            chunks_per_batch: chunks,
+            ..CompileOptions::default()
+        };
+        let error = binary_tree(2).compile(&options).unwrap_err();
+        assert!(
+            matches!(error, CompileError::InvalidChunksPerBatch { chunks: c, max } if c == chunks && max == scheduler::MAX_CHUNKS_PER_BATCH),
+            "{error:?}"
+        );
+        assert!(error.to_string().contains("chunks per batch"), "{error}");
+    }
+    // The bounds themselves are accepted, and a batch then stages the
+    // children of all its chunks.
+    for chunks in [1, scheduler::MAX_CHUNKS_PER_BATCH] {
+        let options = CompileOptions {
+            chunks_per_batch: chunks,
+            ..CompileOptions::default()
+        };
+        let compiled = binary_tree(2).compile(&options).unwrap();
+        let grow = &compiled.queues()[0];
+        assert_eq!(grow.items_per_batch, 256 * chunks);
+        assert_eq!(grow.stage_capacity, 2 * 256 * chunks);
+    }
+}
+
+#[test]
 fn scratch_over_the_limit_names_the_largest_procedure() {
     // 64 bytes x 256 items = 16 KiB, plus the scheduler's own words: too much.
     let mut g = Graph::new("scratch");

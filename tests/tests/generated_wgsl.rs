@@ -33,6 +33,13 @@ fn option_sets() -> Vec<(&'static str, CompileOptions)> {
                 ..CompileOptions::default()
             },
         ),
+        (
+            "4 chunks per batch",
+            CompileOptions {
+                chunks_per_batch: 4,
+                ..CompileOptions::with_features(wgpu::Features::MEMORY_DECORATION_COHERENT)
+            },
+        ),
     ]
 }
 

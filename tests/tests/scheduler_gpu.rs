@@ -11,19 +11,29 @@ use scheduler::{
 use tests::config;
 use tests::graphs::{Node, binary_tree, node_type, ping_pong, ping_pong_counts, scratch_sum};
 
-/// Both payload paths: atomics, and coherent memory when the device has it.
-fn option_sets(gpu: &Gpu) -> Vec<CompileOptions> {
-    let mut sets = vec![CompileOptions::default()];
+/// Both payload paths (atomics, and coherent memory when the device has it),
+/// each with one chunk per batch and with a drawn number of chunks.
+fn option_sets(gpu: &Gpu, rng: &mut StdRng) -> Vec<CompileOptions> {
+    let mut paths = vec![CompileOptions::default()];
     if gpu
         .device
         .features()
         .contains(wgpu::Features::MEMORY_DECORATION_COHERENT)
     {
-        sets.push(CompileOptions::with_features(
+        paths.push(CompileOptions::with_features(
             wgpu::Features::MEMORY_DECORATION_COHERENT,
         ));
     }
-    sets
+    paths
+        .into_iter()
+        .flat_map(|options| {
+            let chunked = CompileOptions {
+                chunks_per_batch: rng.random_range(2..=5),
+                ..options.clone()
+            };
+            [options, chunked]
+        })
+        .collect()
 }
 
 fn run(
@@ -40,7 +50,7 @@ fn run(
 fn binary_tree_counts_are_exact_for_any_workgroup_count() {
     let Some(gpu) = tests::gpu() else { return };
     let mut rng = StdRng::seed_from_u64(tests::seed("binary_tree_counts"));
-    for options in option_sets(gpu) {
+    for options in option_sets(gpu, &mut rng) {
         let depth = rng.random_range(8..=13);
         let compiled = binary_tree(depth).compile(&options).unwrap();
         for workgroups in [1, 2, 64] {
@@ -56,7 +66,8 @@ fn binary_tree_counts_are_exact_for_any_workgroup_count() {
             let total = (1u64 << (depth + 1)) - 1;
             assert_eq!(
                 grow.executed, total,
-                "depth {depth}, {workgroups} workgroups"
+                "depth {depth}, {workgroups} workgroups, {} chunk(s)",
+                options.chunks_per_batch
             );
             assert_eq!(grow.enqueued, total - 1);
             assert_eq!((grow.dropped, grow.fan_out_overflow), (0, 0));
@@ -71,12 +82,12 @@ fn binary_tree_counts_are_exact_for_any_workgroup_count() {
 fn scratch_and_barriers_with_a_partial_last_batch() {
     let Some(gpu) = tests::gpu() else { return };
     let mut rng = StdRng::seed_from_u64(tests::seed("scratch_and_barriers"));
-    for options in option_sets(gpu) {
+    for options in option_sets(gpu, &mut rng) {
         let compiled = scratch_sum().compile(&options).unwrap();
-        // 64 items per batch: draw a count that leaves the last batch partial.
+        // 16 items per chunk: draw a count that leaves the last chunk partial.
         let count = loop {
-            let n = rng.random_range(65..3000u32);
-            if n % 64 != 0 {
+            let n = rng.random_range(17..3000u32);
+            if n % 16 != 0 {
                 break n;
             }
         };
@@ -103,8 +114,9 @@ fn scratch_and_barriers_with_a_partial_last_batch() {
             for (id, &value) in values.iter().enumerate() {
                 assert_eq!(
                     value,
-                    16 * id as u32 + 10,
-                    "item {id} of {count}, {workgroups} workgroups"
+                    256 * id as u32 + 136,
+                    "item {id} of {count}, {workgroups} workgroups, {} chunk(s)",
+                    options.chunks_per_batch
                 );
             }
         }

@@ -118,7 +118,7 @@ fn rounds_keep_barriers_and_outputs_of_the_megakernel() {
     }
     let values: &[u32] = bytemuck::cast_slice(&outputs[1]);
     for (id, &value) in values.iter().enumerate() {
-        assert_eq!(value, 16 * id as u32 + 10, "item {id} of {count}");
+        assert_eq!(value, 256 * id as u32 + 136, "item {id} of {count}");
     }
     assert_eq!(outputs[0], outputs[1]);
 }

@@ -10,7 +10,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
 
 use crate::codegen::generate::{ENTRY_POINT, generate};
 use crate::codegen::module::{KernelModule, Rendered};
-use crate::{CompileError, CompileOptions, Graph, SourceOrigin};
+use crate::{CompileError, CompileOptions, Graph, MAX_CHUNKS_PER_BATCH, SourceOrigin};
 use layout::ItemLayout;
 use plan::{Plan, QueuePlan};
 
@@ -77,6 +77,13 @@ impl Graph {
             return Err(CompileError::InvalidWorkgroupSize {
                 size: workgroup_size,
                 limit: size_limit,
+            });
+        }
+        let chunks = options.chunks_per_batch;
+        if !(1..=MAX_CHUNKS_PER_BATCH).contains(&chunks) {
+            return Err(CompileError::InvalidChunksPerBatch {
+                chunks,
+                max: MAX_CHUNKS_PER_BATCH,
             });
         }
 
@@ -149,7 +156,7 @@ impl Graph {
         let items = item_layouts(self)?;
 
         // Queue plans: staging capacity of a queue is the most items any single
-        // source batch may stage into it.
+        // source batch (all its chunks) may stage into it.
         let mut queues: Vec<QueuePlan> = self
             .procedures
             .iter()
@@ -161,6 +168,7 @@ impl Graph {
                 slot_words: items[&p.item.wgsl_name].1.slot_words,
                 threads_per_item: p.threads_per_item,
                 items_per_workgroup: workgroup_size / p.threads_per_item,
+                items_per_batch: workgroup_size / p.threads_per_item * chunks,
                 priority: p.priority,
                 initial: p.initial,
                 scratch_words: p.scratch_bytes.div_ceil(4),
@@ -170,7 +178,7 @@ impl Graph {
             })
             .collect();
         for source in 0..queues.len() {
-            let batch = queues[source].items_per_workgroup;
+            let batch = queues[source].items_per_batch;
             for (t, fan_out) in queues[source].targets.clone() {
                 queues[t].stage_capacity =
                     queues[t].stage_capacity.max(batch.saturating_mul(fan_out));
@@ -209,6 +217,7 @@ impl Graph {
         let plan = Plan {
             graph_name: self.name.clone(),
             workgroup_size,
+            chunks_per_batch: chunks,
             policy: options.policy,
             queues,
             scan_order,

@@ -17,8 +17,11 @@ pub struct QueuePlan {
     pub slot_words: u32,
     /// Threads that run one item.
     pub threads_per_item: u32,
-    /// Items one workgroup pops at once: workgroup size / threads per item.
+    /// Items in one chunk, the body's call: workgroup size / threads per item.
     pub items_per_workgroup: u32,
+    /// Items one workgroup claims at once: `items_per_workgroup` times the
+    /// chunks per batch.
+    pub items_per_batch: u32,
     /// Scheduling priority.
     pub priority: i32,
     /// Whether the host may seed it.
@@ -38,6 +41,8 @@ pub struct QueuePlan {
 pub(crate) struct Plan {
     pub graph_name: String,
     pub workgroup_size: u32,
+    /// Chunks (workgroup-fulls of items) per batch.
+    pub chunks_per_batch: u32,
     pub policy: Policy,
     pub queues: Vec<QueuePlan>,
     /// Queue indices in the order a workgroup scans them.
