@@ -55,8 +55,27 @@ pub fn compile_with_policy(
     device: &wgpu::Device,
     policy: Policy,
 ) -> Result<CompiledGraph, BenchError> {
+    compile_with_options(workload, device, policy, 1)
+}
+
+/// Like [`compile`], with the given chunks per batch.
+pub fn compile_with_chunks(
+    workload: &Workload,
+    device: &wgpu::Device,
+    chunks: u32,
+) -> Result<CompiledGraph, BenchError> {
+    compile_with_options(workload, device, Policy::Priority, chunks)
+}
+
+fn compile_with_options(
+    workload: &Workload,
+    device: &wgpu::Device,
+    policy: Policy,
+    chunks_per_batch: u32,
+) -> Result<CompiledGraph, BenchError> {
     let options = CompileOptions {
         policy,
+        chunks_per_batch,
         ..CompileOptions::with_features(scheduler::recommended_features(device))
     };
     Ok(spawn_tree_graph(workload).compile(&options)?)

@@ -7,7 +7,7 @@ use scheduler::{Capacities, ExecutorConfig, Gpu};
 
 use crate::BenchError;
 use crate::flat::FlatKernel;
-use crate::megakernel::{SpawnTree, compile};
+use crate::megakernel::{SpawnTree, compile_with_chunks};
 use crate::timing::{TimeSource, Timings};
 use crate::workload::Workload;
 
@@ -28,6 +28,9 @@ pub struct BenchConfig {
     /// Megakernel queue capacity in items; `None`: the item count, which no
     /// run can exceed.
     pub capacity: Option<u32>,
+    /// Chunks per batch the megakernel is compiled with, one row each per
+    /// workgroup count and budget ([`scheduler::CompileOptions::chunks_per_batch`]).
+    pub chunks: Vec<u32>,
 }
 
 /// Which variant a row measures.
@@ -44,6 +47,8 @@ pub enum Variant {
         capacity: u32,
         /// Iterations after which a workgroup leaves (`None`: never).
         iteration_budget: Option<u32>,
+        /// Chunks per batch of the compiled module.
+        chunks: u32,
     },
 }
 
@@ -56,8 +61,9 @@ impl Variant {
                 workgroups,
                 capacity,
                 iteration_budget,
+                chunks,
             } => format!(
-                "megakernel wg={workgroups} cap={capacity} budget={}",
+                "megakernel wg={workgroups} cap={capacity} budget={} chunks={chunks}",
                 budget_label(*iteration_budget)
             ),
         }
@@ -154,6 +160,7 @@ pub fn measure_megakernel(
         workgroups,
         capacity,
         iteration_budget,
+        ..
     } = variant
     else {
         return Err(BenchError::Config("not a megakernel variant".into()));
@@ -223,32 +230,35 @@ pub fn run_suite(
         progress(&row);
         rows.push(row);
 
-        let compiled = compile(&workload, &gpu.device)?;
-        let variants = config.workgroups.iter().flat_map(|&workgroups| {
-            config
-                .iteration_budgets
-                .iter()
-                .map(move |&iteration_budget| Variant::Megakernel {
-                    workgroups,
-                    capacity,
-                    iteration_budget,
-                })
-        });
-        for variant in variants {
-            let (timings, high_water, dispatches) =
-                measure_megakernel(gpu, &compiled, workload, variant, config.runs, &expected)?;
-            let rate = items_per_second(items, timings.median);
-            let row = Row {
-                workload,
-                variant,
-                items_per_second: rate,
-                ratio_to_flat: rate / flat_rate,
-                timings,
-                high_water: Some(high_water),
-                dispatches: Some(dispatches),
-            };
-            progress(&row);
-            rows.push(row);
+        for &chunks in &config.chunks {
+            let compiled = compile_with_chunks(&workload, &gpu.device, chunks)?;
+            let variants = config.workgroups.iter().flat_map(|&workgroups| {
+                config
+                    .iteration_budgets
+                    .iter()
+                    .map(move |&iteration_budget| Variant::Megakernel {
+                        workgroups,
+                        capacity,
+                        iteration_budget,
+                        chunks,
+                    })
+            });
+            for variant in variants {
+                let (timings, high_water, dispatches) =
+                    measure_megakernel(gpu, &compiled, workload, variant, config.runs, &expected)?;
+                let rate = items_per_second(items, timings.median);
+                let row = Row {
+                    workload,
+                    variant,
+                    items_per_second: rate,
+                    ratio_to_flat: rate / flat_rate,
+                    timings,
+                    high_water: Some(high_water),
+                    dispatches: Some(dispatches),
+                };
+                progress(&row);
+                rows.push(row);
+            }
         }
     }
     Ok(SuiteReport {
@@ -279,9 +289,11 @@ mod tests {
             workgroups: vec![scheduler::DEFAULT_WORKGROUPS, 3],
             iteration_budgets: vec![recommended_iteration_budget(&gpu.describe()), Some(5)],
             capacity: None,
+            chunks: vec![1, 3],
         };
         let report = run_suite(&gpu, &config, |_| {}).unwrap();
-        assert_eq!(report.rows.len(), 10);
+        // Per work level: flat, then 2 chunk counts x 2 workgroup counts x 2 budgets.
+        assert_eq!(report.rows.len(), 18);
         for row in &report.rows {
             assert!(row.items_per_second > 0.0, "{row:?}");
         }
@@ -309,11 +321,12 @@ mod tests {
             ),
             "{flat:?}"
         );
-        let compiled = compile(&workload, &gpu.device).unwrap();
+        let compiled = crate::megakernel::compile(&workload, &gpu.device).unwrap();
         let variant = Variant::Megakernel {
             workgroups: 4,
             capacity: 4096,
             iteration_budget: None,
+            chunks: 1,
         };
         let mega = measure_megakernel(&gpu, &compiled, workload, variant, 1, &wrong);
         assert!(

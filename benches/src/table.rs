@@ -10,10 +10,11 @@ pub fn format_table(report: &SuiteReport) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:>5}  {:<11}{:>6}{:>10}{:>7}  {:>11}{:>11}{:>11}{:>10}  {:>11}{:>8}{:>11}{:>6}  timer",
+        "{:>5}  {:<11}{:>6}{:>7}{:>10}{:>7}  {:>11}{:>11}{:>11}{:>10}  {:>11}{:>8}{:>11}{:>6}  timer",
         "work",
         "variant",
         "wg",
+        "chunks",
         "capacity",
         "budget",
         "median ms",
@@ -34,7 +35,7 @@ pub fn format_table(report: &SuiteReport) -> String {
 /// One table line.
 pub fn format_row(row: &Row) -> String {
     let ms = |d: std::time::Duration| format!("{:.3}", d.as_secs_f64() * 1e3);
-    let (name, workgroups, capacity, budget) = match row.variant {
+    let (name, workgroups, chunks, capacity, budget) = match row.variant {
         Variant::Flat => (
             "flat",
             row.workload
@@ -43,23 +44,27 @@ pub fn format_row(row: &Row) -> String {
                 .to_string(),
             "-".to_owned(),
             "-".to_owned(),
+            "-".to_owned(),
         ),
         Variant::Megakernel {
             workgroups,
             capacity,
             iteration_budget,
+            chunks,
         } => (
             "megakernel",
             workgroups.to_string(),
+            chunks.to_string(),
             capacity.to_string(),
             budget_label(iteration_budget),
         ),
     };
     format!(
-        "{:>5}  {:<11}{:>6}{:>10}{:>7}  {:>11}{:>11}{:>11}{:>10}  {:>11.3e}{:>8.3}{:>11}{:>6}  {}",
+        "{:>5}  {:<11}{:>6}{:>7}{:>10}{:>7}  {:>11}{:>11}{:>11}{:>10}  {:>11.3e}{:>8.3}{:>11}{:>6}  {}",
         row.workload.work,
         name,
         workgroups,
+        chunks,
         capacity,
         budget,
         ms(row.timings.median),

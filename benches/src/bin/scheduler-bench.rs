@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! cargo run --release -p benches --bin scheduler-bench -- \
-//!     [--items-log2 20] [--runs 7] [--workgroups N ...] [--capacity N] [--json FILE]
+//!     [--items-log2 20] [--runs 7] [--workgroups N ...] [--chunks N ...] [--capacity N] [--json FILE]
 //! ```
 //!
 //! Prints one table measured in this one process: for work 64 and work 0, the
@@ -36,6 +36,10 @@ struct Args {
     /// `benches::suite::recommended_iteration_budget`), none elsewhere.
     #[arg(long, num_args = 1..)]
     iteration_budget: Vec<u32>,
+    /// Chunks per batch to compile the megakernel with, one row each
+    /// (`scheduler::CompileOptions::chunks_per_batch`).
+    #[arg(long, num_args = 1.., default_values_t = [1, 4])]
+    chunks: Vec<u32>,
     /// Megakernel queue capacity in items (default: the item count).
     #[arg(long)]
     capacity: Option<u32>,
@@ -80,6 +84,7 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         workgroups,
         iteration_budgets,
         capacity: args.capacity,
+        chunks: args.chunks.clone(),
     };
     println!("command: {command_line}");
     println!("adapter: {adapter}");
