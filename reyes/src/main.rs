@@ -8,6 +8,7 @@
 //!              [--eye x,y,z] [--target x,y,z] [--up x,y,z] [--fov DEG] [--cpu]
 //!              [--displace bumps|sines|FILE.png|FILE.wgsl --displace-scale S
 //!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
+//!              [--chunks N]
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -123,12 +124,17 @@ struct RenderArgs {
     /// Repetitions of the displacement source per patch (default 1).
     #[arg(long, value_name = "T", requires = "displace")]
     displace_tiling: Option<f32>,
-    /// Longest a GPU frame may take, in seconds (default 60). It includes the
+    /// Longest a GPU frame may take, in seconds (default 600). It includes the
     /// driver's first compile of the megakernel, which takes longer than a
     /// minute on lavapipe when its shader cache is cold (e.g. for a new
     /// `--displace FILE.wgsl` function).
     #[arg(long, value_name = "SECONDS")]
     timeout: Option<u64>,
+    /// Chunks per batch of the megakernel, 1 to 64: how many workgroup-fulls
+    /// of items one batch claims (default 4 on CPU adapters, else 1). The
+    /// image is the same for any value.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(scheduler::MAX_CHUNKS_PER_BATCH)))]
+    chunks: Option<u32>,
     /// Motion blur: spin every object by DEG degrees about its vertical
     /// (model z) axis between shutter open and close.
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
@@ -371,6 +377,7 @@ fn render(args: &RenderArgs) -> Result<(), BoxError> {
         if let Some(seconds) = args.timeout {
             options.timeout = std::time::Duration::from_secs(seconds.max(1));
         }
+        options.chunks_per_batch = args.chunks;
         let mut renderer = GpuRenderer::new(&gpu, options)?;
         let rendered = renderer.render(&scene)?;
         if rendered.overflow_retries > 0 {

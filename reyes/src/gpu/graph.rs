@@ -363,19 +363,22 @@ pub fn compile_with(
     recommended: wgpu::Features,
     user_displacement: Option<&str>,
 ) -> Result<CompiledGraph, CompileError> {
-    compile_for(recommended, user_displacement, Policy::Priority)
+    compile_for(recommended, user_displacement, Policy::Priority, 1)
 }
 
-/// Like [`compile_with`], with the given queue policy. The graph's
-/// priorities (DiceShadeSample > SplitU = SplitV > Bound) count under
+/// Like [`compile_with`], with the given queue policy and chunks per batch
+/// ([`CompileOptions::chunks_per_batch`]). The graph's priorities
+/// (DiceShadeSample > SplitU = SplitV > Bound) count under
 /// [`Policy::Priority`] only.
 pub fn compile_for(
     recommended: wgpu::Features,
     user_displacement: Option<&str>,
     policy: Policy,
+    chunks_per_batch: u32,
 ) -> Result<CompiledGraph, CompileError> {
     let options = CompileOptions {
         policy,
+        chunks_per_batch,
         ..compile_options(recommended)
     };
     reyes_graph_with(user_displacement).compile(&options)

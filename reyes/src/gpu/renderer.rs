@@ -56,6 +56,16 @@ pub const CPU_ITERATION_BUDGET: u32 = 16;
 pub fn cpu_workgroups() -> u32 {
     std::thread::available_parallelism().map_or(2, |n| n.get().min(64) as u32)
 }
+/// Chunks per batch on CPU adapters ([`scheduler::CompileOptions::chunks_per_batch`])
+/// for frames without motion blur or depth of field. llvmpipe runs every part
+/// of the megakernel for every group of 8 lanes, whichever procedure the batch
+/// belongs to, so larger batches share that cost among more items: the
+/// default teapot frame takes about 1.5 s with 4 chunks against 2.4 s with 1
+/// (docs/performance.md, "Chunks per batch"). Frames that sample time or
+/// lens keep 1: their rasterization loops are long enough that 4 chunks per
+/// batch ran into llvmpipe's loop limit (see [`CPU_ITERATION_BUDGET`]), and
+/// the bookkeeping is a small share of their time.
+pub const CPU_CHUNKS_PER_BATCH: u32 = 4;
 /// Iteration budget of the one retry after llvmpipe cut loops short. The
 /// loop counter llvmpipe keeps is shared by all loops of an invocation,
 /// including the scheduler's queue waits, which grow when other work
@@ -150,6 +160,10 @@ pub struct GpuOptions {
     /// Iteration budget per dispatch (`None`: [`CPU_ITERATION_BUDGET`] on
     /// CPU adapters, else the scheduler's default).
     pub iteration_budget: Option<u32>,
+    /// Chunks per batch the megakernel is compiled with (`None`:
+    /// [`CPU_CHUNKS_PER_BATCH`] on CPU adapters for frames without motion
+    /// blur or depth of field, else 1). The image is the same for any value.
+    pub chunks_per_batch: Option<u32>,
     /// Capacity of the split and dice queues in items.
     pub work_capacity: u32,
     /// Host-side limit of one run.
@@ -177,6 +191,7 @@ impl Default for GpuOptions {
         Self {
             workgroups: None,
             iteration_budget: None,
+            chunks_per_batch: None,
             work_capacity: DEFAULT_WORK_CAPACITY,
             timeout: DEFAULT_RENDER_TIMEOUT,
             strategy: Strategy::Megakernel,
@@ -345,6 +360,8 @@ pub struct GpuRenderer<'a> {
     compiled: CompiledGraph,
     /// The user displacement function compiled into `compiled`, if any.
     compiled_user: Option<String>,
+    /// The chunks per batch `compiled` was compiled with.
+    compiled_chunks: u32,
     resolver: Resolver,
     executor: Option<(Capacities, Option<u32>, Executor)>,
     frame: Option<(FrameBuffers, ResolveTarget)>,
@@ -358,16 +375,19 @@ impl<'a> GpuRenderer<'a> {
         if !missing.is_empty() {
             return Err(RenderError::MissingFeatures { missing });
         }
+        let chunks = chunks_per_batch(gpu, &options, false);
         let compiled = graph::compile_for(
             scheduler::recommended_features(&gpu.device),
             None,
             options.policy,
+            chunks,
         )?;
         Ok(Self {
             gpu,
             options,
             compiled,
             compiled_user: None,
+            compiled_chunks: chunks,
             resolver: Resolver::new(&gpu.device),
             executor: None,
             frame: None,
@@ -381,8 +401,8 @@ impl<'a> GpuRenderer<'a> {
     }
 
     /// Compiles the megakernel again when `scene` needs a different user
-    /// displacement function than the one compiled in (the executor, which
-    /// holds the pipeline, is then rebuilt).
+    /// displacement function, or chunks per batch, than the one compiled in
+    /// (the executor, which holds the pipeline, is then rebuilt).
     fn prepare_megakernel(&mut self, scene: &PreparedScene) -> Result<(), RenderError> {
         let mut users = scene.objects.iter().enumerate().filter_map(|(i, o)| {
             o.displacement
@@ -397,18 +417,21 @@ impl<'a> GpuRenderer<'a> {
             }
         }
         let user = user.map(|(_, w)| w);
-        if user == self.compiled_user.as_deref() {
+        let chunks = chunks_per_batch(self.gpu, &self.options, scene.samples_time_and_lens());
+        if user == self.compiled_user.as_deref() && chunks == self.compiled_chunks {
             return Ok(());
         }
         let features = scheduler::recommended_features(&self.gpu.device);
-        let compiled =
-            graph::compile_for(features, user, self.options.policy).map_err(|e| match user {
+        let compiled = graph::compile_for(features, user, self.options.policy, chunks).map_err(
+            |e| match user {
                 Some(_) => RenderError::UserDisplacement(e),
                 None => RenderError::Compile(e),
-            })?;
+            },
+        )?;
         self.executor = None;
         self.compiled = compiled;
         self.compiled_user = user.map(str::to_owned);
+        self.compiled_chunks = chunks;
         Ok(())
     }
 
@@ -502,7 +525,7 @@ impl<'a> GpuRenderer<'a> {
 
     /// Whether the adapter is a CPU (llvmpipe behind lavapipe).
     fn is_cpu(&self) -> bool {
-        self.gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+        is_cpu(self.gpu)
     }
 
     fn config(&self, capacities: Capacities, iteration_budget: Option<u32>) -> ExecutorConfig {
@@ -798,6 +821,23 @@ impl<'a> GpuRenderer<'a> {
             buffers.samples,
         );
     }
+}
+
+/// Whether `gpu` is a CPU adapter (llvmpipe behind lavapipe).
+fn is_cpu(gpu: &Gpu) -> bool {
+    gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+}
+
+/// The chunks per batch `options` ask for on `gpu`, for a frame that samples
+/// time or lens (`blurred`) or not.
+fn chunks_per_batch(gpu: &Gpu, options: &GpuOptions, blurred: bool) -> u32 {
+    options
+        .chunks_per_batch
+        .unwrap_or(if is_cpu(gpu) && !blurred {
+            CPU_CHUNKS_PER_BATCH
+        } else {
+            1
+        })
 }
 
 #[cfg(test)]
