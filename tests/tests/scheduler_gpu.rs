@@ -184,6 +184,76 @@ fn iteration_budget_spreads_the_run_over_dispatches() {
     assert!(report.dispatches > 1, "{report}");
 }
 
+/// Rounds of the hash that `hashing_tree` runs per item.
+const HASH_ROUNDS: u32 = 200;
+
+/// The integer hash of `hashing_tree`, on the CPU.
+fn hash_rounds(id: u32) -> u32 {
+    (0..HASH_ROUNDS).fold(id, |h, _| (h ^ (h >> 16)).wrapping_mul(0x045d_9f3b))
+}
+
+/// A binary tree whose items each run a loop of [`HASH_ROUNDS`] iterations
+/// and store the result in `out[id]`.
+fn hashing_tree(depth: u32) -> Graph {
+    let mut graph = Graph::new("hashing tree");
+    graph.resource(scheduler::Resource::storage("out", "array<u32>"));
+    graph.procedure(
+        Procedure::new("Grow", node_type())
+            .initial(true)
+            .body(format!(
+                "if (valid) {{
+    var h = item.id;
+    for (var i = 0u; i < {HASH_ROUNDS}u; i += 1u) {{
+        h = (h ^ (h >> 16u)) * 0x045d9f3bu;
+    }}
+    out[item.id] = h;
+    if (item.depth < {depth}u) {{
+        enqueue_Grow(Node(item.depth + 1u, item.id * 2u));
+        enqueue_Grow(Node(item.depth + 1u, item.id * 2u + 1u));
+    }}
+}}"
+            )),
+    );
+    graph.connect_with_fan_out("Grow", "Grow", 2);
+    graph
+}
+
+/// With many chunks per batch, each batch runs the bodies' loops once per
+/// chunk, so the default CPU iteration budget is counted in chunks. One
+/// workgroup runs ~30 batches of 16 chunks here: counted in batches, its
+/// loops would pass llvmpipe's 65,535 iterations in the first dispatch.
+#[test]
+fn many_chunks_per_batch_stay_within_the_default_loop_budget() {
+    let Some(gpu) = tests::gpu() else { return };
+    let depth = 16;
+    let items = (1u32 << (depth + 1)) - 1;
+    let options = CompileOptions {
+        chunks_per_batch: 16,
+        ..CompileOptions::default()
+    };
+    let compiled = hashing_tree(depth).compile(&options).unwrap();
+    let out = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("out"),
+        size: 4 * (u64::from(items) + 1),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let report = run(
+        gpu,
+        &compiled,
+        config(1, 1 << 17),
+        &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+        &[Binding::buffer("out", &out)],
+    )
+    .unwrap();
+    assert_eq!(report.procedure("Grow").unwrap().executed, u64::from(items));
+    let bytes = read_buffer(&gpu.device, &gpu.queue, &out, Duration::from_secs(30)).unwrap();
+    let values: &[u32] = bytemuck::cast_slice(&bytes);
+    for id in 1..=items {
+        assert_eq!(values[id as usize], hash_rounds(id), "item {id}");
+    }
+}
+
 #[test]
 fn overflow_is_a_typed_error_and_the_run_still_ends() {
     let Some(gpu) = tests::gpu() else { return };

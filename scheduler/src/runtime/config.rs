@@ -21,8 +21,10 @@ pub const DEFAULT_WORKGROUPS: u32 = 256;
 /// iterations of all loops nested in the persistent loop together and, once
 /// that count passes 65535, ends them all (the scheduler then reports
 /// [`RunError::LoopLimit`](crate::RunError::LoopLimit)). Leaving the
-/// persistent loop after 64 batches starts fresh invocations often enough for
-/// bodies whose loops run up to ~800 iterations per batch.
+/// persistent loop after 64 chunks (64 batches of one chunk, 16 batches of
+/// [`CompileOptions::chunks_per_batch`](crate::CompileOptions::chunks_per_batch)
+/// = 4, at least one batch) starts fresh invocations often enough for bodies
+/// whose loops run up to ~800 iterations per chunk.
 /// docs/scheduler.md ("Loop limits") has details.
 pub const CPU_ITERATION_BUDGET: u32 = 64;
 
@@ -87,9 +89,10 @@ pub struct ExecutorConfig {
     pub capacities: Capacities,
     /// Persistent workgroups per dispatch ([`DEFAULT_WORKGROUPS`] if `None`).
     pub workgroups: Option<u32>,
-    /// Iterations after which each workgroup leaves; the host then dispatches
+    /// Batches after which each workgroup leaves; the host then dispatches
     /// again until the work is done. `None`: no budget (one dispatch), except
-    /// on CPU adapters, which get [`CPU_ITERATION_BUDGET`].
+    /// on CPU adapters, which get [`CPU_ITERATION_BUDGET`] chunks' worth of
+    /// batches.
     pub iteration_budget: Option<u32>,
     /// Host-side limit on one run.
     pub timeout: Duration,

@@ -146,7 +146,8 @@ impl Executor {
         let cpu = device.adapter_info().device_type == wgpu::DeviceType::Cpu;
         let iteration_budget = match config.iteration_budget {
             Some(budget) => budget.max(1),
-            None if cpu => CPU_ITERATION_BUDGET,
+            // Counted in chunks: each chunk runs the bodies' loops once more.
+            None if cpu => (CPU_ITERATION_BUDGET / plan.chunks_per_batch).max(1),
             None => u32::MAX,
         };
         let tuning = Tuning {
