@@ -128,8 +128,12 @@ fn render_error(e: impl std::fmt::Display) -> BenchError {
 }
 
 /// Times every mode of `scenes` (one prepared scene per mode, all of one
-/// configuration), interleaving the modes run by run after one warm-up
-/// frame each so that drift hits them alike. A mode whose frame fails (on
+/// configuration), interleaving the modes run by run so that drift hits them
+/// alike. The first frame of each mode gives its counts; with `warm_up` it
+/// is not timed and `runs` more frames follow, without it it is the first
+/// of the `runs` timed frames (the times are the megakernel's GPU
+/// timestamps, which exclude pipeline creation, so a cold first frame only
+/// matters to drivers that compile lazily). A mode whose frame fails (on
 /// llvmpipe: a loop the driver cut short, for the largest boxes) gets its
 /// error instead of a row, and the others go on.
 pub fn measure(
@@ -137,6 +141,7 @@ pub fn measure(
     scenes: &[(Sampling, PreparedScene)],
     config: BlurConfig,
     runs: u32,
+    warm_up: bool,
 ) -> Vec<(Sampling, Result<BlurRow, String>)> {
     let mut rows: Vec<(Sampling, Result<BlurRow, String>)> = Vec::new();
     for (mode, prepared) in scenes {
@@ -147,7 +152,11 @@ pub fn measure(
                 spp: prepared.spp,
                 mode: *mode,
                 median: Duration::ZERO,
-                runs: Vec::new(),
+                runs: if warm_up {
+                    Vec::new()
+                } else {
+                    vec![frame_time(&frame)]
+                },
                 tested: frame.stats.samples_tested,
                 hit: frame.stats.samples_hit,
                 interleave_grids: frame.stats.interleave_grids,
@@ -157,17 +166,16 @@ pub fn measure(
             .map_err(|e| e.to_string());
         rows.push((*mode, row));
     }
-    for _ in 0..runs {
+    let more_runs = if warm_up {
+        runs
+    } else {
+        runs.saturating_sub(1)
+    };
+    for _ in 0..more_runs {
         for ((_, row), (_, prepared)) in rows.iter_mut().zip(scenes) {
             let Ok(measured) = row else { continue };
             match renderer.render(prepared) {
-                Ok(frame) => {
-                    let ms = frame
-                        .timings
-                        .megakernel_gpu_ms
-                        .unwrap_or(frame.timings.megakernel_wall_ms);
-                    measured.runs.push(Duration::from_secs_f64(ms / 1e3));
-                }
+                Ok(frame) => measured.runs.push(frame_time(&frame)),
                 Err(e) => *row = Err(e.to_string()),
             }
         }
@@ -180,6 +188,16 @@ pub fn measure(
         }
     }
     rows
+}
+
+/// A frame's megakernel time: GPU timestamps when the adapter has them,
+/// else wall time.
+fn frame_time(frame: &reyes::gpu::GpuRendered) -> Duration {
+    let ms = frame
+        .timings
+        .megakernel_gpu_ms
+        .unwrap_or(frame.timings.megakernel_wall_ms);
+    Duration::from_secs_f64(ms / 1e3)
 }
 
 /// A renderer with a generous timeout (bounding-box sampling of large blur

@@ -2,8 +2,8 @@
 //!
 //! ```text
 //! cargo run --release -p benches --bin blur-bench -- [--model killeroo|teapot|FILE]
-//!     [--width 800] [--height 600] [--spp 16,64] [--runs 5]
-//!     [--table] [--adaptive]
+//!     [--width 800] [--height 600] [--spp 16,64] [--runs 5] [--no-warm-up]
+//!     [--blurs motion,dof,both] [--modes bbox,simple,...] [--table] [--adaptive]
 //! ```
 //!
 //! `--table` (default) prints time and sample test efficiency of every mode
@@ -36,9 +36,17 @@ struct Args {
     /// Samples per pixel to measure.
     #[arg(long, value_delimiter = ',', default_values_t = [16, 64])]
     spp: Vec<u32>,
-    /// Timed frames per cell (after one warm-up frame).
-    #[arg(long, default_value_t = 5)]
+    /// Timed frames per cell (after one warm-up frame, unless --no-warm-up).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
     runs: u32,
+    /// Time every frame, the first included (which also gives the counts).
+    /// The times are GPU timestamps of the megakernel, which exclude
+    /// pipeline creation, so this halves the cost of a single-run table.
+    #[arg(long)]
+    no_warm_up: bool,
+    /// Rows of the table: `motion` (spin alone), `dof` (lens alone), `both`.
+    #[arg(long, value_delimiter = ',', default_values_t = ["motion".to_string(), "dof".into(), "both".into()])]
+    blurs: Vec<String>,
     /// Degrees of spin of the table's motion-blur rows.
     #[arg(long, default_value_t = 30.0)]
     spin: f32,
@@ -83,6 +91,20 @@ fn mode(name: &str) -> Result<Sampling, Box<dyn std::error::Error>> {
         .ok_or_else(|| format!("unknown 5D sampling mode {name:?}").into())
 }
 
+/// A table row's blur: the spin alone, the lens alone, or both.
+fn blur(name: &str, args: &Args) -> Result<BlurConfig, Box<dyn std::error::Error>> {
+    let (spin_degrees, aperture_fraction) = match name {
+        "motion" => (args.spin, 0.0),
+        "dof" => (0.0, args.aperture),
+        "both" => (args.spin, args.aperture),
+        other => return Err(format!("unknown blur {other:?} (motion, dof or both)").into()),
+    };
+    Ok(BlurConfig {
+        spin_degrees,
+        aperture_fraction,
+    })
+}
+
 fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
     let command_line = std::env::args().collect::<Vec<_>>().join(" ");
     let gpu = reyes::gpu::create_gpu()?;
@@ -113,28 +135,20 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
             .iter()
             .map(|m| mode(m))
             .collect::<Result<Vec<_>, _>>()?;
-        let configs = [
-            BlurConfig {
-                spin_degrees: args.spin,
-                aperture_fraction: 0.0,
-            },
-            BlurConfig {
-                spin_degrees: 0.0,
-                aperture_fraction: args.aperture,
-            },
-            BlurConfig {
-                spin_degrees: args.spin,
-                aperture_fraction: args.aperture,
-            },
-        ];
+        let configs = args
+            .blurs
+            .iter()
+            .map(|b| blur(b, args))
+            .collect::<Result<Vec<_>, _>>()?;
         let mut rows = Vec::new();
         for &spp in &args.spp {
-            for config in configs {
+            for &config in &configs {
                 let measured = measure(
                     &mut renderer,
                     &prepare(config, spp, &modes)?,
                     config,
                     args.runs,
+                    !args.no_warm_up,
                 );
                 eprint!("{}", format_rows(&measured));
                 rows.extend(measured);
@@ -160,6 +174,7 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
                         &prepare(config, spp, &modes)?,
                         config,
                         args.runs,
+                        !args.no_warm_up,
                     );
                     let ms = |i: usize| {
                         rows[i]
