@@ -102,7 +102,9 @@ pub const SINES_NORMALIZATION: f32 = 2.0 / 3.0;
 
 /// Adaptive sampling picks Interleave UVT for a grid when INTERVAL's
 /// estimated sample tests exceed Interleave UVT's by more than this factor
-/// (see `reyes::reference::raster5d::adaptive_choice`); it weighs the two
-/// algorithms' different costs per test, and was calibrated with
-/// `blur-bench` (docs/performance.md).
+/// (see `reyes::reference::raster5d::adaptive_choice`). 1.0 counts a test
+/// alike in both. It is not calibrated: on the Killeroo benchmark 2.0 fixed
+/// the one cell where Adaptive was slow (spp 64, 30 degree spin) and made
+/// others up to 2.4x slower, so the error lies in the test estimates, not in
+/// a constant factor (docs/performance.md, the Killeroo blur tables).
 pub const ADAPTIVE_INTERLEAVE_BIAS: f32 = 1.0;
