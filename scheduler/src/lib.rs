@@ -53,8 +53,8 @@ pub use graph::{Access, Connection, DEFAULT_PRIORITY, Graph, Procedure, Resource
 pub use item::ItemType;
 pub use options::{CompileOptions, MAX_CHUNKS_PER_BATCH, Policy, recommended_features};
 pub use runtime::config::{
-    CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT,
-    DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
+    CPU_CHUNK_BUDGET, CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, Capacities, DEFAULT_CAPACITY,
+    DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
 };
 pub use runtime::executor::{Binding, Executor, ResetFn, Retry};
 pub use runtime::report::{ProcedureStats, RunReport};

@@ -185,7 +185,7 @@ fn iteration_budget_spreads_the_run_over_dispatches() {
 }
 
 /// Rounds of the hash that `hashing_tree` runs per item.
-const HASH_ROUNDS: u32 = 200;
+const HASH_ROUNDS: u32 = 150;
 
 /// The integer hash of `hashing_tree`, on the CPU.
 fn hash_rounds(id: u32) -> u32 {
@@ -219,13 +219,15 @@ fn hashing_tree(depth: u32) -> Graph {
 }
 
 /// With many chunks per batch, each batch runs the bodies' loops once per
-/// chunk, so the default CPU iteration budget is counted in chunks. One
-/// workgroup runs ~30 batches of 16 chunks here: counted in batches, its
-/// loops would pass llvmpipe's 65,535 iterations in the first dispatch.
+/// chunk, so the default CPU iteration budget also caps the chunks
+/// (`CPU_CHUNK_BUDGET`). One workgroup runs ~50 batches, 1,024 full chunks
+/// of 256 items, here: capped at 64 batches alone, it would run them all in
+/// one invocation, and its loops would pass llvmpipe's 65,535 iterations
+/// (1,024 x 150 hash rounds). With the cap, an invocation runs 256 chunks.
 #[test]
 fn many_chunks_per_batch_stay_within_the_default_loop_budget() {
     let Some(gpu) = tests::gpu() else { return };
-    let depth = 16;
+    let depth = 17;
     let items = (1u32 << (depth + 1)) - 1;
     let options = CompileOptions {
         chunks_per_batch: 16,
@@ -241,7 +243,7 @@ fn many_chunks_per_batch_stay_within_the_default_loop_budget() {
     let report = run(
         gpu,
         &compiled,
-        config(1, 1 << 17),
+        config(1, 1 << 18),
         &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
         &[Binding::buffer("out", &out)],
     )

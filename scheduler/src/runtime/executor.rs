@@ -7,7 +7,7 @@ use crate::codegen::generate::{PREPARE_ENTRY_POINT, round_entry_point};
 use crate::compile::plan::control;
 use crate::readback::map_read;
 use crate::runtime::config::{
-    CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, DEFAULT_WORKGROUPS, ExecutorConfig,
+    CPU_CHUNK_BUDGET, CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, DEFAULT_WORKGROUPS, ExecutorConfig,
 };
 use crate::runtime::state::{Layouts, QueueState, Tuning, storage_entry, uniform_entry};
 use crate::{
@@ -146,8 +146,10 @@ impl Executor {
         let cpu = device.adapter_info().device_type == wgpu::DeviceType::Cpu;
         let iteration_budget = match config.iteration_budget {
             Some(budget) => budget.max(1),
-            // Counted in chunks: each chunk runs the bodies' loops once more.
-            None if cpu => (CPU_ITERATION_BUDGET / plan.chunks_per_batch).max(1),
+            // Each chunk runs the bodies' loops once more: cap the chunks too.
+            None if cpu => CPU_ITERATION_BUDGET
+                .min(CPU_CHUNK_BUDGET / plan.chunks_per_batch)
+                .max(1),
             None => u32::MAX,
         };
         let tuning = Tuning {
