@@ -60,6 +60,10 @@ pub struct BlurRow {
     pub grids: u64,
     /// Screen tiles per frame.
     pub tiles: u32,
+    /// Most runs any one frame of the cell repeated (llvmpipe cut a loop, or
+    /// a queue overflowed). Only a frame's last run is timed, so a cell with
+    /// retries understates what its frames cost.
+    pub retries: u32,
 }
 
 impl BlurRow {
@@ -162,6 +166,7 @@ pub fn measure(
                 interleave_grids: frame.stats.interleave_grids,
                 grids: frame.stats.grids_diced,
                 tiles: frame.tiles,
+                retries: retries(&frame),
             })
             .map_err(|e| e.to_string());
         rows.push((*mode, row));
@@ -175,7 +180,10 @@ pub fn measure(
         for ((_, row), (_, prepared)) in rows.iter_mut().zip(scenes) {
             let Ok(measured) = row else { continue };
             match renderer.render(prepared) {
-                Ok(frame) => measured.runs.push(frame_time(&frame)),
+                Ok(frame) => {
+                    measured.runs.push(frame_time(&frame));
+                    measured.retries = measured.retries.max(retries(&frame));
+                }
                 Err(e) => *row = Err(e.to_string()),
             }
         }
@@ -200,6 +208,11 @@ fn frame_time(frame: &reyes::gpu::GpuRendered) -> Duration {
     Duration::from_secs_f64(ms / 1e3)
 }
 
+/// Runs a frame repeated before it succeeded.
+fn retries(frame: &reyes::gpu::GpuRendered) -> u32 {
+    frame.loop_retries + frame.overflow_retries
+}
+
 /// A renderer with a generous timeout (bounding-box sampling of large blur
 /// tests billions of samples on a CPU adapter).
 pub fn renderer(gpu: &scheduler::Gpu) -> Result<GpuRenderer<'_>, BenchError> {
@@ -216,8 +229,8 @@ pub fn renderer(gpu: &scheduler::Gpu) -> Result<GpuRenderer<'_>, BenchError> {
 /// The rows as a table: one line per (configuration, spp, mode).
 pub fn format_rows(rows: &[(Sampling, Result<BlurRow, String>)]) -> String {
     let mut s = format!(
-        "{:<22}{:>5}  {:<11}{:>12}{:>12}{:>14}{:>11}{:>12}{:>6}\n",
-        "blur", "spp", "mode", "median ms", "min ms", "tested", "STE", "ileave", "tiles"
+        "{:<22}{:>5}  {:<11}{:>12}{:>12}{:>14}{:>11}{:>12}{:>6}{:>8}\n",
+        "blur", "spp", "mode", "median ms", "min ms", "tested", "STE", "ileave", "tiles", "retries"
     );
     for (mode, row) in rows {
         let row = match row {
@@ -229,7 +242,7 @@ pub fn format_rows(rows: &[(Sampling, Result<BlurRow, String>)]) -> String {
         };
         let min = row.runs.iter().min().copied().unwrap_or_default();
         s += &format!(
-            "{:<22}{:>5}  {:<11}{:>12.1}{:>12.1}{:>14}{:>11.5}{:>12}{:>6}\n",
+            "{:<22}{:>5}  {:<11}{:>12.1}{:>12.1}{:>14}{:>11.5}{:>12}{:>6}{:>8}\n",
             row.config.label(),
             row.spp,
             row.mode.name(),
@@ -239,6 +252,7 @@ pub fn format_rows(rows: &[(Sampling, Result<BlurRow, String>)]) -> String {
             row.efficiency(),
             format!("{}/{}", row.interleave_grids, row.grids),
             row.tiles,
+            row.retries,
         );
     }
     s
