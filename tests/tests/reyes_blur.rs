@@ -88,7 +88,7 @@ fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
     let mut scene = framed_teapot(96, 96, 4);
     for object in &mut scene.objects {
         object.transform_close = Some(Transform {
-            rotate_degrees: Vec3::new(0.0, 0.0, 10.0),
+            rotate_degrees: Vec3::new(0.0, 0.0, 20.0),
             ..object.transform
         });
     }
@@ -119,6 +119,7 @@ fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
         );
         interleave_grids.push(c.stats.interleave_grids);
     }
+    eprintln!("interleave grids per mode: {interleave_grids:?}");
     // Interleave UVT samples every grid with it; the others none; Adaptive
     // decides per grid (this frame has both small and large blur).
     let grids = interleave_grids[2];
