@@ -19,17 +19,53 @@ pub fn node_type() -> ItemType {
 
 /// A complete binary tree of the given depth: `2^(depth + 1) - 1` items.
 pub fn binary_tree(depth: u32) -> Graph {
-    let mut graph = Graph::new("binary tree");
-    graph.procedure(
-        Procedure::new("Grow", node_type())
-            .initial(true)
-            .body(format!(
-                "if (valid && item.depth < {depth}u) {{
+    tree_graph("binary tree", grow_body(depth))
+}
+
+/// Rounds of the hash that [`hashing_tree`] runs per item.
+pub const HASH_ROUNDS: u32 = 150;
+
+/// The integer hash of [`hashing_tree`], on the CPU.
+pub fn hash_rounds(id: u32) -> u32 {
+    (0..HASH_ROUNDS).fold(id, |h, _| (h ^ (h >> 16)).wrapping_mul(0x045d_9f3b))
+}
+
+/// [`binary_tree`] whose items each also run a loop of [`HASH_ROUNDS`]
+/// iterations and store the result in the resource `out[id]`.
+pub fn hashing_tree(depth: u32) -> Graph {
+    let mut graph = tree_graph(
+        "hashing tree",
+        format!(
+            "if (valid) {{
+    var h = item.id;
+    for (var i = 0u; i < {HASH_ROUNDS}u; i += 1u) {{
+        h = (h ^ (h >> 16u)) * 0x045d9f3bu;
+    }}
+    out[item.id] = h;
+}}
+{}",
+            grow_body(depth)
+        ),
+    );
+    graph.resource(Resource::storage("out", "array<u32>"));
+    graph
+}
+
+/// The body that gives each node above `depth` its two children.
+fn grow_body(depth: u32) -> String {
+    format!(
+        "if (valid && item.depth < {depth}u) {{
     enqueue_Grow(Node(item.depth + 1u, item.id * 2u));
     enqueue_Grow(Node(item.depth + 1u, item.id * 2u + 1u));
 }}"
-            )),
-    );
+    )
+}
+
+/// One initial procedure `Grow` with `body`, enqueueing into itself (two
+/// children per item).
+fn tree_graph(name: &str, body: String) -> Graph {
+    let mut graph = Graph::new(name);
+    graph.procedure(Procedure::new("Grow", node_type()).initial(true).body(body));
     graph.connect_with_fan_out("Grow", "Grow", 2);
     graph
 }

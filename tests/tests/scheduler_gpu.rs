@@ -9,7 +9,10 @@ use scheduler::{
     Procedure, RunError, RunReport, Seeds, readback::read_buffer, wgpu,
 };
 use tests::config;
-use tests::graphs::{Node, binary_tree, node_type, ping_pong, ping_pong_counts, scratch_sum};
+use tests::graphs::{
+    Node, binary_tree, hash_rounds, hashing_tree, node_type, ping_pong, ping_pong_counts,
+    scratch_sum,
+};
 
 /// Both payload paths (atomics, and coherent memory when the device has it),
 /// each with one chunk per batch and with a drawn number of chunks.
@@ -182,40 +185,6 @@ fn iteration_budget_spreads_the_run_over_dispatches() {
     .unwrap();
     assert_eq!(report.procedure("Grow").unwrap().executed, 2047);
     assert!(report.dispatches > 1, "{report}");
-}
-
-/// Rounds of the hash that `hashing_tree` runs per item.
-const HASH_ROUNDS: u32 = 150;
-
-/// The integer hash of `hashing_tree`, on the CPU.
-fn hash_rounds(id: u32) -> u32 {
-    (0..HASH_ROUNDS).fold(id, |h, _| (h ^ (h >> 16)).wrapping_mul(0x045d_9f3b))
-}
-
-/// A binary tree whose items each run a loop of [`HASH_ROUNDS`] iterations
-/// and store the result in `out[id]`.
-fn hashing_tree(depth: u32) -> Graph {
-    let mut graph = Graph::new("hashing tree");
-    graph.resource(scheduler::Resource::storage("out", "array<u32>"));
-    graph.procedure(
-        Procedure::new("Grow", node_type())
-            .initial(true)
-            .body(format!(
-                "if (valid) {{
-    var h = item.id;
-    for (var i = 0u; i < {HASH_ROUNDS}u; i += 1u) {{
-        h = (h ^ (h >> 16u)) * 0x045d9f3bu;
-    }}
-    out[item.id] = h;
-    if (item.depth < {depth}u) {{
-        enqueue_Grow(Node(item.depth + 1u, item.id * 2u));
-        enqueue_Grow(Node(item.depth + 1u, item.id * 2u + 1u));
-    }}
-}}"
-            )),
-    );
-    graph.connect_with_fan_out("Grow", "Grow", 2);
-    graph
 }
 
 /// With many chunks per batch, each batch runs the bodies' loops once per
