@@ -176,6 +176,9 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
                         args.runs,
                         !args.no_warm_up,
                     );
+                    // The cell's rows (counts, grids sent to Interleave,
+                    // retries) go to stderr, the verdicts to stdout.
+                    eprint!("{}", format_rows(&rows));
                     let ms = |i: usize| {
                         rows[i]
                             .1
