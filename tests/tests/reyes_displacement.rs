@@ -13,7 +13,9 @@ use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, ReferenceError, Rendered};
 use reyes::scene::{CameraDesc, Sampling, Scene, SceneError};
-use tests::reyes_support::{Agreement, agreement, assert_counts_close, framed_teapot, gpu_turn};
+use tests::reyes_support::{
+    self, Agreement, agreement, assert_counts_close, framed_teapot, gpu_turn,
+};
 
 /// Run time limit: llvmpipe compiles the megakernel lazily at its first
 /// dispatch, which takes more than the default minute on a 2-core machine
@@ -22,16 +24,13 @@ use tests::reyes_support::{Agreement, agreement, assert_counts_close, framed_tea
 const TIMEOUT: Duration = Duration::from_secs(600);
 
 fn renderer(gpu: &scheduler::Gpu) -> GpuRenderer<'_> {
-    let options = GpuOptions {
-        timeout: TIMEOUT,
-        ..GpuOptions::default()
-    };
-    GpuRenderer::new(gpu, options).unwrap_or_else(|e| {
-        panic!(
-            "the Reyes GPU renderer cannot run on {}: {e}",
-            gpu.describe()
-        )
-    })
+    reyes_support::renderer(
+        gpu,
+        GpuOptions {
+            timeout: TIMEOUT,
+            ..GpuOptions::default()
+        },
+    )
 }
 
 /// The default teapot at `width x height`, spp 4, framed for that aspect
