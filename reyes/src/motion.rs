@@ -101,6 +101,35 @@ impl ObjectMotion {
     }
 }
 
+/// The view a fraction `t` of the way from view `open` to view `close`
+/// (world-to-view matrices of rigid cameras): the eye interpolated linearly,
+/// the orientation by slerp (the shorter way). `t = 0` and `t = 1` give
+/// `open` and `close` exactly.
+pub fn interpolate_view(open: Mat4, close: Mat4, t: f32) -> Mat4 {
+    if t == 0.0 {
+        return open;
+    }
+    if t == 1.0 {
+        return close;
+    }
+    // The inverse of a view is the camera's placement: its rotation and eye.
+    let (_, rotation_open, eye_open) = open.inverse().to_scale_rotation_translation();
+    let (_, rotation_close, eye_close) = close.inverse().to_scale_rotation_translation();
+    Mat4::from_rotation_translation(
+        rotation_open.slerp(rotation_close, t),
+        eye_open.lerp(eye_close, t),
+    )
+    .inverse()
+}
+
+/// Camera motion as a motion of the world: the rigid map `open^-1 * close`
+/// that takes a world point to where the camera at view `open` sees what
+/// the camera at view `close` sees at the point (see the module
+/// documentation). `None` when the views are equal.
+pub fn camera_motion(open: Mat4, close: Mat4) -> Option<Mat4> {
+    (open != close).then(|| open.inverse() * close)
+}
+
 /// The world-space radius the bound test grows a control point `p` by so
 /// that the surface it stands for stays inside at every time and lens
 /// position: the displacement bound (stretched by the motion), the point's
@@ -182,6 +211,97 @@ mod tests {
         assert!(motion.close(at_open).abs_diff_eq(at_close, 1e-5));
         assert!(motion.stretch >= 2.0);
         assert!(ObjectMotion::new(open.matrix(), open.matrix()).is_none());
+    }
+
+    fn random_vec3(rng: &mut rand::rngs::StdRng, range: f32) -> Vec3 {
+        use rand::Rng;
+        Vec3::new(
+            rng.random_range(-range..range),
+            rng.random_range(-range..range),
+            rng.random_range(-range..range),
+        )
+    }
+
+    /// A camera at a random pose (fov 50 degrees, 200x150) and its view.
+    fn random_camera(rng: &mut rand::rngs::StdRng) -> Camera {
+        let eye = random_vec3(rng, 10.0);
+        let target = eye + random_vec3(rng, 5.0) + Vec3::splat(0.5);
+        Camera::new(
+            eye,
+            target,
+            Vec3::Z,
+            50f32.to_radians(),
+            200,
+            150,
+            0.1,
+            100.0,
+        )
+    }
+
+    /// What the camera at close sees, the camera at open sees at the
+    /// camera motion's image of the point: the same clip coordinates.
+    #[test]
+    fn camera_motion_shows_the_close_view_through_the_open_camera() {
+        use rand::SeedableRng;
+        let seed: u64 = rand::random();
+        eprintln!("camera_motion_shows_the_close_view_through_the_open_camera seed = {seed}");
+        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        for _ in 0..50 {
+            let open = random_camera(&mut rng);
+            let close = random_camera(&mut rng);
+            let motion = camera_motion(open.view, close.view).expect("the views differ");
+            for _ in 0..10 {
+                let p = close.target + random_vec3(&mut rng, 2.0);
+                let seen_at_close = close.to_clip(p);
+                let seen_from_open = open.to_clip(motion.transform_point3(p));
+                assert!(
+                    seen_from_open.abs_diff_eq(seen_at_close, 1e-3 * (1.0 + seen_at_close.w.abs())),
+                    "seed {seed}: {seen_from_open} {seen_at_close}"
+                );
+            }
+        }
+        let still = random_camera(&mut rng);
+        assert_eq!(camera_motion(still.view, still.view), None);
+    }
+
+    /// The view in between is a rigid camera with the eye on the line and
+    /// the orientation on the great arc between the two; both ends are exact.
+    #[test]
+    fn interpolated_views_move_the_eye_linearly_and_stay_rigid() {
+        use rand::SeedableRng;
+        let seed: u64 = rand::random();
+        eprintln!("interpolated_views_move_the_eye_linearly_and_stay_rigid seed = {seed}");
+        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        for _ in 0..50 {
+            let (open, close) = (random_camera(&mut rng), random_camera(&mut rng));
+            assert_eq!(interpolate_view(open.view, close.view, 0.0), open.view);
+            assert_eq!(interpolate_view(open.view, close.view, 1.0), close.view);
+            let t = 0.25;
+            let view = interpolate_view(open.view, close.view, t);
+            let placement = view.inverse();
+            let eye = placement.w_axis.truncate();
+            let want = open.eye.lerp(close.eye, t);
+            assert!(
+                eye.abs_diff_eq(want, 1e-3 * (1.0 + want.length())),
+                "seed {seed}: {eye} {want}"
+            );
+            for axis in [placement.x_axis, placement.y_axis, placement.z_axis] {
+                assert!((axis.truncate().length() - 1.0).abs() < 1e-4, "seed {seed}");
+            }
+            // The camera turns by t of the whole rotation, about the same axis.
+            let orientation = |v: Mat4| glam::Quat::from_mat4(&v.inverse());
+            let whole = orientation(open.view).angle_between(orientation(close.view));
+            let part = orientation(open.view).angle_between(orientation(view));
+            let rest = orientation(view).angle_between(orientation(close.view));
+            assert!(
+                (part - whole * t).abs() < 1e-3,
+                "seed {seed}: {part} of {whole}"
+            );
+            assert!(
+                (part + rest - whole).abs() < 1e-3,
+                "seed {seed}: off the arc"
+            );
+        }
     }
 
     #[test]

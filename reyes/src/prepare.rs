@@ -7,7 +7,7 @@ use glam::Vec3;
 use crate::camera::Camera;
 use crate::displacement::PreparedDisplacement;
 use crate::model::Model;
-use crate::motion::{ObjectMotion, PreparedLens};
+use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
 use crate::scene::{CameraDesc, Sampling, Scene, SceneError};
 
 /// One input patch in world space, with the object it belongs to.
@@ -93,6 +93,16 @@ impl PreparedScene {
                 models: models.len(),
             });
         }
+        // A moving camera becomes a motion of the whole world (see
+        // `crate::motion`); validation guarantees a `[camera]` with it.
+        let camera_motion = scene
+            .camera
+            .zip(scene.camera_close)
+            .and_then(|(open, close)| {
+                let open_view = open.view();
+                let close_view = interpolate_view(open_view, close.view(&open), scene.shutter);
+                camera_motion(open_view, close_view)
+            });
         let mut prepared_objects = Vec::with_capacity(scene.objects.len());
         for (index, object) in scene.objects.iter().enumerate() {
             let mirrored = object.transform.matrix().determinant() < 0.0;
@@ -108,12 +118,11 @@ impl PreparedScene {
                         })
                 })
                 .transpose()?;
-            let motion = object.transform_close.as_ref().and_then(|close| {
-                ObjectMotion::new(
-                    object.transform.matrix(),
-                    object.transform.interpolate(close, scene.shutter),
-                )
+            let open = object.transform.matrix();
+            let close = object.transform_close.as_ref().map_or(open, |close| {
+                object.transform.interpolate(close, scene.shutter)
             });
+            let motion = ObjectMotion::new(open, camera_motion.map_or(close, |c| c * close));
             prepared_objects.push(PreparedObject {
                 albedo: object.color,
                 displacement,
@@ -171,7 +180,8 @@ impl PreparedScene {
         })
     }
 
-    /// Whether any object moves during the shutter.
+    /// Whether any object moves during the shutter (relative to the camera:
+    /// with camera motion, every object does).
     pub fn has_motion(&self) -> bool {
         self.objects.iter().any(|o| o.motion.is_some())
     }

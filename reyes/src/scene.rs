@@ -37,6 +37,11 @@
 //! near = 0.1
 //! far = 1000.0
 //!
+//! [camera_close]                     # optional: the camera at shutter close (camera motion)
+//! eye = [4.5, -12.0, 7.0]            # required in a [camera_close] table
+//! target = [0.7, 0.0, 1.5]           # required in a [camera_close] table
+//! up = [0.0, 0.0, 1.0]               # default: the [camera]'s up
+//!
 //! [lens]                             # depth of field (default: a pinhole)
 //! aperture = 0.0                     # lens radius in world units
 //! focus_distance = 12.5              # default: the distance from eye to target
@@ -273,6 +278,28 @@ pub struct CameraDesc {
     pub far: f32,
 }
 
+/// The camera's pose at shutter close (`[camera_close]`): camera motion.
+/// The field of view and the clipping planes stay those of `[camera]`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraPose {
+    /// Eye position at shutter close.
+    pub eye: Vec3,
+    /// Point looked at at shutter close.
+    pub target: Vec3,
+    /// Up direction at shutter close (default: the `[camera]`'s up).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up: Option<Vec3>,
+}
+
+impl CameraPose {
+    /// The world-to-view matrix of this pose, with `open`'s up unless the
+    /// pose has its own.
+    pub fn view(&self, open: &CameraDesc) -> Mat4 {
+        Mat4::look_at_rh(self.eye, self.target, self.up.unwrap_or(open.up))
+    }
+}
+
 /// Image size in pixels (`[resolution]`, default 800 x 600).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -483,6 +510,12 @@ pub struct Scene {
     /// The camera; `None` frames the objects automatically.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera: Option<CameraDesc>,
+    /// The camera at shutter close (default: the camera does not move).
+    /// Needs a `[camera]`: the view moves from `[camera]` to this pose, the
+    /// eye linearly and the orientation by slerp (the shorter way), over
+    /// the same `shutter` fraction as the objects.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera_close: Option<CameraPose>,
     /// Specular term.
     #[serde(default)]
     pub specular: Specular,
@@ -557,6 +590,7 @@ impl Default for Scene {
             max_split_depth: DEFAULT_MAX_SPLIT_DEPTH,
             resolution: Resolution::default(),
             camera: None,
+            camera_close: None,
             specular: Specular::default(),
             objects: Vec::new(),
             lights: default_lights(),
@@ -715,7 +749,8 @@ impl Scene {
                 return Err(invalid("lens.focus_distance", "must be > 0"));
             }
         }
-        let moving = self.objects.iter().any(|o| o.transform_close.is_some());
+        let moving =
+            self.camera_close.is_some() || self.objects.iter().any(|o| o.transform_close.is_some());
         if !self.sampling.supports_blur() && (moving || self.lens.aperture > 0.0) {
             return Err(invalid(
                 "sampling",
@@ -740,6 +775,21 @@ impl Scene {
         }
         if let Some(camera) = &self.camera {
             camera.validate()?;
+        }
+        if let Some(close) = &self.camera_close {
+            let Some(camera) = &self.camera else {
+                return Err(invalid(
+                    "camera_close",
+                    "needs a [camera] table: the camera at shutter open",
+                ));
+            };
+            finite("camera_close.eye", close.eye.to_array())?;
+            finite("camera_close.target", close.target.to_array())?;
+            let up = close.up.unwrap_or(camera.up);
+            finite("camera_close.up", up.to_array())?;
+            if let Some(reason) = pose_problem(close.eye, close.target, up) {
+                return Err(invalid("camera_close", reason));
+            }
         }
         for (i, object) in self.objects.iter().enumerate() {
             let t = &object.transform;
@@ -837,6 +887,22 @@ fn invalid(field: &str, reason: &str) -> SceneError {
     }
 }
 
+/// What keeps a finite eye, target and up from making a view, if anything.
+fn pose_problem(eye: Vec3, target: Vec3, up: Vec3) -> Option<&'static str> {
+    if eye == target {
+        Some("eye and target must differ")
+    } else if (target - eye)
+        .normalize()
+        .cross(up.normalize_or_zero())
+        .length_squared()
+        < 1e-12
+    {
+        Some("up must be non-zero and not parallel to the view direction")
+    } else {
+        None
+    }
+}
+
 impl CameraDesc {
     /// Checks the camera (see [`Scene::validate`]).
     pub fn validate(&self) -> Result<(), SceneError> {
@@ -853,21 +919,19 @@ impl CameraDesc {
             "far must be > near"
         } else if !(self.fov_y_degrees > 0.0 && self.fov_y_degrees < 180.0) {
             "fov_y_degrees must be in (0, 180)"
-        } else if self.eye == self.target {
-            "eye and target must differ"
-        } else if (self.target - self.eye)
-            .normalize()
-            .cross(self.up.normalize_or_zero())
-            .length_squared()
-            < 1e-12
-        {
-            "up must be non-zero and not parallel to the view direction"
+        } else if let Some(reason) = pose_problem(self.eye, self.target, self.up) {
+            reason
         } else {
             return Ok(());
         };
         Err(SceneError::InvalidCamera {
             reason: reason.to_string(),
         })
+    }
+
+    /// The world-to-view matrix (as [`crate::camera::Camera`] builds it).
+    pub fn view(&self) -> Mat4 {
+        Mat4::look_at_rh(self.eye, self.target, self.up)
     }
 
     /// A camera (z up, fov 40 degrees) looking at the centre of the box

@@ -11,14 +11,18 @@
 //!   about its circle of confusion;
 //! * a card that is off screen at shutter open and moves into view is not
 //!   culled;
+//! * a moving camera is the world moving the other way, and a panning
+//!   camera's streak spans the card's projections through the cameras at
+//!   open and at close (each built on its own), on the GPU and on the CPU;
 //! * invalid motion and lens settings are typed errors.
 
 use glam::Vec3;
+use reyes::camera::Camera;
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
 use reyes::reference;
-use reyes::scene::{CameraDesc, Sampling, Scene, SceneError, SceneObject, Transform};
+use reyes::scene::{CameraDesc, CameraPose, Sampling, Scene, SceneError, SceneObject, Transform};
 use tests::reyes_support::{
     agreement, as_reference, assert_counts_close, framed_teapot, gpu_turn, renderer,
 };
@@ -365,6 +369,120 @@ fn a_card_moving_into_view_is_not_culled() {
     assert_eq!(still.stats.culled_patches, 1);
 }
 
+/// The prepared camera of `scene` placed at `pose` instead: the camera at
+/// shutter close, built directly (not through the camera motion).
+fn camera_at(scene: &PreparedScene, pose: &CameraPose) -> Camera {
+    let open = scene.camera;
+    Camera::new(
+        pose.eye,
+        pose.target,
+        pose.up.unwrap_or(open.up),
+        open.fov_y_radians,
+        open.width,
+        open.height,
+        open.near,
+        open.far,
+    )
+}
+
+#[test]
+fn a_moving_camera_is_the_world_moving_the_other_way() {
+    let seed = tests::seed("a_moving_camera_is_the_world_moving_the_other_way");
+    let mut rng = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(seed);
+    let mut component = || rand::Rng::random_range(&mut rng, -0.5f32..0.5);
+    let by = Vec3::new(component(), component(), component());
+    let (centre, half) = (Vec3::new(-0.5, -0.2, -5.0), 0.5);
+    let (moving_card, models) = card_scene(&[(centre, half, -by)], Sampling::Interval);
+    let (mut moving_camera, _) = card_scene(&[(centre, half, Vec3::ZERO)], Sampling::Interval);
+    let camera = moving_camera
+        .camera
+        .expect("the card scene places its camera");
+    moving_camera.camera_close = Some(CameraPose {
+        eye: camera.eye + by,
+        target: camera.target + by,
+        up: None,
+    });
+    let motion_of = |scene: &Scene| {
+        PreparedScene::new(scene, &models)
+            .expect("scene prepares")
+            .objects[0]
+            .motion
+            .expect("the card moves relative to the camera")
+    };
+    let (world, camera) = (motion_of(&moving_card), motion_of(&moving_camera));
+    assert!(
+        world.matrix.abs_diff_eq(camera.matrix, 1e-5),
+        "seed {seed}: by {by}: {} vs {}",
+        world.matrix,
+        camera.matrix
+    );
+    // A half shutter sees half the camera's path.
+    moving_camera.shutter = 0.5;
+    let half_way = motion_of(&moving_camera).close(centre) - centre;
+    assert!(
+        half_way.abs_diff_eq(-by * 0.5, 1e-5),
+        "seed {seed}: {half_way}"
+    );
+}
+
+#[test]
+fn a_panning_camera_streaks_still_cards_between_its_two_views() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    // A still card at depth 5; the camera turns 8 degrees to the left about
+    // its eye (a pan), so the card (22 pixels wide) sweeps right by about
+    // 16 pixels.
+    let (centre, half) = (Vec3::new(-0.3, 0.2, -5.0), 0.5);
+    let turn = glam::Quat::from_rotation_y(8f32.to_radians());
+    let pose = CameraPose {
+        eye: Vec3::ZERO,
+        target: turn * Vec3::new(0.0, 0.0, -1.0),
+        up: None,
+    };
+    for sampling in [Sampling::Bbox, Sampling::Interleave, Sampling::Adaptive] {
+        let (mut scene, models) = card_scene(&[(centre, half, Vec3::ZERO)], sampling);
+        scene.camera_close = Some(pose);
+        let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+        let close_camera = camera_at(&prepared, &pose);
+        let pixels: Vec<Vec3> = [-half, half]
+            .into_iter()
+            .flat_map(|dx| [-half, half].map(|dy| centre + Vec3::new(dx, dy, 0.0)))
+            .flat_map(|p| [&prepared.camera, &close_camera].map(|c| c.to_pixel(c.to_clip(p))))
+            .collect();
+        let left = pixels.iter().map(|p| p.x).fold(f32::INFINITY, f32::min);
+        let right = pixels.iter().map(|p| p.x).fold(f32::NEG_INFINITY, f32::max);
+        let top = pixels.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
+        let bottom = pixels.iter().map(|p| p.y).fold(f32::NEG_INFINITY, f32::max);
+        assert!(
+            right - left > 32.0,
+            "the pan moves the card: {left}..{right}"
+        );
+        let gpu = render_gpu(&mut renderer, &prepared);
+        let cpu = reference::render(&prepared);
+        let a = agreement(&gpu, &cpu);
+        eprintln!("{sampling:?}: {a:?}");
+        a.assert_at_least(&format!("{sampling:?}"), 0.99, 0.98);
+        for (who, coverage) in [("GPU", &gpu.coverage), ("CPU", &cpu.coverage)] {
+            let (x_lo, x_hi, y_lo, y_hi) = covered_extent(coverage);
+            eprintln!(
+                "{sampling:?} {who}: x {x_lo}..{x_hi} (expected {left:.2}..{right:.2}), y {y_lo}..{y_hi} (expected {top:.2}..{bottom:.2})"
+            );
+            for (got, want, what) in [
+                (x_lo, left, "left"),
+                (x_hi, right, "right"),
+                (y_lo, top, "top"),
+                (y_hi, bottom, "bottom"),
+            ] {
+                assert!(
+                    (got - want).abs() <= 1.0,
+                    "{sampling:?} {who}: streak {what} edge at {got}, the two views put it at {want:.2}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn invalid_motion_and_lens_settings_are_typed_errors() {
     let teapot = |edit: &dyn Fn(&mut Scene)| {
@@ -411,6 +529,55 @@ fn invalid_motion_and_lens_settings_are_typed_errors() {
         })),
         "objects[0].transform_close.translate"
     );
+    let camera_moves = |pose: CameraPose| {
+        move |s: &mut Scene| {
+            s.camera_close = Some(pose);
+        }
+    };
+    let camera = Scene::default_teapot()
+        .camera
+        .expect("the teapot scene has a camera");
+    let shifted = CameraPose {
+        eye: camera.eye + Vec3::X,
+        target: camera.target + Vec3::X,
+        up: None,
+    };
+    teapot(&camera_moves(shifted)).expect("a camera moved sideways is valid");
+    assert_eq!(
+        field_of(teapot(&|s| {
+            s.camera = None;
+            s.camera_close = Some(shifted);
+        })),
+        "camera_close"
+    );
+    assert_eq!(
+        field_of(teapot(&camera_moves(CameraPose {
+            eye: Vec3::new(f32::NAN, 0.0, 0.0),
+            ..shifted
+        }))),
+        "camera_close.eye"
+    );
+    assert_eq!(
+        field_of(teapot(&camera_moves(CameraPose {
+            target: shifted.eye,
+            ..shifted
+        }))),
+        "camera_close"
+    );
+    assert_eq!(
+        field_of(teapot(&camera_moves(CameraPose {
+            up: Some(shifted.target - shifted.eye),
+            ..shifted
+        }))),
+        "camera_close"
+    );
+    assert_eq!(
+        field_of(teapot(&|s| {
+            s.sampling = Sampling::Nearest;
+            s.camera_close = Some(shifted);
+        })),
+        "sampling"
+    );
     // The TOML spelling parses and round-trips.
     let scene = Scene::from_toml_str(
         r#"
@@ -419,6 +586,12 @@ fn invalid_motion_and_lens_settings_are_typed_errors() {
         [lens]
         aperture = 0.2
         focus_distance = 8.0
+        [camera]
+        eye = [4.0, -12.0, 7.0]
+        target = [0.2, 0.0, 1.5]
+        [camera_close]
+        eye = [4.5, -12.0, 7.0]
+        target = [0.7, 0.0, 1.5]
         [[objects]]
         model = "teapot"
         [objects.transform_close]
@@ -427,6 +600,14 @@ fn invalid_motion_and_lens_settings_are_typed_errors() {
     )
     .expect("scene parses");
     assert_eq!(scene.sampling, Sampling::Interleave);
+    assert_eq!(
+        scene.camera_close,
+        Some(CameraPose {
+            eye: Vec3::new(4.5, -12.0, 7.0),
+            target: Vec3::new(0.7, 0.0, 1.5),
+            up: None
+        })
+    );
     assert_eq!(
         Scene::from_toml_str(&scene.to_toml_string()).unwrap(),
         scene
