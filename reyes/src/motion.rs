@@ -222,6 +222,15 @@ mod tests {
         )
     }
 
+    /// A generator drawn afresh for each run, with its seed (printed, and
+    /// for the failure messages).
+    fn fresh_rng(test: &str) -> (u64, rand::rngs::StdRng) {
+        use rand::SeedableRng;
+        let seed: u64 = rand::random();
+        eprintln!("{test} seed = {seed}");
+        (seed, rand::rngs::StdRng::seed_from_u64(seed))
+    }
+
     /// A camera at a random pose (fov 50 degrees, 200x150) and its view.
     fn random_camera(rng: &mut rand::rngs::StdRng) -> Camera {
         let eye = random_vec3(rng, 10.0);
@@ -242,10 +251,8 @@ mod tests {
     /// camera motion's image of the point: the same clip coordinates.
     #[test]
     fn camera_motion_shows_the_close_view_through_the_open_camera() {
-        use rand::SeedableRng;
-        let seed: u64 = rand::random();
-        eprintln!("camera_motion_shows_the_close_view_through_the_open_camera seed = {seed}");
-        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        let (seed, mut rng) =
+            fresh_rng("camera_motion_shows_the_close_view_through_the_open_camera");
         for _ in 0..50 {
             let open = random_camera(&mut rng);
             let close = random_camera(&mut rng);
@@ -268,10 +275,7 @@ mod tests {
     /// the orientation on the great arc between the two; both ends are exact.
     #[test]
     fn interpolated_views_move_the_eye_linearly_and_stay_rigid() {
-        use rand::SeedableRng;
-        let seed: u64 = rand::random();
-        eprintln!("interpolated_views_move_the_eye_linearly_and_stay_rigid seed = {seed}");
-        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        let (seed, mut rng) = fresh_rng("interpolated_views_move_the_eye_linearly_and_stay_rigid");
         for _ in 0..50 {
             let (open, close) = (random_camera(&mut rng), random_camera(&mut rng));
             assert_eq!(interpolate_view(open.view, close.view, 0.0), open.view);

@@ -206,6 +206,40 @@ fn covered_extent(coverage: &[bool]) -> (f32, f32, f32, f32) {
     (x_lo as f32, x_hi as f32, y_lo as f32, y_hi as f32)
 }
 
+/// The screen box `(left, right, top, bottom)` of pixel positions.
+fn pixel_box(pixels: &[Vec3]) -> (f32, f32, f32, f32) {
+    let fold = |f: fn(f32, f32) -> f32, start: f32, axis: fn(&Vec3) -> f32| {
+        pixels.iter().map(axis).fold(start, f)
+    };
+    (
+        fold(f32::min, f32::INFINITY, |p| p.x),
+        fold(f32::max, f32::NEG_INFINITY, |p| p.x),
+        fold(f32::min, f32::INFINITY, |p| p.y),
+        fold(f32::max, f32::NEG_INFINITY, |p| p.y),
+    )
+}
+
+/// Asserts that the covered pixels span the `expected` screen box (from
+/// [`pixel_box`]) to within a pixel on every side.
+fn assert_streak(what: &str, coverage: &[bool], expected: (f32, f32, f32, f32)) {
+    let (left, right, top, bottom) = expected;
+    let (x_lo, x_hi, y_lo, y_hi) = covered_extent(coverage);
+    eprintln!(
+        "{what}: x {x_lo}..{x_hi} (expected {left:.2}..{right:.2}), y {y_lo}..{y_hi} (expected {top:.2}..{bottom:.2})"
+    );
+    for (got, want, side) in [
+        (x_lo, left, "left"),
+        (x_hi, right, "right"),
+        (y_lo, top, "top"),
+        (y_hi, bottom, "bottom"),
+    ] {
+        assert!(
+            (got - want).abs() <= 1.0,
+            "{what}: streak {side} edge at {got}, expected at {want:.2}"
+        );
+    }
+}
+
 #[test]
 fn a_moving_card_streaks_along_its_motion_vector() {
     let Some(gpu) = tests::gpu() else { return };
@@ -224,28 +258,12 @@ fn a_moving_card_streaks_along_its_motion_vector() {
             })
         });
         let pixels: Vec<Vec3> = corners.map(|p| project(&prepared, p)).collect();
-        let left = pixels.iter().map(|p| p.x).fold(f32::INFINITY, f32::min);
-        let right = pixels.iter().map(|p| p.x).fold(f32::NEG_INFINITY, f32::max);
-        let top = pixels.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
-        let bottom = pixels.iter().map(|p| p.y).fold(f32::NEG_INFINITY, f32::max);
+        let expected = pixel_box(&pixels);
+        let (left, right, ..) = expected;
         let gpu = render_gpu(&mut renderer, &prepared);
         let cpu = reference::render(&prepared);
         for (who, coverage) in [("GPU", &gpu.coverage), ("CPU", &cpu.coverage)] {
-            let (x_lo, x_hi, y_lo, y_hi) = covered_extent(coverage);
-            eprintln!(
-                "{sampling:?} {who}: x {x_lo}..{x_hi} (expected {left:.2}..{right:.2}), y {y_lo}..{y_hi} (expected {top:.2}..{bottom:.2})"
-            );
-            for (got, want, what) in [
-                (x_lo, left, "left"),
-                (x_hi, right, "right"),
-                (y_lo, top, "top"),
-                (y_hi, bottom, "bottom"),
-            ] {
-                assert!(
-                    (got - want).abs() <= 1.0,
-                    "{sampling:?} {who}: streak {what} edge at {got}, the motion puts it at {want:.2}"
-                );
-            }
+            assert_streak(&format!("{sampling:?} {who}"), coverage, expected);
         }
         // The still card covers only its own square: the streak is the motion.
         let (still, models) = card_scene(&[(centre, half, Vec3::ZERO)], sampling);
@@ -450,10 +468,8 @@ fn a_panning_camera_streaks_still_cards_between_its_two_views() {
             .flat_map(|dx| [-half, half].map(|dy| centre + Vec3::new(dx, dy, 0.0)))
             .flat_map(|p| [&prepared.camera, &close_camera].map(|c| c.to_pixel(c.to_clip(p))))
             .collect();
-        let left = pixels.iter().map(|p| p.x).fold(f32::INFINITY, f32::min);
-        let right = pixels.iter().map(|p| p.x).fold(f32::NEG_INFINITY, f32::max);
-        let top = pixels.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
-        let bottom = pixels.iter().map(|p| p.y).fold(f32::NEG_INFINITY, f32::max);
+        let expected = pixel_box(&pixels);
+        let (left, right, ..) = expected;
         assert!(
             right - left > 32.0,
             "the pan moves the card: {left}..{right}"
@@ -464,21 +480,7 @@ fn a_panning_camera_streaks_still_cards_between_its_two_views() {
         eprintln!("{sampling:?}: {a:?}");
         a.assert_at_least(&format!("{sampling:?}"), 0.99, 0.98);
         for (who, coverage) in [("GPU", &gpu.coverage), ("CPU", &cpu.coverage)] {
-            let (x_lo, x_hi, y_lo, y_hi) = covered_extent(coverage);
-            eprintln!(
-                "{sampling:?} {who}: x {x_lo}..{x_hi} (expected {left:.2}..{right:.2}), y {y_lo}..{y_hi} (expected {top:.2}..{bottom:.2})"
-            );
-            for (got, want, what) in [
-                (x_lo, left, "left"),
-                (x_hi, right, "right"),
-                (y_lo, top, "top"),
-                (y_hi, bottom, "bottom"),
-            ] {
-                assert!(
-                    (got - want).abs() <= 1.0,
-                    "{sampling:?} {who}: streak {what} edge at {got}, the two views put it at {want:.2}"
-                );
-            }
+            assert_streak(&format!("{sampling:?} {who}"), coverage, expected);
         }
     }
 }
