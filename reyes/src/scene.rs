@@ -718,8 +718,9 @@ impl Scene {
 
     /// Checks every value: resolution > 0, spp in [`VALID_SPP`], all numbers
     /// finite, `near > 0`, `far > near`, fov in (0, 180), `eye != target`,
-    /// `up` not parallel to the view direction, `dice_threshold > 0`,
-    /// `max_split_depth <= 64`, `shininess >= 0`, non-zero light directions,
+    /// `up` not parallel to the view direction (at open, and at close for a
+    /// `camera_close`, which needs a `camera`), no motion or lens with
+    /// `nearest` sampling, `dice_threshold > 0`, `max_split_depth <= 64`, `shininess >= 0`, non-zero light directions,
     /// and every displacement table ([`DisplacementDesc::validate`]), with at
     /// most one distinct user WGSL function per scene (it becomes part of
     /// the one megakernel).
