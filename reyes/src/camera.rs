@@ -76,6 +76,24 @@ impl Camera {
         }
     }
 
+    /// The same camera (lens, image, crop) placed at another pose: looking
+    /// from `eye` at `target` with `up`.
+    pub fn looking(&self, eye: Vec3, target: Vec3, up: Vec3) -> Camera {
+        Camera {
+            origin: self.origin,
+            ..Camera::new(
+                eye,
+                target,
+                up,
+                self.fov_y_radians,
+                self.width,
+                self.height,
+                self.near,
+                self.far,
+            )
+        }
+    }
+
     /// World-to-clip matrix: `proj * view`.
     pub fn view_proj(&self) -> Mat4 {
         self.proj * self.view

@@ -93,42 +93,6 @@ impl PreparedScene {
                 models: models.len(),
             });
         }
-        // A moving camera becomes a motion of the whole world (see
-        // `crate::motion`); validation guarantees a `[camera]` with it.
-        let camera_motion = scene
-            .camera
-            .zip(scene.camera_close)
-            .and_then(|(open, close)| {
-                let open_view = open.view();
-                let close_view = interpolate_view(open_view, close.view(&open), scene.shutter);
-                camera_motion(open_view, close_view)
-            });
-        let mut prepared_objects = Vec::with_capacity(scene.objects.len());
-        for (index, object) in scene.objects.iter().enumerate() {
-            let mirrored = object.transform.matrix().determinant() < 0.0;
-            let displacement = object
-                .displacement
-                .as_ref()
-                .map(|desc| {
-                    desc.prepare(scene.base_dir.as_deref(), mirrored)
-                        .map_err(|source| SceneError::Displacement {
-                            index,
-                            displacement: desc.source.clone(),
-                            source,
-                        })
-                })
-                .transpose()?;
-            let open = object.transform.matrix();
-            let close = object.transform_close.as_ref().map_or(open, |close| {
-                object.transform.interpolate(close, scene.shutter)
-            });
-            let motion = ObjectMotion::new(open, camera_motion.map_or(close, |c| c * close));
-            prepared_objects.push(PreparedObject {
-                albedo: object.color,
-                displacement,
-                motion,
-            });
-        }
         let mut patches = Vec::with_capacity(models.iter().map(|m| m.patches.len()).sum());
         for (index, (object, model)) in scene.objects.iter().zip(models).enumerate() {
             let matrix = object.transform.matrix();
@@ -154,6 +118,42 @@ impl PreparedScene {
             desc.near,
             desc.far,
         );
+        // A moving camera becomes a motion of the whole world (see
+        // `crate::motion`); validation guarantees a `[camera]` with it, so
+        // `camera` is that camera here.
+        let camera_motion = scene.camera_close.and_then(|close| {
+            let at_close = camera.looking(close.eye, close.target, close.up.unwrap_or(camera.up));
+            camera_motion(
+                camera.view,
+                interpolate_view(camera.view, at_close.view, scene.shutter),
+            )
+        });
+        let mut prepared_objects = Vec::with_capacity(scene.objects.len());
+        for (index, object) in scene.objects.iter().enumerate() {
+            let open = object.transform.matrix();
+            let mirrored = open.determinant() < 0.0;
+            let displacement = object
+                .displacement
+                .as_ref()
+                .map(|desc| {
+                    desc.prepare(scene.base_dir.as_deref(), mirrored)
+                        .map_err(|source| SceneError::Displacement {
+                            index,
+                            displacement: desc.source.clone(),
+                            source,
+                        })
+                })
+                .transpose()?;
+            let close = object.transform_close.as_ref().map_or(open, |close| {
+                object.transform.interpolate(close, scene.shutter)
+            });
+            let motion = ObjectMotion::new(open, camera_motion.map_or(close, |c| c * close));
+            prepared_objects.push(PreparedObject {
+                albedo: object.color,
+                displacement,
+                motion,
+            });
+        }
         let lens = PreparedLens::new(&camera, scene.lens.aperture, scene.lens.focus_distance);
         Ok(PreparedScene {
             lens,

@@ -292,14 +292,6 @@ pub struct CameraPose {
     pub up: Option<Vec3>,
 }
 
-impl CameraPose {
-    /// The world-to-view matrix of this pose, with `open`'s up unless the
-    /// pose has its own.
-    pub fn view(&self, open: &CameraDesc) -> Mat4 {
-        Mat4::look_at_rh(self.eye, self.target, self.up.unwrap_or(open.up))
-    }
-}
-
 /// Image size in pixels (`[resolution]`, default 800 x 600).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -928,11 +920,6 @@ impl CameraDesc {
         Err(SceneError::InvalidCamera {
             reason: reason.to_string(),
         })
-    }
-
-    /// The world-to-view matrix (as [`crate::camera::Camera`] builds it).
-    pub fn view(&self) -> Mat4 {
-        Mat4::look_at_rh(self.eye, self.target, self.up)
     }
 
     /// A camera (z up, fov 40 degrees) looking at the centre of the box

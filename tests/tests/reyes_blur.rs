@@ -17,7 +17,6 @@
 //! * invalid motion and lens settings are typed errors.
 
 use glam::Vec3;
-use reyes::camera::Camera;
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
@@ -387,22 +386,6 @@ fn a_card_moving_into_view_is_not_culled() {
     assert_eq!(still.stats.culled_patches, 1);
 }
 
-/// The prepared camera of `scene` placed at `pose` instead: the camera at
-/// shutter close, built directly (not through the camera motion).
-fn camera_at(scene: &PreparedScene, pose: &CameraPose) -> Camera {
-    let open = scene.camera;
-    Camera::new(
-        pose.eye,
-        pose.target,
-        pose.up.unwrap_or(open.up),
-        open.fov_y_radians,
-        open.width,
-        open.height,
-        open.near,
-        open.far,
-    )
-}
-
 #[test]
 fn a_moving_camera_is_the_world_moving_the_other_way() {
     let seed = tests::seed("a_moving_camera_is_the_world_moving_the_other_way");
@@ -462,7 +445,9 @@ fn a_panning_camera_streaks_still_cards_between_its_two_views() {
         let (mut scene, models) = card_scene(&[(centre, half, Vec3::ZERO)], sampling);
         scene.camera_close = Some(pose);
         let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
-        let close_camera = camera_at(&prepared, &pose);
+        // The camera at close, built directly (not through the camera motion).
+        let open = prepared.camera;
+        let close_camera = open.looking(pose.eye, pose.target, pose.up.unwrap_or(open.up));
         let pixels: Vec<Vec3> = [-half, half]
             .into_iter()
             .flat_map(|dx| [-half, half].map(|dy| centre + Vec3::new(dx, dy, 0.0)))
