@@ -4,8 +4,8 @@
 //! reyes render [SCENE] -o out.png [--width W] [--height H] [--spp N]
 //!              [--sampling bbox|simple|interleave|interval|adaptive|nearest]
 //!              [--stats] [--stats-json FILE]
-//!              [--spin DEG] [--move x,y,z] [--camera-move x,y,z] [--shutter F]
-//!              [--aperture R] [--focus D]
+//!              [--spin DEG] [--move x,y,z] [--camera-move x,y,z] [--camera-pan DEG]
+//!              [--shutter F] [--aperture R] [--focus D]
 //!              [--eye x,y,z] [--target x,y,z] [--up x,y,z] [--fov DEG] [--cpu]
 //!              [--displace bumps|sines|FILE.png|FILE.wgsl --displace-scale S
 //!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
@@ -22,7 +22,7 @@ use reyes::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use reyes::gpu::{GpuOptions, GpuRenderer};
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
-use reyes::scene::{CameraDesc, CameraPose, Sampling, Scene};
+use reyes::scene::{CameraDesc, Sampling, Scene};
 use reyes::stats::RenderStats;
 
 #[derive(Debug, Parser)]
@@ -148,6 +148,11 @@ struct RenderArgs {
     /// world-space vector between shutter open and close, e.g. `0.2,0,0`.
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     camera_move: Option<Vec3>,
+    /// Motion blur from camera motion: pan the camera by DEG degrees about
+    /// its up axis through the eye between shutter open and close (positive
+    /// turns left, so the scene sweeps right); combines with `--camera-move`.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    camera_pan: Option<f32>,
     /// Fraction of the open-to-close motion the shutter sees, in [0, 1]
     /// (default: the scene's, 1).
     #[arg(long, value_name = "F")]
@@ -307,7 +312,8 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
         let aspect = scene.resolution.width as f32 / scene.resolution.height.max(1) as f32;
         scene.camera = Some(CameraDesc::framing(lo, hi, aspect));
     }
-    if camera_override || args.camera_move.is_some() {
+    let camera_moves = args.camera_move.is_some() || args.camera_pan.is_some();
+    if camera_override || camera_moves {
         // Start from the camera the scene would use (framed if absent).
         let camera = match scene.camera {
             Some(desc) => desc,
@@ -331,12 +337,9 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
             ..camera
         });
     }
-    if let (Some(by), Some(camera)) = (args.camera_move, scene.camera) {
-        scene.camera_close = Some(CameraPose {
-            eye: camera.eye + by,
-            target: camera.target + by,
-            up: None,
-        });
+    if let (true, Some(camera)) = (camera_moves, scene.camera) {
+        let by = args.camera_move.unwrap_or(Vec3::ZERO);
+        scene.camera_close = Some(camera.moved(by, args.camera_pan.unwrap_or(0.0)));
     }
     Ok(PreparedScene::load(&scene)?)
 }

@@ -922,6 +922,21 @@ impl CameraDesc {
         })
     }
 
+    /// This camera's pose at shutter close after it moves by `by` and pans
+    /// by `pan_degrees` about its up axis through the (moved) eye; a
+    /// positive pan turns the view counterclockwise seen from above, so
+    /// the scene sweeps to the right across the image. The up direction
+    /// stays the same.
+    pub fn moved(&self, by: Vec3, pan_degrees: f32) -> CameraPose {
+        let pan = Quat::from_axis_angle(self.up.normalize_or_zero(), pan_degrees.to_radians());
+        let eye = self.eye + by;
+        CameraPose {
+            eye,
+            target: eye + pan * (self.target - self.eye),
+            up: None,
+        }
+    }
+
     /// A camera (z up, fov 40 degrees) looking at the centre of the box
     /// `[lo, hi]` from in front and above, at the smallest distance at which
     /// all 8 box corners fall within 90% of the half-width and half-height of
@@ -1011,6 +1026,7 @@ impl CameraDesc {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::camera::Camera;
 
     /// The full example in this module's documentation stays valid.
     #[test]
@@ -1033,5 +1049,77 @@ mod tests {
         assert_eq!(scene.objects.len(), 2);
         assert_eq!(scene.lights, vec![Light::default()]);
         assert_eq!(scene.specular, Specular::default());
+    }
+
+    /// A moved and panned camera (fresh random poses, the seed printed):
+    /// the eye moves by the vector, the view direction keeps its length and
+    /// its component along up and turns by the pan about up, and for a
+    /// positive pan the point the camera looked at lands right of the
+    /// image's centre, at the angle's tangent on the image plane.
+    #[test]
+    fn a_moved_camera_pans_about_its_up_axis() {
+        use rand::{Rng, SeedableRng};
+        let seed: u64 = rand::random();
+        eprintln!("a_moved_camera_pans_about_its_up_axis seed = {seed}");
+        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        for _ in 0..50 {
+            let mut random_vec3 = |range: f32| {
+                Vec3::new(
+                    rng.random_range(-range..range),
+                    rng.random_range(-range..range),
+                    rng.random_range(-range..range),
+                )
+            };
+            let eye = random_vec3(10.0);
+            let by = random_vec3(3.0);
+            // Level views (target at the eye's height), so that the
+            // image's horizontal axis is the pan's plane.
+            let ahead = random_vec3(5.0) * Vec3::new(1.0, 1.0, 0.0) + Vec3::new(0.3, 0.0, 0.0);
+            let camera = CameraDesc {
+                eye,
+                target: eye + ahead,
+                up: Vec3::Z,
+                fov_y_degrees: 50.0,
+                near: 0.1,
+                far: 100.0,
+            };
+            let pan = rng.random_range(1.0f32..40.0);
+            let close = camera.moved(by, pan);
+            assert!(close.eye.abs_diff_eq(eye + by, 1e-5), "seed {seed}");
+            assert_eq!(close.up, None, "seed {seed}");
+            let turned = close.target - close.eye;
+            assert!((turned.length() - ahead.length()).abs() < 1e-4 * ahead.length());
+            assert!(turned.z.abs() < 1e-4, "seed {seed}: {turned}");
+            let turn = ahead.angle_between(turned).to_degrees();
+            assert!((turn - pan).abs() < 1e-2, "seed {seed}: {turn} vs {pan}");
+            assert!(ahead.cross(turned).z > 0.0, "seed {seed}: counterclockwise");
+
+            let (width, height) = (200, 100);
+            let fov = camera.fov_y_degrees.to_radians();
+            let at_close = Camera::new(
+                close.eye,
+                close.target,
+                Vec3::Z,
+                fov,
+                width,
+                height,
+                0.1,
+                100.0,
+            );
+            let old_target = close.eye + ahead;
+            let pixel = at_close.to_pixel(at_close.to_clip(old_target));
+            let focal = height as f32 / 2.0 / (fov / 2.0).tan();
+            let want = width as f32 / 2.0 + focal * pan.to_radians().tan();
+            assert!(
+                (pixel.x - want).abs() < 0.05,
+                "seed {seed}: x {} vs {want}",
+                pixel.x
+            );
+            assert!(
+                (pixel.y - height as f32 / 2.0).abs() < 0.05,
+                "seed {seed}: y {}",
+                pixel.y
+            );
+        }
     }
 }
