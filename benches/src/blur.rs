@@ -148,9 +148,11 @@ pub fn measure(
     warm_up: bool,
 ) -> Vec<(Sampling, Result<BlurRow, String>)> {
     let mut rows: Vec<(Sampling, Result<BlurRow, String>)> = Vec::new();
+    let frames = if warm_up { runs + 1 } else { runs.max(1) };
     for (mode, prepared) in scenes {
-        let row = renderer
-            .render(prepared)
+        let rendered = renderer.render(prepared);
+        progress(config, prepared.spp, *mode, (1, frames), &rendered);
+        let row = rendered
             .map(|frame| BlurRow {
                 config,
                 spp: prepared.spp,
@@ -176,10 +178,12 @@ pub fn measure(
     } else {
         runs.saturating_sub(1)
     };
-    for _ in 0..more_runs {
-        for ((_, row), (_, prepared)) in rows.iter_mut().zip(scenes) {
+    for run in 0..more_runs {
+        for ((mode, row), (_, prepared)) in rows.iter_mut().zip(scenes) {
             let Ok(measured) = row else { continue };
-            match renderer.render(prepared) {
+            let rendered = renderer.render(prepared);
+            progress(config, prepared.spp, *mode, (run + 2, frames), &rendered);
+            match rendered {
                 Ok(frame) => {
                     measured.runs.push(frame_time(&frame));
                     measured.retries = measured.retries.max(retries(&frame));
@@ -196,6 +200,32 @@ pub fn measure(
         }
     }
     rows
+}
+
+/// One line on stderr per frame, because a frame of the slowest modes runs
+/// for minutes on llvmpipe: `spin 30 spp 16 bbox: frame 1/6, 240037.1 ms`.
+fn progress(
+    config: BlurConfig,
+    spp: u32,
+    mode: Sampling,
+    (frame, frames): (u32, u32),
+    rendered: &Result<reyes::gpu::GpuRendered, reyes::gpu::RenderError>,
+) {
+    let outcome = match rendered {
+        Ok(rendered) => {
+            let ms = frame_time(rendered).as_secs_f64() * 1e3;
+            match retries(rendered) {
+                0 => format!("{ms:.1} ms"),
+                n => format!("{ms:.1} ms (its last of {} runs)", n + 1),
+            }
+        }
+        Err(e) => format!("failed: {e}"),
+    };
+    eprintln!(
+        "{} spp {spp} {}: frame {frame}/{frames}, {outcome}",
+        config.label(),
+        mode.name()
+    );
 }
 
 /// A frame's megakernel time: GPU timestamps when the adapter has them,
