@@ -11,6 +11,8 @@
 //!   about its circle of confusion;
 //! * a card that is off screen at shutter open and moves into view is not
 //!   culled;
+//! * a bounding-box frame whose sample loops exceed llvmpipe's loop limit is
+//!   a typed error there, and Interleave UVT renders it;
 //! * a moving camera is the world moving the other way, and a panning
 //!   camera's streak spans the card's projections through the cameras at
 //!   open and at close (each built on its own), on the GPU and on the CPU;
@@ -384,6 +386,67 @@ fn a_card_moving_into_view_is_not_culled() {
     let (still, models) = card_scene(&[(centre, half, Vec3::ZERO)], Sampling::Adaptive);
     let still = reference::render(&PreparedScene::new(&still, &models).unwrap());
     assert_eq!(still.stats.culled_patches, 1);
+}
+
+/// A bounding-box frame whose micropolygon boxes need more loop iterations
+/// than llvmpipe allows one invocation: on llvmpipe the renderer, after its
+/// retries, returns `RenderError::LoopsCut` naming the remedies instead of
+/// an image with samples missing, and one of those remedies (Interleave
+/// UVT, which does a bounded amount of work per micropolygon) renders the
+/// same scene as the CPU reference does. A GPU without the limit renders
+/// the bounding-box frame as the reference does.
+#[test]
+fn a_sample_loop_too_long_for_llvmpipe_is_a_typed_error_not_a_partial_image() {
+    let Some(gpu) = tests::gpu() else { return };
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    // A card at depth 5 with the focus at depth 1 and a lens of radius
+    // 0.5: a circle of confusion of about 44 pixels, so each micropolygon's
+    // box holds thousands of pixels, each tested at 64 samples.
+    let (centre, half) = (Vec3::new(0.0, 0.0, -5.0), 0.5);
+    let (mut scene, models) = card_scene(&[(centre, half, Vec3::ZERO)], Sampling::Bbox);
+    scene.lens.aperture = 0.5;
+    scene.lens.focus_distance = Some(1.0);
+    let focal = SIDE as f32 / 2.0 / 30f32.to_radians().tan();
+    let coc = scene.lens.aperture * (1.0 / 1.0 - 1.0 / 5.0) * focal;
+    let box_tests = (2.0 * coc).powi(2) * scene.spp as f32;
+    assert!(
+        box_tests > 4.0 * 65_535.0,
+        "premise: {box_tests} tests per micropolygon"
+    );
+    let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+    let on_llvmpipe = gpu.adapter.get_info().device_type == scheduler::wgpu::DeviceType::Cpu;
+    match renderer.render(&prepared) {
+        Err(reyes::gpu::RenderError::LoopsCut {
+            rasterization,
+            waits,
+            runs,
+        }) if on_llvmpipe => {
+            eprintln!("llvmpipe cut {rasterization} rasterization loop(s), {waits} wait(s)");
+            assert!(rasterization + waits > 0);
+            assert_eq!(runs, 3, "the first run and both retries");
+        }
+        Err(e) => panic!("expected LoopsCut on llvmpipe, or an image elsewhere; got: {e}"),
+        Ok(rendered) if !on_llvmpipe => {
+            let cpu = reference::render(&prepared);
+            agreement(&rendered, &cpu).assert_at_least("Bbox", 0.99, 0.98);
+        }
+        Ok(_) => panic!("llvmpipe rendered loops longer than its limit: is the limit gone?"),
+    }
+    // The message names what to change.
+    let message = reyes::gpu::RenderError::LoopsCut {
+        rasterization: 1,
+        waits: 0,
+        runs: 3,
+    }
+    .to_string();
+    assert!(message.contains("samples per pixel") && message.contains("Interleave"));
+    scene.sampling = Sampling::Interleave;
+    let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+    let rendered = render_gpu(&mut renderer, &prepared);
+    let cpu = reference::render(&prepared);
+    agreement(&rendered, &cpu).assert_at_least("Interleave", 0.99, 0.98);
+    assert!(rendered.stats.samples_hit > 0);
 }
 
 #[test]

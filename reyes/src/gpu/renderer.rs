@@ -144,11 +144,23 @@ pub enum RenderError {
     /// doubled capacities when a queue overflowed).
     #[error("the Reyes megakernel failed: {0}")]
     Run(#[from] RunError),
-    /// The driver ended rasterization loops early, so samples are missing.
+    /// llvmpipe's loop limit still cut loops short after the retries with
+    /// one batch per dispatch, so samples would be missing: some item's own
+    /// loops need more iterations than the driver allows one invocation.
+    /// Rasterization loops count their own completion; the scheduler finds
+    /// cut queue waits, which an item's long loops starve of the budget
+    /// they share.
     #[error(
-        "the driver ended {0} rasterization loop(s) early (llvmpipe's loop limit); the image would be incomplete. Use a smaller dice threshold or fewer samples per pixel"
+        "llvmpipe's loop limit (65,535 iterations per invocation) cut {rasterization} rasterization loop(s) and {waits} queue wait(s) short in the last of {runs} runs, the retries with one batch per dispatch; the image would be incomplete. A micropolygon's loops are too long for the driver (in the bounding-box and INTERVAL modes: its box in pixels times the samples per pixel). Use fewer samples per pixel, less blur, Interleave or Simple UVT sampling, or a smaller dice threshold"
     )]
-    LoopsCut(u32),
+    LoopsCut {
+        /// Rasterization loops cut in the last run.
+        rasterization: u32,
+        /// Queue waits cut in the last run.
+        waits: u32,
+        /// Runs of the frame, the retries included.
+        runs: u32,
+    },
 }
 
 /// How the renderer runs the megakernel.
@@ -756,11 +768,24 @@ impl<'a> GpuRenderer<'a> {
                     loop_retries += 1;
                     budget = Some(CPU_RETRY_ITERATION_BUDGET);
                 }
+                Err(RenderError::Run(RunError::LoopLimit { waits })) => {
+                    // The scheduler's own advice (retry with a smaller
+                    // budget) is spent: say what is too long instead.
+                    return Err(RenderError::LoopsCut {
+                        rasterization: self.read_counters()?.loops_cut(),
+                        waits,
+                        runs: loop_retries + 1,
+                    });
+                }
                 Err(e) => return Err(e),
             }
         };
         if counters.loops_cut() > 0 {
-            return Err(RenderError::LoopsCut(counters.loops_cut()));
+            return Err(RenderError::LoopsCut {
+                rasterization: counters.loops_cut(),
+                waits: 0,
+                runs: loop_retries + 1,
+            });
         }
         let (buffers, target) = self.frame.as_ref().expect("prepared above");
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
