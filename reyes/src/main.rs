@@ -394,12 +394,8 @@ fn render(args: &RenderArgs) -> Result<(), BoxError> {
         }
         options.chunks_per_batch = args.chunks;
         let mut renderer = GpuRenderer::new(&gpu, options)?;
+        // Retries are reported as they happen, through the log.
         let rendered = renderer.render(&scene)?;
-        if rendered.overflow_retries > 0 {
-            eprintln!(
-                "note: a queue overflowed; the frame was rendered again with doubled queue capacities"
-            );
-        }
         let backend = if rendered.timings.megakernel_gpu_ms.is_some() {
             "GPU megakernel"
         } else {
@@ -437,7 +433,12 @@ fn render(args: &RenderArgs) -> Result<(), BoxError> {
 }
 
 fn main() -> ExitCode {
-    env_logger::init();
+    // The renderer reports retries (warn) and tile progress (info) through
+    // `log`; show them unless RUST_LOG says otherwise.
+    env_logger::Builder::from_env(
+        env_logger::Env::default().default_filter_or("reyes=info,scheduler=warn"),
+    )
+    .init();
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Render(args) => render(args),

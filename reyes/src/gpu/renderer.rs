@@ -656,12 +656,19 @@ impl<'a> GpuRenderer<'a> {
         let (mut report, mut overflow_retries, mut loop_retries) = (None, 0, 0);
         let mut megakernel_gpu_ms = Some(0.0);
         let mut megakernel_wall_ms = 0.0;
-        for tile in tiles {
+        for (index, tile) in tiles.iter().enumerate() {
             tile_scene.camera = scene.camera.crop(tile.x0, tile.y0, tile.width, tile.height);
             let rendered = self.render_tile(&tile_scene)?;
-            log::debug!(
-                "tile {tile:?}: {:.1} ms, {} grids",
-                rendered.timings.total_wall_ms,
+            // Progress: a tiled frame is the longest work the renderer does.
+            log::info!(
+                "tile {}/{} (x {}..{}, y {}..{}): {:.1} s, {} grids",
+                index + 1,
+                tiles.len(),
+                tile.x0,
+                tile.x0 + tile.width,
+                tile.y0,
+                tile.y0 + tile.height,
+                rendered.timings.total_wall_ms / 1e3,
                 rendered.stats.grids_diced
             );
             let (tw, x0) = (tile.width as usize, tile.x0 as usize);
