@@ -150,19 +150,20 @@ struct RenderArgs {
     camera_move: Option<Vec3>,
     /// Motion blur from camera motion: pan the camera by DEG degrees about
     /// its up axis through the eye between shutter open and close (positive
-    /// turns left, so the scene sweeps right); combines with `--camera-move`.
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    /// turns left, so the scene sweeps right), in (-180, 180); combines with
+    /// `--camera-move`.
+    #[arg(long, value_name = "DEG", value_parser = parse_pan, allow_hyphen_values = true)]
     camera_pan: Option<f32>,
     /// Fraction of the open-to-close motion the shutter sees, in [0, 1]
     /// (default: the scene's, 1).
-    #[arg(long, value_name = "F")]
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
     shutter: Option<f32>,
     /// Depth of field: lens radius in world units (default: the scene's, 0).
-    #[arg(long, value_name = "R")]
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
     aperture: Option<f32>,
     /// Depth of field: distance in focus (default: the scene's, or the
     /// distance from the eye to the camera target).
-    #[arg(long, value_name = "D")]
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
     focus: Option<f32>,
 }
 
@@ -183,6 +184,22 @@ fn parse_vec3(text: &str) -> Result<Vec3, String> {
         }
     }
     Ok(Vec3::from_array(v))
+}
+
+/// A camera pan in degrees, within (-180, 180): the orientation in between
+/// turns the shorter way (slerp), so a larger pan would turn the other way.
+fn parse_pan(text: &str) -> Result<f32, String> {
+    let degrees: f32 = text
+        .trim()
+        .parse()
+        .map_err(|e| format!("{text:?} is not a number: {e}"))?;
+    if degrees.abs() < 180.0 {
+        Ok(degrees)
+    } else {
+        Err(format!(
+            "{text} is not in (-180, 180): the camera turns the shorter way between its two poses"
+        ))
+    }
 }
 
 type BoxError = Box<dyn std::error::Error>;
