@@ -20,19 +20,27 @@ pub struct BlurConfig {
     pub spin_degrees: f32,
     /// Lens radius as a fraction of the model's bounding-box diagonal (0: pinhole).
     pub aperture_fraction: f32,
+    /// Degrees the camera pans about its up axis during the shutter
+    /// (camera motion; see `reyes::scene::CameraDesc::moved`).
+    pub pan_degrees: f32,
 }
 
 impl BlurConfig {
-    /// A short label: `spin 30`, `dof 0.02`, `spin 30 + dof 0.02`.
+    /// A short label: `spin 30`, `dof 0.02`, `spin 30 + dof 0.02`, `pan 5`.
     pub fn label(&self) -> String {
-        match (self.spin_degrees > 0.0, self.aperture_fraction > 0.0) {
-            (true, true) => format!(
-                "spin {} + dof {}",
-                self.spin_degrees, self.aperture_fraction
-            ),
-            (true, false) => format!("spin {}", self.spin_degrees),
-            (false, true) => format!("dof {}", self.aperture_fraction),
-            (false, false) => "still".into(),
+        let parts: Vec<String> = [
+            ("spin", self.spin_degrees),
+            ("pan", self.pan_degrees),
+            ("dof", self.aperture_fraction),
+        ]
+        .into_iter()
+        .filter(|&(_, amount)| amount != 0.0)
+        .map(|(what, amount)| format!("{what} {amount}"))
+        .collect();
+        if parts.is_empty() {
+            "still".into()
+        } else {
+            parts.join(" + ")
         }
     }
 }
@@ -90,8 +98,8 @@ pub fn load_model(name: &str) -> Result<(String, Model), BenchError> {
 }
 
 /// The benchmark scene: `model` framed at `width x height`, seen from
-/// above (the eye raised to 60 degrees over the model's centre), spinning
-/// and defocused as `config` says, focused on the model's centre.
+/// above (the eye raised to 60 degrees over the model's centre), spinning,
+/// panned and defocused as `config` says, focused on the model's centre.
 pub fn scene(
     model_name: &str,
     model: &Model,
@@ -116,6 +124,11 @@ pub fn scene(
             + (across * elevation.cos() + glam::Vec3::Z * elevation.sin()) * distance,
         ..framed
     });
+    if config.pan_degrees != 0.0 {
+        scene.camera_close = scene
+            .camera
+            .map(|camera| camera.moved(glam::Vec3::ZERO, config.pan_degrees));
+    }
     scene.lens.aperture = config.aperture_fraction * (hi - lo).length();
     if config.spin_degrees != 0.0 {
         let open = scene.objects[0].transform;

@@ -3,11 +3,13 @@
 //! ```text
 //! cargo run --release -p benches --bin blur-bench -- [--model killeroo|teapot|FILE]
 //!     [--width 800] [--height 600] [--spp 16,64] [--runs 5] [--no-warm-up]
-//!     [--blurs motion,dof,both] [--modes bbox,simple,...] [--table] [--adaptive]
+//!     [--blurs motion,dof,both,pan] [--pan 5] [--modes bbox,simple,...]
+//!     [--table] [--adaptive]
 //! ```
 //!
 //! `--table` (default) prints time and sample test efficiency of every mode
-//! for motion blur alone (a 30 degree spin), depth of field alone, and both.
+//! for motion blur alone (a 30 degree spin), depth of field alone, and both;
+//! `--blurs pan` adds camera motion (the camera panning 5 degrees).
 //! `--adaptive` checks Adaptive against the better of INTERVAL and
 //! Interleave UVT for small, medium and large spins, with and without depth
 //! of field: its median must stay within 10% of the better one's.
@@ -44,12 +46,16 @@ struct Args {
     /// pipeline creation, so this halves the cost of a single-run table.
     #[arg(long)]
     no_warm_up: bool,
-    /// Rows of the table: `motion` (spin alone), `dof` (lens alone), `both`.
+    /// Rows of the table: `motion` (spin alone), `dof` (lens alone), `both`,
+    /// `pan` (the camera panning, the model still).
     #[arg(long, value_delimiter = ',', default_values_t = ["motion".to_string(), "dof".into(), "both".into()])]
     blurs: Vec<String>,
     /// Degrees of spin of the table's motion-blur rows.
     #[arg(long, default_value_t = 30.0)]
     spin: f32,
+    /// Degrees the camera pans during the shutter in the `pan` rows.
+    #[arg(long, default_value_t = 5.0, allow_hyphen_values = true)]
+    pan: f32,
     /// Lens radius of the depth-of-field rows, as a fraction of the model's
     /// bounding-box diagonal.
     #[arg(long, default_value_t = 0.01)]
@@ -93,15 +99,19 @@ fn mode(name: &str) -> Result<Sampling, Box<dyn std::error::Error>> {
 
 /// A table row's blur: the spin alone, the lens alone, or both.
 fn blur(name: &str, args: &Args) -> Result<BlurConfig, Box<dyn std::error::Error>> {
-    let (spin_degrees, aperture_fraction) = match name {
-        "motion" => (args.spin, 0.0),
-        "dof" => (0.0, args.aperture),
-        "both" => (args.spin, args.aperture),
-        other => return Err(format!("unknown blur {other:?} (motion, dof or both)").into()),
+    let (spin_degrees, aperture_fraction, pan_degrees) = match name {
+        "motion" => (args.spin, 0.0, 0.0),
+        "dof" => (0.0, args.aperture, 0.0),
+        "both" => (args.spin, args.aperture, 0.0),
+        "pan" => (0.0, 0.0, args.pan),
+        other => {
+            return Err(format!("unknown blur {other:?} (motion, dof, both or pan)").into());
+        }
     };
     Ok(BlurConfig {
         spin_degrees,
         aperture_fraction,
+        pan_degrees,
     })
 }
 
@@ -168,6 +178,7 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
                     let config = BlurConfig {
                         spin_degrees: spin,
                         aperture_fraction,
+                        pan_degrees: 0.0,
                     };
                     let rows = measure(
                         &mut renderer,
