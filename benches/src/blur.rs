@@ -314,3 +314,44 @@ pub fn adaptive_ratio(rows: &[(Sampling, Result<BlurRow, String>)]) -> Option<f6
     let best = time(Sampling::Interval)?.min(time(Sampling::Interleave)?);
     Some(time(Sampling::Adaptive)?.as_secs_f64() / best.as_secs_f64().max(1e-9))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn config(spin_degrees: f32, aperture_fraction: f32, pan_degrees: f32) -> BlurConfig {
+        BlurConfig {
+            spin_degrees,
+            aperture_fraction,
+            pan_degrees,
+        }
+    }
+
+    #[test]
+    fn labels_name_what_blurs() {
+        assert_eq!(config(30.0, 0.0, 0.0).label(), "spin 30");
+        assert_eq!(config(0.0, 0.01, 0.0).label(), "dof 0.01");
+        assert_eq!(config(30.0, 0.01, 0.0).label(), "spin 30 + dof 0.01");
+        assert_eq!(config(0.0, 0.0, 5.0).label(), "pan 5");
+        assert_eq!(config(0.0, 0.0, 0.0).label(), "still");
+    }
+
+    /// The spin moves the model, the pan moves the camera, the lens opens
+    /// the aperture; each benchmark scene prepares.
+    #[test]
+    fn each_blur_moves_what_it_names() {
+        let model = Model::teapot();
+        for (config, spins, pans, lens) in [
+            (config(30.0, 0.0, 0.0), true, false, false),
+            (config(0.0, 0.01, 0.0), false, false, true),
+            (config(0.0, 0.0, 5.0), false, true, false),
+        ] {
+            let scene = scene("teapot", &model, config, 200, 150, 16, Sampling::Adaptive);
+            let what = config.label();
+            assert_eq!(scene.objects[0].transform_close.is_some(), spins, "{what}");
+            assert_eq!(scene.camera_close.is_some(), pans, "{what}");
+            assert_eq!(scene.lens.aperture > 0.0, lens, "{what}");
+            PreparedScene::new(&scene, std::slice::from_ref(&model)).expect(&what);
+        }
+    }
+}
