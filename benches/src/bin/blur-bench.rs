@@ -97,7 +97,7 @@ fn mode(name: &str) -> Result<Sampling, Box<dyn std::error::Error>> {
         .ok_or_else(|| format!("unknown 5D sampling mode {name:?}").into())
 }
 
-/// A table row's blur: the spin alone, the lens alone, or both.
+/// A table row's blur: the spin alone, the lens alone, both, or the camera's pan.
 fn blur(name: &str, args: &Args) -> Result<BlurConfig, Box<dyn std::error::Error>> {
     let (spin_degrees, aperture_fraction, pan_degrees) = match name {
         "motion" => (args.spin, 0.0, 0.0),
