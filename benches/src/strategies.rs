@@ -3,8 +3,9 @@
 //!
 //! A [`StrategyRow`] holds both strategies measured side by side in one
 //! process on one workload and policy; [`format_strategy_table`] prints them
-//! with the ratio. Workloads provide a [`Measure`] closure, so the spawn tree
-//! here and the Reyes frames in the `strategy-bench` binary share the table.
+//! with the ratio. Each workload builds its rows with
+//! [`Measured::from_samples`], so the spawn tree here and the Reyes frames
+//! (`crate::reyes_strategies`) share the table.
 
 use std::fmt::Write;
 use std::time::Duration;
