@@ -161,6 +161,8 @@ pub fn measure(
     warm_up: bool,
 ) -> Vec<(Sampling, Result<BlurRow, String>)> {
     let mut rows: Vec<(Sampling, Result<BlurRow, String>)> = Vec::new();
+    // Frames per mode: the first gives the counts (and is timed unless it
+    // warms up).
     let frames = if warm_up { runs + 1 } else { runs.max(1) };
     for (mode, prepared) in scenes {
         let rendered = renderer.render(prepared);
@@ -186,16 +188,11 @@ pub fn measure(
             .map_err(|e| e.to_string());
         rows.push((*mode, row));
     }
-    let more_runs = if warm_up {
-        runs
-    } else {
-        runs.saturating_sub(1)
-    };
-    for run in 0..more_runs {
+    for frame in 2..=frames {
         for ((mode, row), (_, prepared)) in rows.iter_mut().zip(scenes) {
             let Ok(measured) = row else { continue };
             let rendered = renderer.render(prepared);
-            progress(config, prepared.spp, *mode, (run + 2, frames), &rendered);
+            progress(config, prepared.spp, *mode, (frame, frames), &rendered);
             match rendered {
                 Ok(frame) => {
                     measured.runs.push(frame_time(&frame));

@@ -32,4 +32,7 @@ pub mod scene;
 pub mod stats;
 pub mod uvt;
 
+#[cfg(test)]
+mod test_random;
+
 pub mod gpu;

@@ -346,17 +346,18 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
                 }
             }
         };
-        scene.camera = Some(CameraDesc {
+        let camera = CameraDesc {
             eye: args.eye.unwrap_or(camera.eye),
             target: args.target.unwrap_or(camera.target),
             up: args.up.unwrap_or(camera.up),
             fov_y_degrees: args.fov.unwrap_or(camera.fov_y_degrees),
             ..camera
-        });
-    }
-    if let (true, Some(camera)) = (camera_moves, scene.camera) {
-        let by = args.camera_move.unwrap_or(Vec3::ZERO);
-        scene.camera_close = Some(camera.moved(by, args.camera_pan.unwrap_or(0.0)));
+        };
+        scene.camera = Some(camera);
+        if camera_moves {
+            let by = args.camera_move.unwrap_or(Vec3::ZERO);
+            scene.camera_close = Some(camera.moved(by, args.camera_pan.unwrap_or(0.0)));
+        }
     }
     Ok(PreparedScene::load(&scene)?)
 }

@@ -151,6 +151,7 @@ pub fn cull_radius(
 mod tests {
     use super::*;
     use crate::scene::Transform;
+    use crate::test_random::{fresh_rng, random_vec3};
 
     #[test]
     fn slerp_keeps_a_spinning_object_at_its_size() {
@@ -211,24 +212,6 @@ mod tests {
         assert!(motion.close(at_open).abs_diff_eq(at_close, 1e-5));
         assert!(motion.stretch >= 2.0);
         assert!(ObjectMotion::new(open.matrix(), open.matrix()).is_none());
-    }
-
-    fn random_vec3(rng: &mut rand::rngs::StdRng, range: f32) -> Vec3 {
-        use rand::Rng;
-        Vec3::new(
-            rng.random_range(-range..range),
-            rng.random_range(-range..range),
-            rng.random_range(-range..range),
-        )
-    }
-
-    /// A generator drawn afresh for each run, with its seed (printed, and
-    /// for the failure messages).
-    fn fresh_rng(test: &str) -> (u64, rand::rngs::StdRng) {
-        use rand::SeedableRng;
-        let seed: u64 = rand::random();
-        eprintln!("{test} seed = {seed}");
-        (seed, rand::rngs::StdRng::seed_from_u64(seed))
     }
 
     /// A camera at a random pose (fov 50 degrees, 200x150) and its view.

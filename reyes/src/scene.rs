@@ -712,8 +712,8 @@ impl Scene {
     /// finite, `near > 0`, `far > near`, fov in (0, 180), `eye != target`,
     /// `up` not parallel to the view direction (at open, and at close for a
     /// `camera_close`, which needs a `camera`), no motion or lens with
-    /// `nearest` sampling, `dice_threshold > 0`, `max_split_depth <= 64`, `shininess >= 0`, non-zero light directions,
-    /// and every displacement table ([`DisplacementDesc::validate`]), with at
+    /// `nearest` sampling, `dice_threshold > 0`, `max_split_depth <= 64`,
+    /// `shininess >= 0`, non-zero light directions, and every displacement table ([`DisplacementDesc::validate`]), with at
     /// most one distinct user WGSL function per scene (it becomes part of
     /// the one megakernel).
     pub fn validate(&self) -> Result<(), SceneError> {
@@ -1027,6 +1027,7 @@ impl CameraDesc {
 mod tests {
     use super::*;
     use crate::camera::Camera;
+    use crate::test_random::{fresh_rng, random_vec3};
 
     /// The full example in this module's documentation stays valid.
     #[test]
@@ -1058,23 +1059,15 @@ mod tests {
     /// image's centre, at the angle's tangent on the image plane.
     #[test]
     fn a_moved_camera_pans_about_its_up_axis() {
-        use rand::{Rng, SeedableRng};
-        let seed: u64 = rand::random();
-        eprintln!("a_moved_camera_pans_about_its_up_axis seed = {seed}");
-        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        use rand::Rng;
+        let (seed, mut rng) = fresh_rng("a_moved_camera_pans_about_its_up_axis");
         for _ in 0..50 {
-            let mut random_vec3 = |range: f32| {
-                Vec3::new(
-                    rng.random_range(-range..range),
-                    rng.random_range(-range..range),
-                    rng.random_range(-range..range),
-                )
-            };
-            let eye = random_vec3(10.0);
-            let by = random_vec3(3.0);
+            let eye = random_vec3(&mut rng, 10.0);
+            let by = random_vec3(&mut rng, 3.0);
             // Level views (target at the eye's height), so that the
             // image's horizontal axis is the pan's plane.
-            let ahead = random_vec3(5.0) * Vec3::new(1.0, 1.0, 0.0) + Vec3::new(0.3, 0.0, 0.0);
+            let ahead =
+                random_vec3(&mut rng, 5.0) * Vec3::new(1.0, 1.0, 0.0) + Vec3::new(0.3, 0.0, 0.0);
             let camera = CameraDesc {
                 eye,
                 target: eye + ahead,

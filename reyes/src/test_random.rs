@@ -1,0 +1,23 @@
+//! Randomness for the unit tests: drawn afresh on every run, with the seed
+//! printed so that a failure can be replayed.
+
+use glam::Vec3;
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+
+/// A generator seeded afresh for `test`, and its seed (printed, and for the
+/// failure messages).
+pub fn fresh_rng(test: &str) -> (u64, StdRng) {
+    let seed: u64 = rand::random();
+    eprintln!("{test} seed = {seed}");
+    (seed, StdRng::seed_from_u64(seed))
+}
+
+/// A vector with each coordinate uniform in `(-range, range)`.
+pub fn random_vec3(rng: &mut StdRng, range: f32) -> Vec3 {
+    Vec3::new(
+        rng.random_range(-range..range),
+        rng.random_range(-range..range),
+        rng.random_range(-range..range),
+    )
+}
