@@ -56,6 +56,16 @@ pub fn pack_rgb10(color: Vec3) -> u32 {
     quantize10(color.x) | (quantize10(color.y) << 10) | (quantize10(color.z) << 20)
 }
 
+/// The average of four packed colours, channel by channel in integers:
+/// `(c0 + c1 + c2 + c3 + 2) / 4` (a micropolygon's colour from its corners').
+pub fn average_rgb10(colors: [u32; 4]) -> u32 {
+    let channel = |shift: u32| {
+        let sum: u32 = colors.iter().map(|c| (c >> shift) & 0x3ff).sum();
+        ((sum + 2) / 4) << shift
+    };
+    channel(0) | channel(10) | channel(20)
+}
+
 /// Unpacks a colour packed by [`pack_rgb10`] (the inverse up to quantization).
 pub fn unpack_rgb10(packed: u32) -> Vec3 {
     let channel = |shift: u32| ((packed >> shift) & 0x3ff) as f32 / CHANNEL_MAX;

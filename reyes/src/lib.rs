@@ -7,6 +7,8 @@
 //! * [`displacement`]: displacement sources (height maps, procedural and
 //!   user WGSL heights) and their preparation;
 //! * [`prepare`]: host preparation (world-space patches, camera, lights);
+//! * [`dicing`]: grid sizes from the shading rate and the canonical edge
+//!   vertices that keep neighbouring grids watertight;
 //! * [`camera`], [`color`], [`sampling`], [`bezier`], [`params`]: the
 //!   conventions and building blocks that every implementation of the
 //!   pipeline shares;
@@ -16,9 +18,11 @@
 //! The pipeline and its conventions are described in `docs/reyes.md`, the
 //! scene format in `docs/reyes-scene.md`.
 
+pub mod aov;
 pub mod bezier;
 pub mod camera;
 pub mod color;
+pub mod dicing;
 pub mod displacement;
 pub mod load;
 pub mod model;

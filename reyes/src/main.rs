@@ -9,7 +9,8 @@
 //!              [--eye x,y,z] [--target x,y,z] [--up x,y,z] [--fov DEG] [--cpu]
 //!              [--displace bumps|sines|FILE.png|FILE.wgsl --displace-scale S
 //!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
-//!              [--chunks N]
+//!              [--chunks N] [--dicing rate|fixed] [--shading-rate R]
+//!              [--aov shaded|grids|depth|normal] [--sides 1|2] [--reverse-orientation]
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -17,12 +18,13 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use glam::Vec3;
+use reyes::aov::Aov;
 use reyes::displacement::DisplacementDesc;
 use reyes::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use reyes::gpu::{GpuOptions, GpuRenderer};
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
-use reyes::scene::{CameraDesc, Sampling, Scene};
+use reyes::scene::{CameraDesc, Dicing, Sampling, Scene};
 use reyes::stats::RenderStats;
 
 #[derive(Debug, Parser)]
@@ -59,6 +61,26 @@ enum SamplingArg {
     Nearest,
 }
 
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum DicingArg {
+    /// Grids sized to the shading rate, watertight.
+    Rate,
+    /// 16 x 16 points for every piece under the dice threshold.
+    Fixed,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum AovArg {
+    /// The shaded surface.
+    Shaded,
+    /// Micropolygons coloured by their grid's size.
+    Grids,
+    /// Grey by view depth.
+    Depth,
+    /// The shading normal.
+    Normal,
+}
+
 #[derive(Debug, clap::Args)]
 struct RenderArgs {
     /// A scene file (.toml) or a bare model (.bpt/.bez, framed automatically
@@ -79,6 +101,25 @@ struct RenderArgs {
     /// Sampling mode (default: the scene's, bbox).
     #[arg(long, value_enum)]
     sampling: Option<SamplingArg>,
+    /// How pieces are diced (default: the scene's, rate).
+    #[arg(long, value_enum)]
+    dicing: Option<DicingArg>,
+    /// Target micropolygon area in pixels for rate dicing (default: the
+    /// scene's, 1).
+    #[arg(long, value_name = "R")]
+    shading_rate: Option<f32>,
+    /// What the image shows: the shaded surface, each micropolygon coloured
+    /// by its grid's size (checkered), the view depth or the shading normal.
+    #[arg(long, value_enum)]
+    aov: Option<AovArg>,
+    /// 1: draw only the front of every object (RenderMan's `Sides 1`;
+    /// default: the scene's, 2).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
+    sides: Option<u8>,
+    /// The front of every object is the other side (RenderMan's
+    /// `ReverseOrientation`).
+    #[arg(long)]
+    reverse_orientation: bool,
     /// Print the statistics table.
     #[arg(long)]
     stats: bool,
@@ -296,6 +337,29 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
             SamplingArg::Nearest => Sampling::Nearest,
         };
     }
+    if let Some(dicing) = args.dicing {
+        scene.dicing = match dicing {
+            DicingArg::Rate => Dicing::Rate,
+            DicingArg::Fixed => Dicing::Fixed,
+        };
+    }
+    if let Some(rate) = args.shading_rate {
+        scene.shading_rate = rate;
+    }
+    if let Some(aov) = args.aov {
+        scene.aov = match aov {
+            AovArg::Shaded => Aov::Shaded,
+            AovArg::Grids => Aov::Grids,
+            AovArg::Depth => Aov::Depth,
+            AovArg::Normal => Aov::Normal,
+        };
+    }
+    for object in &mut scene.objects {
+        if let Some(sides) = args.sides {
+            object.sides = sides;
+        }
+        object.reverse_orientation |= args.reverse_orientation;
+    }
     if args.spin.is_some() || args.move_by.is_some() {
         for object in &mut scene.objects {
             let mut close = object.transform_close.unwrap_or(object.transform);
@@ -362,16 +426,39 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
     Ok(PreparedScene::load(&scene)?)
 }
 
-fn print_stats(stats: &RenderStats, backend: &str) {
-    let rows: [(&str, String); 13] = [
+fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
+    let dicing = match scene.dicing {
+        Dicing::Rate => format!(
+            "rate, shading rate {}",
+            scene.micropolygon_side * scene.micropolygon_side
+        ),
+        Dicing::Fixed => format!("fixed, threshold {} px", scene.dice_threshold),
+    };
+    let rows: [(&str, String); 17] = [
         ("input patches", stats.input_patches.to_string()),
         ("splits", stats.splits.to_string()),
         ("culled patches", stats.culled_patches.to_string()),
         ("depth-guard drops", stats.depth_guard_drops.to_string()),
         ("grids diced", stats.grids_diced.to_string()),
         ("micropolygons", stats.micropolygons.to_string()),
+        (
+            "grids small/med/large",
+            format!(
+                "{}/{}/{}",
+                stats.grids_by_class[0], stats.grids_by_class[1], stats.grids_by_class[2]
+            ),
+        ),
+        (
+            "dice thread util.",
+            format!("{:.3}", stats.thread_utilization()),
+        ),
+        (
+            "micropolys per hit",
+            format!("{:.3}", stats.micropolygons_per_hit()),
+        ),
         ("samples tested", stats.samples_tested.to_string()),
         ("samples hit", stats.samples_hit.to_string()),
+        ("dicing", dicing),
         (
             "sample test effic.",
             format!("{:.4}", stats.sample_test_efficiency()),
@@ -434,7 +521,7 @@ fn render(args: &RenderArgs) -> Result<(), BoxError> {
         scene.spp
     );
     if args.stats {
-        print_stats(&stats, &backend);
+        print_stats(&stats, &backend, &scene);
     }
     if stats.displacement_bound_exceeded > 0 {
         eprintln!(

@@ -109,3 +109,18 @@ pub const SINES_NORMALIZATION: f32 = 2.0 / 3.0;
 /// spp; with 2.0 it stays within 7% of the better mode in every cell
 /// measured (one frame each), giving up some of its lead with the lens alone.
 pub const ADAPTIVE_INTERLEAVE_BIAS: f32 = 2.0;
+
+/// Default shading rate: the target area of a micropolygon in pixels
+/// (RenderMan's `ShadingRate`), used by [`crate::scene::Dicing::Rate`].
+pub const DEFAULT_SHADING_RATE: f32 = 1.0;
+
+/// Largest accepted shading rate: micropolygons 32 pixels on a side. Larger
+/// ones would make every grid a few quads that bbox sampling tests pixel by
+/// pixel, beyond any use of a micropolygon renderer.
+pub const MAX_SHADING_RATE: f32 = 1024.0;
+
+/// Micropolygons along each side of the largest grid that dicing to a
+/// shading rate makes (`nu`, `nv` are powers of two up to this); a piece
+/// that needs more is split. The largest grid's points,
+/// `(MAX_GRID_QUADS + 1)^2`, must fit the large dice procedure's scratch.
+pub const MAX_GRID_QUADS: u32 = 16;

@@ -4,11 +4,13 @@
 
 use glam::Vec3;
 
+use crate::aov::Aov;
 use crate::camera::Camera;
 use crate::displacement::PreparedDisplacement;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
-use crate::scene::{CameraDesc, Sampling, Scene, SceneError};
+use crate::params::MAX_GRID_QUADS;
+use crate::scene::{CameraDesc, Dicing, Sampling, Scene, SceneError};
 
 /// One input patch in world space, with the object it belongs to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -28,6 +30,11 @@ pub struct PreparedObject {
     pub displacement: Option<PreparedDisplacement>,
     /// How the object moves during the shutter (`None`: it does not).
     pub motion: Option<ObjectMotion>,
+    /// One-sided objects (`sides = 1`): the sign `s` such that the front
+    /// faces along `s * (dP/du x dP/dv)` in world space (negative with
+    /// `reverse_orientation`, and again for a mirroring transform); `None`
+    /// for two-sided objects, which are never culled as back-facing.
+    pub front: Option<f32>,
 }
 
 impl PreparedObject {
@@ -71,12 +78,23 @@ pub struct PreparedScene {
     pub jitter: bool,
     /// Linear RGB background.
     pub background: Vec3,
-    /// Dice when the projected bound's larger side is `<=` this (pixels).
+    /// How pieces are diced.
+    pub dicing: Dicing,
+    /// The side of a micropolygon at the shading rate, `sqrt(shading_rate)`
+    /// pixels (rate dicing).
+    pub micropolygon_side: f32,
+    /// Dice when the projected bound's larger side is `<=` this (pixels):
+    /// the scene's `dice_threshold` for fixed dicing, the largest grid's
+    /// side at the shading rate (`MAX_GRID_QUADS * micropolygon_side`) for
+    /// rate dicing, where it only bounds a piece's box with its
+    /// displacement (see [`crate::reference::bound::fits`]).
     pub dice_threshold: f32,
     /// Drop patches that still need a split at this depth.
     pub max_split_depth: u32,
     /// The thin lens (aperture 0: a pinhole).
     pub lens: PreparedLens,
+    /// What the image shows.
+    pub aov: Aov,
 }
 
 impl PreparedScene {
@@ -148,13 +166,19 @@ impl PreparedScene {
                 object.transform.interpolate(close, scene.shutter)
             });
             let motion = ObjectMotion::new(open, camera_motion.map_or(close, |c| c * close));
+            let front = (object.sides == 1).then(|| {
+                let flipped = object.reverse_orientation != mirrored;
+                if flipped { -1.0 } else { 1.0 }
+            });
             prepared_objects.push(PreparedObject {
                 albedo: object.color,
                 displacement,
                 motion,
+                front,
             });
         }
         let lens = PreparedLens::new(&camera, scene.lens.aperture, scene.lens.focus_distance);
+        let micropolygon_side = scene.shading_rate.sqrt();
         Ok(PreparedScene {
             lens,
             camera,
@@ -175,8 +199,14 @@ impl PreparedScene {
             sampling: scene.sampling,
             jitter: scene.jitter,
             background: scene.background,
-            dice_threshold: scene.dice_threshold,
+            dicing: scene.dicing,
+            micropolygon_side,
+            dice_threshold: match scene.dicing {
+                Dicing::Fixed => scene.dice_threshold,
+                Dicing::Rate => MAX_GRID_QUADS as f32 * micropolygon_side,
+            },
             max_split_depth: scene.max_split_depth,
+            aov: scene.aov,
         })
     }
 

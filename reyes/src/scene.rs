@@ -22,7 +22,10 @@
 //! shutter = 1.0                      # fraction of the open-to-close motion the shutter sees
 //! background = [0.05, 0.05, 0.07]    # linear RGB
 //! ambient = 0.1                      # ambient light, multiplied by the albedo
-//! dice_threshold = 16.0              # dice when the projected patch fits in this many pixels
+//! dicing = "rate"                   # "rate" (to the shading rate) or "fixed" (16 x 16 points)
+//! aov = "shaded"                     # what the image shows: "shaded", "grids", "depth" or "normal"
+//! shading_rate = 1.0                 # target micropolygon area in pixels (rate dicing)
+//! dice_threshold = 16.0              # fixed dicing: dice when the projected patch fits in this many pixels
 //! max_split_depth = 24               # drop patches that still need a split at this depth
 //!
 //! [resolution]
@@ -53,6 +56,8 @@
 //! [[objects]]
 //! model = "teapot"                   # the embedded teapot, or a .bpt/.bez path
 //! color = [0.8, 0.8, 0.8]            # linear RGB albedo
+//! sides = 2                          # 1: only the front (dP/du x dP/dv towards the eye) is drawn
+//! reverse_orientation = false        # the front is the other side
 //! [objects.transform]
 //! translate = [0.0, 0.0, 0.0]
 //! rotate_degrees = [0.0, 0.0, 0.0]   # about x, then y, then z
@@ -84,11 +89,13 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Quat, Vec3};
 use serde::{Deserialize, Serialize};
 
+use crate::aov::Aov;
 use crate::displacement::{DisplacementDesc, DisplacementError, desc::SourceKind};
 use crate::load::LoadError;
 use crate::model::Model;
 use crate::params::{
-    DEFAULT_DICE_THRESHOLD, DEFAULT_MAX_SPLIT_DEPTH, MAX_SPLIT_DEPTH_LIMIT, VALID_SPP,
+    DEFAULT_DICE_THRESHOLD, DEFAULT_MAX_SPLIT_DEPTH, DEFAULT_SHADING_RATE, MAX_SHADING_RATE,
+    MAX_SPLIT_DEPTH_LIMIT, VALID_SPP,
 };
 
 /// The model name that selects the embedded teapot instead of a file.
@@ -213,6 +220,31 @@ pub enum Sampling {
     /// Baseline: each micropolygon writes only the sample nearest its
     /// centroid (no motion blur or depth of field).
     Nearest,
+}
+
+/// How pieces are diced into grids of micropolygons (see `docs/reyes.md`,
+/// "Dicing").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Dicing {
+    /// To the shading rate: each piece gets a grid of up to 16 x 16
+    /// micropolygons sized by its projected rows and columns, with edges
+    /// shared watertight between neighbours (default).
+    #[default]
+    Rate,
+    /// Every piece that fits `dice_threshold` pixels gets the same 16 x 16
+    /// points (15 x 15 micropolygons), whatever its size.
+    Fixed,
+}
+
+impl Dicing {
+    /// The name used in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dicing::Rate => "rate",
+            Dicing::Fixed => "fixed",
+        }
+    }
 }
 
 impl Sampling {
@@ -406,6 +438,17 @@ pub struct SceneObject {
     /// translation, rotation (slerp) and scale.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform_close: Option<Transform>,
+    /// RenderMan's `Sides`: 2 (default) draws both faces; 1 draws only the
+    /// front, where `dP/du x dP/dv` points towards the eye (see
+    /// `reverse_orientation`): conservatively back-facing input patches are
+    /// culled in Bound, back-facing micropolygons when sampled.
+    #[serde(default = "default_sides")]
+    pub sides: u8,
+    /// RenderMan's `ReverseOrientation`: the front is the other side
+    /// (default false). Patch parametrizations are not consistent between
+    /// models.
+    #[serde(default)]
+    pub reverse_orientation: bool,
 }
 
 /// A directional light (`[[lights]]`).
@@ -490,7 +533,19 @@ pub struct Scene {
     /// Ambient term (default 0.1).
     #[serde(default = "default_ambient")]
     pub ambient: f32,
-    /// Dice threshold in pixels (default [`DEFAULT_DICE_THRESHOLD`]).
+    /// How pieces are diced (default [`Dicing::Rate`]).
+    #[serde(default)]
+    pub dicing: Dicing,
+    /// What the image shows (default the shaded surface; see [`Aov`]).
+    #[serde(default)]
+    pub aov: Aov,
+    /// The target area of a micropolygon in pixels, RenderMan's
+    /// `ShadingRate` (default [`DEFAULT_SHADING_RATE`]); used by
+    /// [`Dicing::Rate`].
+    #[serde(default = "default_shading_rate")]
+    pub shading_rate: f32,
+    /// Dice threshold in pixels of [`Dicing::Fixed`] (default
+    /// [`DEFAULT_DICE_THRESHOLD`]).
     #[serde(default = "default_dice_threshold")]
     pub dice_threshold: f32,
     /// Maximum split depth (default [`DEFAULT_MAX_SPLIT_DEPTH`]).
@@ -557,6 +612,12 @@ fn default_background() -> Vec3 {
 fn default_ambient() -> f32 {
     0.1
 }
+fn default_sides() -> u8 {
+    2
+}
+fn default_shading_rate() -> f32 {
+    DEFAULT_SHADING_RATE
+}
 fn default_dice_threshold() -> f32 {
     DEFAULT_DICE_THRESHOLD
 }
@@ -578,6 +639,9 @@ impl Default for Scene {
             lens: Lens::default(),
             background: default_background(),
             ambient: default_ambient(),
+            dicing: Dicing::default(),
+            aov: Aov::default(),
+            shading_rate: DEFAULT_SHADING_RATE,
             dice_threshold: DEFAULT_DICE_THRESHOLD,
             max_split_depth: DEFAULT_MAX_SPLIT_DEPTH,
             resolution: Resolution::default(),
@@ -674,6 +738,8 @@ impl Scene {
                 color: default_color(),
                 displacement: None,
                 transform_close: None,
+                sides: 2,
+                reverse_orientation: false,
             }],
             lights: vec![light],
             ..Scene::default()
@@ -712,7 +778,7 @@ impl Scene {
     /// finite, `near > 0`, `far > near`, fov in (0, 180), `eye != target`,
     /// `up` not parallel to the view direction (at open, and at close for a
     /// `camera_close`, which needs a `camera`), no motion or lens with
-    /// `nearest` sampling, `dice_threshold > 0`, `max_split_depth <= 64`,
+    /// `nearest` sampling, `dice_threshold > 0`, `shading_rate` in `(0, 1024]`, `max_split_depth <= 64`,
     /// `shininess >= 0`, non-zero light directions, and every displacement table ([`DisplacementDesc::validate`]), with at
     /// most one distinct user WGSL function per scene (it becomes part of
     /// the one megakernel).
@@ -757,6 +823,13 @@ impl Scene {
         if self.dice_threshold <= 0.0 {
             return Err(invalid("dice_threshold", "must be > 0 pixels"));
         }
+        finite("shading_rate", [self.shading_rate])?;
+        if !(self.shading_rate > 0.0 && self.shading_rate <= MAX_SHADING_RATE) {
+            return Err(invalid(
+                "shading_rate",
+                &format!("must be in (0, {MAX_SHADING_RATE}] square pixels"),
+            ));
+        }
         if self.max_split_depth > MAX_SPLIT_DEPTH_LIMIT {
             return Err(invalid(
                 "max_split_depth",
@@ -799,6 +872,9 @@ impl Scene {
                 t.scale.to_vec3().to_array(),
             )?;
             finite(&format!("objects[{i}].color"), object.color.to_array())?;
+            if !matches!(object.sides, 1 | 2) {
+                return Err(invalid(&format!("objects[{i}].sides"), "must be 1 or 2"));
+            }
             if let Some(t) = &object.transform_close {
                 finite(
                     &format!("objects[{i}].transform_close.translate"),

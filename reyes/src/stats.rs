@@ -16,10 +16,19 @@ pub struct RenderStats {
     pub culled_patches: u64,
     /// Patches dropped because they still needed a split at `max_split_depth`.
     pub depth_guard_drops: u64,
-    /// Patches diced into a 16 x 16 grid.
+    /// Pieces diced into a grid.
     pub grids_diced: u64,
-    /// Micropolygons produced: `grids_diced * 225`.
+    /// Micropolygons produced: the sum of every grid's `nu * nv` (225 per
+    /// grid with fixed dicing).
     pub micropolygons: u64,
+    /// Grids diced by each dice procedure, in [`crate::dicing::GridClass::ALL`]
+    /// order (small: 16 threads, medium: 64, large: 256).
+    #[serde(default)]
+    pub grids_by_class: [u64; 3],
+    /// Threads the dice procedures ran their grids with: each grid counts
+    /// its class's threads per item.
+    #[serde(default)]
+    pub dice_threads: u64,
     /// Sample positions tested against a micropolygon (bbox mode: every sample
     /// of every pixel in each triangle's clamped bounding box; nearest mode:
     /// one per micropolygon).
@@ -43,6 +52,26 @@ pub struct RenderStats {
 }
 
 impl RenderStats {
+    /// Thread utilization of the dice procedures: the share of their
+    /// threads that rasterize a micropolygon (`micropolygons /
+    /// dice_threads`; 0 when nothing was diced).
+    pub fn thread_utilization(&self) -> f64 {
+        if self.dice_threads == 0 {
+            0.0
+        } else {
+            self.micropolygons as f64 / self.dice_threads as f64
+        }
+    }
+
+    /// Micropolygons per sample hit (0 when no sample was hit).
+    pub fn micropolygons_per_hit(&self) -> f64 {
+        if self.samples_hit == 0 {
+            0.0
+        } else {
+            self.micropolygons as f64 / self.samples_hit as f64
+        }
+    }
+
     /// Sample test efficiency: samples hit per sample tested (0 when none
     /// was tested).
     pub fn sample_test_efficiency(&self) -> f64 {

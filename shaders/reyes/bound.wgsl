@@ -2,35 +2,54 @@
 // Each thread projects its control point and publishes its outcode (of the
 // ball the object's displacement bound, motion and lens blur grow it to), its pixel position and
 // the bound's growth on screen in scratch; after the barrier thread 0
-// reduces them in the reference's order (reyes::reference::bound::bound)
-// and routes the patch.
-// Scratch: 4 words per point (outcode, px, py, growth in pixels).
+// reduces them in the reference's order (reyes::reference::bound::bound),
+// measures the patch's edges and its grid (rate dicing: dicing.wgsl) and
+// routes the patch. A one-sided, still, sharp and undisplaced patch whose
+// every control point's share of the back-face test holds is culled
+// (reyes::reference::bound::back_facing).
+// Scratch: 5 words per point (outcode, px, py, growth in pixels, 1 when
+// the point's share of the back-face test holds).
+let POINT_SCRATCH = 5u;
+let object = objects[item.object];
+let may_cull_back = object.front != 0.0 && object.moving == 0u && frame.aperture == 0.0 && object.displace_kind == DISPLACE_NONE;
 if (valid) {
     var p = item.p;
-    let object = objects[item.object];
     let bound = object.displace_bound;
     let radius = clip_radius(bound);
     let point = patch_point(&p, thread);
     let clip = to_clip(point);
     let pixel = to_pixel(clip);
-    let w = 4u * thread;
+    let w = POINT_SCRATCH * thread;
     scratch_store_u32(slot, w, outcode(clip, cull_clip_radius(object, point, clip, radius)));
     scratch_store_f32(slot, w + 1u, pixel.x);
     scratch_store_f32(slot, w + 2u, pixel.y);
     scratch_store_f32(slot, w + 3u, pixel_growth(clip, bound, radius));
+    var back = false;
+    if (may_cull_back) {
+        back = back_facing_at(&p, thread, frame.eye, object.front);
+    }
+    scratch_store_u32(slot, w + 4u, select(0u, 1u, back));
 }
 workgroupBarrier();
 if (valid && thread == 0u) {
     atomicAdd(&stats[STAT_INPUT_PATCHES], 1u);
     var p = item.p;
     var flags = FLAGS_IDENTITY;
-    var pixels: array<vec2<f32>, 16>;
+    var screen: ScreenPiece;
     var growth = 0.0;
+    var back = may_cull_back;
     for (var i = 0u; i < 16u; i += 1u) {
-        flags = merge_flags(flags, scratch_load_u32(slot, 4u * i));
-        pixels[i] = vec2<f32>(scratch_load_f32(slot, 4u * i + 1u), scratch_load_f32(slot, 4u * i + 2u));
-        growth = max(growth, scratch_load_f32(slot, 4u * i + 3u));
+        back = back && scratch_load_u32(slot, POINT_SCRATCH * i + 4u) != 0u;
+        let code = scratch_load_u32(slot, POINT_SCRATCH * i);
+        flags = merge_flags(flags, code);
+        if ((code & UNPROJECTABLE) == 0u) {
+            screen.projectable |= 1u << i;
+        }
+        screen.pixels[i] = vec2<f32>(scratch_load_f32(slot, POINT_SCRATCH * i + 1u), scratch_load_f32(slot, POINT_SCRATCH * i + 2u));
+        screen.growths[i] = scratch_load_f32(slot, POINT_SCRATCH * i + 3u);
+        growth = max(growth, screen.growths[i]);
     }
+    var pixels = screen.pixels;
     var lo = pixels[0];
     var hi = pixels[0];
     var u2 = 0.0;
@@ -49,5 +68,15 @@ if (valid && thread == 0u) {
         v3 += dist3(patch_point(&p, k), patch_point(&p, 12u + k));
     }
     let size = max_ignoring_nan(hi.x - lo.x, hi.y - lo.y);
-    route(decide(flags, size, growth, u2, v2, u3, v3, item.split_depth), item);
+    var piece = item;
+    if (frame.dicing == DICING_RATE) {
+        piece.edges = input_edges(&screen);
+    }
+    let grid = piece_grid(&screen, piece.edges, piece.uv);
+    piece.grid = grid.x | (grid.y << 8u);
+    if (back) {
+        route(DECIDE_CULL, piece);
+    } else {
+        route(decide(flags, size, growth, u2, v2, u3, v3, item.split_depth, grid), piece);
+    }
 }

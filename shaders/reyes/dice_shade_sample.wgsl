@@ -1,111 +1,121 @@
-// Body of `DiceShadeSample` (256 threads per piece). Thread t owns grid point
-// (t % 16, t / 16) at s = i / 15, t = j / 15.
+// Body of the DiceShadeSample procedures (16, 64 or 256 threads per piece:
+// reyes::dicing::GridClass). reyes::gpu::graph prepends
+// `let DICE_THREADS = ..u;`. The piece's grid is nu x nv micropolygons
+// (PatchItem::grid), (nu + 1) x (nv + 1) points; point k = j * (nu + 1) + i
+// is at u = u0 + (u1 - u0) (i / nu), v likewise (reyes::reference::dice).
 //
-// Phase 1: the position and the exact shading normal of the undisplaced
-// surface; a displaced object's point also moves along the exact normal
-// by height(u, v) * scale. Both go to scratch.
-// Phase 2: the shading normal (displaced objects: from the displaced
-// neighbours, reyes::reference::displace, falling back to the exact one),
-// shading and projection.
-// With time and lens (frame.time_lens), phase 2 also positions the point
-// at shutter close and gathers the grid's largest motion and circle of
-// confusion for Adaptive sampling.
-// Phase 3: threads 0..225 each rasterize micropolygon (t % 15, t / 15) as the
-// two triangles (a, b, c) and (a, c, d) (raster5d.wgsl with time and lens),
-// or its nearest sample.
-// Scratch: words 0..768 the (displaced) positions (x, y, z per point), words
-// 768..1536 the exact shading normals (x, y, z), which phase 2 replaces
-// (each thread its own, after reading it) by the point's close (px, py,
-// depth); from word POINT_BASE, 8 words per point (px, py, depth, clip w,
-// r, g, b, clip w at close).
-// llvmpipe turns every workgroupBarrier into a coroutine suspension, whose
-// compile cost grows with the state that lives across it, so the phases
-// hand their results over in scratch, and every object takes one path.
-let NORMAL_BASE = 3u * GRID_POINTS * GRID_POINTS;
-let POINT_BASE = 6u * GRID_POINTS * GRID_POINTS;
+// Phase 1 (every thread, for points thread, thread + DICE_THREADS, ...):
+// the point of the input patch (patch_position), displaced along the
+// exact normal; its shading normal (exact, or for a displaced object from
+// its displaced neighbours, evaluated here too); with rate dicing, a
+// border point between two vertices of its edge moves onto their chord;
+// then shading and projection, at open and (time and lens) at close,
+// gathering the grid's largest motion and circle of confusion for
+// Adaptive sampling.
+// Phase 2: thread t < nu * nv rasterizes micropolygon (t % nu, t / nu) as
+// the two triangles (a, b, c) and (a, c, d) (raster5d.wgsl with time and
+// lens), or its nearest sample.
+// Scratch: POINT_WORDS (9) words per point: px, py, depth, clip w, packed
+// colour, and at close px, py, depth, clip w.
+// llvmpipe turns every workgroupBarrier into a coroutine suspension whose
+// compile cost grows with the state that lives across it: the phases hand
+// their results over in scratch only.
+let nu = item.grid & 0xffu;
+let nv = (item.grid >> 8u) & 0xffu;
+let columns = nu + 1u;
+let points = columns * (nv + 1u);
 if (valid) {
-    var p = item.p;
+    var q = load_patch(item.input_patch);
     let object = objects[item.object];
-    let i = thread % GRID_POINTS;
-    let j = thread / GRID_POINTS;
-    let s = f32(i) / f32(GRID_QUADS);
-    let t = f32(j) / f32(GRID_QUADS);
-    let position = tensor(&p, bernstein(s), bernstein(t));
-    var moved = position;
-    if (object.displace_kind != DISPLACE_NONE) {
-        let u = lerp_param(item.uv.x, item.uv.z, s);
-        let v = lerp_param(item.uv.y, item.uv.w, t);
-        let offset = displacement_height(object, u, v) * object.displace_scale;
-        if (abs(offset) > object.displace_bound * DISPLACEMENT_BOUND_SLACK) {
-            atomicAdd(&stats[STAT_DISPLACEMENT_BOUND_EXCEEDED], 1u);
+    for (var k = thread; k < points; k += DICE_THREADS) {
+        let i = k % columns;
+        let j = k / columns;
+        let u = grid_param(item.uv.x, item.uv.z, i, nu);
+        let v = grid_param(item.uv.y, item.uv.w, j, nv);
+        // displaced_point, with the bound check.
+        var moved = patch_position(&q, u, v);
+        if (object.displace_kind != DISPLACE_NONE) {
+            let offset = displacement_height(object, u, v) * object.displace_scale;
+            if (abs(offset) > object.displace_bound * DISPLACEMENT_BOUND_SLACK) {
+                atomicAdd(&stats[STAT_DISPLACEMENT_BOUND_EXCEEDED], 1u);
+            }
+            moved = moved + displacement_normal(&q, u, v) * offset;
         }
-        moved = position + displacement_normal(&p, s, t) * offset;
+        var normal = vec3<f32>(0.0);
+        if (object.displace_kind != DISPLACE_NONE) {
+            normal = displaced_grid_normal(&q, object, item.uv, nu, nv, i, j);
+            if (dot3(normal, frame.eye - moved) < 0.0) {
+                normal = -normal;
+            }
+        }
+        if (all(normal == vec3<f32>(0.0))) {
+            // Undisplaced, or degenerate (a collapsed patch edge): the exact normal.
+            normal = surface_normal(&q, u, v, tensor(&q, bernstein(u), bernstein(v)), frame.eye);
+        }
+        if (frame.dicing == DICING_RATE) {
+            let chord = border_chord(nu, nv, item.edges, i, j, u, v);
+            if (chord.f >= 0.0) {
+                let qa = displaced_point(&q, object, chord.a.x, chord.a.y);
+                let qb = displaced_point(&q, object, chord.b.x, chord.b.y);
+                moved = chord_point(qa, qb, chord.f);
+            }
+        }
+        let w = POINT_WORDS * k;
+        let clip = to_clip(moved);
+        let open = to_pixel(clip);
+        scratch_store_f32(slot, w, open.x);
+        scratch_store_f32(slot, w + 1u, open.y);
+        scratch_store_f32(slot, w + 2u, open.z);
+        scratch_store_f32(slot, w + 3u, clip.w);
+        var color = vec3<f32>(0.0);
+        switch frame.aov {
+            case AOV_DEPTH: {
+                color = depth_color(clip.w);
+            }
+            case AOV_NORMAL: {
+                color = normal * 0.5 + vec3<f32>(0.5);
+            }
+            default: {
+                color = shade(moved, normal, object.albedo.xyz);
+            }
+        }
+        scratch_store_u32(slot, w + 4u, pack_rgb10(color));
+        if (frame.time_lens != 0u) {
+            var close_position = moved;
+            if (object.moving != 0u) {
+                close_position = motion_close(object, moved);
+            }
+            let close_clip = to_clip(close_position);
+            let close = to_pixel(close_clip);
+            scratch_store_f32(slot, w + 5u, close.x);
+            scratch_store_f32(slot, w + 6u, close.y);
+            scratch_store_f32(slot, w + 7u, close.z);
+            scratch_store_f32(slot, w + 8u, close_clip.w);
+            let motion = dist2(open.xy, close.xy);
+            let blur = max(abs(coc(clip.w)), abs(coc(close_clip.w)));
+            // NaN extents (a point behind the eye) are ignored, as f32::max does.
+            if (!is_nan_f32(motion)) {
+                atomicMax(&grid_extent[2u * slot], bitcast<u32>(motion));
+            }
+            if (!is_nan_f32(blur)) {
+                atomicMax(&grid_extent[2u * slot + 1u], bitcast<u32>(blur));
+            }
+        }
     }
-    store_vec3(slot, 3u * thread, moved);
-    store_vec3(slot, NORMAL_BASE + 3u * thread, surface_normal(&p, s, t, position, frame.eye));
-}
-if (valid && thread == 0u) {
-    atomicStore(&grid_extent[0], 0u);
-    atomicStore(&grid_extent[1], 0u);
 }
 workgroupBarrier();
-if (valid) {
-    let object = objects[item.object];
-    let i = thread % GRID_POINTS;
-    let j = thread / GRID_POINTS;
-    let moved = displaced_point(slot, i, j);
-    var normal = vec3<f32>(0.0);
-    if (object.displace_kind != DISPLACE_NONE) {
-        normal = grid_normal(slot, i, j);
-        if (dot3(normal, frame.eye - moved) < 0.0) {
-            normal = -normal;
-        }
-    }
-    if (all(normal == vec3<f32>(0.0))) {
-        // Undisplaced, or degenerate (a collapsed patch edge): the exact normal.
-        normal = load_vec3(slot, NORMAL_BASE + 3u * thread);
-    }
-    let w = POINT_BASE + 8u * thread;
-    store_grid_point(slot, w, moved, shade(moved, normal, object.albedo.xyz));
-    if (frame.time_lens != 0u) {
-        var close_position = moved;
-        if (object.moving != 0u) {
-            close_position = motion_close(object, moved);
-        }
-        let clip = to_clip(close_position);
-        let close = to_pixel(clip);
-        // Own words only: no other thread reads this point's normal.
-        store_vec3(slot, NORMAL_BASE + 3u * thread, close);
-        scratch_store_f32(slot, w + 7u, clip.w);
-        let open = vec2<f32>(scratch_load_f32(slot, w), scratch_load_f32(slot, w + 1u));
-        let motion = dist2(open, close.xy);
-        let blur = max(abs(coc(scratch_load_f32(slot, w + 3u))), abs(coc(clip.w)));
-        // NaN extents (a point behind the eye) are ignored, as f32::max does.
-        if (!is_nan_f32(motion)) {
-            atomicMax(&grid_extent[0], bitcast<u32>(motion));
-        }
-        if (!is_nan_f32(blur)) {
-            atomicMax(&grid_extent[1], bitcast<u32>(blur));
-        }
-    }
-}
-workgroupBarrier();
-if (valid && thread < GRID_QUADS * GRID_QUADS) {
-    let i = thread % GRID_QUADS;
-    let j = thread / GRID_QUADS;
+if (valid && thread < nu * nv) {
+    let i = thread % nu;
+    let j = thread / nu;
     // Corners a = (i, j), b = (i+1, j), c = (i+1, j+1), d = (i, j+1).
-    let wa = POINT_BASE + 8u * (j * GRID_POINTS + i);
-    let wb = wa + 8u;
-    let wd = wa + 8u * GRID_POINTS;
-    let wc = wd + 8u;
-    let a = vec4<f32>(scratch_load_f32(slot, wa), scratch_load_f32(slot, wa + 1u), scratch_load_f32(slot, wa + 2u), scratch_load_f32(slot, wa + 3u));
-    let b = vec4<f32>(scratch_load_f32(slot, wb), scratch_load_f32(slot, wb + 1u), scratch_load_f32(slot, wb + 2u), scratch_load_f32(slot, wb + 3u));
-    let c = vec4<f32>(scratch_load_f32(slot, wc), scratch_load_f32(slot, wc + 1u), scratch_load_f32(slot, wc + 2u), scratch_load_f32(slot, wc + 3u));
-    let d = vec4<f32>(scratch_load_f32(slot, wd), scratch_load_f32(slot, wd + 1u), scratch_load_f32(slot, wd + 2u), scratch_load_f32(slot, wd + 3u));
-    let ca = vec3<f32>(scratch_load_f32(slot, wa + 4u), scratch_load_f32(slot, wa + 5u), scratch_load_f32(slot, wa + 6u));
-    let cb = vec3<f32>(scratch_load_f32(slot, wb + 4u), scratch_load_f32(slot, wb + 5u), scratch_load_f32(slot, wb + 6u));
-    let cc = vec3<f32>(scratch_load_f32(slot, wc + 4u), scratch_load_f32(slot, wc + 5u), scratch_load_f32(slot, wc + 6u));
-    let cd = vec3<f32>(scratch_load_f32(slot, wd + 4u), scratch_load_f32(slot, wd + 5u), scratch_load_f32(slot, wd + 6u));
+    let wa = POINT_WORDS * (j * columns + i);
+    let wb = wa + POINT_WORDS;
+    let wd = wa + POINT_WORDS * columns;
+    let wc = wd + POINT_WORDS;
+    let a = grid_point(slot, wa);
+    let b = grid_point(slot, wb);
+    let c = grid_point(slot, wc);
+    let d = grid_point(slot, wd);
 
     // Largest micropolygon: positive floats order like their bits; NaN
     // sizes are ignored as f32::max does in the reference.
@@ -116,33 +126,62 @@ if (valid && thread < GRID_QUADS * GRID_QUADS) {
         atomicMax(&stats[STAT_LARGEST_MICROPOLYGON], bitcast<u32>(size));
     }
 
-    let color = pack_rgb10((((ca + cb) + cc) + cd) * 0.25);
+    var color = average_rgb10(
+        scratch_load_u32(slot, wa + 4u),
+        scratch_load_u32(slot, wb + 4u),
+        scratch_load_u32(slot, wc + 4u),
+        scratch_load_u32(slot, wd + 4u),
+    );
+    if (frame.aov == AOV_GRIDS) {
+        color = grid_color(nu * nv, i, j);
+    }
+    // A one-sided object's back-facing triangles are culled.
+    let front = objects[item.object].front;
+    let draw_abc = drawn_face(a.xy, b.xy, c.xy, front);
+    let draw_acd = drawn_face(a.xy, c.xy, d.xy, front);
     var counts = SampleCounts(0u, 0u);
     if (frame.time_lens != 0u) {
-        let mode = mode_for_grid(bitcast<f32>(atomicLoad(&grid_extent[0])), bitcast<f32>(atomicLoad(&grid_extent[1])));
+        let mode = mode_for_grid(bitcast<f32>(atomicLoad(&grid_extent[2u * slot])), bitcast<f32>(atomicLoad(&grid_extent[2u * slot + 1u])));
         if (thread == 0u && mode == SAMPLING_INTERLEAVE) {
             atomicAdd(&stats[STAT_INTERLEAVE_GRIDS], 1u);
         }
-        let na = NORMAL_BASE + 3u * (j * GRID_POINTS + i);
-        let nb = na + 3u;
-        let nd = na + 3u * GRID_POINTS;
-        let nc = nd + 3u;
-        let ma = moving_point(a.xyz, a.w, load_vec3(slot, na), scratch_load_f32(slot, wa + 7u));
-        let mb = moving_point(b.xyz, b.w, load_vec3(slot, nb), scratch_load_f32(slot, wb + 7u));
-        let mc = moving_point(c.xyz, c.w, load_vec3(slot, nc), scratch_load_f32(slot, wc + 7u));
-        let md = moving_point(d.xyz, d.w, load_vec3(slot, nd), scratch_load_f32(slot, wd + 7u));
-        raster_triangle_5d(mode, ma, mb, mc, color, &counts);
-        raster_triangle_5d(mode, ma, mc, md, color, &counts);
+        let ma = moving_point(a.xyz, a.w, grid_point_close(slot, wa).xyz, grid_point_close(slot, wa).w);
+        let mb = moving_point(b.xyz, b.w, grid_point_close(slot, wb).xyz, grid_point_close(slot, wb).w);
+        let mc = moving_point(c.xyz, c.w, grid_point_close(slot, wc).xyz, grid_point_close(slot, wc).w);
+        let md = moving_point(d.xyz, d.w, grid_point_close(slot, wd).xyz, grid_point_close(slot, wd).w);
+        if (draw_abc) {
+            raster_triangle_5d(mode, ma, mb, mc, color, &counts);
+        }
+        if (draw_acd) {
+            raster_triangle_5d(mode, ma, mc, md, color, &counts);
+        }
     } else if (frame.sampling == SAMPLING_NEAREST) {
-        raster_nearest(a, b, c, d, color, &counts);
+        if (draw_abc || draw_acd) {
+            raster_nearest(a, b, c, d, color, &counts);
+        }
     } else {
-        raster_triangle(a, b, c, color, &counts);
-        raster_triangle(a, c, d, color, &counts);
+        if (draw_abc) {
+            raster_triangle(a, b, c, color, &counts);
+        }
+        if (draw_acd) {
+            raster_triangle(a, c, d, color, &counts);
+        }
     }
     stat_add64(STAT_SAMPLES_TESTED, counts.tested);
     stat_add64(STAT_SAMPLES_HIT, counts.hit);
 }
 if (valid && thread == 0u) {
     atomicAdd(&stats[STAT_GRIDS_DICED], 1u);
-    stat_add64(STAT_MICROPOLYGONS, GRID_QUADS * GRID_QUADS);
+    stat_add64(STAT_MICROPOLYGONS, nu * nv);
+    atomicAdd(&stats[STAT_GRIDS_BY_CLASS + grid_class(nu, nv)], 1u);
+    stat_add64(STAT_DICE_THREADS, DICE_THREADS);
+}
+if (frame.time_lens != 0u) {
+    // Every thread has read the grid's extents: clear them for the next
+    // batch (workgroup memory starts zeroed).
+    workgroupBarrier();
+    if (valid && thread == 0u) {
+        atomicStore(&grid_extent[2u * slot], 0u);
+        atomicStore(&grid_extent[2u * slot + 1u], 0u);
+    }
 }

@@ -86,29 +86,31 @@ fn lerp_param(a: f32, b: f32, s: f32) -> f32 {
     return a + (b - a) * s;
 }
 
-fn store_vec3(slot: u32, w: u32, value: vec3<f32>) {
-    scratch_store_f32(slot, w, value.x);
-    scratch_store_f32(slot, w + 1u, value.y);
-    scratch_store_f32(slot, w + 2u, value.z);
+// reyes::reference::displace::displaced_point: the input patch at (u, v),
+// moved along the exact normal by the height times the scale when the
+// object is displaced.
+fn displaced_point(q: ptr<function, array<f32, 48>>, object: Object, u: f32, v: f32) -> vec3<f32> {
+    let position = patch_position(q, u, v);
+    if (object.displace_kind == DISPLACE_NONE) {
+        return position;
+    }
+    let offset = displacement_height(object, u, v) * object.displace_scale;
+    return position + displacement_normal(q, u, v) * offset;
 }
 
-fn load_vec3(slot: u32, w: u32) -> vec3<f32> {
-    return vec3<f32>(scratch_load_f32(slot, w), scratch_load_f32(slot, w + 1u), scratch_load_f32(slot, w + 2u));
-}
-
-// Displaced grid point (i, j) from DiceShadeSample's scratch (3 words each
-// from word 0).
-fn displaced_point(slot: u32, i: u32, j: u32) -> vec3<f32> {
-    return load_vec3(slot, 3u * (j * GRID_POINTS + i));
-}
-
-// reyes::reference::displace::grid_normal: normalize(dS x dT) from the
-// neighbours (central differences, one-sided at the grid's edges), not yet
-// facing the eye; zero when degenerate.
-fn grid_normal(slot: u32, i: u32, j: u32) -> vec3<f32> {
-    let last = GRID_POINTS - 1u;
-    let d_s = displaced_point(slot, min(i + 1u, last), j) - displaced_point(slot, max(i, 1u) - 1u, j);
-    let d_t = displaced_point(slot, i, min(j + 1u, last)) - displaced_point(slot, i, max(j, 1u) - 1u);
+// reyes::reference::displace::grid_normal at point (i, j) of a grid of nu x
+// nv micropolygons over `uv`: normalize(dS x dT) from the displaced
+// neighbours (central differences, one-sided at the grid's edges), each
+// evaluated here; not yet facing the eye; zero when degenerate.
+fn displaced_grid_normal(q: ptr<function, array<f32, 48>>, object: Object, uv: vec4<f32>, nu: u32, nv: u32, i: u32, j: u32) -> vec3<f32> {
+    let u = grid_param(uv.x, uv.z, i, nu);
+    let v = grid_param(uv.y, uv.w, j, nv);
+    let u_next = grid_param(uv.x, uv.z, min(i + 1u, nu), nu);
+    let u_prev = grid_param(uv.x, uv.z, max(i, 1u) - 1u, nu);
+    let v_next = grid_param(uv.y, uv.w, min(j + 1u, nv), nv);
+    let v_prev = grid_param(uv.y, uv.w, max(j, 1u) - 1u, nv);
+    let d_s = displaced_point(q, object, u_next, v) - displaced_point(q, object, u_prev, v);
+    let d_t = displaced_point(q, object, u, v_next) - displaced_point(q, object, u, v_prev);
     let n = cross3(d_s, d_t);
     if (degenerate(n, d_s, d_t)) {
         return vec3<f32>(0.0);

@@ -24,7 +24,8 @@ struct Frame {
     ambient: f32,
     specular_strength: f32,
     shininess: f32,
-    pad0: u32,
+    // DICING_FIXED or DICING_RATE.
+    dicing: u32,
     // How far each clip coordinate moves per world unit (reyes::camera::
     // Camera::clip_pad): a ball of radius b lies within c +- b * clip_pad.
     clip_pad: vec4<f32>,
@@ -46,6 +47,14 @@ struct Frame {
     // sampling hashes absolute pixel coordinates.
     origin_x: u32,
     origin_y: u32,
+    // sqrt(shading_rate): a micropolygon's side in pixels (rate dicing).
+    micropolygon_side: f32,
+    // Float offset in height_texels of the input patches (48 floats each).
+    patch_floats: u32,
+    // AOV_SHADED, AOV_GRIDS, AOV_DEPTH or AOV_NORMAL (reyes::aov).
+    aov: u32,
+    // reyes::aov::depth_range.
+    depth_range: f32,
     pad1: u32,
 }
 
@@ -65,7 +74,9 @@ struct Object {
     displace_bound: f32,
     // Repetitions of the source per input patch.
     tiling: f32,
-    pad0: u32,
+    // One-sided objects: the sign s of the front's dP/du x dP/dv
+    // (reyes::prepare::PreparedObject::front); 0 when two-sided.
+    front: f32,
     // Open to close world positions (reyes::motion::ObjectMotion), and
     // whether the object moves at all.
     motion: mat4x4<f32>,
@@ -350,7 +361,9 @@ fn fits(size: f32, growth: f32) -> bool {
 // outcodes), `size` (larger side of the pixel bbox), `growth` (largest
 // pixel_growth of the points), the u/v extents in pixels (`u2`, `v2`) and
 // in world space (`u3`, `v3`).
-fn decide(flags: u32, size: f32, growth: f32, u2: f32, v2: f32, u3: f32, v3: f32, split_depth: u32) -> u32 {
+// `grid` is the piece's (nu, nv) from piece_grid, 0 in a direction that
+// must be split.
+fn decide(flags: u32, size: f32, growth: f32, u2: f32, v2: f32, u3: f32, v3: f32, split_depth: u32, grid: vec2<u32>) -> u32 {
     if ((flags & PLANE_BITS) != 0u) {
         return DECIDE_CULL;
     }
@@ -360,11 +373,17 @@ fn decide(flags: u32, size: f32, growth: f32, u2: f32, v2: f32, u3: f32, v3: f32
         }
         return select(DECIDE_SPLIT_V, DECIDE_SPLIT_U, u3 >= v3);
     }
-    if (fits(size, growth)) {
+    if (grid.x != 0u && grid.y != 0u && fits(size, growth)) {
         return DECIDE_DICE;
     }
     if (split_depth >= frame.max_split_depth) {
         return DECIDE_DROP;
+    }
+    if (grid.x == 0u && grid.y != 0u) {
+        return DECIDE_SPLIT_U;
+    }
+    if (grid.x != 0u && grid.y == 0u) {
+        return DECIDE_SPLIT_V;
     }
     return select(DECIDE_SPLIT_V, DECIDE_SPLIT_U, u2 >= v2);
 }
@@ -386,7 +405,17 @@ fn route(decision: u32, piece: PatchItem) {
             atomicAdd(&stats[STAT_DEPTH_GUARD_DROPS], 1u);
         }
         case DECIDE_DICE: {
-            enqueue_DiceShadeSample(piece);
+            switch grid_class(piece.grid & 0xffu, piece.grid >> 8u) {
+                case GRID_CLASS_SMALL: {
+                    enqueue_DiceShadeSample16(piece);
+                }
+                case GRID_CLASS_MEDIUM: {
+                    enqueue_DiceShadeSample64(piece);
+                }
+                default: {
+                    enqueue_DiceShadeSample256(piece);
+                }
+            }
         }
         case DECIDE_SPLIT_U: {
             atomicAdd(&stats[STAT_SPLITS], 1u);
@@ -397,6 +426,26 @@ fn route(decision: u32, piece: PatchItem) {
             enqueue_SplitV(piece);
         }
     }
+}
+
+// reyes::reference::bound::back_facing, the share of control point `k`:
+// front * ((p_k - eye) x a) . b >= 0 for the 12 differences a along u and
+// the 12 differences b along v.
+fn back_facing_at(p: ptr<function, array<f32, 48>>, k: u32, eye: vec3<f32>, front: f32) -> bool {
+    let r = patch_point(p, k) - eye;
+    for (var ka = 0u; ka < 12u; ka += 1u) {
+        let row = ka / 3u;
+        let column = ka % 3u;
+        let a = patch_point(p, row * 4u + column + 1u) - patch_point(p, row * 4u + column);
+        let c = cross3(r, a);
+        for (var kb = 0u; kb < 12u; kb += 1u) {
+            let b = patch_point(p, kb + 4u) - patch_point(p, kb);
+            if (!(front * dot3(c, b) >= 0.0)) {
+                return false;
+            }
+        }
+    }
+    return true;
 }
 
 // ------------------------------------------------------------ evaluation
@@ -584,22 +633,36 @@ fn owns(a: vec2<f32>, b: vec2<f32>) -> bool {
     return d.y < 0.0 || (d.y == 0.0 && d.x > 0.0);
 }
 
+// reyes::reference::raster::shows_front: grid triangle (a, b, c) shows the
+// front of an object whose front is along front * (dP/du x dP/dv); every
+// triangle of a two-sided object (front = 0) is drawn.
+fn drawn_face(a: vec2<f32>, b: vec2<f32>, c: vec2<f32>, front: f32) -> bool {
+    return front == 0.0 || front * edge(a, b, c) < 0.0;
+}
+
 fn inside(e: f32, a: vec2<f32>, b: vec2<f32>) -> bool {
     return e > 0.0 || (e == 0.0 && owns(a, b));
 }
 
-// Projects a shaded grid point and stores it for sampling at scratch words
-// w..w+7 of DiceShadeSample: px, py, depth, clip w, r, g, b.
-fn store_grid_point(slot: u32, w: u32, position: vec3<f32>, color: vec3<f32>) {
-    let clip = to_clip(position);
-    let pixel = to_pixel(clip);
-    scratch_store_f32(slot, w, pixel.x);
-    scratch_store_f32(slot, w + 1u, pixel.y);
-    scratch_store_f32(slot, w + 2u, pixel.z);
-    scratch_store_f32(slot, w + 3u, clip.w);
-    scratch_store_f32(slot, w + 4u, color.x);
-    scratch_store_f32(slot, w + 5u, color.y);
-    scratch_store_f32(slot, w + 6u, color.z);
+// A projected grid point at shutter open, (px, py, depth, clip w), from
+// DiceShadeSample's scratch words w..w+4.
+fn grid_point(slot: u32, w: u32) -> vec4<f32> {
+    return vec4<f32>(scratch_load_f32(slot, w), scratch_load_f32(slot, w + 1u), scratch_load_f32(slot, w + 2u), scratch_load_f32(slot, w + 3u));
+}
+
+// The same point at shutter close, from words w+5..w+9.
+fn grid_point_close(slot: u32, w: u32) -> vec4<f32> {
+    return grid_point(slot, w + 5u);
+}
+
+// reyes::color::average_rgb10: a micropolygon's colour from its corners'.
+fn average_rgb10(c0: u32, c1: u32, c2: u32, c3: u32) -> u32 {
+    var packed = 0u;
+    for (var shift = 0u; shift < 30u; shift += 10u) {
+        let sum = ((c0 >> shift) & 0x3ffu) + ((c1 >> shift) & 0x3ffu) + ((c2 >> shift) & 0x3ffu) + ((c3 >> shift) & 0x3ffu);
+        packed |= ((sum + 2u) / 4u) << shift;
+    }
+    return packed;
 }
 
 // Samples tested and hit by one thread, added to the statistics once per item.

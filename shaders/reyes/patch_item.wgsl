@@ -12,6 +12,13 @@ struct PatchItem {
     object: u32,
     // Splits from the input patch to this piece (the depth guard's input).
     split_depth: u32,
+    // Index of the input patch, whose control points rate dicing evaluates.
+    input_patch: u32,
+    // The spacings of the piece's four edges (dicing.wgsl), 8 bits each.
+    edges: u32,
+    // The grid Bound or Split chose: nu | nv << 8.
+    grid: u32,
     pad0: u32,
     pad1: u32,
+    pad2: u32,
 }

@@ -337,7 +337,8 @@ fn raster_triangle_5d(mode: u32, ma: Moving, mb: Moving, mc: Moving, color: u32,
     }
 }
 
-// The grid's largest point motion and circle of confusion (f32 bits; both
-// >= 0, so they order like their bits), gathered by DiceShadeSample for
-// Adaptive sampling. One DiceShadeSample item fills a workgroup.
-var<workgroup> grid_extent: array<atomic<u32>, 2>;
+// Each grid's largest point motion and circle of confusion (f32 bits; both
+// >= 0, so they order like their bits), gathered by the DiceShadeSample
+// procedures for Adaptive sampling: words 2 * slot and 2 * slot + 1 for
+// the item in `slot` (a workgroup holds up to DICE_SLOTS items).
+var<workgroup> grid_extent: array<atomic<u32>, GRID_EXTENT_WORDS>;

@@ -17,7 +17,7 @@ struct ResolveParams {
 @group(0) @binding(1) var<storage, read_write> keys: array<vec2<u32>>;
 // One RGBA8 pixel per word (r in the low byte), row-major.
 @group(0) @binding(2) var<storage, read_write> image: array<u32>;
-// 1 where any sample of the pixel was covered, else 0.
+// The number of the pixel's samples that were covered.
 @group(0) @binding(3) var<storage, read_write> coverage: array<u32>;
 
 const CLEAR_WORD: u32 = 0xffffffffu;
@@ -65,7 +65,7 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
         if (key.x == CLEAR_WORD && key.y == CLEAR_WORD) {
             sum += params.background.xyz;
         } else {
-            covered = 1u;
+            covered += 1u;
             let packed = key.x;
             sum += vec3<f32>(
                 f32(packed & 0x3ffu) / 1023.0,

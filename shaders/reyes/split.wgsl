@@ -11,7 +11,8 @@
 // Scratch: words 0..4, per thread, the merged outcodes of its line in half 0
 // (low 16 bits) and half 1 (high 16 bits); from word 4, 7 words per (half h,
 // thread t) at 4 + 7 * (h * 4 + t): bbox lo.x, lo.y, hi.x, hi.y, growth
-// (pixels), u term, v term.
+// (pixels), u term, v term. Thread h also projects all 16 points of half
+// h to measure its edges and its grid (rate dicing: dicing.wgsl).
 var halves: array<array<f32, 48>, 2>;
 let object = objects[item.object];
 let bound = object.displace_bound;
@@ -113,6 +114,24 @@ if (valid && thread < 2u) {
     }
     let size = max_ignoring_nan(hi.x - lo.x, hi.y - lo.y);
     let depth = item.split_depth + 1u;
-    let piece = PatchItem(halves[h], split_uv(item.uv, along_u, h), item.object, depth, 0u, 0u);
-    route(decide(flags, size, growth, u_ext, v_ext, u_ext, v_ext, depth), piece);
+    var q = halves[h];
+    var screen: ScreenPiece;
+    for (var k = 0u; k < 16u; k += 1u) {
+        let clip = to_clip(patch_point(&q, k));
+        screen.pixels[k] = to_pixel(clip).xy;
+        if (!(clip.w <= NEAR_EPS || clip.z < 0.0)) {
+            screen.projectable |= 1u << k;
+            screen.growths[k] = pixel_growth(clip, bound, radius);
+        }
+    }
+    var piece = item;
+    piece.p = q;
+    piece.uv = split_uv(item.uv, along_u, h);
+    piece.split_depth = depth;
+    if (frame.dicing == DICING_RATE) {
+        piece.edges = split_edges(item.edges, along_u, h, &screen, piece.uv);
+    }
+    let grid = piece_grid(&screen, piece.edges, piece.uv);
+    piece.grid = grid.x | (grid.y << 8u);
+    route(decide(flags, size, growth, u_ext, v_ext, u_ext, v_ext, depth, grid), piece);
 }

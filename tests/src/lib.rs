@@ -57,6 +57,8 @@ pub fn seed(test: &str) -> u64 {
 pub mod graphs;
 pub mod random_graph;
 pub mod reyes_support;
+pub mod shapes;
+pub mod watertight;
 
 /// An executor configuration with `workgroups` persistent workgroups and
 /// every queue holding `capacity` items.

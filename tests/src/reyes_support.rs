@@ -133,6 +133,7 @@ pub fn as_reference(frame: &GpuRendered) -> Rendered {
     Rendered {
         image: frame.image.clone(),
         coverage: frame.coverage.clone(),
+        covered_samples: frame.covered_samples.clone(),
         stats: frame.stats.clone(),
     }
 }

@@ -181,6 +181,8 @@ fn card_scene(cards: &[(Vec3, f32, Vec3)], sampling: Sampling) -> (Scene, Vec<Mo
                 translate: motion,
                 ..Transform::default()
             }),
+            sides: 2,
+            reverse_orientation: false,
         });
         models.push(card(centre, half));
     }

@@ -10,9 +10,10 @@ use glam::Vec3;
 use reyes::displacement::{CpuHeight, DisplacementDesc, DisplacementError, HeightSource};
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer, RenderError};
 use reyes::model::{Model, Patch};
+use reyes::params::DEFAULT_DICE_THRESHOLD;
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, ReferenceError, Rendered};
-use reyes::scene::{CameraDesc, Sampling, Scene, SceneError};
+use reyes::scene::{CameraDesc, Dicing, Sampling, Scene, SceneError};
 use tests::reyes_support::{
     self, Agreement, agreement, assert_counts_close, framed_teapot, gpu_turn,
 };
@@ -202,6 +203,8 @@ fn wall_scene(bound: f32) -> PreparedScene {
         color: Vec3::splat(0.8),
         displacement: Some(displacement(&map.to_string_lossy(), 1.0, 1.0)),
         transform_close: None,
+        sides: 2,
+        reverse_orientation: false,
     });
     let mut prepared = PreparedScene::new(&scene, &[wall(-3.6)]).expect("scene prepares");
     std::fs::remove_dir_all(&dir).ok();
@@ -240,14 +243,24 @@ fn displacement_bound_keeps_surface_displaced_into_view() {
     assert!(!g.coverage.iter().any(|&c| c));
 
     // Too small a bound that still keeps the patch: diced, and every point
-    // reported on both sides.
-    let (g, c, _) = compare(&mut renderer, &wall_scene(0.9));
+    // reported on both sides (fixed dicing: 256 points per grid; rate
+    // dicing: as many on both sides).
+    let mut fixed = wall_scene(0.9);
+    fixed.dicing = Dicing::Fixed;
+    fixed.dice_threshold = DEFAULT_DICE_THRESHOLD;
+    let (g, c, _) = compare(&mut renderer, &fixed);
     assert_eq!(c.stats.culled_patches, 0);
     let points = c.stats.grids_diced * 256;
     assert_eq!(c.stats.displacement_bound_exceeded, points);
     assert_eq!(
         g.stats.displacement_bound_exceeded,
         g.stats.grids_diced * 256
+    );
+    let (g, c, _) = compare(&mut renderer, &wall_scene(0.9));
+    assert!(c.stats.displacement_bound_exceeded >= c.stats.micropolygons);
+    assert_eq!(
+        g.stats.displacement_bound_exceeded,
+        c.stats.displacement_bound_exceeded
     );
 }
 

@@ -87,7 +87,7 @@ fn tiled_frames_match_the_untiled_frame() {
         assert_agrees(&what, &agreement(&tiled, &reference));
         let (t, u) = (&tiled.stats, &untiled.stats);
         assert_eq!(t.input_patches, u.input_patches);
-        assert_eq!(t.micropolygons, 225 * t.grids_diced);
+        assert!(t.micropolygons >= t.grids_diced && t.micropolygons <= 256 * t.grids_diced);
         assert_eq!(t.depth_guard_drops, 0);
         // Every sample is tested by the micropolygons over it, in whichever
         // tile holds it; grids over a tile border are diced in each tile.

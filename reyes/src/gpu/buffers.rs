@@ -41,8 +41,8 @@ pub struct FrameUniform {
     pub specular_strength: f32,
     /// Blinn-Phong exponent.
     pub shininess: f32,
-    /// Padding.
-    pub pad0: u32,
+    /// [`super::graph::dicing::FIXED`] or [`super::graph::dicing::RATE`].
+    pub dicing: u32,
     /// [`crate::camera::Camera::clip_pad`].
     pub clip_pad: [f32; 4],
     /// Lens radius ([`crate::motion::PreparedLens`]).
@@ -60,6 +60,14 @@ pub struct FrameUniform {
     pub interleave_tuples: u32,
     /// The image's pixel (0, 0) in the full frame ([`crate::camera::Camera::origin`]).
     pub origin: [u32; 2],
+    /// A micropolygon's side at the shading rate, in pixels.
+    pub micropolygon_side: f32,
+    /// Float offset in `height_texels` of the input patches.
+    pub patch_floats: u32,
+    /// [`crate::aov::Aov::code`].
+    pub aov: u32,
+    /// [`crate::aov::depth_range`] of the camera.
+    pub depth_range: f32,
     /// Padding.
     pub pad1: u32,
 }
@@ -84,7 +92,7 @@ impl FrameUniform {
             ambient: scene.ambient,
             specular_strength: scene.specular_strength,
             shininess: scene.shininess,
-            pad0: 0,
+            dicing: super::graph::dicing::code(scene.dicing),
             clip_pad: camera.clip_pad().to_array(),
             aperture: scene.lens.aperture,
             focus: scene.lens.focus,
@@ -93,6 +101,10 @@ impl FrameUniform {
             uvt: [0; 4],
             interleave_tuples: 0,
             origin: camera.origin,
+            micropolygon_side: scene.micropolygon_side,
+            patch_floats: 0,
+            aov: scene.aov.code(),
+            depth_range: crate::aov::depth_range(camera),
             pad1: 0,
         }
     }
@@ -112,21 +124,44 @@ impl FrameUniform {
     }
 }
 
-/// The `height_texels` buffer holds the height maps, then (when samples
-/// carry time and lens) the [`UvtTables`] from this float offset on.
-fn uvt_base(tables: &ObjectTables) -> u32 {
-    // The shaders index with u32; the renderer checks the texel count.
-    tables.texels as u32
+/// Where the scene's floats lie in the `height_texels` buffer: the height
+/// maps from float 0, then (when samples carry time and lens) the
+/// [`UvtTables`], then the input patches' control points (48 floats each,
+/// which the dice procedures evaluate).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct FloatLayout {
+    /// First float of the time/lens tables.
+    uvt: u64,
+    /// First float of the patches.
+    patches: u64,
+    /// Floats in all.
+    total: u64,
 }
 
-/// Bytes of `height_texels` for `scene`: its maps and its time/lens tables.
-pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
-    let maps = ObjectTables::new(scene).texel_bytes();
-    if scene.samples_time_and_lens() {
-        maps + 4 * u64::from(UvtLayout::for_spp(scene.spp).floats)
-    } else {
-        maps
+impl FloatLayout {
+    fn new(scene: &PreparedScene, tables: &ObjectTables) -> Self {
+        let uvt = tables.texels as u64;
+        let uvt_floats = if scene.samples_time_and_lens() {
+            u64::from(UvtLayout::for_spp(scene.spp).floats)
+        } else {
+            0
+        };
+        let patches = uvt + uvt_floats;
+        Self {
+            uvt,
+            patches,
+            total: patches + 48 * scene.patches.len() as u64,
+        }
     }
+}
+
+/// Bytes of `height_texels` for `scene`: its maps, its time/lens tables
+/// and its patches (at least one float: a binding may not be empty). The
+/// renderer refuses scenes whose floats a u32 cannot index.
+pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
+    4 * FloatLayout::new(scene, &ObjectTables::new(scene))
+        .total
+        .max(1)
 }
 
 /// Twin of the WGSL `Light` struct.
@@ -241,8 +276,23 @@ impl FrameBuffers {
             })
             .collect();
         let mut frame = FrameUniform::new(scene);
+        let layout = FloatLayout::new(scene, &tables);
+        // The renderer checks that every offset fits a u32 (texel_buffer_bytes).
+        frame.patch_floats = layout.patches as u32;
+        let patches: Vec<f32> = scene
+            .patches
+            .iter()
+            .flat_map(|p| p.points.iter().flat_map(|point| point.to_array()))
+            .collect();
+        if !patches.is_empty() {
+            queue.write_buffer(
+                &self.height_texels,
+                4 * layout.patches,
+                bytemuck::cast_slice(&patches),
+            );
+        }
         if scene.samples_time_and_lens() {
-            let base = uvt_base(&tables);
+            let base = layout.uvt as u32;
             // Built and uploaded once per sample count and place in the
             // buffer; the buffer keeps them between frames.
             if self.uvt != Some((scene.spp, base)) {
@@ -343,6 +393,8 @@ impl GpuCounters {
             ),
             displacement_bound_exceeded: w(stat::DISPLACEMENT_BOUND_EXCEEDED),
             interleave_grids: w(stat::INTERLEAVE_GRIDS),
+            grids_by_class: std::array::from_fn(|c| w(stat::GRIDS_BY_CLASS + c as u32)),
+            dice_threads: self.wide(stat::DICE_THREADS),
             frame_time_ms: None,
         }
     }

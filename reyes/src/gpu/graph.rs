@@ -4,9 +4,15 @@
 //!
 //! ```text
 //!   Bound (16 threads, initial) --+--> SplitU (4 threads) --+
-//!                                 +--> SplitV (4 threads) --+--> SplitU / SplitV / DiceShadeSample
-//!                                 +--> DiceShadeSample (256 threads)
+//!                                 +--> SplitV (4 threads) --+--> SplitU / SplitV / DiceShadeSample*
+//!                                 +--> DiceShadeSample16  (16 threads: grids up to 16 micropolygons)
+//!                                 +--> DiceShadeSample64  (64 threads: up to 64)
+//!                                 +--> DiceShadeSample256 (256 threads: up to 256)
 //! ```
+//!
+//! Bound and Split route each piece to the smallest dice procedure whose
+//! items hold its grid ([`crate::dicing::GridClass`]), so one workgroup
+//! dices 16 small pieces, or 4 medium ones, at once.
 //!
 //! The WGSL lives in `shaders/reyes/`; the constants it shares with the CPU
 //! reference are generated here from [`crate::params`] so the two cannot
@@ -16,11 +22,15 @@ use scheduler::{
     CompileError, CompileOptions, CompiledGraph, Graph, Policy, Procedure, Resource, item_type,
 };
 
+use crate::aov::Aov;
+use crate::dicing::{
+    EDGE_U0, EDGE_U1, EDGE_V0, EDGE_V1, GridClass, GridSize, RATE_ROUNDING, pack_edges,
+};
 use crate::params::{
     ADAPTIVE_INTERLEAVE_BIAS, DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX,
-    DEGENERATE_PARAM_MIN, DISPLACED_DICE_FRACTION, DISPLACEMENT_BOUND_TOLERANCE, GRID_POINTS,
-    GRID_QUADS, HASH_MIX, HASH_MULTIPLIERS, NEAR_EPS, SINES_NORMALIZATION,
-    SINES_OCTAVE_2_FREQUENCY, SINES_OCTAVE_2_WEIGHT,
+    DEGENERATE_PARAM_MIN, DISPLACED_DICE_FRACTION, DISPLACEMENT_BOUND_TOLERANCE, HASH_MIX,
+    HASH_MULTIPLIERS, MAX_GRID_QUADS, NEAR_EPS, SINES_NORMALIZATION, SINES_OCTAVE_2_FREQUENCY,
+    SINES_OCTAVE_2_WEIGHT,
 };
 use crate::prepare::WorldPatch;
 use crate::uvt::{INTERLEAVE_PERMUTATIONS, INTERLEAVE_TILE, PERMUTATION_CHANNEL, TABLE_SIDE};
@@ -30,6 +40,7 @@ const LIBRARY_WGSL: &str = include_str!("../../../shaders/reyes/library.wgsl");
 const BOUND_WGSL: &str = include_str!("../../../shaders/reyes/bound.wgsl");
 const SPLIT_WGSL: &str = include_str!("../../../shaders/reyes/split.wgsl");
 const DICE_WGSL: &str = include_str!("../../../shaders/reyes/dice_shade_sample.wgsl");
+const DICING_WGSL: &str = include_str!("../../../shaders/reyes/dicing.wgsl");
 const DISPLACEMENT_WGSL: &str = include_str!("../../../shaders/reyes/displacement.wgsl");
 const RASTER5D_WGSL: &str = include_str!("../../../shaders/reyes/raster5d.wgsl");
 /// The `displacement_user` of scenes without a user function (returns 0).
@@ -42,8 +53,17 @@ pub const BOUND: &str = "Bound";
 pub const SPLIT_U: &str = "SplitU";
 /// See [`BOUND`].
 pub const SPLIT_V: &str = "SplitV";
-/// See [`BOUND`].
-pub const DICE: &str = "DiceShadeSample";
+/// The dice procedures, by [`GridClass`] (see [`dice_procedure`]).
+pub const DICE: [&str; 3] = [
+    "DiceShadeSample16",
+    "DiceShadeSample64",
+    "DiceShadeSample256",
+];
+
+/// The dice procedure of grids of `class`.
+pub fn dice_procedure(class: GridClass) -> &'static str {
+    DICE[class.index()]
+}
 
 /// Features the Reyes megakernel needs: 64-bit integers for the sample keys
 /// and 64-bit `atomicMin` for the depth test.
@@ -54,9 +74,19 @@ pub const REQUIRED_FEATURES: wgpu::Features =
 /// split's 60 words times its 64 items per workgroup (15,360 bytes) are the
 /// largest need and must stay within the 16 KiB of workgroup memory that
 /// WebGPU guarantees, next to the scheduler's own words.
-const BOUND_SCRATCH_WORDS: u32 = 4 * 16;
+const BOUND_SCRATCH_WORDS: u32 = 5 * 16;
 const SPLIT_SCRATCH_WORDS: u32 = 4 + 7 * 8;
-const DICE_SCRATCH_WORDS: u32 = (3 + 3 + 8) * (GRID_POINTS * GRID_POINTS) as u32;
+/// Scratch words per grid point of the dice procedures (see
+/// `dice_shade_sample.wgsl`): open px, py, depth, clip w, packed colour,
+/// close px, py, depth, clip w. Their items hold `POINT_WORDS *
+/// class.max_points()` words: 16 small items take 3,888 words.
+const POINT_WORDS: u32 = 9;
+
+/// Items of the smallest dice procedure in one workgroup: the slots whose
+/// grid extents `grid_extent` keeps.
+fn dice_slots(workgroup_size: u32) -> u32 {
+    workgroup_size / GridClass::Small.threads()
+}
 
 /// Indices into the statistics buffer (`array<atomic<u32>>`). 64-bit
 /// counters take two words (low, high).
@@ -85,8 +115,12 @@ pub mod stat {
     pub const DISPLACEMENT_BOUND_EXCEEDED: u32 = 13;
     /// Grids sampled with Interleave UVT.
     pub const INTERLEAVE_GRIDS: u32 = 14;
+    /// Grids diced per class (words 15, 16, 17: small, medium, large).
+    pub const GRIDS_BY_CLASS: u32 = 15;
+    /// Threads of the dice items (64-bit: words 18, 19).
+    pub const DICE_THREADS: u32 = 18;
     /// Words in the buffer.
-    pub const WORDS: u32 = 15;
+    pub const WORDS: u32 = 20;
 }
 
 /// Displacement sources, as [`super::objects::ObjectData::displace_kind`]
@@ -100,6 +134,22 @@ pub mod displace {
     pub const SINES: u32 = 2;
     /// The user's WGSL `displacement_user`.
     pub const USER: u32 = 3;
+}
+
+/// Dicing modes, as the frame uniform encodes them.
+pub mod dicing {
+    /// [`crate::scene::Dicing::Fixed`].
+    pub const FIXED: u32 = 0;
+    /// [`crate::scene::Dicing::Rate`].
+    pub const RATE: u32 = 1;
+
+    /// The code of `dicing`.
+    pub fn code(dicing: crate::scene::Dicing) -> u32 {
+        match dicing {
+            crate::scene::Dicing::Fixed => FIXED,
+            crate::scene::Dicing::Rate => RATE,
+        }
+    }
 }
 
 /// Bound decisions, as the WGSL `decide` returns them.
@@ -152,15 +202,24 @@ pub struct PatchItem {
     pub object: u32,
     /// Splits from the input patch.
     pub split_depth: u32,
+    /// Index of the input patch (rate dicing evaluates its points).
+    pub input_patch: u32,
+    /// The spacings of the piece's edges ([`crate::dicing::pack_edges`]).
+    pub edges: u32,
+    /// The grid Bound or Split chose, `nu | nv << 8`.
+    pub grid: u32,
     /// Padding to the WGSL struct's 16-byte alignment.
     pub pad0: u32,
     /// Padding.
     pub pad1: u32,
+    /// Padding.
+    pub pad2: u32,
 }
 
 impl PatchItem {
-    /// An input patch: the whole parameter square at split depth 0.
-    pub fn input(patch: &WorldPatch) -> Self {
+    /// Input patch `index`: the whole parameter square at split depth 0
+    /// (Bound measures its edges and grid).
+    pub fn input(patch: &WorldPatch, index: u32) -> Self {
         let mut p = [0.0; 48];
         for (i, point) in patch.points.iter().enumerate() {
             p[3 * i..3 * i + 3].copy_from_slice(&point.to_array());
@@ -170,25 +229,56 @@ impl PatchItem {
             uv: [0.0, 0.0, 1.0, 1.0],
             object: patch.object,
             split_depth: 0,
+            input_patch: index,
+            edges: pack_edges(&[Default::default(); 4]),
+            grid: 0,
             pad0: 0,
             pad1: 0,
+            pad2: 0,
         }
     }
 }
 
 /// WGSL constants shared with the CPU side, generated from [`crate::params`].
-fn constants_wgsl() -> String {
+fn constants_wgsl(workgroup_size: u32) -> String {
     let [mx, my, ms, mc] = HASH_MULTIPLIERS;
     let [m0, m1] = HASH_MIX;
     // The same f32 value the reference multiplies with in
     // PreparedDisplacement::exceeds_bound.
     let bound_slack = 1.0f32 + DISPLACEMENT_BOUND_TOLERANCE;
     let tau = std::f32::consts::TAU;
+    let grid_colors = grid_colors_wgsl();
+    let fixed = GridSize::FIXED.nu;
+    let [small, medium, large] = GridClass::ALL.map(|c| c.index());
+    let (small_threads, small_points) = (GridClass::Small.threads(), GridClass::Small.max_points());
+    let (medium_threads, medium_points) =
+        (GridClass::Medium.threads(), GridClass::Medium.max_points());
+    let slots = dice_slots(workgroup_size);
+    let [aov_shaded, aov_grids, aov_depth, aov_normal] =
+        [Aov::Shaded, Aov::Grids, Aov::Depth, Aov::Normal].map(Aov::code);
+    let extent_words = 2 * slots;
     format!(
         "// Generated from reyes::params and reyes::gpu::graph.
 const NEAR_EPS: f32 = {NEAR_EPS:e};
-const GRID_POINTS: u32 = {GRID_POINTS}u;
-const GRID_QUADS: u32 = {GRID_QUADS}u;
+const MAX_GRID_QUADS: u32 = {MAX_GRID_QUADS}u;
+const FIXED_GRID_QUADS: u32 = {fixed}u;
+const RATE_ROUNDING: f32 = {RATE_ROUNDING:?};
+const EDGE_V0: u32 = {EDGE_V0}u;
+const EDGE_V1: u32 = {EDGE_V1}u;
+const EDGE_U0: u32 = {EDGE_U0}u;
+const EDGE_U1: u32 = {EDGE_U1}u;
+const DICING_FIXED: u32 = {}u;
+const DICING_RATE: u32 = {}u;
+const GRID_CLASS_SMALL: u32 = {small}u;
+const GRID_CLASS_MEDIUM: u32 = {medium}u;
+const GRID_CLASS_LARGE: u32 = {large}u;
+const GRID_CLASS_SMALL_THREADS: u32 = {small_threads}u;
+const GRID_CLASS_SMALL_POINTS: u32 = {small_points}u;
+const GRID_CLASS_MEDIUM_THREADS: u32 = {medium_threads}u;
+const GRID_CLASS_MEDIUM_POINTS: u32 = {medium_points}u;
+const POINT_WORDS: u32 = {POINT_WORDS}u;
+const DICE_SLOTS: u32 = {slots}u;
+const GRID_EXTENT_WORDS: u32 = {extent_words}u;
 const DEGENERATE_NORMAL_REL_EPS: f32 = {DEGENERATE_NORMAL_REL_EPS:e};
 const DEGENERATE_PARAM_MIN: f32 = {DEGENERATE_PARAM_MIN:?};
 const DEGENERATE_PARAM_MAX: f32 = {DEGENERATE_PARAM_MAX:?};
@@ -217,6 +307,10 @@ const INTERLEAVE_PERMUTATIONS: u32 = {INTERLEAVE_PERMUTATIONS}u;
 const PERMUTATION_CHANNEL: u32 = {PERMUTATION_CHANNEL}u;
 const TABLE_SIDE: u32 = {TABLE_SIDE}u;
 const ADAPTIVE_INTERLEAVE_BIAS: f32 = {ADAPTIVE_INTERLEAVE_BIAS:?};
+const AOV_SHADED: u32 = {aov_shaded}u;
+const AOV_GRIDS: u32 = {aov_grids}u;
+const AOV_DEPTH: u32 = {aov_depth}u;
+const AOV_NORMAL: u32 = {aov_normal}u;
 const STAT_INPUT_PATCHES: u32 = {}u;
 const STAT_SPLITS: u32 = {}u;
 const STAT_CULLED: u32 = {}u;
@@ -229,6 +323,8 @@ const STAT_LARGEST_MICROPOLYGON: u32 = {}u;
 const STAT_LOOPS_CUT: u32 = {}u;
 const STAT_DISPLACEMENT_BOUND_EXCEEDED: u32 = {}u;
 const STAT_INTERLEAVE_GRIDS: u32 = {}u;
+const STAT_GRIDS_BY_CLASS: u32 = {}u;
+const STAT_DICE_THREADS: u32 = {}u;
 const DISPLACE_NONE: u32 = {}u;
 const DISPLACE_IMAGE: u32 = {}u;
 const DISPLACE_SINES: u32 = {}u;
@@ -239,7 +335,9 @@ const TAU: f32 = {tau:?};
 const SINES_OCTAVE_2_FREQUENCY: f32 = {SINES_OCTAVE_2_FREQUENCY:?};
 const SINES_OCTAVE_2_WEIGHT: f32 = {SINES_OCTAVE_2_WEIGHT:?};
 const SINES_NORMALIZATION: f32 = {SINES_NORMALIZATION:?};
-",
+{grid_colors}",
+        dicing::FIXED,
+        dicing::RATE,
         decide::CULL,
         decide::DICE,
         decide::SPLIT_U,
@@ -263,10 +361,32 @@ const SINES_NORMALIZATION: f32 = {SINES_NORMALIZATION:?};
         stat::LOOPS_CUT,
         stat::DISPLACEMENT_BOUND_EXCEEDED,
         stat::INTERLEAVE_GRIDS,
+        stat::GRIDS_BY_CLASS,
+        stat::DICE_THREADS,
         displace::NONE,
         displace::IMAGE,
         displace::SINES,
         displace::USER,
+    )
+}
+
+/// The WGSL `grid_color(quads, i, j)`: [`crate::aov::grid_color`], its
+/// table generated from [`crate::aov::grid_colors`].
+fn grid_colors_wgsl() -> String {
+    let colors: Vec<String> = crate::aov::grid_colors()
+        .iter()
+        .map(|c| format!("{c:#x}u"))
+        .collect();
+    format!(
+        "// reyes::aov::grid_color: entry 2 * floor(log2(quads)) + checker.
+fn grid_color(quads: u32, i: u32, j: u32) -> u32 {{
+    var colors = array<u32, {}>({});
+    let size = min(31u - countLeadingZeros(max(quads, 1u)), 8u);
+    return colors[2u * size + ((i + j) & 1u)];
+}}
+",
+        colors.len(),
+        colors.join(", ")
     )
 }
 
@@ -287,11 +407,26 @@ pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
     let patch = item_type!(
         PatchItem,
         PATCH_ITEM_WGSL,
-        [p, uv, object, split_depth, pad0, pad1]
+        [
+            p,
+            uv,
+            object,
+            split_depth,
+            input_patch,
+            edges,
+            grid,
+            pad0,
+            pad1,
+            pad2
+        ]
     );
+    // The renderer compiles with the default workgroup size
+    // ([`compile_options`]); the dice slots follow from it.
+    let workgroup_size = CompileOptions::default().workgroup_size;
     let mut graph = Graph::new("reyes");
-    graph.library(&constants_wgsl());
+    graph.library(&constants_wgsl(workgroup_size));
     graph.library(LIBRARY_WGSL);
+    graph.library(DICING_WGSL);
     graph.library(RASTER5D_WGSL);
     graph.library(DISPLACEMENT_WGSL);
     graph.library(user_displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));
@@ -324,19 +459,27 @@ pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
             .priority(1)
             .body(split_body(false)),
     );
-    graph.procedure(
-        Procedure::new(DICE, patch)
-            .threads_per_item(256)
-            .scratch_bytes(4 * DICE_SCRATCH_WORDS)
-            .priority(2)
-            .body(DICE_WGSL),
-    );
-    for target in [SPLIT_U, SPLIT_V, DICE] {
+    for class in GridClass::ALL {
+        graph.procedure(
+            Procedure::new(dice_procedure(class), patch.clone())
+                .threads_per_item(class.threads())
+                .scratch_bytes(4 * POINT_WORDS * class.max_points())
+                .priority(2)
+                .body(dice_body(class)),
+        );
+    }
+    for target in [SPLIT_U, SPLIT_V].into_iter().chain(DICE) {
         graph.connect_with_fan_out(BOUND, target, 1);
         graph.connect_with_fan_out(SPLIT_U, target, 2);
         graph.connect_with_fan_out(SPLIT_V, target, 2);
     }
     graph
+}
+
+/// The body of the dice procedure of `class`: the shared dice body with its
+/// thread count prepended.
+fn dice_body(class: GridClass) -> String {
+    format!("let DICE_THREADS = {}u;\n{DICE_WGSL}", class.threads())
 }
 
 /// The body of SplitU (`along_u`) or SplitV: the shared split body with its

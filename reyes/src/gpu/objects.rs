@@ -28,8 +28,9 @@ pub struct ObjectData {
     pub displace_bound: f32,
     /// Repetitions of the source per patch.
     pub tiling: f32,
-    /// Padding.
-    pub pad0: u32,
+    /// [`crate::prepare::PreparedObject::front`]: the sign of the front's
+    /// `dP/du x dP/dv` for a one-sided object, 0 for a two-sided one.
+    pub front: f32,
     /// Open to close world positions ([`crate::motion::ObjectMotion::matrix`]),
     /// column-major; identity when the object does not move.
     pub motion: [f32; 16],
@@ -74,7 +75,7 @@ impl ObjectTables {
                     displace_scale: 0.0,
                     displace_bound: 0.0,
                     tiling: 1.0,
-                    pad0: 0,
+                    front: object.front.unwrap_or(0.0),
                     motion: glam::Mat4::IDENTITY.to_cols_array(),
                     moving: 0,
                     motion_stretch: 1.0,

@@ -6,8 +6,8 @@ use std::time::{Duration, Instant};
 use image::RgbaImage;
 use scheduler::readback::read_buffer;
 use scheduler::{
-    Capacities, CompileError, CompiledGraph, DeviceError, Executor, ExecutorConfig, Gpu, Policy,
-    RunError, RunReport, Seeds, Strategy,
+    Capacities, CompileError, CompiledGraph, DEFAULT_WORKGROUPS, DeviceError, Executor,
+    ExecutorConfig, Gpu, Policy, RunError, RunReport, Seeds, Strategy,
 };
 
 use super::buffers::{FrameBuffers, GpuCounters, texel_buffer_bytes};
@@ -112,7 +112,7 @@ pub enum RenderError {
     },
     /// The scene's height maps do not fit into one device buffer.
     #[error(
-        "the scene's height maps need {needed} bytes of texels but the device allows at most {limit} bytes per buffer; use fewer or smaller height maps"
+        "the scene's height maps, time/lens tables and patches need {needed} bytes but the device allows at most {limit} bytes per buffer; use fewer or smaller height maps, or fewer patches"
     )]
     HeightMapsTooLarge {
         /// Bytes needed.
@@ -231,6 +231,8 @@ pub struct GpuRendered {
     pub image: RgbaImage,
     /// Per pixel (row-major): whether any sample was covered.
     pub coverage: Vec<bool>,
+    /// Per pixel (row-major): how many of its samples were covered.
+    pub covered_samples: Vec<u8>,
     /// The frame's counters. `frame_time_ms` is the megakernel's GPU time
     /// when the device has timestamp queries, else the frame's wall time.
     pub stats: RenderStats,
@@ -348,8 +350,14 @@ fn add_tile_stats(total: &mut RenderStats, tile: &RenderStats) {
         largest_micropolygon_px,
         displacement_bound_exceeded,
         interleave_grids,
+        grids_by_class,
+        dice_threads,
         frame_time_ms: _,
     } = tile;
+    for (sum, n) in total.grids_by_class.iter_mut().zip(grids_by_class) {
+        *sum += n;
+    }
+    total.dice_threads += dice_threads;
     total.splits += splits;
     total.culled_patches += culled_patches;
     total.depth_guard_drops += depth_guard_drops;
@@ -514,11 +522,13 @@ impl<'a> GpuRenderer<'a> {
         let bound = u32::try_from(patches.max(1)).unwrap_or(u32::MAX);
         let mut work = work.max(MIN_WORK_CAPACITY);
         loop {
-            let capacities = Capacities::uniform(work)
-                .with(BOUND, bound)
-                .with(SPLIT_U, work)
-                .with(SPLIT_V, work)
-                .with(DICE, work);
+            let capacities = DICE.into_iter().fold(
+                Capacities::uniform(work)
+                    .with(BOUND, bound)
+                    .with(SPLIT_U, work)
+                    .with(SPLIT_V, work),
+                |capacities, dice| capacities.with(dice, work),
+            );
             let config = self.config(capacities.clone(), None);
             if self.compiled.memory_plan(&config).queue_bytes <= limit || work <= MIN_WORK_CAPACITY
             {
@@ -541,7 +551,7 @@ impl<'a> GpuRenderer<'a> {
     }
 
     fn config(&self, capacities: Capacities, iteration_budget: Option<u32>) -> ExecutorConfig {
-        ExecutorConfig {
+        let mut config = ExecutorConfig {
             capacities,
             // Rounds launch as many workgroups as a round has batches, up to
             // this count; on llvmpipe each workgroup's loops share one budget
@@ -553,7 +563,18 @@ impl<'a> GpuRenderer<'a> {
             }),
             iteration_budget,
             timeout: self.options.timeout,
+        };
+        // Every workgroup stages up to a batch's children for each of the
+        // six queues; fewer workgroups (Rounds launch up to 1,024) keep that
+        // within one device buffer.
+        let staging = self.compiled.memory_plan(&config).staging_bytes;
+        let limit = self.buffer_limit();
+        if staging > limit {
+            let workgroups = u64::from(config.workgroups.unwrap_or(DEFAULT_WORKGROUPS));
+            let per_workgroup = staging.div_ceil(workgroups);
+            config.workgroups = Some(u32::try_from((limit / per_workgroup).max(1)).unwrap_or(1));
         }
+        config
     }
 
     /// Creates the executor unless the cached one has these capacities.
@@ -649,6 +670,7 @@ impl<'a> GpuRenderer<'a> {
         let mut tile_scene = scene.clone();
         let mut image = RgbaImage::new(width, height);
         let mut coverage = vec![false; width as usize * height as usize];
+        let mut covered_samples = vec![0u8; width as usize * height as usize];
         let mut stats = RenderStats {
             input_patches: scene.patches.len() as u64,
             ..RenderStats::default()
@@ -677,6 +699,8 @@ impl<'a> GpuRenderer<'a> {
                 let source = row * tw..(row + 1) * tw;
                 let target = y * width as usize + x0..y * width as usize + x0 + tw;
                 coverage[target.clone()].copy_from_slice(&rendered.coverage[source.clone()]);
+                covered_samples[target.clone()]
+                    .copy_from_slice(&rendered.covered_samples[source.clone()]);
                 image.as_mut()[4 * target.start..4 * target.end]
                     .copy_from_slice(&rendered.image.as_raw()[4 * source.start..4 * source.end]);
             }
@@ -695,6 +719,7 @@ impl<'a> GpuRenderer<'a> {
         Ok(GpuRendered {
             image,
             coverage,
+            covered_samples,
             stats,
             report,
             overflow_retries,
@@ -712,7 +737,12 @@ impl<'a> GpuRenderer<'a> {
     fn render_tile(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
         let start = Instant::now();
         self.frame_buffers(scene);
-        let seeds: Vec<PatchItem> = scene.patches.iter().map(PatchItem::input).collect();
+        let seeds: Vec<PatchItem> = scene
+            .patches
+            .iter()
+            .enumerate()
+            .map(|(index, patch)| PatchItem::input(patch, index as u32))
+            .collect();
         let mut work = self.options.work_capacity;
         let mut budget = self.iteration_budget();
         let mut overflow_retries = 0;
@@ -817,6 +847,7 @@ impl<'a> GpuRenderer<'a> {
         Ok(GpuRendered {
             image,
             coverage: resolved.coverage,
+            covered_samples: resolved.covered_samples,
             stats,
             report,
             overflow_retries,

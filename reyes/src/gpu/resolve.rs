@@ -37,6 +37,8 @@ pub struct Resolved {
     pub rgba: Vec<u8>,
     /// Per pixel: any sample covered.
     pub coverage: Vec<bool>,
+    /// Per pixel: how many samples were covered.
+    pub covered_samples: Vec<u8>,
 }
 
 fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
@@ -166,11 +168,14 @@ impl Resolver {
         queue.submit([encoder.finish()]);
         let rgba = read_buffer(device, queue, &target.image, timeout)?;
         let coverage_words = read_buffer(device, queue, &target.coverage, timeout)?;
-        let coverage = coverage_words
-            .chunks_exact(4)
-            .map(|w| w != [0, 0, 0, 0])
-            .collect();
-        Ok(Resolved { rgba, coverage })
+        // At most 64 samples per pixel: the count is the low byte.
+        let covered_samples: Vec<u8> = coverage_words.chunks_exact(4).map(|w| w[0]).collect();
+        let coverage = covered_samples.iter().map(|&n| n != 0).collect();
+        Ok(Resolved {
+            rgba,
+            coverage,
+            covered_samples,
+        })
     }
 }
 

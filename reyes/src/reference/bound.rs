@@ -7,8 +7,12 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::bezier::{SplitDirection, split_direction_2d, split_direction_3d};
 use crate::camera::Camera;
+use crate::dicing::{
+    EDGE_U0, EDGE_U1, EDGE_V0, EDGE_V1, GridSize, PieceEdges, edge_indices, fresh_spacing,
+    halved_spacing, level, polygon_length, rate_for,
+};
 use crate::motion::{ObjectMotion, PreparedLens, cull_radius};
-use crate::params::{DISPLACED_DICE_FRACTION, NEAR_EPS};
+use crate::params::{DISPLACED_DICE_FRACTION, MAX_GRID_QUADS, NEAR_EPS};
 
 /// What grows a piece's control points in the bound test: its object's
 /// displacement bound, motion and the lens (without motion or lens: a
@@ -35,8 +39,8 @@ impl Growth<'_> {
 pub enum BoundDecision {
     /// All control points are outside the same clip plane.
     Cull,
-    /// The projected bound is small enough: dice it.
-    Dice,
+    /// The projected bound is small enough: dice it into this grid.
+    Dice(GridSize),
     /// Split in this direction.
     Split(SplitDirection),
     /// It needs a split but is already at the maximum split depth.
@@ -122,6 +126,165 @@ pub fn fits(size: f32, growth: f32, threshold: f32) -> bool {
     size <= (threshold - 2.0 * growth).max(threshold * DISPLACED_DICE_FRACTION)
 }
 
+/// How the bound test decides that a piece is diced, and into what grid.
+#[derive(Debug, Clone, Copy)]
+pub enum DiceRule<'a> {
+    /// A piece that fits the threshold gets [`GridSize::FIXED`].
+    Fixed,
+    /// A piece is diced to the shading rate (see [`rate_grid`]).
+    Rate {
+        /// The spacings of the piece's edges.
+        edges: &'a PieceEdges,
+        /// The piece's rectangle in its input patch's parameters.
+        uv: Vec4,
+        /// The side of a micropolygon at the shading rate, in pixels.
+        side: f32,
+    },
+}
+
+/// The length rate dicing measures a line of 4 control points by: its
+/// projected [`polygon_length`] plus twice the largest screen growth of the
+/// object's displacement bound at its points ([`pixel_growth`]; 0 without
+/// displacement), since the displaced line may wander that far to either
+/// side. Splitting shrinks the polygon but not the growth, so (as in
+/// [`fits`]) the growth adds at most [`DISPLACED_DICE_FRACTION`] of the
+/// largest grid's side, `MAX_GRID_QUADS * side` pixels.
+pub fn line_length(pixels: [Vec2; 4], growths: [f32; 4], side: f32) -> f32 {
+    let growth = growths[0].max(growths[1]).max(growths[2]).max(growths[3]);
+    let cap = DISPLACED_DICE_FRACTION * MAX_GRID_QUADS as f32 * side;
+    polygon_length(pixels) + (2.0 * growth).min(cap)
+}
+
+/// A piece's control points on screen: pixel positions, the growth of the
+/// displacement bound at each, and which can be projected (`w > NEAR_EPS`
+/// and `z >= 0`).
+#[derive(Debug, Clone, Copy)]
+pub struct ScreenPiece {
+    /// Pixel positions.
+    pub pixels: [Vec2; 16],
+    /// [`pixel_growth`] of each point (0 for an unprojectable one).
+    pub growths: [f32; 16],
+    /// Whether each point can be projected.
+    pub projectable: [bool; 16],
+}
+
+impl ScreenPiece {
+    /// Projects `points` with a displacement bound of `bound` world units.
+    pub fn new(view_proj: &Mat4, camera: &Camera, points: &[Vec3; 16], bound: f32) -> Self {
+        let radius = camera.clip_pad() * bound;
+        let clip = points.map(|p| *view_proj * p.extend(1.0));
+        let projectable = clip.map(|c| !(c.w <= NEAR_EPS || c.z < 0.0));
+        ScreenPiece {
+            pixels: clip.map(|c| camera.to_pixel(c).truncate()),
+            growths: std::array::from_fn(|k| {
+                if projectable[k] {
+                    pixel_growth(camera, clip[k], bound, radius)
+                } else {
+                    0.0
+                }
+            }),
+            projectable,
+        }
+    }
+
+    /// [`line_length`] of the points `indices`.
+    fn length(&self, indices: [usize; 4], side: f32) -> f32 {
+        line_length(
+            indices.map(|i| self.pixels[i]),
+            indices.map(|i| self.growths[i]),
+            side,
+        )
+    }
+
+    /// [`line_length`] of edge `edge`, `None` when a point cannot be projected.
+    pub fn edge(&self, edge: usize, side: f32) -> Option<f32> {
+        let indices = edge_indices(edge);
+        let projects = indices.iter().all(|&i| self.projectable[i]);
+        projects.then(|| self.length(indices, side))
+    }
+}
+
+/// The edge spacings of an input patch: each edge measured afresh at level 0.
+pub fn input_edges(screen: &ScreenPiece, side: f32) -> PieceEdges {
+    std::array::from_fn(|edge| fresh_spacing(screen.edge(edge, side), 0, side))
+}
+
+/// The edge spacings of half `half` (0: the lower parameters) of a piece
+/// split in `direction`, whose rectangle is `uv` and whose points are on
+/// screen as `screen`: the two edges the split halves inherit the parent's
+/// fixed spacings ([`halved_spacing`]), the edge on the new split line is
+/// measured afresh, the fourth is the parent's.
+pub fn split_edges(
+    parent: &PieceEdges,
+    direction: SplitDirection,
+    half: usize,
+    screen: &ScreenPiece,
+    uv: Vec4,
+    side: f32,
+) -> PieceEdges {
+    let (lu, lv) = (level(uv.z - uv.x), level(uv.w - uv.y));
+    let measure = |edge| screen.edge(edge, side);
+    let mut edges = *parent;
+    let (halved, level_halved, split_line, level_split) = match direction {
+        SplitDirection::U => ([EDGE_V0, EDGE_V1], lu, [EDGE_U1, EDGE_U0][half], lv),
+        SplitDirection::V => ([EDGE_U0, EDGE_U1], lv, [EDGE_V1, EDGE_V0][half], lu),
+    };
+    for edge in halved {
+        edges[edge] = halved_spacing(parent[edge], measure(edge), level_halved, side);
+    }
+    edges[split_line] = fresh_spacing(measure(split_line), level_split, side);
+    edges
+}
+
+/// Rate dicing's grid for a projectable piece whose control points are on
+/// screen as `screen`: along u, `nu` is [`rate_for`] the longest row's
+/// [`line_length`], and at least the
+/// micropolygons its two u edges' spacings put along them; likewise `nv`
+/// with the columns. `None` in a direction whose edges are not fixed yet
+/// or that needs more than [`crate::params::MAX_GRID_QUADS`]: the piece
+/// must be split across it.
+pub fn rate_grid(
+    screen: &ScreenPiece,
+    edges: &PieceEdges,
+    uv: Vec4,
+    side: f32,
+) -> (Option<u32>, Option<u32>) {
+    let row = |k: usize| screen.length([4 * k, 4 * k + 1, 4 * k + 2, 4 * k + 3], side);
+    let column = |k: usize| screen.length([k, 4 + k, 8 + k, 12 + k], side);
+    let longest = |f: &dyn Fn(usize) -> f32| f(0).max(f(1)).max(f(2)).max(f(3));
+    let direction = |length: f32, a: usize, b: usize, level: u32| -> Option<u32> {
+        let need = rate_for(length, side)?;
+        let n = need.max(edges[a].quads(level)?).max(edges[b].quads(level)?);
+        (n <= crate::params::MAX_GRID_QUADS).then_some(n)
+    };
+    (
+        direction(longest(&row), EDGE_V0, EDGE_V1, level(uv.z - uv.x)),
+        direction(longest(&column), EDGE_U0, EDGE_U1, level(uv.w - uv.y)),
+    )
+}
+
+/// Whether a patch faces away from `eye` everywhere, for an object whose
+/// front faces along `front * (dP/du x dP/dv)`. Conservative: with `a` the
+/// 12 differences of neighbours along u, `b` those along v, every `P - eye`
+/// a convex combination of `p - eye` over the control points and `dP/du x
+/// dP/dv` a positive combination of the `a x b`, the patch is back-facing
+/// (or edge-on) everywhere when `front * ((p - eye) x a) . b >= 0` for all
+/// 2,304 triples.
+pub fn back_facing(points: &[Vec3; 16], eye: Vec3, front: f32) -> bool {
+    let along_u: [Vec3; 12] = std::array::from_fn(|k| {
+        let (v, u) = (k / 3, k % 3);
+        points[v * 4 + u + 1] - points[v * 4 + u]
+    });
+    let along_v: [Vec3; 12] = std::array::from_fn(|k| points[k + 4] - points[k]);
+    points.iter().all(|&p| {
+        let r = p - eye;
+        along_u.iter().all(|&a| {
+            let c = r.cross(a);
+            along_v.iter().all(|&b| front * c.dot(b) >= 0.0)
+        })
+    })
+}
+
 /// Runs the bound test on a patch's 16 world-space control points, each
 /// grown by `growth.displacement_bound` (world units; 0 without displacement).
 ///
@@ -135,8 +298,14 @@ pub fn fits(size: f32, growth: f32, threshold: f32) -> bool {
 ///    reaches the near plane would otherwise split a whole band of surface
 ///    to the depth guard.
 /// 3. Otherwise project; dice if the points' pixel bounding box, grown by
-///    the displacement bound, [`fits`] `dice_threshold`, else split by the
-///    points' pixel-space extents (or drop).
+///    the displacement bound, [`fits`] `dice_threshold` (and, for rate
+///    dicing, [`rate_grid`] has a grid in both directions), else split (or
+///    drop): for rate dicing across the one direction that has no grid, if
+///    only one lacks it, else by the points' pixel-space extents.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the reference mirrors the GPU's `decide`, input for input"
+)]
 pub fn bound(
     points: &[Vec3; 16],
     split_depth: u32,
@@ -145,6 +314,7 @@ pub fn bound(
     dice_threshold: f32,
     max_split_depth: u32,
     growth: Growth<'_>,
+    rule: DiceRule<'_>,
 ) -> BoundDecision {
     let displacement_bound = growth.displacement_bound;
     let clip = points.map(|p| *view_proj * p.extend(1.0));
@@ -187,11 +357,19 @@ pub fn bound(
         g.max(pixel_growth(camera, c, displacement_bound, radius))
     });
     let size = hi - lo;
-    if fits(size.x.max(size.y), growth, dice_threshold) {
-        BoundDecision::Dice
-    } else if split_depth >= max_split_depth {
-        BoundDecision::Drop
-    } else {
-        BoundDecision::Split(split_direction_2d(&pixels))
+    let fits = fits(size.x.max(size.y), growth, dice_threshold);
+    let (nu, nv) = match rule {
+        DiceRule::Fixed => (Some(GridSize::FIXED.nu), Some(GridSize::FIXED.nv)),
+        DiceRule::Rate { edges, uv, side } => {
+            let screen = ScreenPiece::new(view_proj, camera, points, displacement_bound);
+            rate_grid(&screen, edges, uv, side)
+        }
+    };
+    match (nu, nv) {
+        (Some(nu), Some(nv)) if fits => BoundDecision::Dice(GridSize { nu, nv }),
+        _ if split_depth >= max_split_depth => BoundDecision::Drop,
+        (None, Some(_)) => BoundDecision::Split(SplitDirection::U),
+        (Some(_), None) => BoundDecision::Split(SplitDirection::V),
+        _ => BoundDecision::Split(split_direction_2d(&pixels)),
     }
 }

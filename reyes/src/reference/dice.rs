@@ -1,41 +1,108 @@
-//! Dicing: evaluate a patch on a 16 x 16 grid of points with shading normals.
+//! Dicing: evaluate a piece of an input patch on its grid of points, with
+//! shading normals, displacement, and (rate dicing) border points placed
+//! on their edges' vertices.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
+use super::displace::{displaced_point, grid_normal};
 use crate::bezier;
-use crate::params::{
-    DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX, DEGENERATE_PARAM_MIN, GRID_POINTS, GRID_QUADS,
-};
+use crate::dicing::{BorderPoint, GridSize, PieceEdges, border_point, chord_point, grid_param};
+use crate::displacement::PreparedDisplacement;
+use crate::params::{DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX, DEGENERATE_PARAM_MIN};
 
-/// Number of points in a grid.
-pub const GRID_LEN: usize = GRID_POINTS * GRID_POINTS;
-
-/// A diced grid: point `(i, j)` (i along u / s, j along v / t) is at index
-/// `j * GRID_POINTS + i`.
+/// A diced grid: point `(i, j)` (i along u, j along v) is at index
+/// `j * (nu + 1) + i`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
-    /// World-space positions.
-    pub positions: [Vec3; GRID_LEN],
+    /// Micropolygons along u and v.
+    pub size: GridSize,
+    /// World-space positions (displaced, and on their edges' chords).
+    pub positions: Vec<Vec3>,
     /// Unit normals facing the eye (two-sided shading).
-    pub normals: [Vec3; GRID_LEN],
+    pub normals: Vec<Vec3>,
+    /// Grid points displaced further than their object's bound (see
+    /// [`PreparedDisplacement::exceeds_bound`]).
+    pub bound_exceeded: u64,
 }
 
-/// Dices a patch: `s = i / 15`, `t = j / 15` for `i, j` in `0..16`.
-pub fn dice(points: &[Vec3; 16], eye: Vec3) -> Grid {
-    let mut grid = Grid {
-        positions: [Vec3::ZERO; GRID_LEN],
-        normals: [Vec3::ZERO; GRID_LEN],
+impl Grid {
+    /// Index of point `(i, j)`.
+    pub fn index(&self, i: u32, j: u32) -> usize {
+        (j * (self.size.nu + 1) + i) as usize
+    }
+}
+
+/// Dices the piece with rectangle `uv` of input patch `patch` into `size`:
+/// point `(i, j)` is at `u = u0 + (u1 - u0) (i / nu)`, `v` likewise.
+///
+/// 1. Its position is [`displaced_point`] (the input patch at `(u, v)`,
+///    [`crate::dicing::patch_position`], moved along the exact normal by the
+///    height when displaced).
+/// 2. Its shading normal is the exact normal [`surface_normal`] or, when
+///    displaced, the normal of the displaced grid ([`grid_normal`]), turned
+///    to face the eye.
+/// 3. With `edges` (rate dicing), a border point that lies between two
+///    vertices of its edge moves onto the chord between their positions
+///    ([`border_point`]); its normal stays its own.
+///
+/// Returns `None` when a height cannot be evaluated on the CPU (a user WGSL
+/// function without a Rust twin).
+pub fn dice(
+    patch: &[Vec3; 16],
+    uv: Vec4,
+    size: GridSize,
+    edges: Option<&PieceEdges>,
+    eye: Vec3,
+    displacement: Option<&PreparedDisplacement>,
+) -> Option<Grid> {
+    let (columns, rows) = (size.nu + 1, size.nv + 1);
+    let param = |i: u32, j: u32| {
+        (
+            grid_param(uv.x, uv.z, i, size.nu),
+            grid_param(uv.y, uv.w, j, size.nv),
+        )
     };
-    for j in 0..GRID_POINTS {
-        for i in 0..GRID_POINTS {
-            let s = i as f32 / GRID_QUADS as f32;
-            let t = j as f32 / GRID_QUADS as f32;
-            let (position, normal) = surface_point(points, s, t, eye);
-            grid.positions[j * GRID_POINTS + i] = position;
-            grid.normals[j * GRID_POINTS + i] = normal;
+    let mut grid = Grid {
+        size,
+        positions: Vec::with_capacity((columns * rows) as usize),
+        normals: Vec::new(),
+        bound_exceeded: 0,
+    };
+    for j in 0..rows {
+        for i in 0..columns {
+            let (u, v) = param(i, j);
+            let (point, exceeded) = displaced_point(patch, u, v, displacement)?;
+            grid.bound_exceeded += u64::from(exceeded);
+            grid.positions.push(point);
         }
     }
-    grid
+    for j in 0..rows {
+        for i in 0..columns {
+            let (u, v) = param(i, j);
+            let k = grid.index(i, j);
+            let position = grid.positions[k];
+            let displaced = displacement
+                .and_then(|_| grid_normal(&grid.positions, size, i, j))
+                .map(|n| if n.dot(eye - position) < 0.0 { -n } else { n });
+            let normal = displaced
+                .unwrap_or_else(|| surface_normal(patch, u, v, bezier::position(patch, u, v), eye));
+            grid.normals.push(normal);
+        }
+    }
+    if let Some(edges) = edges {
+        for j in 0..rows {
+            for i in 0..columns {
+                let (u, v) = param(i, j);
+                if let BorderPoint::Chord { a, b, f } = border_point(size, edges, i, j, u, v) {
+                    let (qa, _) = displaced_point(patch, a.0, a.1, displacement)?;
+                    let (qb, _) = displaced_point(patch, b.0, b.1, displacement)?;
+                    let k = grid.index(i, j);
+                    grid.positions[k] = chord_point(qa, qb, f);
+                }
+            }
+        }
+    }
+    Some(grid)
 }
 
 /// Whether `n = a x b` is degenerate: `|n|^2 <= eps * |a|^2 |b|^2`, `|n|^2 == 0`,
@@ -47,55 +114,43 @@ pub(crate) fn degenerate(n: Vec3, a: Vec3, b: Vec3) -> bool {
         || n2 == 0.0
 }
 
-/// The unit geometric normal `normalize(dP/ds x dP/dt)` at `(s, t)`, not
-/// turned towards the eye: the direction displacement moves a point. A
-/// degenerate normal is re-evaluated at the clamped parameters as in
-/// [`surface_point`]; if that is degenerate too the result is zero (the
-/// point is not displaced: there is no direction to move it along).
-pub fn displacement_normal(points: &[Vec3; 16], s: f32, t: f32) -> Vec3 {
-    let e = bezier::evaluate(points, s, t);
-    let mut n = e.d_ds.cross(e.d_dt);
-    if degenerate(n, e.d_ds, e.d_dt) {
-        let inner = bezier::evaluate(
-            points,
-            s.clamp(DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
-            t.clamp(DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
-        );
-        n = inner.d_ds.cross(inner.d_dt);
-        if degenerate(n, inner.d_ds, inner.d_dt) {
-            return Vec3::ZERO;
-        }
+/// `dP/du x dP/dv` of the input patch at `(u, v)`, re-evaluated at
+/// `(clamp(u, 0.01, 0.99), clamp(v, 0.01, 0.99))` when degenerate (a
+/// collapsed patch edge, where a tangent vanishes); `None` when that is
+/// degenerate too. Clamped in the input patch's parameters, so that every
+/// piece finds the same normal at the same `(u, v)`.
+fn tangent_normal(patch: &[Vec3; 16], u: f32, v: f32) -> Option<Vec3> {
+    let e = bezier::evaluate(patch, u, v);
+    let n = e.d_ds.cross(e.d_dt);
+    if !degenerate(n, e.d_ds, e.d_dt) {
+        return Some(n);
     }
-    n.normalize_or_zero()
+    let inner = bezier::evaluate(
+        patch,
+        u.clamp(DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
+        v.clamp(DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
+    );
+    let n = inner.d_ds.cross(inner.d_dt);
+    (!degenerate(n, inner.d_ds, inner.d_dt)).then_some(n)
 }
 
-/// Position and unit shading normal at `(s, t)`, facing `eye`. Never NaN.
-///
-/// `n = dP/ds x dP/dt`; if degenerate, the tangents are re-evaluated at
-/// `(clamp(s, 0.01, 0.99), clamp(t, 0.01, 0.99))`; if still degenerate,
-/// `n = eye - P` (and +z if even that is zero). Then `n` is normalized and
-/// flipped if `dot(n, eye - P) < 0`.
-pub fn surface_point(points: &[Vec3; 16], s: f32, t: f32, eye: Vec3) -> (Vec3, Vec3) {
-    let e = bezier::evaluate(points, s, t);
-    let mut n = e.d_ds.cross(e.d_dt);
-    if degenerate(n, e.d_ds, e.d_dt) {
-        let inner = bezier::evaluate(
-            points,
-            s.clamp(DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
-            t.clamp(DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
-        );
-        n = inner.d_ds.cross(inner.d_dt);
-        if degenerate(n, inner.d_ds, inner.d_dt) {
-            n = eye - e.position;
-        }
-    }
+/// The unit geometric normal `normalize(dP/du x dP/dv)` at `(u, v)`, not
+/// turned towards the eye: the direction displacement moves a point (zero
+/// where even the clamped re-evaluation is degenerate: the point is not
+/// displaced).
+pub fn displacement_normal(patch: &[Vec3; 16], u: f32, v: f32) -> Vec3 {
+    tangent_normal(patch, u, v).map_or(Vec3::ZERO, Vec3::normalize_or_zero)
+}
+
+/// The unit shading normal at `(u, v)` of the point at `position`, facing
+/// `eye`; never NaN: the exact normal ([`tangent_normal`]), else `eye - P`
+/// (and +z if even that is zero), flipped if `dot(n, eye - P) < 0`.
+pub fn surface_normal(patch: &[Vec3; 16], u: f32, v: f32, position: Vec3, eye: Vec3) -> Vec3 {
+    let n = tangent_normal(patch, u, v).unwrap_or(eye - position);
     let mut n = n.normalize_or_zero();
     if n == Vec3::ZERO {
         // Only reachable when the eye lies on the surface point itself.
         n = Vec3::Z;
     }
-    if n.dot(eye - e.position) < 0.0 {
-        n = -n;
-    }
-    (e.position, n)
+    if n.dot(eye - position) < 0.0 { -n } else { n }
 }

@@ -27,22 +27,24 @@ use std::time::Instant;
 
 use image::RgbaImage;
 
-use self::bound::{BoundDecision, Growth, bound};
-use self::dice::{GRID_LEN, dice};
-use self::displace::dice_displaced;
+use self::bound::{
+    BoundDecision, DiceRule, Growth, ScreenPiece, back_facing, bound, input_edges, split_edges,
+};
+use self::dice::dice;
 use self::framebuffer::Framebuffer;
 use self::raster::{
     SampleGrid, ScreenPoint, micropolygon_corners, micropolygon_size, raster_nearest,
-    raster_triangle,
+    raster_triangle, shows_front,
 };
 use self::raster5d::{Mode5d, MovingPoint, Sampler, raster_triangle_5d};
 use self::shade::shade;
 use self::work::WorkItem;
-use crate::color::pack_rgb10;
-use crate::params::{GRID_QUADS, MICROPOLYGONS_PER_GRID};
+use crate::aov::{self, Aov};
+use crate::color::{average_rgb10, pack_rgb10};
+use crate::dicing::{EdgeSpacing, GridSize};
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
-use crate::scene::{Sampling, Scene, SceneError};
+use crate::scene::{Dicing, Sampling, Scene, SceneError};
 use crate::stats::RenderStats;
 use crate::uvt::UvtTables;
 
@@ -53,6 +55,8 @@ pub struct Rendered {
     pub image: RgbaImage,
     /// Per pixel (row-major): whether any sample was covered.
     pub coverage: Vec<bool>,
+    /// Per pixel (row-major): how many of its samples were covered.
+    pub covered_samples: Vec<u8>,
     /// Counters of the frame (`frame_time_ms` is the whole render, resolve included).
     pub stats: RenderStats,
 }
@@ -92,11 +96,13 @@ pub fn try_render(scene: &PreparedScene) -> Result<Rendered, ReferenceError> {
 pub fn render(scene: &PreparedScene) -> Rendered {
     let start = Instant::now();
     let (framebuffer, mut stats) = render_samples(scene);
-    let (image, coverage) = resolve::resolve(&framebuffer, scene.background);
+    let (image, covered_samples) = resolve::resolve(&framebuffer, scene.background);
+    let coverage = covered_samples.iter().map(|&n| n != 0).collect();
     stats.frame_time_ms = Some(start.elapsed().as_secs_f64() * 1000.0);
     Rendered {
         image,
         coverage,
+        covered_samples,
         stats,
     }
 }
@@ -140,13 +146,50 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
     // Depth-first: a stack keeps at most about max_split_depth pending
     // pieces per input patch. The order does not change the result, because
     // the framebuffer keeps the minimum key per sample.
+    let side = scene.micropolygon_side;
+    let rate = scene.dicing == Dicing::Rate;
     let mut stack: Vec<WorkItem> = scene
         .patches
         .iter()
+        .enumerate()
         .rev()
-        .map(|p| WorkItem::new(p.points, p.object))
+        .map(|(index, p)| {
+            let edges = if rate {
+                let bound = scene.objects[p.object as usize].displacement_bound();
+                input_edges(
+                    &ScreenPiece::new(&view_proj, camera, &p.points, bound),
+                    side,
+                )
+            } else {
+                [EdgeSpacing::UNFIXED; 4]
+            };
+            WorkItem::new(p.points, p.object, index as u32, edges)
+        })
         .collect();
     while let Some(item) = stack.pop() {
+        let object = &scene.objects[item.object as usize];
+        // One-sided, still, sharp and undisplaced input patches that face
+        // away everywhere are culled here (split pieces are culled
+        // micropolygon by micropolygon when sampled).
+        let cull_back = object.front.filter(|_| {
+            item.split_depth == 0
+                && object.motion.is_none()
+                && scene.lens.aperture == 0.0
+                && object.displacement.is_none()
+        });
+        if cull_back.is_some_and(|front| back_facing(&item.points, camera.eye, front)) {
+            stats.culled_patches += 1;
+            continue;
+        }
+        let rule = if rate {
+            DiceRule::Rate {
+                edges: &item.edges,
+                uv: item.uv,
+                side,
+            }
+        } else {
+            DiceRule::Fixed
+        };
         match bound(
             &item.points,
             item.split_depth,
@@ -159,20 +202,31 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
                 motion: scene.objects[item.object as usize].motion.as_ref(),
                 lens: &scene.lens,
             },
+            rule,
         ) {
             BoundDecision::Cull => stats.culled_patches += 1,
             BoundDecision::Drop => stats.depth_guard_drops += 1,
             BoundDecision::Split(direction) => {
                 stats.splits += 1;
-                let [first, second] = item.split(direction);
+                let mut halves = item.split(direction);
+                if rate {
+                    let bound = scene.objects[item.object as usize].displacement_bound();
+                    for (half, piece) in halves.iter_mut().enumerate() {
+                        let screen = ScreenPiece::new(&view_proj, camera, &piece.points, bound);
+                        piece.edges =
+                            split_edges(&item.edges, direction, half, &screen, piece.uv, side);
+                    }
+                }
+                let [first, second] = halves;
                 // Push the second half first so the first is processed next.
                 stack.push(second);
                 stack.push(first);
             }
-            BoundDecision::Dice => {
+            BoundDecision::Dice(size) => {
                 dice_shade_sample(
                     scene,
                     &item,
+                    size,
                     &view_proj,
                     &samples,
                     sampler.as_ref(),
@@ -185,59 +239,79 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
     (framebuffer, stats)
 }
 
-/// Dices one piece, shades its grid points and samples its micropolygons.
+/// Dices one piece into `size`, shades its grid points and samples its
+/// micropolygons.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one frame's state, passed down once"
+)]
 fn dice_shade_sample(
     scene: &PreparedScene,
     item: &WorkItem,
+    size: GridSize,
     view_proj: &glam::Mat4,
     samples: &SampleGrid,
     sampler: Option<&Sampler<'_>>,
     framebuffer: &mut Framebuffer,
     stats: &mut RenderStats,
 ) {
+    let class = size.class();
     stats.grids_diced += 1;
-    stats.micropolygons += MICROPOLYGONS_PER_GRID;
+    stats.micropolygons += u64::from(size.quads());
+    stats.grids_by_class[class.index()] += 1;
+    stats.dice_threads += u64::from(class.threads());
     let object = &scene.objects[item.object as usize];
     let eye = scene.camera.eye;
-    let displaced = object
-        .displacement
-        .as_ref()
-        .and_then(|d| dice_displaced(&item.points, item.uv, eye, d));
-    let grid = match displaced {
-        Some(displaced) => {
-            stats.displacement_bound_exceeded += displaced.bound_exceeded;
-            displaced.grid
-        }
-        None => dice(&item.points, eye),
-    };
+    let patch = &scene.patches[item.patch as usize].points;
+    let edges = (scene.dicing == Dicing::Rate).then_some(&item.edges);
+    let displacement = object.displacement.as_ref();
+    let grid = dice(patch, item.uv, size, edges, eye, displacement)
+        .or_else(|| dice(patch, item.uv, size, edges, eye, None))
+        .expect("an undisplaced grid always evaluates");
+    stats.displacement_bound_exceeded += grid.bound_exceeded;
     let albedo = object.albedo;
 
-    let mut colors = [glam::Vec3::ZERO; GRID_LEN];
-    let mut screen = [ScreenPoint {
-        pixel: glam::Vec3::ZERO,
-        w: 0.0,
-    }; GRID_LEN];
-    for (k, (&position, &normal)) in grid.positions.iter().zip(&grid.normals).enumerate() {
-        colors[k] = shade(position, normal, albedo, scene);
-        let clip = *view_proj * position.extend(1.0);
-        screen[k] = ScreenPoint {
-            pixel: scene.camera.to_pixel(clip),
-            w: clip.w,
-        };
-    }
+    let screen: Vec<ScreenPoint> = grid
+        .positions
+        .iter()
+        .map(|&position| {
+            let clip = *view_proj * position.extend(1.0);
+            ScreenPoint {
+                pixel: scene.camera.to_pixel(clip),
+                w: clip.w,
+            }
+        })
+        .collect();
+    let depth_range = aov::depth_range(&scene.camera);
+    let colors: Vec<u32> = grid
+        .positions
+        .iter()
+        .zip(&grid.normals)
+        .zip(&screen)
+        .map(|((&position, &normal), point)| {
+            pack_rgb10(match scene.aov {
+                Aov::Shaded | Aov::Grids => shade(position, normal, albedo, scene),
+                Aov::Depth => aov::depth_color(point.w, depth_range),
+                Aov::Normal => aov::normal_color(normal),
+            })
+        })
+        .collect();
 
     // With time and lens: every point at open and close, and the grid's
     // algorithm (Adaptive decides per grid from its largest motion and blur).
     let moving = sampler.map(|sampler| {
         let motion = object.motion.as_ref();
-        let points: [MovingPoint; GRID_LEN] = std::array::from_fn(|k| {
-            let open = screen[k];
-            let close_position = motion.map_or(grid.positions[k], |m| m.close(grid.positions[k]));
-            let clip = *view_proj * close_position.extend(1.0);
-            let close = scene.camera.to_pixel(clip);
-            let coc = [scene.lens.coc(open.w), scene.lens.coc(clip.w)];
-            MovingPoint::new(open.pixel, open.w, close, clip.w, coc)
-        });
+        let points: Vec<MovingPoint> = screen
+            .iter()
+            .zip(&grid.positions)
+            .map(|(open, &position)| {
+                let close_position = motion.map_or(position, |m| m.close(position));
+                let clip = *view_proj * close_position.extend(1.0);
+                let close = scene.camera.to_pixel(clip);
+                let coc = [scene.lens.coc(open.w), scene.lens.coc(clip.w)];
+                MovingPoint::new(open.pixel, open.w, close, clip.w, coc)
+            })
+            .collect();
         let extent = |f: fn(&MovingPoint) -> f32| points.iter().map(f).fold(0.0f32, f32::max);
         let mode = Mode5d::for_grid(
             scene.sampling,
@@ -252,42 +326,47 @@ fn dice_shade_sample(
         stats.interleave_grids += 1;
     }
 
-    for j in 0..GRID_QUADS {
-        for i in 0..GRID_QUADS {
-            let corners = micropolygon_corners(&screen, i, j);
-            let size = micropolygon_size(&corners);
+    for j in 0..size.nv {
+        for i in 0..size.nu {
+            let corners = micropolygon_corners(&screen, size, i, j);
+            let micropolygon = micropolygon_size(&corners);
             // f32::max ignores a NaN size (possible only for unprojectable corners).
-            stats.largest_micropolygon_px = stats.largest_micropolygon_px.max(size);
-            let corner_colors = micropolygon_corners_of(&colors, i, j);
-            let color =
-                (corner_colors[0] + corner_colors[1] + corner_colors[2] + corner_colors[3]) * 0.25;
-            let packed = pack_rgb10(color);
+            stats.largest_micropolygon_px = stats.largest_micropolygon_px.max(micropolygon);
+            let packed = match scene.aov {
+                Aov::Grids => aov::grid_color(size.quads(), i, j),
+                _ => average_rgb10(micropolygon_corners(&colors, size, i, j)),
+            };
+            // Which of the two triangles to sample: a one-sided object's
+            // back-facing ones are culled.
+            let [pa, pb, pc, pd] = corners.map(|c| c.pixel.truncate());
+            let front = |p: glam::Vec2, q: glam::Vec2, r: glam::Vec2| {
+                object.front.is_none_or(|s| shows_front(p, q, r, s))
+            };
+            let drawn = [front(pa, pb, pc), front(pa, pc, pd)];
             if let Some((sampler, points, mode)) = &moving {
-                let [a, b, c, d] = micropolygon_corners_of(points, i, j);
-                for triangle in [[a, b, c], [a, c, d]] {
-                    raster_triangle_5d(framebuffer, sampler, *mode, triangle, packed, stats);
+                let [a, b, c, d] = micropolygon_corners(points, size, i, j);
+                for (triangle, drawn) in [[a, b, c], [a, c, d]].into_iter().zip(drawn) {
+                    if drawn {
+                        raster_triangle_5d(framebuffer, sampler, *mode, triangle, packed, stats);
+                    }
                 }
                 continue;
             }
             match scene.sampling {
-                Sampling::Nearest => raster_nearest(framebuffer, samples.k, corners, packed, stats),
+                Sampling::Nearest => {
+                    if drawn[0] || drawn[1] {
+                        raster_nearest(framebuffer, samples.k, corners, packed, stats);
+                    }
+                }
                 _ => {
                     let [a, b, c, d] = corners;
-                    raster_triangle(framebuffer, samples, [a, b, c], packed, stats);
-                    raster_triangle(framebuffer, samples, [a, c, d], packed, stats);
+                    for (triangle, drawn) in [[a, b, c], [a, c, d]].into_iter().zip(drawn) {
+                        if drawn {
+                            raster_triangle(framebuffer, samples, triangle, packed, stats);
+                        }
+                    }
                 }
             }
         }
     }
-}
-
-/// The 4 corner values `(i, j), (i+1, j), (i+1, j+1), (i, j+1)` of micropolygon `(i, j)`.
-fn micropolygon_corners_of<T: Copy>(values: &[T; GRID_LEN], i: usize, j: usize) -> [T; 4] {
-    let n = crate::params::GRID_POINTS;
-    [
-        values[j * n + i],
-        values[j * n + i + 1],
-        values[(j + 1) * n + i + 1],
-        values[(j + 1) * n + i],
-    ]
 }

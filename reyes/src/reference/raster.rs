@@ -10,7 +10,8 @@ use glam::{Vec2, Vec3};
 
 use super::framebuffer::Framebuffer;
 use crate::color::pack_key;
-use crate::params::{GRID_POINTS, GRID_QUADS, NEAR_EPS};
+use crate::dicing::GridSize;
+use crate::params::NEAR_EPS;
 use crate::sampling::sample_offset;
 use crate::stats::RenderStats;
 
@@ -193,6 +194,15 @@ pub fn raster_nearest(
     framebuffer.offer(x, y, s, pack_key(key_depth(centroid.z), packed_color));
 }
 
+/// Whether triangle `(a, b, c)` of a grid (in grid order: `b` one step
+/// along u from `a`, `c` one more along v) shows its front on screen, for
+/// an object whose front faces along `front * (dP/du x dP/dv)`: with the
+/// screen's y pointing down, that is a negative signed area `front *
+/// E_ab(c) < 0` (edge-on and unprojectable triangles are not).
+pub fn shows_front(a: Vec2, b: Vec2, c: Vec2, front: f32) -> bool {
+    front * edge(a, b, c) < 0.0
+}
+
 /// Largest side of the pixel bounding box of 4 corners.
 pub fn micropolygon_size(corners: &[ScreenPoint; 4]) -> f32 {
     let first = corners[0].pixel.truncate();
@@ -203,15 +213,12 @@ pub fn micropolygon_size(corners: &[ScreenPoint; 4]) -> f32 {
     size.x.max(size.y)
 }
 
-/// The 4 corners `a = (i, j)`, `b = (i+1, j)`, `c = (i+1, j+1)`, `d = (i, j+1)`
-/// of micropolygon `(i, j)` of a grid.
-pub fn micropolygon_corners(
-    points: &[ScreenPoint; GRID_POINTS * GRID_POINTS],
-    i: usize,
-    j: usize,
-) -> [ScreenPoint; 4] {
-    debug_assert!(i < GRID_QUADS && j < GRID_QUADS);
-    let at = |i: usize, j: usize| points[j * GRID_POINTS + i];
+/// The 4 corner values `a = (i, j)`, `b = (i+1, j)`, `c = (i+1, j+1)`,
+/// `d = (i, j+1)` of micropolygon `(i, j)` of a grid of `size` whose point
+/// `(i, j)` is `values[j * (nu + 1) + i]`.
+pub fn micropolygon_corners<T: Copy>(values: &[T], size: GridSize, i: u32, j: u32) -> [T; 4] {
+    debug_assert!(i < size.nu && j < size.nv);
+    let at = |i: u32, j: u32| values[(j * (size.nu + 1) + i) as usize];
     [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]
 }
 

@@ -8,22 +8,22 @@ use crate::color::{CLEAR_KEY, key_color, linear_to_srgb8, unpack_rgb10};
 
 /// Resolves the framebuffer: uncovered samples take the (linear) background,
 /// covered samples their unpacked colour; the average is taken in linear
-/// space and encoded as sRGB, alpha 255. Also returns the per-pixel coverage
-/// (`true` when any sample of the pixel was covered), row-major.
-pub fn resolve(framebuffer: &Framebuffer, background: Vec3) -> (RgbaImage, Vec<bool>) {
+/// space and encoded as sRGB, alpha 255. Also returns, row-major, the
+/// number of covered samples of every pixel.
+pub fn resolve(framebuffer: &Framebuffer, background: Vec3) -> (RgbaImage, Vec<u8>) {
     let (width, height) = (framebuffer.width, framebuffer.height);
     let mut image = RgbaImage::new(width, height);
-    let mut coverage = vec![false; width as usize * height as usize];
+    let mut coverage = vec![0u8; width as usize * height as usize];
     let inv_spp = 1.0 / framebuffer.spp as f32;
     for y in 0..height {
         for x in 0..width {
             let mut sum = Vec3::ZERO;
-            let mut covered = false;
+            let mut covered = 0u8;
             for &key in framebuffer.pixel(x, y) {
                 if key == CLEAR_KEY {
                     sum += background;
                 } else {
-                    covered = true;
+                    covered += 1;
                     sum += unpack_rgb10(key_color(key));
                 }
             }

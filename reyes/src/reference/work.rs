@@ -3,6 +3,7 @@
 use glam::{Vec3, Vec4};
 
 use crate::bezier::{self, SplitDirection};
+use crate::dicing::PieceEdges;
 
 /// A patch, or a piece of one produced by splitting.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -16,21 +17,32 @@ pub struct WorkItem {
     pub object: u32,
     /// Number of splits from the input patch to this piece.
     pub split_depth: u32,
+    /// Index of the input patch in [`crate::prepare::PreparedScene::patches`]:
+    /// rate dicing evaluates grid points on it.
+    pub patch: u32,
+    /// The vertex spacings of the piece's four edges (rate dicing; see
+    /// [`crate::dicing`]).
+    pub edges: PieceEdges,
 }
 
 impl WorkItem {
-    /// An input patch: the whole parameter square, split depth 0.
-    pub fn new(points: [Vec3; 16], object: u32) -> WorkItem {
+    /// An input patch: the whole parameter square, split depth 0, with the
+    /// spacings of its edges.
+    pub fn new(points: [Vec3; 16], object: u32, patch: u32, edges: PieceEdges) -> WorkItem {
         WorkItem {
             points,
             uv: Vec4::new(0.0, 0.0, 1.0, 1.0),
             object,
             split_depth: 0,
+            patch,
+            edges,
         }
     }
 
-    /// The two halves (De Casteljau at 1/2 in `direction`), each one split deeper.
-    /// The first half covers the lower half of the parameter range.
+    /// The two halves (De Casteljau at 1/2 in `direction`), each one split
+    /// deeper, with the parent's edge spacings (the caller replaces them,
+    /// see [`crate::reference::bound::split_edges`]). The first half covers
+    /// the lower half of the parameter range.
     pub fn split(&self, direction: SplitDirection) -> [WorkItem; 2] {
         let (first, second) = bezier::split(&self.points, direction);
         let [u0, v0, u1, v1] = self.uv.to_array();
@@ -47,8 +59,8 @@ impl WorkItem {
         let child = |points, uv| WorkItem {
             points,
             uv,
-            object: self.object,
             split_depth: self.split_depth + 1,
+            ..*self
         };
         [child(first, uv_first), child(second, uv_second)]
     }
