@@ -1,17 +1,27 @@
-//! The Reyes GPU renderer on the teapot and the Killeroo.
+//! The Reyes GPU renderer on the teapot and the Killeroo: dicing to the
+//! shading rate against the fixed 16 x 16 dicer, side by side in one run.
 //!
 //! ```text
-//! cargo run --release -p benches --bin reyes-bench -- [--frames 5] [--spp 1]
+//! cargo run --release -p benches --bin reyes-bench -- [--frames 5] [--spp 1,16]
+//!     [--resolutions 800x600,1920x1080] [--rates 0.25,1,4,16] [--no-rounds]
 //! ```
 //!
-//! Prints one table measured in this one process: each model at 800x600 and
-//! 1920x1080. Per row, one warm-up frame creates the pipelines, the executor
-//! and the buffers (and uploads the scene); then the median of `--frames`
-//! frames is reported: the megakernel's GPU time (timestamp queries) when
-//! the device has them, and the host wall time of the whole frame (clear,
-//! megakernel, resolve, image read-back). The statistics are those of the
-//! last frame. The Killeroo is read from `<workspace>/../shared/data/`
-//! and skipped with a notice when absent.
+//! Prints three markdown tables measured in this one process:
+//! 1. **Dicing**: every model, resolution and spp, rendered with `--dicing
+//!    rate` and `--dicing fixed` in alternating frames (so both see the
+//!    same machine load), with the median frame times, the grids,
+//!    micropolygons per sample hit, the dice procedures' thread utilization
+//!    and the ratio fixed / rate.
+//! 2. **Shading rates**: each model at the first resolution, spp 1, for
+//!    every `--rates` value.
+//! 3. **Megakernel vs. Rounds** on the rate-dicing graph, each model at the
+//!    first resolution and spp 1, in alternating frames.
+//!
+//! Per configuration one warm-up frame creates the pipelines, the executor
+//! and the buffers; the time reported is the median of `--frames` frames:
+//! the megakernel's GPU time (timestamp queries) when the device has them,
+//! else the whole frame's wall time. The Killeroo is read from
+//! `<workspace>/../shared/data/` and skipped with a notice when absent.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -21,21 +31,45 @@ use clap::Parser;
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
-use reyes::scene::{CameraDesc, Scene};
+use reyes::scene::{CameraDesc, Dicing, Scene};
+use scheduler::Strategy;
 
 #[derive(Debug, Parser)]
-#[command(about = "Reyes GPU renderer: teapot and Killeroo at 800x600 and 1920x1080")]
+#[command(about = "Reyes GPU renderer: rate dicing vs. the fixed dicer, shading rates, strategies")]
 struct Args {
-    /// Timed frames per row (median reported), after one warm-up frame.
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(5..))]
+    /// Timed frames per configuration (median reported), after one warm-up frame.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
     frames: u32,
-    /// Samples per pixel.
-    #[arg(long, default_value_t = 1)]
-    spp: u32,
+    /// Samples per pixel of the dicing table.
+    #[arg(long, value_delimiter = ',', default_values_t = [1, 16])]
+    spp: Vec<u32>,
+    /// Resolutions of the dicing table, `WxH`; the first one is used by the
+    /// other tables.
+    #[arg(long, value_delimiter = ',', default_values_t = ["800x600".to_owned(), "1920x1080".to_owned()])]
+    resolutions: Vec<String>,
+    /// Shading rates of the shading-rate table.
+    #[arg(long, value_delimiter = ',', default_values_t = [0.25, 1.0, 4.0, 16.0])]
+    rates: Vec<f32>,
+    /// Skip the megakernel vs. Rounds table.
+    #[arg(long)]
+    no_rounds: bool,
 }
 
 fn killeroo_path() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/killeroo.bpt")
+}
+
+fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once('x')
+        .ok_or_else(|| format!("resolution {text:?}: expected WxH"))?;
+    let parse = |s: &str| {
+        s.parse::<u32>()
+            .ok()
+            .filter(|&n| n > 0)
+            .ok_or_else(|| format!("resolution {text:?}: {s:?} is not a positive integer"))
+    };
+    Ok((parse(w)?, parse(h)?))
 }
 
 /// `scene` at `width x height`, framed again for that aspect ratio.
@@ -53,6 +87,64 @@ fn median(mut values: Vec<f64>) -> f64 {
     values[values.len() / 2]
 }
 
+/// The frames of one configuration: their times and the last frame.
+struct Measured {
+    ms: Vec<f64>,
+    last: Option<GpuRendered>,
+}
+
+impl Measured {
+    fn new() -> Self {
+        Self {
+            ms: Vec::new(),
+            last: None,
+        }
+    }
+
+    fn add(&mut self, frame: GpuRendered) {
+        self.ms.push(
+            frame
+                .timings
+                .megakernel_gpu_ms
+                .unwrap_or(frame.timings.total_wall_ms),
+        );
+        self.last = Some(frame);
+    }
+
+    fn median_ms(&self) -> f64 {
+        median(self.ms.clone())
+    }
+
+    fn frame(&self) -> &GpuRendered {
+        self.last.as_ref().expect("at least one frame")
+    }
+}
+
+/// Renders each of `configs` once to warm up, then `frames` times in
+/// alternation; progress goes to stderr.
+fn measure(
+    configs: &mut [(&mut GpuRenderer<'_>, &PreparedScene)],
+    frames: u32,
+    label: &str,
+) -> Result<Vec<Measured>, Box<dyn std::error::Error>> {
+    for (renderer, scene) in configs.iter_mut() {
+        renderer.render(scene)?;
+    }
+    let mut measured: Vec<Measured> = configs.iter().map(|_| Measured::new()).collect();
+    for frame in 0..frames {
+        for ((renderer, scene), m) in configs.iter_mut().zip(&mut measured) {
+            m.add(renderer.render(scene)?);
+        }
+        eprintln!("{label}: frame {}/{frames}", frame + 1);
+    }
+    Ok(measured)
+}
+
+fn grids(frame: &GpuRendered) -> String {
+    let [s, m, l] = frame.stats.grids_by_class;
+    format!("{s}/{m}/{l}")
+}
+
 fn main() -> ExitCode {
     match run() {
         Ok(()) => ExitCode::SUCCESS,
@@ -65,8 +157,16 @@ fn main() -> ExitCode {
 
 fn run() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
+    let resolutions = args
+        .resolutions
+        .iter()
+        .map(|r| parse_resolution(r))
+        .collect::<Result<Vec<_>, _>>()?;
+    let Some(&first) = resolutions.first() else {
+        return Err("--resolutions needs at least one resolution".into());
+    };
     let gpu = reyes::gpu::create_gpu()?;
-    println!("device: {}", gpu.describe());
+    let device = gpu.describe();
     let mut models: Vec<(&str, Scene, Model)> =
         vec![("teapot", Scene::default_teapot(), Model::teapot())];
     let killeroo = killeroo_path();
@@ -80,82 +180,111 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
             killeroo.display()
         );
     }
-    let mut renderer = GpuRenderer::new(
-        &gpu,
-        GpuOptions {
-            // Large frames on a software rasterizer take a while.
-            timeout: Duration::from_secs(300),
-            ..GpuOptions::default()
-        },
-    )?;
-    let header = format!(
-        "{:<10}{:>11}{:>9}{:>12}{:>12}{:>9}{:>9}{:>8}{:>8}{:>10}{:>13}{:>12}{:>10}",
-        "model",
-        "resolution",
-        "patches",
-        "GPU ms",
-        "wall ms",
-        "splits",
-        "culled",
-        "drops",
-        "grids",
-        "micropoly",
-        "tested",
-        "hit",
-        "retries"
+    let options = GpuOptions {
+        // Large frames with the fixed dicer take a while on a software rasterizer.
+        timeout: Duration::from_secs(600),
+        ..GpuOptions::default()
+    };
+    let mut renderer = GpuRenderer::new(&gpu, options.clone())?;
+    let mut fixed_renderer = GpuRenderer::new(&gpu, options.clone())?;
+    let prepare = |scene: &Scene, model: &Model, (w, h): (u32, u32), spp, dicing, rate| {
+        let mut scene = sized(scene.clone(), model, w, h, spp);
+        scene.dicing = dicing;
+        scene.shading_rate = rate;
+        PreparedScene::load(&scene)
+    };
+
+    println!("device: {device}");
+    println!(
+        "\n### Dicing: to the shading rate (1) vs. the fixed 16 x 16 dicer\n\nMedian of {} frames after a warm-up, in alternating frames; ms = megakernel GPU time (timestamp queries) where the device has them, else the frame's wall time; mp/hit = micropolygons per sample hit; util = the dice procedures' thread utilization; grids = small/medium/large.\n",
+        args.frames
     );
-    let mut rows = Vec::new();
+    println!(
+        "| model | resolution | spp | rate ms | fixed ms | fixed / rate | rate grids | rate micropolygons | rate mp/hit | rate util | fixed micropolygons | fixed mp/hit | retries |"
+    );
+    println!("|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|");
     for (name, scene, model) in &models {
-        for (width, height) in [(800, 600), (1920, 1080)] {
-            let prepared =
-                PreparedScene::load(&sized(scene.clone(), model, width, height, args.spp))?;
-            // Warm-up: pipelines, executor, buffers, upload.
-            renderer.render(&prepared)?;
-            let mut gpu_ms = Vec::new();
-            let mut wall_ms = Vec::new();
-            let mut last: Option<GpuRendered> = None;
-            for _ in 0..args.frames {
-                let frame = renderer.render(&prepared)?;
-                if let Some(ms) = frame.timings.megakernel_gpu_ms {
-                    gpu_ms.push(ms);
-                }
-                wall_ms.push(frame.timings.total_wall_ms);
-                last = Some(frame);
+        for &(w, h) in &resolutions {
+            for &spp in &args.spp {
+                let rate = prepare(scene, model, (w, h), spp, Dicing::Rate, 1.0)?;
+                let fixed = prepare(scene, model, (w, h), spp, Dicing::Fixed, 1.0)?;
+                let label = format!("{name} {w}x{h} spp {spp}");
+                let m = measure(
+                    &mut [(&mut renderer, &rate), (&mut fixed_renderer, &fixed)],
+                    args.frames,
+                    &label,
+                )?;
+                let (r, f) = (m[0].frame(), m[1].frame());
+                println!(
+                    "| {name} | {w}x{h} | {spp} | {:.1} | {:.1} | {:.2} | {} | {} | {:.2} | {:.2} | {} | {:.2} | {} |",
+                    m[0].median_ms(),
+                    m[1].median_ms(),
+                    m[1].median_ms() / m[0].median_ms(),
+                    grids(r),
+                    r.stats.micropolygons,
+                    r.stats.micropolygons_per_hit(),
+                    r.stats.thread_utilization(),
+                    f.stats.micropolygons,
+                    f.stats.micropolygons_per_hit(),
+                    r.overflow_retries + r.loop_retries + f.overflow_retries + f.loop_retries,
+                );
             }
-            let last = last.expect("at least 5 frames");
-            let s = &last.stats;
-            let gpu = if gpu_ms.len() == args.frames as usize {
-                format!("{:.1}", median(gpu_ms))
-            } else {
-                "-".to_owned()
-            };
-            let row = format!(
-                "{:<10}{:>11}{:>9}{:>12}{:>12.1}{:>9}{:>9}{:>8}{:>8}{:>10}{:>13}{:>12}{:>10}",
-                name,
-                format!("{width}x{height}"),
-                s.input_patches,
-                gpu,
-                median(wall_ms),
-                s.splits,
-                s.culled_patches,
-                s.depth_guard_drops,
-                s.grids_diced,
-                s.micropolygons,
-                s.samples_tested,
-                s.samples_hit,
-                last.overflow_retries + last.loop_retries,
-            );
-            eprintln!("{row}");
-            rows.push(row);
         }
     }
+
     println!(
-        "spp {}, median of {} frames after one warm-up; GPU ms = megakernel (timestamp queries), wall ms = whole frame incl. clear, resolve and read-back",
-        args.spp, args.frames
+        "\n### Shading rates ({}x{}, spp 1)\n\n| model | shading rate | ms | grids | micropolygons | samples hit | mp/hit | util | largest micropolygon px |\n|---|---:|---:|---|---:|---:|---:|---:|---:|",
+        first.0, first.1
     );
-    println!("{header}");
-    for row in rows {
-        println!("{row}");
+    for (name, scene, model) in &models {
+        for &rate in &args.rates {
+            let prepared = prepare(scene, model, first, 1, Dicing::Rate, rate)?;
+            let m = measure(
+                &mut [(&mut renderer, &prepared)],
+                args.frames,
+                &format!("{name} shading rate {rate}"),
+            )?;
+            let s = &m[0].frame().stats;
+            println!(
+                "| {name} | {rate} | {:.1} | {} | {} | {} | {:.2} | {:.2} | {:.2} |",
+                m[0].median_ms(),
+                grids(m[0].frame()),
+                s.micropolygons,
+                s.samples_hit,
+                s.micropolygons_per_hit(),
+                s.thread_utilization(),
+                s.largest_micropolygon_px,
+            );
+        }
+    }
+
+    if !args.no_rounds {
+        let mut rounds = GpuRenderer::new(
+            &gpu,
+            GpuOptions {
+                strategy: Strategy::rounds(),
+                ..options
+            },
+        )?;
+        println!(
+            "\n### Megakernel vs. Rounds, rate dicing ({}x{}, spp 1)\n\n| model | megakernel ms | Rounds ms | Rounds / megakernel | rounds |\n|---|---:|---:|---:|---:|",
+            first.0, first.1
+        );
+        for (name, scene, model) in &models {
+            let prepared = prepare(scene, model, first, 1, Dicing::Rate, 1.0)?;
+            let m = measure(
+                &mut [(&mut renderer, &prepared), (&mut rounds, &prepared)],
+                args.frames,
+                &format!("{name} strategies"),
+            )?;
+            let round_count = m[1].frame().report.as_ref().map_or(0, |r| r.rounds);
+            println!(
+                "| {name} | {:.1} | {:.1} | {:.2} | {round_count} |",
+                m[0].median_ms(),
+                m[1].median_ms(),
+                m[1].median_ms() / m[0].median_ms(),
+            );
+        }
     }
     Ok(())
 }
