@@ -2,7 +2,9 @@
 //! and comparing a GPU render with the CPU reference.
 
 use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::time::Duration;
 
+use glam::Vec3;
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::reference::Rendered;
 use reyes::scene::{CameraDesc, Scene};
@@ -95,6 +97,37 @@ pub fn assert_counts_close(what: &str, gpu: u64, cpu: u64) {
         gpu.abs_diff(cpu) <= tolerance,
         "{what}: GPU {gpu}, CPU {cpu} (tolerance {tolerance})"
     );
+}
+
+/// How long a test frame may run: llvmpipe compiles the megakernel lazily
+/// at its first dispatch, which takes minutes on a 2-core machine when
+/// Mesa's shader cache does not hold the module yet (a new user function,
+/// queue policy or chunk count makes a new one). Cached, test frames take
+/// seconds.
+pub const COLD_COMPILE_TIMEOUT: Duration = Duration::from_secs(900);
+
+/// [`renderer`] with [`COLD_COMPILE_TIMEOUT`].
+pub fn patient_renderer(gpu: &scheduler::Gpu) -> GpuRenderer<'_> {
+    renderer(
+        gpu,
+        GpuOptions {
+            timeout: COLD_COMPILE_TIMEOUT,
+            ..GpuOptions::default()
+        },
+    )
+}
+
+/// The camera of the card and wall scenes: at the origin, looking down -z
+/// with y up and a 60 degree view, near 0.1, far 100.
+pub fn camera_down_z() -> CameraDesc {
+    CameraDesc {
+        eye: Vec3::ZERO,
+        target: Vec3::new(0.0, 0.0, -1.0),
+        up: Vec3::Y,
+        fov_y_degrees: 60.0,
+        near: 0.1,
+        far: 100.0,
+    }
 }
 
 /// A Reyes renderer on the shared test device. The device must have the

@@ -8,12 +8,12 @@
 //! a table keyed by its position in an integer lattice) and copy it into every
 //! patch that uses it; [`unmatched_edges`] checks the result.
 //!
-//! This module names no `glam` type (the `tests` library does not depend on
-//! `glam`): geometry is done in `f64` arrays and converted to the renderer's
-//! points with `From<[f32; 3]>`.
+//! Geometry is done in `f64` arrays (the points are rounded to `f32` once)
+//! and converted to the renderer's points with `From<[f32; 3]>`.
 
 use std::collections::HashMap;
 
+use reyes::dicing::edge_indices;
 use reyes::model::{Model, Patch};
 
 /// `1 / 3` steps of the cubic Bernstein parameter: control points from
@@ -184,23 +184,17 @@ pub fn bezier_sphere_with_poles() -> Model {
     Model { patches }
 }
 
-/// The control points of edge `edge` (0: `v = 0` row, 1: `v = 3` row,
-/// 2: `u = 0` column, 3: `u = 3` column) as bit patterns, in the patch's
+/// The control points of edge `edge` (numbered as in
+/// [`reyes::dicing::edge_indices`]) as bit patterns, in the patch's
 /// parameter order.
 fn edge_bits(patch: &Patch, edge: usize) -> [[u32; 3]; 4] {
-    let index = |i: usize| match edge {
-        0 => i,
-        1 => 12 + i,
-        2 => 4 * i,
-        _ => 4 * i + 3,
-    };
-    std::array::from_fn(|i| patch.points[index(i)].to_array().map(f32::to_bits))
+    edge_indices(edge).map(|i| patch.points[i].to_array().map(f32::to_bits))
 }
 
 /// The patch edges of `model` that are neither collapsed to one point nor
 /// matched, bit for bit (in either direction), by exactly one edge of
 /// another patch, as `(patch, edge)` with edges numbered as in
-/// [`edge_bits`]. Empty for a model that is closed as data.
+/// [`reyes::dicing::edge_indices`]. Empty for a model that is closed as data.
 pub fn unmatched_edges(model: &Model) -> Vec<(usize, usize)> {
     let mut by_curve: HashMap<[[u32; 3]; 4], Vec<(usize, usize)>> = HashMap::new();
     for (p, patch) in model.patches.iter().enumerate() {

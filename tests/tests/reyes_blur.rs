@@ -23,9 +23,9 @@ use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
 use reyes::reference;
-use reyes::scene::{CameraDesc, CameraPose, Sampling, Scene, SceneError, SceneObject, Transform};
+use reyes::scene::{CameraPose, Sampling, Scene, SceneError, SceneObject, Transform};
 use tests::reyes_support::{
-    agreement, as_reference, assert_counts_close, framed_teapot, gpu_turn, renderer,
+    agreement, as_reference, assert_counts_close, camera_down_z, framed_teapot, gpu_turn, renderer,
 };
 
 /// The 5D modes.
@@ -160,14 +160,7 @@ fn card_scene(cards: &[(Vec3, f32, Vec3)], sampling: Sampling) -> (Scene, Vec<Mo
     scene.resolution.height = SIDE;
     scene.spp = 64;
     scene.sampling = sampling;
-    scene.camera = Some(CameraDesc {
-        eye: Vec3::ZERO,
-        target: Vec3::new(0.0, 0.0, -1.0),
-        up: Vec3::Y,
-        fov_y_degrees: 60.0,
-        near: 0.1,
-        far: 100.0,
-    });
+    scene.camera = Some(camera_down_z());
     scene.lights[0].direction = Vec3::new(0.0, 0.0, -1.0);
     scene.specular.strength = 0.0;
     let mut models = Vec::new();

@@ -3,32 +3,18 @@
 //! (Watertightness is `reyes_watertight.rs`.)
 
 use std::path::PathBuf;
-use std::time::Duration;
 
 use glam::Vec3;
 use image::RgbaImage;
 use reyes::aov::{Aov, grid_colors};
-use reyes::gpu::{GpuOptions, GpuRenderer};
 use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, Rendered};
 use reyes::scene::{CameraDesc, Dicing, Scene, SceneObject};
 use tests::reyes_support::{
-    agreement, as_reference, assert_counts_close, framed_teapot, gpu_turn, renderer,
+    agreement, as_reference, assert_counts_close, camera_down_z, framed_teapot, gpu_turn,
+    patient_renderer,
 };
-
-/// A cold megakernel compile on lavapipe takes minutes.
-const TIMEOUT: Duration = Duration::from_secs(900);
-
-fn gpu_renderer(gpu: &scheduler::Gpu) -> GpuRenderer<'_> {
-    renderer(
-        gpu,
-        GpuOptions {
-            timeout: TIMEOUT,
-            ..GpuOptions::default()
-        },
-    )
-}
 
 fn killeroo() -> Option<Scene> {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/killeroo.bpt");
@@ -60,7 +46,7 @@ fn with(mut scene: Scene, dicing: Dicing, shading_rate: f32) -> PreparedScene {
 fn rate_dicing_matches_the_reference_at_every_rate() {
     let Some(gpu) = tests::gpu() else { return };
     let _turn = gpu_turn();
-    let mut renderer = gpu_renderer(gpu);
+    let mut renderer = patient_renderer(gpu);
     for rate in [0.25, 1.0, 4.0, 16.0] {
         let prepared = with(framed_teapot(160, 120, 4), Dicing::Rate, rate);
         let g = renderer.render(&prepared).expect("GPU render");
@@ -106,7 +92,7 @@ fn rate_dicing_matches_the_reference_at_every_rate() {
 fn rate_dicing_draws_the_fixed_dicers_pictures() {
     let Some(gpu) = tests::gpu() else { return };
     let _turn = gpu_turn();
-    let mut renderer = gpu_renderer(gpu);
+    let mut renderer = patient_renderer(gpu);
     let mut scenes = vec![("teapot", framed_teapot(320, 240, 4), true)];
     scenes.extend(killeroo().map(|s| ("killeroo", s, false)));
     for (name, scene, colours_asserted) in scenes {
@@ -169,14 +155,7 @@ fn card_scene() -> (Scene, Vec<Model>) {
     let mut scene = Scene::default();
     scene.resolution.width = 64;
     scene.resolution.height = 64;
-    scene.camera = Some(CameraDesc {
-        eye: Vec3::ZERO,
-        target: Vec3::new(0.0, 0.0, -1.0),
-        up: Vec3::Y,
-        fov_y_degrees: 60.0,
-        near: 0.1,
-        far: 100.0,
-    });
+    scene.camera = Some(camera_down_z());
     scene.objects.push(SceneObject {
         model: "card".into(),
         transform: Default::default(),
@@ -203,7 +182,7 @@ fn card_scene() -> (Scene, Vec<Model>) {
 fn one_sided_objects_cull_their_back_faces() {
     let Some(gpu) = tests::gpu() else { return };
     let _turn = gpu_turn();
-    let mut renderer = gpu_renderer(gpu);
+    let mut renderer = patient_renderer(gpu);
     let (scene, models) = card_scene();
     let prepare = |sides: u8, reverse: bool| {
         let mut scene = scene.clone();
@@ -257,7 +236,7 @@ fn one_sided_objects_cull_their_back_faces() {
 fn aov_pictures_match_the_reference() {
     let Some(gpu) = tests::gpu() else { return };
     let _turn = gpu_turn();
-    let mut renderer = gpu_renderer(gpu);
+    let mut renderer = patient_renderer(gpu);
     for aov in [Aov::Grids, Aov::Depth, Aov::Normal] {
         let mut scene = framed_teapot(160, 120, 1);
         scene.aov = aov;

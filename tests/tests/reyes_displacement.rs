@@ -4,35 +4,18 @@
 //! 120 or less, spp 4) so that lavapipe runs the whole file in seconds.
 
 use std::path::PathBuf;
-use std::time::Duration;
 
 use glam::Vec3;
 use reyes::displacement::{CpuHeight, DisplacementDesc, DisplacementError, HeightSource};
-use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer, RenderError};
+use reyes::gpu::{GpuRendered, GpuRenderer, RenderError};
 use reyes::model::{Model, Patch};
 use reyes::params::DEFAULT_DICE_THRESHOLD;
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, ReferenceError, Rendered};
-use reyes::scene::{CameraDesc, Dicing, Sampling, Scene, SceneError};
+use reyes::scene::{Dicing, Sampling, Scene, SceneError};
 use tests::reyes_support::{
-    self, Agreement, agreement, assert_counts_close, framed_teapot, gpu_turn,
+    self, Agreement, agreement, assert_counts_close, camera_down_z, framed_teapot, gpu_turn,
 };
-
-/// Run time limit: llvmpipe compiles the megakernel lazily at its first
-/// dispatch, which takes more than the default minute on a 2-core machine
-/// when Mesa's shader cache does not hold it yet (a new user function
-/// always makes a new megakernel). Cached, every render here takes seconds.
-const TIMEOUT: Duration = Duration::from_secs(600);
-
-fn renderer(gpu: &scheduler::Gpu) -> GpuRenderer<'_> {
-    reyes_support::renderer(
-        gpu,
-        GpuOptions {
-            timeout: TIMEOUT,
-            ..GpuOptions::default()
-        },
-    )
-}
 
 /// The default teapot at `width x height`, spp 4, framed for that aspect
 /// ratio with the field of view narrowed to 34 degrees (as in `reyes_gpu.rs`).
@@ -101,7 +84,7 @@ fn pinholes(coverage: &[bool], width: u32, reference: Option<&[bool]>) -> usize 
 fn displaced_teapot_matches_the_reference() {
     let Some(gpu) = tests::gpu() else { return };
     let _turn = gpu_turn();
-    let mut renderer = renderer(gpu);
+    let mut renderer = reyes_support::patient_renderer(gpu);
     let scene = displaced(teapot(160, 120), &displacement("bumps", 0.06, 2.0));
     let prepared = PreparedScene::load(&scene).expect("scene prepares");
     let (g, c, a) = compare(&mut renderer, &prepared);
@@ -130,7 +113,7 @@ fn displaced_teapot_matches_the_reference() {
 fn large_displacement_leaves_no_pinholes() {
     let Some(gpu) = tests::gpu() else { return };
     let _turn = gpu_turn();
-    let mut renderer = renderer(gpu);
+    let mut renderer = reyes_support::patient_renderer(gpu);
     let scene = displaced(teapot(160, 120), &displacement("sines", 0.25, 2.0));
     let prepared = PreparedScene::load(&scene).expect("scene prepares");
     let (g, c, a) = compare(&mut renderer, &prepared);
@@ -188,14 +171,7 @@ fn wall_scene(bound: f32) -> PreparedScene {
     let mut scene = Scene::default();
     scene.resolution.width = 96;
     scene.resolution.height = 96;
-    scene.camera = Some(CameraDesc {
-        eye: Vec3::ZERO,
-        target: Vec3::new(0.0, 0.0, -1.0),
-        up: Vec3::Y,
-        fov_y_degrees: 60.0,
-        near: 0.1,
-        far: 100.0,
-    });
+    scene.camera = Some(camera_down_z());
     scene.lights[0].direction = Vec3::new(-1.0, -0.2, -0.5);
     scene.objects.push(reyes::scene::SceneObject {
         model: "wall".into(),
@@ -223,7 +199,7 @@ fn wall_scene(bound: f32) -> PreparedScene {
 fn displacement_bound_keeps_surface_displaced_into_view() {
     let Some(gpu) = tests::gpu() else { return };
     let _turn = gpu_turn();
-    let mut renderer = renderer(gpu);
+    let mut renderer = reyes_support::patient_renderer(gpu);
 
     let (g, c, a) = compare(&mut renderer, &wall_scene(1.0));
     assert!(
@@ -271,7 +247,7 @@ fn displacement_bound_keeps_surface_displaced_into_view() {
 fn user_wgsl_displacement() {
     let Some(gpu) = tests::gpu() else { return };
     let _turn = gpu_turn();
-    let mut renderer = renderer(gpu);
+    let mut renderer = reyes_support::patient_renderer(gpu);
     let wgsl = "fn displacement_user(u: f32, v: f32) -> f32 {
         let du = u - floor(u) - 0.5;
         let dv = v - floor(v) - 0.5;
@@ -326,7 +302,7 @@ fn user_wgsl_displacement() {
 fn largest_micropolygon_grows_with_displacement() {
     let Some(gpu) = tests::gpu() else { return };
     let _turn = gpu_turn();
-    let mut renderer = renderer(gpu);
+    let mut renderer = reyes_support::patient_renderer(gpu);
     let plain = PreparedScene::load(&teapot(128, 96)).expect("scene prepares");
     let bumpy = PreparedScene::load(&displaced(
         teapot(128, 96),

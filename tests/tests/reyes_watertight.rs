@@ -49,10 +49,10 @@
 
 use std::path::PathBuf;
 use std::sync::OnceLock;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use glam::{Vec2, Vec3, Vec4};
-use reyes::gpu::{GpuOptions, GpuRenderer};
+use reyes::gpu::GpuRenderer;
 use reyes::model::Model;
 use reyes::params::{DEFAULT_DICE_THRESHOLD, NEAR_EPS};
 use reyes::prepare::PreparedScene;
@@ -97,10 +97,6 @@ const HIDDEN_MARGIN: f64 = 0.02;
 /// on (the step is `tan(angle) / (4 * focal length in pixels)`), or a depth
 /// jump at a silhouette, changes more.
 const MAX_DEPTH_STEP: f64 = 0.01;
-
-/// Run time limit: lavapipe compiles the megakernel lazily at its first
-/// dispatch, which can take more than the default minute on a cold cache.
-const TIMEOUT: Duration = Duration::from_secs(600);
 
 /// The Killeroo, read by path and never copied into the repository.
 fn killeroo_path() -> PathBuf {
@@ -441,23 +437,13 @@ fn dump(image: &image::RgbaImage, cracks: &[(u32, u32)], path: &std::path::Path)
     }
 }
 
-fn renderer(gpu: &scheduler::Gpu) -> GpuRenderer<'_> {
-    reyes_support::renderer(
-        gpu,
-        GpuOptions {
-            timeout: TIMEOUT,
-            ..GpuOptions::default()
-        },
-    )
-}
-
 #[test]
 fn rate_dicing_is_watertight() {
     let Some(gpu) = tests::gpu() else { return };
     let shots = shots();
     let _turn = gpu_turn();
     let start = Instant::now();
-    let mut renderer = renderer(gpu);
+    let mut renderer = reyes_support::patient_renderer(gpu);
     let outcomes = render_all(&mut renderer, Dicing::Rate);
     let mut failures = Vec::new();
     for outcome in &outcomes {
@@ -500,7 +486,7 @@ fn fixed_dicing_cracks_on_the_same_scenes() {
     let shots = shots();
     let _turn = gpu_turn();
     let start = Instant::now();
-    let mut renderer = renderer(gpu);
+    let mut renderer = reyes_support::patient_renderer(gpu);
     let outcomes = render_all(&mut renderer, Dicing::Fixed);
     let gpu_total: usize = outcomes.iter().map(|o| o.gpu.cracks.len()).sum();
     let cpu_total: usize = outcomes.iter().map(|o| o.cpu.cracks.len()).sum();
