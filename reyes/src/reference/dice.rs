@@ -143,8 +143,10 @@ pub fn displacement_normal(patch: &[Vec3; 16], u: f32, v: f32) -> Vec3 {
 }
 
 /// The unit shading normal at `(u, v)` of the point at `position`, facing
-/// `eye`; never NaN: the exact normal ([`tangent_normal`]), else `eye - P`
-/// (and +z if even that is zero), flipped if `dot(n, eye - P) < 0`.
+/// `eye`; never NaN: the exact normal `dP/du x dP/dv` (re-evaluated at the
+/// clamped parameters where degenerate, as for [`displacement_normal`]),
+/// else `eye - P` (and +z if even that is zero), flipped if
+/// `dot(n, eye - P) < 0`.
 pub fn surface_normal(patch: &[Vec3; 16], u: f32, v: f32, position: Vec3, eye: Vec3) -> Vec3 {
     let n = tangent_normal(patch, u, v).unwrap_or(eye - position);
     let mut n = n.normalize_or_zero();
