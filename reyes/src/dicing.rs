@@ -455,8 +455,8 @@ mod tests {
         for i in 0..=4 {
             assert_eq!(at(i, 2), BorderPoint::Vertex);
         }
-        // The columns have spacing 1/4, wider than the piece's height of
-        // 1/4 ... equal: the middle point (v = 0.375) is on the chord.
+        // The columns have spacing 1/4, the piece's whole height: the middle
+        // point (v = 0.375) is on the chord between its corners.
         assert_eq!(
             at(0, 1),
             BorderPoint::Chord {

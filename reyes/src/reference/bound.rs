@@ -171,8 +171,12 @@ pub struct ScreenPiece {
 impl ScreenPiece {
     /// Projects `points` with a displacement bound of `bound` world units.
     pub fn new(view_proj: &Mat4, camera: &Camera, points: &[Vec3; 16], bound: f32) -> Self {
+        Self::from_clip(camera, &points.map(|p| *view_proj * p.extend(1.0)), bound)
+    }
+
+    /// The points already in clip space.
+    pub fn from_clip(camera: &Camera, clip: &[Vec4; 16], bound: f32) -> Self {
         let radius = camera.clip_pad() * bound;
-        let clip = points.map(|p| *view_proj * p.extend(1.0));
         let projectable = clip.map(|c| !(c.w <= NEAR_EPS || c.z < 0.0));
         ScreenPiece {
             pixels: clip.map(|c| camera.to_pixel(c).truncate()),
@@ -241,7 +245,7 @@ pub fn split_edges(
 /// [`line_length`], and at least the
 /// micropolygons its two u edges' spacings put along them; likewise `nv`
 /// with the columns. `None` in a direction whose edges are not fixed yet
-/// or that needs more than [`crate::params::MAX_GRID_QUADS`]: the piece
+/// or that needs more than [`MAX_GRID_QUADS`]: the piece
 /// must be split across it.
 pub fn rate_grid(
     screen: &ScreenPiece,
@@ -255,7 +259,7 @@ pub fn rate_grid(
     let direction = |length: f32, a: usize, b: usize, level: u32| -> Option<u32> {
         let need = rate_for(length, side)?;
         let n = need.max(edges[a].quads(level)?).max(edges[b].quads(level)?);
-        (n <= crate::params::MAX_GRID_QUADS).then_some(n)
+        (n <= MAX_GRID_QUADS).then_some(n)
     };
     (
         direction(longest(&row), EDGE_V0, EDGE_V1, level(uv.z - uv.x)),
@@ -349,21 +353,18 @@ pub fn bound(
         return BoundDecision::Split(split_direction_3d(points));
     }
 
-    let pixels: [Vec2; 16] = clip.map(|c| camera.to_pixel(c).truncate());
+    // Every point projects here: pixels and growths for the box and the grid.
+    let screen = ScreenPiece::from_clip(camera, &clip, displacement_bound);
+    let pixels = screen.pixels;
     let (lo, hi) = pixels.iter().fold((pixels[0], pixels[0]), |(lo, hi), &p| {
         (lo.min(p), hi.max(p))
     });
-    let growth = clip.iter().fold(0.0f32, |g, &c| {
-        g.max(pixel_growth(camera, c, displacement_bound, radius))
-    });
+    let growth = screen.growths.iter().fold(0.0f32, |g, &p| g.max(p));
     let size = hi - lo;
     let fits = fits(size.x.max(size.y), growth, dice_threshold);
     let (nu, nv) = match rule {
         DiceRule::Fixed => (Some(GridSize::FIXED.nu), Some(GridSize::FIXED.nv)),
-        DiceRule::Rate { edges, uv, side } => {
-            let screen = ScreenPiece::new(view_proj, camera, points, displacement_bound);
-            rate_grid(&screen, edges, uv, side)
-        }
+        DiceRule::Rate { edges, uv, side } => rate_grid(&screen, edges, uv, side),
     };
     match (nu, nv) {
         (Some(nu), Some(nv)) if fits => BoundDecision::Dice(GridSize { nu, nv }),

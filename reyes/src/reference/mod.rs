@@ -198,8 +198,8 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
             scene.dice_threshold,
             scene.max_split_depth,
             Growth {
-                displacement_bound: scene.objects[item.object as usize].displacement_bound(),
-                motion: scene.objects[item.object as usize].motion.as_ref(),
+                displacement_bound: object.displacement_bound(),
+                motion: object.motion.as_ref(),
                 lens: &scene.lens,
             },
             rule,
@@ -210,7 +210,7 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
                 stats.splits += 1;
                 let mut halves = item.split(direction);
                 if rate {
-                    let bound = scene.objects[item.object as usize].displacement_bound();
+                    let bound = object.displacement_bound();
                     for (half, piece) in halves.iter_mut().enumerate() {
                         let screen = ScreenPiece::new(&view_proj, camera, &piece.points, bound);
                         piece.edges =
