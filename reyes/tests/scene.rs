@@ -342,3 +342,45 @@ fn default_teapot_and_for_model_frame_the_model() {
     }
     assert_framed(&Scene::for_model("tall.bpt", &tall), &tall);
 }
+
+/// The dicing, AOV and one-sided keys parse, default as documented, and
+/// out-of-range values are errors that name the field.
+#[test]
+fn dicing_aov_and_sides_keys() {
+    use reyes::aov::Aov;
+    use reyes::scene::Dicing;
+    let defaults = Scene::from_toml_str("[[objects]]\nmodel = \"teapot\"").unwrap();
+    assert_eq!(defaults.dicing, Dicing::Rate);
+    assert_eq!(defaults.shading_rate, 1.0);
+    assert_eq!(defaults.aov, Aov::Shaded);
+    assert_eq!(defaults.objects[0].sides, 2);
+    assert!(!defaults.objects[0].reverse_orientation);
+    let scene = Scene::from_toml_str(
+        "dicing = \"fixed\"\nshading_rate = 4.0\naov = \"grids\"\n[[objects]]\nmodel = \"teapot\"\nsides = 1\nreverse_orientation = true",
+    )
+    .unwrap();
+    assert_eq!(scene.dicing, Dicing::Fixed);
+    assert_eq!(scene.shading_rate, 4.0);
+    assert_eq!(scene.aov, Aov::Grids);
+    assert_eq!(scene.objects[0].sides, 1);
+    assert!(scene.objects[0].reverse_orientation);
+    let err = |text: &str| Scene::from_toml_str(text).unwrap_err();
+    for rate in ["0.0", "-1.0", "1025.0"] {
+        assert!(
+            matches!(err(&format!("shading_rate = {rate}")), SceneError::InvalidValue { field, .. } if field == "shading_rate"),
+            "shading_rate = {rate}"
+        );
+    }
+    assert!(
+        matches!(err("shading_rate = nan"), SceneError::NonFinite { field } if field == "shading_rate")
+    );
+    assert!(matches!(
+        err("[[objects]]\nmodel = \"teapot\"\nsides = 3"),
+        SceneError::InvalidValue { field, .. } if field == "objects[0].sides"
+    ));
+    assert!(matches!(
+        err("dicing = \"adaptive\""),
+        SceneError::Parse { .. }
+    ));
+    assert!(matches!(err("aov = \"colour\""), SceneError::Parse { .. }));
+}
