@@ -4,12 +4,12 @@ use std::time::Duration;
 
 use scheduler::{
     Binding, CompileOptions, CompiledGraph, Executor, ExecutorConfig, Graph, Policy, Procedure,
-    Resource, RunReport, Seeds, Strategy, item_type, wgpu,
+    ProcedureId, Resource, RunReport, Seeds, Strategy, wgpu,
 };
 
 use crate::gpu::out_buffer;
 use crate::timing::TimeSource;
-use crate::workload::{HASH_WGSL, SPAWN_ITEM_WGSL, SpawnItem, Workload};
+use crate::workload::{HASH_WGSL, SpawnItem, Workload};
 use crate::{BenchError, verify};
 
 /// The body of the `Spawn` procedure.
@@ -21,25 +21,22 @@ pub const PROCEDURE: &str = "Spawn";
 /// The spawn-tree graph for `workload`: one procedure `Spawn` that enqueues
 /// into itself with fan-out 2 and writes `out`.
 pub fn spawn_tree_graph(workload: &Workload) -> Graph {
-    let item = item_type!(
-        SpawnItem,
-        SPAWN_ITEM_WGSL.trim(),
-        [id, depth, parent, pad0, pad1, pad2, pad3, pad4]
-    );
     let mut graph = Graph::new(format!(
         "spawn tree 2^{} items, work {}",
         workload.items_log2, workload.work
     ));
+    for (name, value) in workload.constants() {
+        graph.constant(name, value);
+    }
     graph
-        .library(&workload.wgsl_constants())
         .library(HASH_WGSL)
-        .resource(Resource::storage("out", "array<u32>"))
-        .procedure(
-            Procedure::new(PROCEDURE, item)
-                .initial(true)
-                .body(SPAWN_BODY_WGSL),
-        )
-        .connect_with_fan_out(PROCEDURE, PROCEDURE, 2);
+        .resource(Resource::storage("out", "array<u32>"));
+    let spawn = graph.procedure(
+        Procedure::of::<SpawnItem>(PROCEDURE)
+            .initial(true)
+            .body(SPAWN_BODY_WGSL),
+    );
+    graph.connect_with_fan_out(&spawn, &spawn, 2);
     graph
 }
 
@@ -112,13 +109,16 @@ impl SpawnTree {
         config: &ExecutorConfig,
     ) -> Result<Self, BenchError> {
         let executor = Executor::new(device, queue, compiled, config)?;
+        let spawn: ProcedureId<SpawnItem> = compiled.procedure_id(PROCEDURE).ok_or_else(|| {
+            BenchError::Config(format!("the graph has no `{PROCEDURE}` of `SpawnItem`s"))
+        })?;
         Ok(Self {
             device: device.clone(),
             queue: queue.clone(),
             workload,
             executor,
             out: out_buffer(device, workload.items(), "megakernel out"),
-            seeds: Seeds::new().add(PROCEDURE, &[SpawnItem::root()]),
+            seeds: Seeds::new().add(&spawn, &[SpawnItem::root()]),
             strategy: Strategy::Megakernel,
         })
     }
@@ -175,7 +175,7 @@ pub fn check_counters(report: &RunReport, items: u32, variant: &str) -> Result<(
         detail,
     };
     let stats = report
-        .procedure(PROCEDURE)
+        .procedure_named(PROCEDURE)
         .ok_or_else(|| fail(format!("no `{PROCEDURE}` in the report")))?;
     let items = u64::from(items);
     if stats.executed != items || stats.enqueued != items - 1 || stats.seeded != 1 {

@@ -192,7 +192,7 @@ pub fn measure_megakernel(
         .min_by_key(|s| s.time.abs_diff(timings.median))
         .map(|s| &s.report);
     let high_water = median_run
-        .and_then(|r| r.procedure(crate::megakernel::PROCEDURE))
+        .and_then(|r| r.procedure_named(crate::megakernel::PROCEDURE))
         .map_or(0, |p| p.high_water);
     let dispatches = median_run.map_or(0, |r| r.dispatches);
     Ok((timings, high_water, dispatches))

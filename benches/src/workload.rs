@@ -8,8 +8,6 @@
 //! plus one item at depth `items_log2`) without a second root. Depths are
 //! carried in the item for realism; the work does not depend on them.
 
-use scheduler::bytemuck;
-
 /// Hash rounds per item in the "fixed work" variant.
 pub const FIXED_WORK: u32 = 64;
 
@@ -22,12 +20,9 @@ pub const FLAT_WORKGROUP_SIZE: u32 = 256;
 
 /// The shared per-item work (WGSL).
 pub const HASH_WGSL: &str = include_str!("../../shaders/benches/hash.wgsl");
-/// The WGSL twin of [`SpawnItem`].
-pub const SPAWN_ITEM_WGSL: &str = include_str!("../../shaders/benches/spawn_tree_item.wgsl");
-
 /// One spawn-tree item: 8 words, 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+#[scheduler::item]
+#[derive(Debug, Default, PartialEq, Eq)]
 pub struct SpawnItem {
     /// Heap id, also the index written in `out`.
     pub id: u32,
@@ -84,13 +79,18 @@ impl Workload {
         1 << self.items_log2
     }
 
-    /// The WGSL constants spliced in front of `hash.wgsl` in both variants.
+    /// The constants `hash.wgsl` and the bodies use, in both variants.
+    pub fn constants(&self) -> [(&'static str, u32); 2] {
+        [("BENCH_WORK", self.work), ("BENCH_ITEMS", self.items())]
+    }
+
+    /// [`Workload::constants`] as WGSL, for the flat kernel's module (the
+    /// megakernel declares them with `Graph::constant`).
     pub fn wgsl_constants(&self) -> String {
-        format!(
-            "const BENCH_WORK: u32 = {}u;\nconst BENCH_ITEMS: u32 = {}u;\n",
-            self.work,
-            self.items()
-        )
+        self.constants()
+            .iter()
+            .map(|(name, value)| format!("const {name}: u32 = {value}u;\n"))
+            .collect()
     }
 
     /// The CPU reference of `out`.

@@ -21,8 +21,8 @@ use std::fmt::Write as _;
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::wgpu::util::DeviceExt as _;
 use scheduler::{
-    Binding, Capacities, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Procedure, Resource,
-    RunReport, Seeds, item_type, readback::read_buffer, wgpu,
+    Binding, Capacities, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Procedure,
+    ProcedureId, Resource, RunReport, Seeds, readback::read_buffer, wgpu,
 };
 
 /// Level of a node no source reaches.
@@ -33,8 +33,8 @@ pub const EXPAND_THREADS: u32 = 4;
 const COUNTER_WORDS: usize = 3;
 
 /// A node with the level it is reached at; the item of both procedures.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+#[scheduler::item]
+#[derive(Debug)]
 pub struct Hop {
     pub node: u32,
     pub level: u32,
@@ -188,28 +188,35 @@ if (valid) {{
     )
 }
 
+/// The graph of [`graph`], with the handles of its procedures.
+#[derive(Debug)]
+pub struct BfsGraph {
+    pub graph: Graph,
+    pub visit: ProcedureId<Hop>,
+    pub expand: ProcedureId<Hop>,
+}
+
 /// The two-procedure graph. `Expand`'s fan-out into `Visit` is the largest
 /// degree: one item enqueues at most one visit per neighbour.
-pub fn graph(problem: &Problem) -> Graph {
-    let hop = item_type!(Hop, "struct Hop { node: u32, level: u32 }", [node, level]);
+pub fn graph(problem: &Problem) -> BfsGraph {
     let mut graph = Graph::new("bfs levels");
     graph.resource(Resource::storage_read("row_start", "array<u32>"));
     graph.resource(Resource::storage_read("adjacency", "array<u32>"));
     graph.resource(Resource::storage("levels", "array<atomic<u32>>"));
     graph.resource(Resource::storage("counters", "array<atomic<u32>>"));
-    graph.procedure(
-        Procedure::new("Visit", hop.clone())
-            .initial(true)
-            .body(VISIT_BODY),
-    );
-    graph.procedure(
-        Procedure::new("Expand", hop)
+    let visit = graph.procedure(Procedure::of::<Hop>("Visit").initial(true).body(VISIT_BODY));
+    let expand = graph.procedure(
+        Procedure::of::<Hop>("Expand")
             .threads_per_item(EXPAND_THREADS)
             .body(expand_body()),
     );
-    graph.connect("Visit", "Expand");
-    graph.connect_with_fan_out("Expand", "Visit", problem.graph.max_degree().max(1));
-    graph
+    graph.connect(&visit, &expand);
+    graph.connect_with_fan_out(&expand, &visit, problem.graph.max_degree().max(1));
+    BfsGraph {
+        graph,
+        visit,
+        expand,
+    }
 }
 
 /// Generous queue capacities. No small bound holds in the worst case (a node
@@ -245,7 +252,12 @@ pub fn run(
     problem: &Problem,
     config: &ExecutorConfig,
 ) -> Result<Checked, Box<dyn Error>> {
-    let compiled = graph(problem).compile(&CompileOptions::with_features(
+    let BfsGraph {
+        graph,
+        visit,
+        expand,
+    } = graph(problem);
+    let compiled = graph.compile(&CompileOptions::with_features(
         scheduler::recommended_features(&gpu.device),
     ))?;
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, config)?;
@@ -276,7 +288,7 @@ pub fn run(
         .map(|&node| Hop { node, level: 0 })
         .collect();
     let report = executor.run(
-        &Seeds::new().add("Visit", &seeds),
+        &Seeds::new().add(&visit, &seeds),
         &[
             Binding::buffer("row_start", &row_start),
             Binding::buffer("adjacency", &adjacency),
@@ -332,8 +344,8 @@ pub fn run(
             examples.join("; ")
         ));
     }
-    let visit = report.procedure("Visit").ok_or("no Visit stats")?;
-    let expand = report.procedure("Expand").ok_or("no Expand stats")?;
+    let visit = report.procedure(&visit).ok_or("no Visit stats")?;
+    let expand = report.procedure(&expand).ok_or("no Expand stats")?;
     let mut expect = |what: &str, scheduler: u64, body: u64| {
         if scheduler != body {
             mismatches.push(format!(

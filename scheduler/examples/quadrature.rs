@@ -22,8 +22,8 @@ use std::fmt::Write as _;
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::wgpu::util::DeviceExt as _;
 use scheduler::{
-    Binding, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Procedure, Resource, RunReport,
-    Seeds, item_type, readback::read_buffer, wgpu,
+    Binding, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Item as _, Procedure,
+    ProcedureId, Resource, RunReport, Seeds, readback::read_buffer, wgpu,
 };
 
 /// Grid points per unit length: x = k / 2^20, the domain is [0, 1].
@@ -43,8 +43,8 @@ const TALLY_STRIDE: u32 = 4;
 
 /// An interval [a, a + ROOT_WIDTH >> depth] with the integrand at its ends
 /// and midpoint, so children never evaluate a point twice.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+#[scheduler::item]
+#[derive(Debug)]
 pub struct Interval {
     pub a: u32,
     pub depth: u32,
@@ -57,8 +57,8 @@ pub struct Interval {
 /// `d < width` from `center`: a smooth (C1) quartic `(1 - (d / width)^2)^2`
 /// peaking at `height * width^4 / 2^shift`, between `height * 2^12` and
 /// `height * 2^16`. See [`f`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
-#[repr(C)]
+#[scheduler::item]
+#[derive(Debug, PartialEq, Eq)]
 pub struct Bump {
     pub center: u32,
     pub width: u32,
@@ -424,30 +424,32 @@ if (valid) {
 }
 ";
 
+/// The graph of [`graph`], with the handle of its procedure.
+#[derive(Debug)]
+pub struct QuadratureGraph {
+    pub graph: Graph,
+    pub refine: ProcedureId<Interval>,
+}
+
 /// The one-procedure graph: `Refine` enqueues into itself.
-pub fn graph(problem: &Problem) -> Graph {
-    let interval = item_type!(
-        Interval,
-        "struct Interval { a: u32, depth: u32, fa: u32, fm: u32, fb: u32 }",
-        [a, depth, fa, fm, fb]
-    );
+pub fn graph(problem: &Problem) -> QuadratureGraph {
     let mut graph = Graph::new("adaptive quadrature");
-    graph.library("struct Bump { center: u32, width: u32, height: u32, shift: u32 }");
-    graph.library(&format!(
-        "const ROOT_WIDTH: u32 = {ROOT_WIDTH}u;\nconst MAX_DEPTH: u32 = {MAX_DEPTH}u;\n\
-         const THRESHOLD: u32 = {}u;\nconst TALLY_STRIDE: u32 = {TALLY_STRIDE}u;",
-        problem.threshold
-    ));
+    graph
+        .constant("ROOT_WIDTH", ROOT_WIDTH)
+        .constant("MAX_DEPTH", MAX_DEPTH)
+        .constant("THRESHOLD", problem.threshold)
+        .constant("TALLY_STRIDE", TALLY_STRIDE);
+    graph.library(&Bump::wgsl_struct());
     graph.library(WGSL_LIBRARY);
     graph.resource(Resource::storage_read("bumps", "array<Bump>"));
     graph.resource(Resource::storage("tally", "array<atomic<u32>>"));
-    graph.procedure(
-        Procedure::new("Refine", interval)
+    let refine = graph.procedure(
+        Procedure::of::<Interval>("Refine")
             .initial(true)
             .body(REFINE_BODY),
     );
-    graph.connect_with_fan_out("Refine", "Refine", 2);
-    graph
+    graph.connect_with_fan_out(&refine, &refine, 2);
+    QuadratureGraph { graph, refine }
 }
 
 /// A checked run: the report and every disagreement with the CPU (none when
@@ -468,7 +470,8 @@ pub fn run(
     config: &ExecutorConfig,
 ) -> Result<Checked, Box<dyn Error>> {
     problem.assert_in_range();
-    let compiled = graph(problem).compile(&CompileOptions::with_features(
+    let QuadratureGraph { graph, refine } = graph(problem);
+    let compiled = graph.compile(&CompileOptions::with_features(
         scheduler::recommended_features(&gpu.device),
     ))?;
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, config)?;
@@ -490,7 +493,7 @@ pub fn run(
         });
     let roots = roots(problem);
     let report = executor.run(
-        &Seeds::new().add("Refine", &roots),
+        &Seeds::new().add(&refine, &roots),
         &[
             Binding::buffer("bumps", &bumps),
             Binding::buffer("tally", &tally),
@@ -516,7 +519,7 @@ pub fn run(
             ));
         }
     }
-    let stats = report.procedure("Refine").ok_or("no Refine stats")?;
+    let stats = report.procedure(&refine).ok_or("no Refine stats")?;
     if stats.executed != processed {
         mismatches.push(format!(
             "Refine executed {} intervals, the CPU processed {processed}",

@@ -1,8 +1,7 @@
 //! Stress test of the queue protocol: a binary tree of 2^20 items whose items
 //! carry a checksum. Prints any item that arrives corrupted.
 use scheduler::*;
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+#[scheduler::item]
 struct Node {
     depth: u32,
     id: u32,
@@ -11,29 +10,24 @@ struct Node {
 }
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let gpu = Gpu::new(&Default::default())?;
-    let node = item_type!(
-        Node,
-        "struct Node { depth: u32, id: u32, check: u32, pad: u32 }",
-        [depth, id, check, pad]
-    );
-    let d = 19u32;
     let mut g = Graph::new("tree");
+    g.constant("DEPTH", 19u32);
     g.resource(Resource::storage("log", "array<atomic<u32>>"));
-    g.procedure(Procedure::new("Grow", node).initial(true).body(format!("if (valid) {{
-    if (item.check != (item.id ^ (item.depth * 2654435761u) ^ 0xa5a5a5a5u)) {{
+    let grow = g.procedure(Procedure::of::<Node>("Grow").initial(true).body("if (valid) {
+    if (item.check != (item.id ^ (item.depth * 2654435761u) ^ 0xa5a5a5a5u)) {
         let n = atomicAdd(&log[0], 1u);
-        if (n < 16u) {{ atomicStore(&log[1u + n * 4u], item.depth); atomicStore(&log[2u + n * 4u], item.id); atomicStore(&log[3u + n * 4u], item.check); atomicStore(&log[4u + n * 4u], item.pad); }}
+        if (n < 16u) { atomicStore(&log[1u + n * 4u], item.depth); atomicStore(&log[2u + n * 4u], item.id); atomicStore(&log[3u + n * 4u], item.check); atomicStore(&log[4u + n * 4u], item.pad); }
         return;
-    }}
-    if (item.depth < {d}u) {{
-        for (var c = 0u; c < 2u; c += 1u) {{
+    }
+    if (item.depth < DEPTH) {
+        for (var c = 0u; c < 2u; c += 1u) {
             let id = 2u * item.id + c;
             let depth = item.depth + 1u;
             enqueue_Grow(Node(depth, id, id ^ (depth * 2654435761u) ^ 0xa5a5a5a5u, 7u));
-        }}
-    }}
-}}")));
-    g.connect_with_fan_out("Grow", "Grow", 2);
+        }
+    }
+}"));
+    g.connect_with_fan_out(&grow, &grow, 2);
     let feats = if std::env::var("ATOMIC").is_ok() {
         wgpu::Features::empty()
     } else {
@@ -77,7 +71,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         enc.clear_buffer(&log, 0, None);
         gpu.queue.submit([enc.finish()]);
         let r = e.run(
-            &Seeds::new().add("Grow", &[root]),
+            &Seeds::new().add(&grow, &[root]),
             &[Binding::buffer("log", &log)],
         );
         let bytes = readback::read_buffer(

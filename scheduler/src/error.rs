@@ -90,10 +90,12 @@ pub enum CompileError {
         /// The largest allowed.
         max: u32,
     },
-    /// The shared scratch region (plus the scheduler's own workgroup memory)
-    /// exceeds `max_compute_workgroup_storage_size`.
+    /// The workgroup memory of an entry point, measured on the module (the
+    /// shared scratch region, the scheduler's own variables and the library's
+    /// `var<workgroup>` declarations), exceeds
+    /// `max_compute_workgroup_storage_size`.
     #[error(
-        "procedure `{procedure}` needs {needed} bytes of workgroup memory ({per_item} bytes per item x {items} items + {internal} bytes for the scheduler); the limit is {limit}"
+        "procedure `{procedure}` needs {needed} bytes of workgroup memory ({per_item} bytes of scratch per item x {items} items + {internal} bytes of other workgroup variables, the library's included); the limit is {limit}"
     )]
     ScratchTooLarge {
         /// The procedure with the largest scratch need.
@@ -102,7 +104,8 @@ pub enum CompileError {
         per_item: u32,
         /// Items per workgroup.
         items: u32,
-        /// Bytes the scheduler itself uses.
+        /// The rest of the need: the scheduler's and the library's workgroup
+        /// variables, each rounded up to 16 bytes as WebGPU counts them.
         internal: u32,
         /// Total bytes needed.
         needed: u32,
@@ -152,6 +155,23 @@ pub enum CompileError {
     ReservedName {
         /// The offending name.
         name: String,
+    },
+    /// A graph constant's name is not a WGSL identifier, or is a WGSL keyword
+    /// or reserved word.
+    #[error(
+        "constant name `{0}` must be a WGSL identifier (ASCII letters, digits, '_', not starting with a digit or `__`) and not a WGSL keyword"
+    )]
+    InvalidConstantName(String),
+    /// Two graph constants share a name.
+    #[error("duplicate constant name `{0}`")]
+    DuplicateConstant(String),
+    /// A graph constant is NaN or infinite, which WGSL cannot express.
+    #[error("constant `{name}` is {value}; WGSL constants must be finite")]
+    NonFiniteConstant {
+        /// The constant.
+        name: String,
+        /// Its value.
+        value: String,
     },
     /// Two resources share a name, or there are more than the limits allow.
     #[error("resource problem: {0}")]

@@ -1,9 +1,13 @@
 //! The procedure graph a user declares: procedures, their connections, a shared
-//! WGSL library and extra resources. Building the graph never fails; all checks
-//! happen in [`Graph::compile`](crate::Graph::compile) so that every problem is
-//! reported as a typed [`CompileError`](crate::CompileError).
+//! WGSL library, constants and extra resources. Building the graph never
+//! fails; all checks happen in [`Graph::compile`](crate::Graph::compile) so
+//! that every problem is reported as a typed [`CompileError`](crate::CompileError).
 
-use crate::ItemType;
+use std::fmt;
+use std::marker::PhantomData;
+use std::sync::Arc;
+
+use crate::{ConstantValue, Item, ItemType, ProcedureId, Untyped};
 
 /// Default priority of a procedure. Higher runs first under
 /// [`Policy::Priority`](crate::Policy::Priority).
@@ -24,8 +28,12 @@ pub const DEFAULT_PRIORITY: i32 = 0;
 /// Barriers (`workgroupBarrier`, `storageBarrier`, `workgroupUniformLoad`) are
 /// allowed only at the body's top level, never inside a branch on `valid`,
 /// `thread` or data: every thread reaches them, including those without an item.
-#[derive(Clone, Debug)]
-pub struct Procedure {
+///
+/// `T` is the Rust item type: [`Procedure::of`] takes it from a type that
+/// derives [`Item`], and [`Graph::procedure`] returns a [`ProcedureId<T>`]
+/// that only accepts seeds of that type. [`Procedure::new`] takes an explicit
+/// [`ItemType`] instead and makes an [`Untyped`] procedure.
+pub struct Procedure<T = Untyped> {
     pub(crate) name: String,
     pub(crate) item: ItemType,
     pub(crate) threads_per_item: u32,
@@ -33,11 +41,14 @@ pub struct Procedure {
     pub(crate) scratch_bytes: u32,
     pub(crate) priority: i32,
     pub(crate) body: String,
+    marker: PhantomData<fn() -> T>,
 }
 
 impl Procedure {
-    /// A procedure with one thread per item, no scratch, default priority and
-    /// an empty body.
+    /// A procedure with items of an explicit [`ItemType`] (for example from
+    /// [`item_type!`](crate::item_type)), one thread per item, no scratch,
+    /// default priority and an empty body. Its seeds are checked by size at
+    /// run time only; prefer [`Procedure::of`].
     pub fn new(name: impl Into<String>, item: ItemType) -> Self {
         Self {
             name: name.into(),
@@ -47,6 +58,29 @@ impl Procedure {
             scratch_bytes: 0,
             priority: DEFAULT_PRIORITY,
             body: String::new(),
+            marker: PhantomData,
+        }
+    }
+
+    /// A procedure whose items are `T`, otherwise like [`Procedure::new`]:
+    /// `Procedure::of::<Node>("Grow")`.
+    pub fn of<T: Item>(name: impl Into<String>) -> Procedure<T> {
+        Procedure::new(name, ItemType::of::<T>()).retype()
+    }
+}
+
+impl<T> Procedure<T> {
+    /// The same procedure with another item type parameter.
+    fn retype<U>(self) -> Procedure<U> {
+        Procedure {
+            name: self.name,
+            item: self.item,
+            threads_per_item: self.threads_per_item,
+            initial: self.initial,
+            scratch_bytes: self.scratch_bytes,
+            priority: self.priority,
+            body: self.body,
+            marker: PhantomData,
         }
     }
 
@@ -83,6 +117,39 @@ impl Procedure {
     /// The procedure's name.
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// The procedure's item type.
+    pub fn item_type(&self) -> &ItemType {
+        &self.item
+    }
+}
+
+// Written out rather than derived: derives would require `T: Clone` and
+// `T: Debug`, but `T` is only a marker.
+impl<T> Clone for Procedure<T> {
+    fn clone(&self) -> Self {
+        Self {
+            name: self.name.clone(),
+            item: self.item.clone(),
+            body: self.body.clone(),
+            marker: PhantomData,
+            ..*self
+        }
+    }
+}
+
+impl<T> fmt::Debug for Procedure<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Procedure")
+            .field("name", &self.name)
+            .field("item", &self.item)
+            .field("threads_per_item", &self.threads_per_item)
+            .field("initial", &self.initial)
+            .field("scratch_bytes", &self.scratch_bytes)
+            .field("priority", &self.priority)
+            .field("body", &self.body)
+            .finish()
     }
 }
 
@@ -169,6 +236,7 @@ pub struct Graph {
     pub(crate) procedures: Vec<Procedure>,
     pub(crate) connections: Vec<Connection>,
     pub(crate) library: String,
+    pub(crate) constants: Vec<(String, ConstantValue)>,
     pub(crate) resources: Vec<Resource>,
 }
 
@@ -181,24 +249,62 @@ impl Graph {
         }
     }
 
-    /// Adds a procedure.
-    pub fn procedure(&mut self, procedure: Procedure) -> &mut Self {
-        self.procedures.push(procedure);
-        self
+    /// Adds a procedure and returns its handle, which connections, seeds and
+    /// report look-ups take.
+    pub fn procedure<T>(&mut self, procedure: Procedure<T>) -> ProcedureId<T> {
+        let id = ProcedureId::new(Arc::from(procedure.name.as_str()));
+        self.procedures.push(procedure.retype());
+        id
+    }
+
+    /// The handle of the procedure called `name`, if the graph has one whose
+    /// item type is `T`: for code that gets a graph without its handles.
+    pub fn procedure_id<T: Item>(&self, name: &str) -> Option<ProcedureId<T>> {
+        let item = ItemType::of::<T>();
+        self.procedures
+            .iter()
+            .find(|p| p.name == name && p.item == item)
+            .map(|p| ProcedureId::new(Arc::from(p.name.as_str())))
     }
 
     /// Lets `from` enqueue at most one item into `to` per item it runs.
-    pub fn connect(&mut self, from: &str, to: &str) -> &mut Self {
+    pub fn connect<A, B>(&mut self, from: &ProcedureId<A>, to: &ProcedureId<B>) -> &mut Self {
         self.connect_with_fan_out(from, to, 1)
     }
 
     /// Lets `from` enqueue up to `fan_out` items into `to` per item it runs.
-    pub fn connect_with_fan_out(&mut self, from: &str, to: &str, fan_out: u32) -> &mut Self {
+    pub fn connect_with_fan_out<A, B>(
+        &mut self,
+        from: &ProcedureId<A>,
+        to: &ProcedureId<B>,
+        fan_out: u32,
+    ) -> &mut Self {
         self.connections.push(Connection {
-            from: from.to_owned(),
-            to: to.to_owned(),
+            from: from.name().to_owned(),
+            to: to.name().to_owned(),
             fan_out,
         });
+        self
+    }
+
+    /// Declares `const NAME: TYPE = value;` in the generated module, where
+    /// bodies and the library use it by name. `value` is a `u32`, `i32`,
+    /// `f32` (written so that it parses back to the same bits) or `bool`.
+    ///
+    /// ```
+    /// let mut graph = scheduler::Graph::new("tree");
+    /// graph.constant("MAX_DEPTH", 10u32).constant("SCALE", 0.1f32);
+    /// ```
+    ///
+    /// Compiling rejects a name that is not a WGSL identifier, is a WGSL
+    /// keyword, starts with `sched_`, `SCHED_` or `enqueue_`, or is declared
+    /// twice, and a NaN or infinite `f32`.
+    pub fn constant(
+        &mut self,
+        name: impl Into<String>,
+        value: impl Into<ConstantValue>,
+    ) -> &mut Self {
+        self.constants.push((name.into(), value.into()));
         self
     }
 

@@ -8,38 +8,48 @@
 //! items until no work is left. An [`Executor`] runs it on a `wgpu` device.
 //!
 //! ```no_run
-//! use scheduler::{item_type, Binding, CompileOptions, Executor, ExecutorConfig, Graph, Gpu, Procedure, Seeds};
+//! use scheduler::{CompileOptions, Executor, ExecutorConfig, Graph, Gpu, Procedure, Seeds};
 //!
-//! #[repr(C)]
-//! #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+//! // The item type, stated once: its WGSL struct is derived from it.
+//! #[scheduler::item]
 //! struct Node { depth: u32, id: u32 }
 //!
-//! let node = item_type!(Node, "struct Node { depth: u32, id: u32 }", [depth, id]);
 //! let mut graph = Graph::new("binary tree");
-//! graph.procedure(Procedure::new("Grow", node).initial(true).body(
-//!     "if (valid && item.depth < 10u) {
+//! graph.constant("MAX_DEPTH", 10u32);
+//! let grow = graph.procedure(Procedure::of::<Node>("Grow").initial(true).body(
+//!     "if (valid && item.depth < MAX_DEPTH) {
 //!          enqueue_Grow(Node(item.depth + 1u, item.id * 2u));
 //!          enqueue_Grow(Node(item.depth + 1u, item.id * 2u + 1u));
 //!      }",
 //! ));
-//! graph.connect_with_fan_out("Grow", "Grow", 2);
+//! graph.connect_with_fan_out(&grow, &grow, 2);
 //! let compiled = graph.compile(&CompileOptions::default())?;
 //!
 //! let gpu = Gpu::new(&Default::default())?;
 //! let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &ExecutorConfig::default())?;
-//! let report = executor.run(&Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]), &[])?;
-//! assert_eq!(report.procedure("Grow").unwrap().executed, 2047);
+//! let report = executor.run(&Seeds::new().add(&grow, &[Node { depth: 0, id: 1 }]), &[])?;
+//! assert_eq!(report.procedure(&grow).unwrap().executed, 2047);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! [`Graph::procedure`] returns a [`ProcedureId`] typed by the item, so seeds
+//! of the wrong type do not compile; see [`Item`] for the derive and the
+//! layouts it accepts, and [`Graph::constant`] for host values.
 //!
 //! See `docs/scheduler.md` for the body contract, the queue protocol and the
 //! arguments for termination and race freedom.
 
+// The derives name `::scheduler`, which must also resolve inside this crate
+// (its unit tests derive items).
+extern crate self as scheduler;
+
 mod adapter;
 mod codegen;
 mod compile;
+mod constant;
 mod error;
 mod graph;
+mod handle;
 mod item;
 mod options;
 pub mod readback;
@@ -48,9 +58,11 @@ mod runtime;
 pub use adapter::{DeviceRequest, Gpu};
 pub use compile::CompiledGraph;
 pub use compile::plan::QueuePlan;
+pub use constant::ConstantValue;
 pub use error::{CompileError, DeviceError, RunError, SourceOrigin};
 pub use graph::{Access, Connection, DEFAULT_PRIORITY, Graph, Procedure, Resource};
-pub use item::ItemType;
+pub use handle::{ProcedureId, Untyped};
+pub use item::{Item, ItemType, WgslStructs, WgslType, layout as wgsl_layout};
 pub use options::{CompileOptions, MAX_CHUNKS_PER_BATCH, Policy, recommended_features};
 pub use runtime::config::{
     CPU_CHUNK_BUDGET, CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, Capacities, DEFAULT_CAPACITY,
@@ -60,7 +72,11 @@ pub use runtime::executor::{Binding, Executor, ResetFn, Retry};
 pub use runtime::report::{ProcedureStats, RunReport};
 pub use runtime::seeds::Seeds;
 pub use runtime::strategy::{DEFAULT_ROUNDS_PER_BATCH, Strategy};
+pub use scheduler_derive::{Item, item};
 
-// Re-exported so that users and the `item_type!` macro name the same versions.
+// Re-exported so that users, the `item_type!` macro and `#[item]` name the
+// same versions.
 pub use bytemuck;
+#[cfg(feature = "glam")]
+pub use glam;
 pub use wgpu;

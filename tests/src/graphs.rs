@@ -1,10 +1,16 @@
-//! Small graphs shared by the scheduler's tests.
+//! Small graphs shared by the scheduler's tests, each with the handles of its
+//! procedures.
 
-use scheduler::{Graph, ItemType, Procedure, Resource, item_type};
+use std::ops::Deref;
 
-/// A two-word tree node.
+use scheduler::{Graph, ItemType, Procedure, ProcedureId, Resource};
+
+/// A two-word tree node. It derives `Pod` itself, so it derives `Item` alone
+/// (the examples use `#[scheduler::item]`, which derives both).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable, scheduler::Item,
+)]
 pub struct Node {
     /// Depth in the tree.
     pub depth: u32,
@@ -12,13 +18,34 @@ pub struct Node {
     pub id: u32,
 }
 
-/// The WGSL twin of [`Node`].
+/// The item type of [`Node`], for procedures built with an explicit
+/// `ItemType`.
 pub fn node_type() -> ItemType {
-    item_type!(Node, "struct Node { depth: u32, id: u32 }", [depth, id])
+    ItemType::of::<Node>()
 }
 
+/// A graph with the handles of its procedures; it dereferences to the graph.
+#[derive(Clone, Debug)]
+pub struct WithIds<I> {
+    /// The graph.
+    pub graph: Graph,
+    /// Its procedures' handles.
+    pub ids: I,
+}
+
+impl<I> Deref for WithIds<I> {
+    type Target = Graph;
+
+    fn deref(&self) -> &Graph {
+        &self.graph
+    }
+}
+
+/// The one procedure `Grow` of a tree graph.
+pub type Tree = WithIds<ProcedureId<Node>>;
+
 /// A complete binary tree of the given depth: `2^(depth + 1) - 1` items.
-pub fn binary_tree(depth: u32) -> Graph {
+pub fn binary_tree(depth: u32) -> Tree {
     tree_graph("binary tree", grow_body(depth))
 }
 
@@ -32,8 +59,8 @@ pub fn hash_rounds(id: u32) -> u32 {
 
 /// [`binary_tree`] whose items each also run a loop of [`HASH_ROUNDS`]
 /// iterations and store the result in the resource `out[id]`.
-pub fn hashing_tree(depth: u32) -> Graph {
-    let mut graph = tree_graph(
+pub fn hashing_tree(depth: u32) -> Tree {
+    let mut tree = tree_graph(
         "hashing tree",
         format!(
             "if (valid) {{
@@ -47,8 +74,8 @@ pub fn hashing_tree(depth: u32) -> Graph {
             grow_body(depth)
         ),
     );
-    graph.resource(Resource::storage("out", "array<u32>"));
-    graph
+    tree.graph.resource(Resource::storage("out", "array<u32>"));
+    tree
 }
 
 /// The body that gives each node above `depth` its two children.
@@ -63,22 +90,22 @@ fn grow_body(depth: u32) -> String {
 
 /// One initial procedure `Grow` with `body`, enqueueing into itself (two
 /// children per item).
-fn tree_graph(name: &str, body: String) -> Graph {
+fn tree_graph(name: &str, body: String) -> Tree {
     let mut graph = Graph::new(name);
-    graph.procedure(Procedure::new("Grow", node_type()).initial(true).body(body));
-    graph.connect_with_fan_out("Grow", "Grow", 2);
-    graph
+    let grow = graph.procedure(Procedure::of::<Node>("Grow").initial(true).body(body));
+    graph.connect_with_fan_out(&grow, &grow, 2);
+    WithIds { graph, ids: grow }
 }
 
 /// Four threads per item cooperate through workgroup scratch with a barrier:
 /// each thread stores `id * 4 + thread + 1`, then thread 0 sums the four
 /// values into `out[id]`. Every thread reaches the barrier, with or without
 /// an item.
-pub fn scratch_sum() -> Graph {
+pub fn scratch_sum() -> WithIds<ProcedureId<Node>> {
     let mut graph = Graph::new("scratch sum");
     graph.resource(Resource::storage("out", "array<u32>"));
-    graph.procedure(
-        Procedure::new("Sum", node_type())
+    let sum = graph.procedure(
+        Procedure::of::<Node>("Sum")
             .initial(true)
             .threads_per_item(16)
             .scratch_bytes(64)
@@ -98,22 +125,31 @@ if (valid && thread == 15u) {
 }",
             ),
     );
-    graph
+    WithIds { graph, ids: sum }
+}
+
+/// The procedures of [`ping_pong`].
+#[derive(Clone, Debug)]
+pub struct PingPongIds {
+    /// The initial procedure, one thread per item.
+    pub ping: ProcedureId<Node>,
+    /// Eight threads per item.
+    pub pong: ProcedureId<Node>,
 }
 
 /// A cycle between two procedures with different thread counts and
 /// priorities: Ping (1 thread) -> Pong (8 threads) -> Ping, until depth runs
 /// out. Ping spawns `1 + id % 3` Pongs; Pong spawns one Ping.
-pub fn ping_pong(max_depth: u32) -> Graph {
+pub fn ping_pong(max_depth: u32) -> WithIds<PingPongIds> {
     let mut graph = Graph::new("ping pong");
-    graph.library(&format!(
-        "const MAX_DEPTH: u32 = {max_depth}u;
-fn children_of(id: u32) -> u32 {{
+    graph.constant("MAX_DEPTH", max_depth);
+    graph.library(
+        "fn children_of(id: u32) -> u32 {
     return 1u + id % 3u;
-}}"
-    ));
-    graph.procedure(
-        Procedure::new("Ping", node_type())
+}",
+    );
+    let ping = graph.procedure(
+        Procedure::of::<Node>("Ping")
             .initial(true)
             .priority(1)
             .body(
@@ -124,8 +160,8 @@ fn children_of(id: u32) -> u32 {{
 }",
             ),
     );
-    graph.procedure(
-        Procedure::new("Pong", node_type())
+    let pong = graph.procedure(
+        Procedure::of::<Node>("Pong")
             .threads_per_item(8)
             .priority(2)
             .body(
@@ -134,9 +170,12 @@ fn children_of(id: u32) -> u32 {{
 }",
             ),
     );
-    graph.connect_with_fan_out("Ping", "Pong", 3);
-    graph.connect("Pong", "Ping");
-    graph
+    graph.connect_with_fan_out(&ping, &pong, 3);
+    graph.connect(&pong, &ping);
+    WithIds {
+        graph,
+        ids: PingPongIds { ping, pong },
+    }
 }
 
 /// CPU count of items executed per procedure of [`ping_pong`] from `seeds`.

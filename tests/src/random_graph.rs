@@ -16,11 +16,11 @@
 
 use std::fmt;
 
-use scheduler::{CompileOptions, Graph, ItemType, Policy, Procedure, Seeds, item_type};
+use scheduler::{CompileOptions, Graph, Policy, Procedure, ProcedureId, Seeds};
 
 /// The item every procedure of a random graph consumes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+#[scheduler::item]
+#[derive(Debug, Default, PartialEq, Eq)]
 pub struct Task {
     /// Generations since the seed (plus the seed's own depth).
     pub depth: u32,
@@ -28,15 +28,6 @@ pub struct Task {
     pub key: u32,
     /// Index of the procedure that spawned the item (random for seeds).
     pub origin: u32,
-}
-
-/// The WGSL twin of [`Task`].
-pub fn task_type() -> ItemType {
-    item_type!(
-        Task,
-        "struct Task { depth: u32, key: u32, origin: u32 }",
-        [depth, key, origin]
-    )
 }
 
 /// The integer hash the bodies use (a 32-bit finaliser), in wrapping
@@ -371,18 +362,23 @@ impl RandomGraph {
     pub fn graph(&self) -> Graph {
         let mut graph = Graph::new(format!("random graph {}", self.seed));
         graph.library(LIBRARY);
-        for (index, p) in self.procedures.iter().enumerate() {
-            graph.procedure(
-                Procedure::new(p.name.clone(), task_type())
-                    .initial(p.initial)
-                    .threads_per_item(p.threads_per_item)
-                    .priority(p.priority)
-                    .body(self.body(index)),
-            );
-        }
-        for p in &self.procedures {
+        let ids: Vec<ProcedureId<Task>> = self
+            .procedures
+            .iter()
+            .enumerate()
+            .map(|(index, p)| {
+                graph.procedure(
+                    Procedure::of::<Task>(p.name.clone())
+                        .initial(p.initial)
+                        .threads_per_item(p.threads_per_item)
+                        .priority(p.priority)
+                        .body(self.body(index)),
+                )
+            })
+            .collect();
+        for (p, from) in self.procedures.iter().zip(&ids) {
             for e in &p.edges {
-                graph.connect_with_fan_out(&p.name, &self.procedures[e.to].name, e.fan_out);
+                graph.connect_with_fan_out(from, &ids[e.to], e.fan_out);
             }
         }
         graph
@@ -437,10 +433,16 @@ impl RandomGraph {
 
     /// The seeds of a run.
     pub fn run_seeds(&self) -> Seeds {
+        // Procedures are named by this generator's data, so their handles
+        // are looked up in the graph (which checks their item type).
+        let graph = self.graph();
         let mut seeds = Seeds::new();
         for (p, items) in self.procedures.iter().zip(&self.seeds) {
             if !items.is_empty() {
-                seeds.push(&p.name, items);
+                let id = graph
+                    .procedure_id::<Task>(&p.name)
+                    .expect("graph() declares every procedure with `Task` items");
+                seeds.push(&id, items);
             }
         }
         seeds

@@ -1,8 +1,9 @@
-//! Every `CompileError` variant, from graphs built to trigger it. Pure tests:
-//! no GPU needed.
+//! Every `CompileError` variant, from graphs built to trigger it (those of
+//! constants and nested item structs are in `typed_api.rs`). Pure tests: no
+//! GPU needed.
 
 use scheduler::{
-    CompileError, CompileOptions, Graph, Procedure, Resource, SourceOrigin, item_type,
+    CompileError, CompileOptions, Graph, Procedure, ProcedureId, Resource, SourceOrigin, item_type,
 };
 use tests::graphs::{Node, binary_tree, node_type};
 
@@ -10,10 +11,8 @@ fn compile(graph: &Graph) -> Result<scheduler::CompiledGraph, CompileError> {
     graph.compile(&CompileOptions::default())
 }
 
-fn leaf(name: &str) -> Procedure {
-    Procedure::new(name, node_type())
-        .initial(true)
-        .body("_ = item;")
+fn leaf(name: &str) -> Procedure<Node> {
+    Procedure::of::<Node>(name).initial(true).body("_ = item;")
 }
 
 #[test]
@@ -24,7 +23,8 @@ fn a_valid_graph_compiles() {
 #[test]
 fn duplicate_procedure_names() {
     let mut g = Graph::new("dup");
-    g.procedure(leaf("A")).procedure(leaf("A"));
+    g.procedure(leaf("A"));
+    g.procedure(leaf("A"));
     assert_eq!(
         compile(&g).unwrap_err(),
         CompileError::DuplicateProcedure("A".into())
@@ -43,15 +43,16 @@ fn procedure_names_must_be_identifiers() {
 #[test]
 fn no_initial_procedure() {
     let mut g = Graph::new("none");
-    g.procedure(Procedure::new("A", node_type()).body("_ = item;"));
+    g.procedure(Procedure::of::<Node>("A").body("_ = item;"));
     assert_eq!(compile(&g).unwrap_err(), CompileError::NoInitialProcedure);
 }
 
 #[test]
 fn connection_to_unknown_procedure() {
     let mut g = Graph::new("unknown");
-    g.procedure(leaf("A"));
-    g.connect("A", "Missing");
+    let a = g.procedure(leaf("A"));
+    // A handle can only name a procedure of another graph, or none, untyped.
+    g.connect(&a, &ProcedureId::named("Missing"));
     assert!(matches!(
         compile(&g).unwrap_err(),
         CompileError::UnknownProcedure { unknown, .. } if unknown == "Missing"
@@ -61,8 +62,8 @@ fn connection_to_unknown_procedure() {
 #[test]
 fn zero_fan_out() {
     let mut g = Graph::new("fan-out");
-    g.procedure(leaf("A"));
-    g.connect_with_fan_out("A", "A", 0);
+    let a = g.procedure(leaf("A"));
+    g.connect_with_fan_out(&a, &a, 0);
     assert!(matches!(
         compile(&g).unwrap_err(),
         CompileError::ZeroFanOut { .. }
@@ -133,13 +134,13 @@ fn chunks_per_batch_out_of_range() {
 fn scratch_over_the_limit_names_the_largest_procedure() {
     // 64 bytes x 256 items = 16 KiB, plus the scheduler's own words: too much.
     let mut g = Graph::new("scratch");
-    g.procedure(leaf("Small").scratch_bytes(4));
-    g.procedure(
-        Procedure::new("Big", node_type())
+    let small = g.procedure(leaf("Small").scratch_bytes(4));
+    let big = g.procedure(
+        Procedure::of::<Node>("Big")
             .scratch_bytes(64)
             .body("_ = item;"),
     );
-    g.connect("Small", "Big");
+    g.connect(&small, &big);
     match compile(&g).unwrap_err() {
         CompileError::ScratchTooLarge {
             procedure,
@@ -159,30 +160,69 @@ fn scratch_over_the_limit_names_the_largest_procedure() {
 }
 
 #[test]
+fn library_workgroup_variables_count_towards_the_limit() {
+    let graph = |library: &str| {
+        let mut g = Graph::new("workgroup library");
+        g.library(library);
+        g.procedure(leaf("A").body("touch_tile(thread);"));
+        g
+    };
+    let without = graph("fn touch_tile(i: u32) { _ = i; }");
+    let with =
+        graph("var<workgroup> tile: array<u32, 1000>;\nfn touch_tile(i: u32) { tile[i] = i; }");
+    // The scheduler's own variables, each rounded up to 16 bytes: the pick
+    // (16), the flush (8), one staged counter (4) and one word of scratch.
+    let base = compile(&without).unwrap().workgroup_memory_bytes();
+    assert_eq!(base, 4 * 16);
+    assert_eq!(
+        compile(&with).unwrap().workgroup_memory_bytes(),
+        base + 4000
+    );
+
+    // A limit that the scheduler's variables fit but the tile does not.
+    let mut options = CompileOptions::default();
+    options.limits.max_compute_workgroup_storage_size = base + 3999;
+    assert!(without.compile(&options).is_ok());
+    match with.compile(&options).unwrap_err() {
+        CompileError::ScratchTooLarge {
+            needed,
+            internal,
+            limit,
+            ..
+        } => {
+            assert_eq!(needed, base + 4000);
+            assert!(internal >= 4000, "{internal}");
+            assert_eq!(limit, base + 3999);
+        }
+        other => panic!("unexpected {other}"),
+    }
+}
+
+#[test]
 fn scratch_is_sized_by_the_largest_procedure_not_the_sum() {
     // Each needs 12 KiB on its own; their sum (24 KiB) would not fit.
     let mut g = Graph::new("shared scratch");
-    g.procedure(leaf("A").scratch_bytes(48));
-    g.procedure(
-        Procedure::new("B", node_type())
+    let a = g.procedure(leaf("A").scratch_bytes(48));
+    let b = g.procedure(
+        Procedure::of::<Node>("B")
             .scratch_bytes(48)
             .body("_ = item;"),
     );
-    g.connect("A", "B");
+    g.connect(&a, &b);
     assert!(compile(&g).is_ok());
 }
 
 #[test]
 fn undeclared_enqueue_in_a_body() {
     let mut g = Graph::new("undeclared");
-    g.procedure(leaf("A").body("if (valid) { enqueue_B(item); }"));
-    g.procedure(Procedure::new("B", node_type()).body("_ = item;"));
-    g.connect("B", "B");
-    g.connect("A", "A");
+    let a = g.procedure(leaf("A").body("if (valid) { enqueue_B(item); }"));
+    let b = g.procedure(Procedure::of::<Node>("B").body("_ = item;"));
+    g.connect(&b, &b);
+    g.connect(&a, &a);
     // B is unreachable from A through declared connections, but reachability is
     // checked first; make B reachable through a second initial procedure.
-    g.procedure(leaf("C"));
-    g.connect("C", "B");
+    let c = g.procedure(leaf("C"));
+    g.connect(&c, &b);
     assert_eq!(
         compile(&g).unwrap_err(),
         CompileError::UndeclaredEnqueue {
@@ -278,7 +318,7 @@ fn unsupported_item_field() {
 fn unreachable_procedure_is_an_error() {
     let mut g = Graph::new("unreachable");
     g.procedure(leaf("A"));
-    g.procedure(Procedure::new("Orphan", node_type()).body("_ = item;"));
+    g.procedure(Procedure::of::<Node>("Orphan").body("_ = item;"));
     assert_eq!(
         compile(&g).unwrap_err(),
         CompileError::UnreachableProcedure("Orphan".into())
@@ -325,12 +365,12 @@ fn resource_problems() {
 #[test]
 fn wgsl_error_in_a_body_names_the_procedure_and_its_own_line() {
     let mut g = Graph::new("typo");
-    g.procedure(leaf("Fine"));
-    g.procedure(
-        Procedure::new("Broken", node_type())
+    let fine = g.procedure(leaf("Fine"));
+    let broken = g.procedure(
+        Procedure::of::<Node>("Broken")
             .body("let a = 1u;\nlet b = a + 2u;\nlet c = b + undefined_name;"),
     );
-    g.connect("Fine", "Broken");
+    g.connect(&fine, &broken);
     match compile(&g).unwrap_err() {
         CompileError::Wgsl {
             origin,

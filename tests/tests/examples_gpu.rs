@@ -151,10 +151,12 @@ fn snapshots_of_the_example_graphs() {
         scheduler::wgpu::Features::MEMORY_DECORATION_COHERENT,
     );
     let quadrature = quadrature::graph(&quadrature::Problem::random(1, 100, 16))
+        .graph
         .compile(&options)
         .unwrap();
     insta::assert_snapshot!("quadrature_megakernel", quadrature.wgsl());
     let bfs = bfs::graph(&bfs::Problem::random(1, 2000, 3))
+        .graph
         .compile(&options)
         .unwrap();
     insta::assert_snapshot!("bfs_megakernel", bfs.wgsl());

@@ -6,9 +6,9 @@ use tests::graphs::{binary_tree, ping_pong, scratch_sum};
 
 fn graphs() -> Vec<(&'static str, Graph)> {
     vec![
-        ("binary_tree", binary_tree(6)),
-        ("scratch_sum", scratch_sum()),
-        ("ping_pong", ping_pong(5)),
+        ("binary_tree", binary_tree(6).graph),
+        ("scratch_sum", scratch_sum().graph),
+        ("ping_pong", ping_pong(5).graph),
     ]
 }
 
@@ -136,4 +136,92 @@ fn snapshot_of_the_coherent_variant() {
         ))
         .unwrap();
     insta::assert_snapshot!("binary_tree_coherent", compiled.wgsl());
+}
+
+/// Two item types sharing a nested item, with a glam vector, arrays and
+/// explicit padding: the WGSL the derive writes for them.
+mod derived {
+    use scheduler::{CompileOptions, Graph, Item, ItemType, Procedure, WgslType, glam::Vec4};
+
+    #[scheduler::item]
+    pub struct Inner {
+        pub weight: f32,
+        pub tag: u32,
+    }
+
+    #[scheduler::item]
+    pub struct Particle {
+        pub position: Vec4,
+        pub pair: [Inner; 2],
+        pub id: u32,
+        pub _pad: [u32; 3],
+    }
+
+    #[scheduler::item]
+    pub struct Spark {
+        pub inner: Inner,
+        pub id: i32,
+    }
+
+    #[test]
+    fn the_derive_writes_the_wgsl_struct_and_its_dependencies() {
+        assert_eq!(
+            Inner::wgsl_struct(),
+            "struct Inner { weight: f32, tag: u32 }"
+        );
+        assert_eq!(
+            ItemType::of::<Particle>().wgsl_source(),
+            "struct Inner { weight: f32, tag: u32 }\n\
+             struct Particle { position: vec4<f32>, pair: array<Inner, 2>, id: u32, _pad: array<u32, 3> }"
+        );
+        assert_eq!(
+            Particle::rust_fields(),
+            [("position", 0), ("pair", 16), ("id", 32), ("_pad", 36)]
+        );
+        assert_eq!(ItemType::of::<Particle>().size(), 48);
+        assert_eq!(
+            (Particle::WGSL_ALIGN, Particle::WGSL_SIZE),
+            (16, std::mem::size_of::<Particle>())
+        );
+    }
+
+    #[test]
+    fn a_graph_of_derived_items_and_constants_compiles_to_the_expected_text() {
+        let mut graph = Graph::new("derived");
+        graph
+            .constant("GRAVITY", -9.81f32)
+            .constant("STEPS", 7u32)
+            .constant("OFFSET", -3i32)
+            .constant("ENABLED", true);
+        let particle = graph.procedure(Procedure::of::<Particle>("Move").initial(true).body(
+            "if (valid && ENABLED && item.id < STEPS) {
+    var next = item;
+    next.position.y += GRAVITY;
+    next.id += 1u;
+    enqueue_Move(next);
+    enqueue_Emit(Spark(item.pair[1], i32(item.id) + OFFSET));
+}",
+        ));
+        let spark = graph.procedure(
+            Procedure::of::<Spark>("Emit").body("_ = item.inner.weight * f32(item.id);"),
+        );
+        graph.connect(&particle, &particle);
+        graph.connect(&particle, &spark);
+        let wgsl = graph
+            .compile(&CompileOptions::default())
+            .unwrap()
+            .wgsl()
+            .to_owned();
+        for line in [
+            "// Graph constants (`Graph::constant`).\nconst GRAVITY: f32 = -9.81f;",
+            "const STEPS: u32 = 7u;",
+            "const OFFSET: i32 = -3i;",
+            "const ENABLED: bool = true;",
+            "struct Spark { inner: Inner, id: i32 }",
+        ] {
+            assert!(wgsl.contains(line), "missing `{line}` in\n{wgsl}");
+        }
+        // `Inner` is nested in both item types and declared once.
+        assert_eq!(wgsl.matches("struct Inner {").count(), 1, "{wgsl}");
+    }
 }

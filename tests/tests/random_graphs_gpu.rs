@@ -127,7 +127,7 @@ const SMALL_BUDGET_ITEMS: u64 = 2000;
 fn count_mismatches(graph: &RandomGraph, expected: &Counts, report: &RunReport) -> Vec<String> {
     let mut mismatches = Vec::new();
     for (p, spec) in graph.procedures.iter().enumerate() {
-        let Some(stats) = report.procedure(&spec.name) else {
+        let Some(stats) = report.procedure_named(&spec.name) else {
             mismatches.push(format!("{} is missing from the report", spec.name));
             continue;
         };
@@ -307,7 +307,7 @@ fn tiny_queues_give_the_cpu_counts_or_a_full_account_of_the_overflow() {
                         problems
                             .push("overflow although every queue holds all that enters it".into());
                     }
-                    match report.procedure(&procedure) {
+                    match report.procedure_named(&procedure) {
                         None => problems.push(format!("the overflow names unknown `{procedure}`")),
                         Some(stats) => {
                             if stats.dropped == 0 || dropped != stats.dropped {
@@ -358,7 +358,7 @@ fn tiny_queues_give_the_cpu_counts_or_a_full_account_of_the_overflow() {
 fn overflow_problems(graph: &RandomGraph, expected: &Counts, report: &RunReport) -> Vec<String> {
     let mut problems = Vec::new();
     for (p, spec) in graph.procedures.iter().enumerate() {
-        let Some(s) = report.procedure(&spec.name) else {
+        let Some(s) = report.procedure_named(&spec.name) else {
             problems.push(format!("{} is missing from the report", spec.name));
             continue;
         };

@@ -6,12 +6,11 @@ use std::time::Duration;
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::{
     Binding, CompileOptions, CompiledGraph, Executor, ExecutorConfig, Gpu, Graph, Policy,
-    Procedure, RunError, RunReport, Seeds, readback::read_buffer, wgpu,
+    Procedure, ProcedureId, RunError, RunReport, Seeds, readback::read_buffer, wgpu,
 };
 use tests::config;
 use tests::graphs::{
-    Node, binary_tree, hash_rounds, hashing_tree, node_type, ping_pong, ping_pong_counts,
-    scratch_sum,
+    Node, binary_tree, hash_rounds, hashing_tree, ping_pong, ping_pong_counts, scratch_sum,
 };
 
 /// Both payload paths (atomics, and coherent memory when the device has it),
@@ -55,17 +54,18 @@ fn binary_tree_counts_are_exact_for_any_workgroup_count() {
     let mut rng = StdRng::seed_from_u64(tests::seed("binary_tree_counts"));
     for options in option_sets(gpu, &mut rng) {
         let depth = rng.random_range(8..=13);
-        let compiled = binary_tree(depth).compile(&options).unwrap();
+        let tree = binary_tree(depth);
+        let compiled = tree.compile(&options).unwrap();
         for workgroups in [1, 2, 64] {
             let report = run(
                 gpu,
                 &compiled,
                 config(workgroups, 1 << 15),
-                &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+                &Seeds::new().add(&tree.ids, &[Node { depth: 0, id: 1 }]),
                 &[],
             )
             .unwrap();
-            let grow = report.procedure("Grow").unwrap();
+            let grow = report.procedure(&tree.ids).unwrap();
             let total = (1u64 << (depth + 1)) - 1;
             assert_eq!(
                 grow.executed, total,
@@ -86,7 +86,8 @@ fn scratch_and_barriers_with_a_partial_last_batch() {
     let Some(gpu) = tests::gpu() else { return };
     let mut rng = StdRng::seed_from_u64(tests::seed("scratch_and_barriers"));
     for options in option_sets(gpu, &mut rng) {
-        let compiled = scratch_sum().compile(&options).unwrap();
+        let sum = scratch_sum();
+        let compiled = sum.compile(&options).unwrap();
         // 16 items per chunk: draw a count that leaves the last chunk partial.
         let count = loop {
             let n = rng.random_range(17..3000u32);
@@ -106,11 +107,14 @@ fn scratch_and_barriers_with_a_partial_last_batch() {
                 gpu,
                 &compiled,
                 config(workgroups, 4096),
-                &Seeds::new().add("Sum", &seeds),
+                &Seeds::new().add(&sum.ids, &seeds),
                 &[Binding::buffer("out", &out)],
             )
             .unwrap();
-            assert_eq!(report.procedure("Sum").unwrap().executed, u64::from(count));
+            assert_eq!(
+                report.procedure(&sum.ids).unwrap().executed,
+                u64::from(count)
+            );
             let bytes =
                 read_buffer(&gpu.device, &gpu.queue, &out, Duration::from_secs(30)).unwrap();
             let values: &[u32] = bytemuck::cast_slice(&bytes);
@@ -143,23 +147,24 @@ fn cycles_across_procedures_match_a_cpu_simulation_under_both_policies() {
             policy,
             ..CompileOptions::default()
         };
-        let compiled = ping_pong(depth).compile(&options).unwrap();
+        let graph = ping_pong(depth);
+        let compiled = graph.compile(&options).unwrap();
         for workgroups in [1, 3, 32] {
             let report = run(
                 gpu,
                 &compiled,
                 config(workgroups, 1 << 16),
-                &Seeds::new().add("Ping", &seeds),
+                &Seeds::new().add(&graph.ids.ping, &seeds),
                 &[],
             )
             .unwrap();
             assert_eq!(
-                report.procedure("Ping").unwrap().executed,
+                report.procedure(&graph.ids.ping).unwrap().executed,
                 pings,
                 "{policy:?}, {workgroups} workgroups"
             );
             assert_eq!(
-                report.procedure("Pong").unwrap().executed,
+                report.procedure(&graph.ids.pong).unwrap().executed,
                 pongs,
                 "{policy:?}, {workgroups} workgroups"
             );
@@ -170,7 +175,8 @@ fn cycles_across_procedures_match_a_cpu_simulation_under_both_policies() {
 #[test]
 fn iteration_budget_spreads_the_run_over_dispatches() {
     let Some(gpu) = tests::gpu() else { return };
-    let compiled = binary_tree(10).compile(&CompileOptions::default()).unwrap();
+    let tree = binary_tree(10);
+    let compiled = tree.compile(&CompileOptions::default()).unwrap();
     let config = ExecutorConfig {
         iteration_budget: Some(2),
         ..config(2, 4096)
@@ -179,11 +185,11 @@ fn iteration_budget_spreads_the_run_over_dispatches() {
         gpu,
         &compiled,
         config,
-        &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+        &Seeds::new().add(&tree.ids, &[Node { depth: 0, id: 1 }]),
         &[],
     )
     .unwrap();
-    assert_eq!(report.procedure("Grow").unwrap().executed, 2047);
+    assert_eq!(report.procedure(&tree.ids).unwrap().executed, 2047);
     assert!(report.dispatches > 1, "{report}");
 }
 
@@ -202,7 +208,8 @@ fn many_chunks_per_batch_stay_within_the_default_loop_budget() {
         chunks_per_batch: 16,
         ..CompileOptions::default()
     };
-    let compiled = hashing_tree(depth).compile(&options).unwrap();
+    let tree = hashing_tree(depth);
+    let compiled = tree.compile(&options).unwrap();
     let out = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("out"),
         size: 4 * (u64::from(items) + 1),
@@ -213,11 +220,14 @@ fn many_chunks_per_batch_stay_within_the_default_loop_budget() {
         gpu,
         &compiled,
         config(1, 1 << 18),
-        &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+        &Seeds::new().add(&tree.ids, &[Node { depth: 0, id: 1 }]),
         &[Binding::buffer("out", &out)],
     )
     .unwrap();
-    assert_eq!(report.procedure("Grow").unwrap().executed, u64::from(items));
+    assert_eq!(
+        report.procedure(&tree.ids).unwrap().executed,
+        u64::from(items)
+    );
     let bytes = read_buffer(&gpu.device, &gpu.queue, &out, Duration::from_secs(30)).unwrap();
     let values: &[u32] = bytemuck::cast_slice(&bytes);
     for id in 1..=items {
@@ -228,13 +238,14 @@ fn many_chunks_per_batch_stay_within_the_default_loop_budget() {
 #[test]
 fn overflow_is_a_typed_error_and_the_run_still_ends() {
     let Some(gpu) = tests::gpu() else { return };
-    let compiled = binary_tree(12).compile(&CompileOptions::default()).unwrap();
+    let tree = binary_tree(12);
+    let compiled = tree.compile(&CompileOptions::default()).unwrap();
     for workgroups in [1, 8] {
         match run(
             gpu,
             &compiled,
             config(workgroups, 64),
-            &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+            &Seeds::new().add(&tree.ids, &[Node { depth: 0, id: 1 }]),
             &[],
         ) {
             Err(RunError::QueueOverflow {
@@ -248,7 +259,7 @@ fn overflow_is_a_typed_error_and_the_run_still_ends() {
                 assert_eq!(capacity, 64);
                 assert!(dropped > 0);
                 assert!(needed_at_least > 64);
-                let grow = report.procedure("Grow").unwrap();
+                let grow = report.procedure(&tree.ids).unwrap();
                 // Nothing is lost silently: what ran plus what was dropped
                 // accounts for every enqueue attempt.
                 assert_eq!(grow.executed, grow.seeded + grow.enqueued);
@@ -263,20 +274,20 @@ fn overflow_is_a_typed_error_and_the_run_still_ends() {
 fn exceeding_the_declared_fan_out_is_reported() {
     let Some(gpu) = tests::gpu() else { return };
     let mut graph = Graph::new("greedy");
-    graph.procedure(Procedure::new("Greedy", node_type()).initial(true).body(
+    let greedy = graph.procedure(Procedure::of::<Node>("Greedy").initial(true).body(
         "if (valid && item.depth == 0u) {
     enqueue_Greedy(Node(1u, item.id));
     enqueue_Greedy(Node(1u, item.id));
 }",
     ));
-    graph.connect("Greedy", "Greedy"); // fan-out 1, but each item enqueues 2
+    graph.connect(&greedy, &greedy); // fan-out 1, but each item enqueues 2
     let compiled = graph.compile(&CompileOptions::default()).unwrap();
     let seeds: Vec<Node> = (0..256).map(|id| Node { depth: 0, id }).collect();
     match run(
         gpu,
         &compiled,
         config(1, 4096),
-        &Seeds::new().add("Greedy", &seeds),
+        &Seeds::new().add(&greedy, &seeds),
         &[],
     ) {
         Err(RunError::FanOutExceeded {
@@ -286,7 +297,7 @@ fn exceeding_the_declared_fan_out_is_reported() {
         }) => {
             assert_eq!(procedure, "Greedy");
             assert_eq!(excess, 256);
-            assert_eq!(report.procedure("Greedy").unwrap().enqueued, 256);
+            assert_eq!(report.procedure(&greedy).unwrap().enqueued, 256);
         }
         other => panic!("expected a fan-out error, got {other:?}"),
     }
@@ -295,27 +306,35 @@ fn exceeding_the_declared_fan_out_is_reported() {
 #[test]
 fn seeding_and_binding_errors_are_typed() {
     let Some(gpu) = tests::gpu() else { return };
-    let compiled = ping_pong(3).compile(&CompileOptions::default()).unwrap();
+    let graph = ping_pong(3);
+    let (ping, pong) = (&graph.ids.ping, &graph.ids.pong);
+    let compiled = graph.compile(&CompileOptions::default()).unwrap();
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config(1, 16)).unwrap();
     let node = [Node::default()];
     assert!(
-        matches!(executor.run(&Seeds::new().add("Pong", &node), &[]), Err(RunError::Seed { procedure, .. }) if procedure == "Pong")
+        matches!(executor.run(&Seeds::new().add(pong, &node), &[]), Err(RunError::Seed { procedure, .. }) if procedure == "Pong")
     );
+    // Handles that name no procedure of the graph, or carry items of the
+    // wrong size, can only be made untyped; the run still refuses them.
     assert!(matches!(
-        executor.run(&Seeds::new().add("Nope", &node), &[]),
+        executor.run(
+            &Seeds::new().add_untyped(&ProcedureId::named("Nope"), &node),
+            &[]
+        ),
         Err(RunError::Seed { .. })
     ));
     assert!(
-        matches!(executor.run(&Seeds::new().add("Ping", &[0u32; 3]), &[]), Err(RunError::Seed { reason, .. }) if reason.contains("bytes"))
+        matches!(executor.run(&Seeds::new().add_untyped(&ping.untyped(), &[0u32; 3]), &[]), Err(RunError::Seed { reason, .. }) if reason.contains("bytes"))
     );
     assert!(
-        matches!(executor.run(&Seeds::new().add("Ping", &[Node::default(); 17]), &[]), Err(RunError::Seed { reason, .. }) if reason.contains("capacity"))
+        matches!(executor.run(&Seeds::new().add(ping, &[Node::default(); 17]), &[]), Err(RunError::Seed { reason, .. }) if reason.contains("capacity"))
     );
 
-    let compiled = scratch_sum().compile(&CompileOptions::default()).unwrap();
+    let sum = scratch_sum();
+    let compiled = sum.compile(&CompileOptions::default()).unwrap();
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config(1, 16)).unwrap();
     assert!(
-        matches!(executor.run(&Seeds::new().add("Sum", &node), &[]), Err(RunError::Binding(m)) if m.contains("out"))
+        matches!(executor.run(&Seeds::new().add(&sum.ids, &node), &[]), Err(RunError::Binding(m)) if m.contains("out"))
     );
 }
 
@@ -336,12 +355,13 @@ fn too_large_configurations_are_refused_before_allocating() {
 #[test]
 fn reports_round_trip_through_json_and_print_a_table() {
     let Some(gpu) = tests::gpu() else { return };
-    let compiled = binary_tree(5).compile(&CompileOptions::default()).unwrap();
+    let tree = binary_tree(5);
+    let compiled = tree.compile(&CompileOptions::default()).unwrap();
     let report = run(
         gpu,
         &compiled,
         config(2, 256),
-        &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+        &Seeds::new().add(&tree.ids, &[Node { depth: 0, id: 1 }]),
         &[],
     )
     .unwrap();
@@ -360,7 +380,7 @@ fn a_run_past_its_timeout_returns_a_typed_error() {
     // Its own device: the slow kernel keeps running after the timeout.
     let gpu = Gpu::new(&Default::default()).unwrap();
     let mut graph = Graph::new("slow");
-    graph.procedure(Procedure::new("Slow", node_type()).initial(true).body(
+    let slow = graph.procedure(Procedure::of::<Node>("Slow").initial(true).body(
         "var h = item.id;
 for (var i = 0u; i < 20000u; i += 1u) {
     h = h * 1664525u + 1013904223u;
@@ -369,7 +389,7 @@ if (valid && h == 7u) {
     enqueue_Slow(item);
 }",
     ));
-    graph.connect("Slow", "Slow");
+    graph.connect(&slow, &slow);
     let compiled = graph.compile(&CompileOptions::default()).unwrap();
     let seeds: Vec<Node> = (0..20_000).map(|id| Node { depth: 0, id }).collect();
     let config = ExecutorConfig {
@@ -377,7 +397,7 @@ if (valid && h == 7u) {
         ..config(2, 1 << 15)
     };
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config).unwrap();
-    let seeds = Seeds::new().add("Slow", &seeds);
+    let seeds = Seeds::new().add(&slow, &seeds);
     let result = executor.run(&seeds, &[]);
     // The error names the configured limit.
     assert!(

@@ -26,9 +26,8 @@ fn strategies() -> [Strategy; 3] {
 fn rounds_run_one_tree_level_per_round_with_exact_counts() {
     let Some(gpu) = tests::gpu() else { return };
     let depth = StdRng::seed_from_u64(tests::seed("rounds_tree")).random_range(6..=12);
-    let compiled = binary_tree(depth)
-        .compile(&CompileOptions::default())
-        .unwrap();
+    let tree = binary_tree(depth);
+    let compiled = tree.compile(&CompileOptions::default()).unwrap();
     // One workgroup forces the round kernels to stride over many batches.
     for workgroups in [1, 2, 64] {
         let mut executor = Executor::new(
@@ -41,11 +40,11 @@ fn rounds_run_one_tree_level_per_round_with_exact_counts() {
         let report = executor
             .run_with(
                 Strategy::rounds(),
-                &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+                &Seeds::new().add(&tree.ids, &[Node { depth: 0, id: 1 }]),
                 &[],
             )
             .unwrap();
-        let grow = report.procedure("Grow").unwrap();
+        let grow = report.procedure(&tree.ids).unwrap();
         assert_eq!(grow.executed, (1 << (depth + 1)) - 1, "{report}");
         assert_eq!(report.rounds, depth + 1, "{report}");
         // Rounds hold a level and its children: the last two levels.
@@ -70,15 +69,16 @@ fn both_strategies_and_policies_give_the_cpu_counts_on_a_cycle() {
             policy,
             ..CompileOptions::default()
         };
-        let compiled = ping_pong(depth).compile(&options).unwrap();
+        let graph = ping_pong(depth);
+        let compiled = graph.compile(&options).unwrap();
         let mut executor =
             Executor::new(&gpu.device, &gpu.queue, &compiled, &config(3, 1 << 15)).unwrap();
         for strategy in strategies() {
             let report = executor
-                .run_with(strategy, &Seeds::new().add("Ping", &seeds), &[])
+                .run_with(strategy, &Seeds::new().add(&graph.ids.ping, &seeds), &[])
                 .unwrap();
-            let ping = report.procedure("Ping").unwrap();
-            let pong = report.procedure("Pong").unwrap();
+            let ping = report.procedure(&graph.ids.ping).unwrap();
+            let pong = report.procedure(&graph.ids.pong).unwrap();
             assert_eq!(
                 (ping.executed, pong.executed),
                 (pings, pongs),
@@ -94,7 +94,8 @@ fn both_strategies_and_policies_give_the_cpu_counts_on_a_cycle() {
 fn rounds_keep_barriers_and_outputs_of_the_megakernel() {
     let Some(gpu) = tests::gpu() else { return };
     let count = StdRng::seed_from_u64(tests::seed("rounds_scratch")).random_range(65..3000u32) | 1;
-    let compiled = scratch_sum().compile(&CompileOptions::default()).unwrap();
+    let sum = scratch_sum();
+    let compiled = sum.compile(&CompileOptions::default()).unwrap();
     let seeds: Vec<Node> = (0..count).map(|id| Node { depth: 0, id }).collect();
     let mut outputs = Vec::new();
     for strategy in [Strategy::Megakernel, Strategy::rounds()] {
@@ -109,11 +110,14 @@ fn rounds_keep_barriers_and_outputs_of_the_megakernel() {
         let report = executor
             .run_with(
                 strategy,
-                &Seeds::new().add("Sum", &seeds),
+                &Seeds::new().add(&sum.ids, &seeds),
                 &[Binding::buffer("out", &out)],
             )
             .unwrap();
-        assert_eq!(report.procedure("Sum").unwrap().executed, u64::from(count));
+        assert_eq!(
+            report.procedure(&sum.ids).unwrap().executed,
+            u64::from(count)
+        );
         outputs.push(read_buffer(&gpu.device, &gpu.queue, &out, Duration::from_secs(30)).unwrap());
     }
     let values: &[u32] = bytemuck::cast_slice(&outputs[1]);
@@ -126,11 +130,12 @@ fn rounds_keep_barriers_and_outputs_of_the_megakernel() {
 #[test]
 fn rounds_overflow_is_typed_and_loses_nothing_silently() {
     let Some(gpu) = tests::gpu() else { return };
-    let compiled = binary_tree(10).compile(&CompileOptions::default()).unwrap();
+    let tree = binary_tree(10);
+    let compiled = tree.compile(&CompileOptions::default()).unwrap();
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config(4, 64)).unwrap();
     match executor.run_with(
         Strategy::rounds(),
-        &Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]),
+        &Seeds::new().add(&tree.ids, &[Node { depth: 0, id: 1 }]),
         &[],
     ) {
         Err(RunError::QueueOverflow {
@@ -143,7 +148,7 @@ fn rounds_overflow_is_typed_and_loses_nothing_silently() {
             assert_eq!((procedure.as_str(), capacity), ("Grow", 64));
             // Levels 5 and 6 (32 + 64 items) are the first that do not fit.
             assert!(needed_at_least > 64, "{needed_at_least}");
-            let grow = report.procedure("Grow").unwrap();
+            let grow = report.procedure(&tree.ids).unwrap();
             assert_eq!(grow.executed, grow.seeded + grow.enqueued);
             assert!(grow.high_water <= 64);
         }
@@ -154,8 +159,10 @@ fn rounds_overflow_is_typed_and_loses_nothing_silently() {
 #[test]
 fn retry_grows_the_queues_and_matches_a_large_enough_run() {
     let Some(gpu) = tests::gpu() else { return };
-    let tree = binary_tree(9).compile(&CompileOptions::default()).unwrap();
-    let root = Seeds::new().add("Grow", &[Node { depth: 0, id: 1 }]);
+    let graph = binary_tree(9);
+    let tree = graph.compile(&CompileOptions::default()).unwrap();
+    // Also the seeds of `counted_tree`, whose `Grow` takes `Node`s as well.
+    let root = Seeds::new().add(&graph.ids, &[Node { depth: 0, id: 1 }]);
     for strategy in [Strategy::Megakernel, Strategy::rounds()] {
         // Counts: a tree that overflows a 16-item queue.
         let mut small = Executor::new(&gpu.device, &gpu.queue, &tree, &config(2, 16)).unwrap();
@@ -166,8 +173,8 @@ fn retry_grows_the_queues_and_matches_a_large_enough_run() {
         let reference = large.run_with(strategy, &root, &[]).unwrap();
         assert!(retried.attempts > 1, "{retried}");
         assert_eq!(
-            retried.procedure("Grow").unwrap().executed,
-            reference.procedure("Grow").unwrap().executed
+            retried.procedure(&graph.ids).unwrap().executed,
+            reference.procedure(&graph.ids).unwrap().executed
         );
         assert!(small.capacities()[0] > 16);
         // Too few attempts: the last overflow comes back.
@@ -220,20 +227,17 @@ fn retry_grows_the_queues_and_matches_a_large_enough_run() {
 /// A binary tree whose nodes count themselves per level in `levels`.
 fn counted_tree(depth: u32) -> scheduler::Graph {
     let mut graph = scheduler::Graph::new("counted tree");
+    graph.constant("DEPTH", depth);
     graph.resource(scheduler::Resource::storage("levels", "array<atomic<u32>>"));
-    graph.procedure(
-        scheduler::Procedure::new("Grow", tests::graphs::node_type())
-            .initial(true)
-            .body(format!(
-                "if (valid) {{
+    let grow = graph.procedure(scheduler::Procedure::of::<Node>("Grow").initial(true).body(
+        "if (valid) {
     atomicAdd(&levels[item.depth], 1u);
-}}
-if (valid && item.depth < {depth}u) {{
+}
+if (valid && item.depth < DEPTH) {
     enqueue_Grow(Node(item.depth + 1u, item.id * 2u));
     enqueue_Grow(Node(item.depth + 1u, item.id * 2u + 1u));
-}}"
-            )),
-    );
-    graph.connect_with_fan_out("Grow", "Grow", 2);
+}",
+    ));
+    graph.connect_with_fan_out(&grow, &grow, 2);
     graph
 }

@@ -437,7 +437,7 @@ pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
     graph.resource(Resource::storage("framebuffer", "array<atomic<u64>>"));
     graph.resource(Resource::storage("stats", "array<atomic<u32>>"));
     graph.resource(Resource::storage_read("height_texels", "array<f32>"));
-    graph.procedure(
+    let bound = graph.procedure(
         Procedure::new(BOUND, patch.clone())
             .initial(true)
             .threads_per_item(16)
@@ -445,33 +445,36 @@ pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
             .priority(0)
             .body(BOUND_WGSL),
     );
-    graph.procedure(
+    let split_u = graph.procedure(
         Procedure::new(SPLIT_U, patch.clone())
             .threads_per_item(4)
             .scratch_bytes(4 * SPLIT_SCRATCH_WORDS)
             .priority(1)
             .body(split_body(true)),
     );
-    graph.procedure(
+    let split_v = graph.procedure(
         Procedure::new(SPLIT_V, patch.clone())
             .threads_per_item(4)
             .scratch_bytes(4 * SPLIT_SCRATCH_WORDS)
             .priority(1)
             .body(split_body(false)),
     );
+    let mut targets = vec![split_u.clone(), split_v.clone()];
     for class in GridClass::ALL {
-        graph.procedure(
-            Procedure::new(dice_procedure(class), patch.clone())
-                .threads_per_item(class.threads())
-                .scratch_bytes(4 * POINT_WORDS * class.max_points())
-                .priority(2)
-                .body(dice_body(class)),
+        targets.push(
+            graph.procedure(
+                Procedure::new(dice_procedure(class), patch.clone())
+                    .threads_per_item(class.threads())
+                    .scratch_bytes(4 * POINT_WORDS * class.max_points())
+                    .priority(2)
+                    .body(dice_body(class)),
+            ),
         );
     }
-    for target in [SPLIT_U, SPLIT_V].into_iter().chain(DICE) {
-        graph.connect_with_fan_out(BOUND, target, 1);
-        graph.connect_with_fan_out(SPLIT_U, target, 2);
-        graph.connect_with_fan_out(SPLIT_V, target, 2);
+    for target in &targets {
+        graph.connect_with_fan_out(&bound, target, 1);
+        graph.connect_with_fan_out(&split_u, target, 2);
+        graph.connect_with_fan_out(&split_v, target, 2);
     }
     graph
 }

@@ -763,7 +763,7 @@ impl<'a> GpuRenderer<'a> {
                 executor
                     .run_with(
                         strategy,
-                        &Seeds::new().add(BOUND, &seeds),
+                        &Seeds::new().add_untyped(&scheduler::ProcedureId::named(BOUND), &seeds),
                         &frame.0.bindings(),
                     )
                     .map_err(RenderError::Run)

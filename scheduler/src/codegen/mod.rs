@@ -1,4 +1,8 @@
 //! Generation of the megakernel's WGSL.
 
+pub(crate) mod bindings;
 pub(crate) mod generate;
+pub(crate) mod globals;
+pub(crate) mod kernels;
 pub(crate) mod module;
+pub(crate) mod uniform;

@@ -15,11 +15,14 @@ pub(crate) struct Constant {
     pub doc: String,
 }
 
-/// One module-scope variable declaration, e.g. a binding or a workgroup array.
+/// One module-scope variable declaration, e.g. a binding or a workgroup
+/// array: `ATTRIBUTES var<SPACE> NAME: TYPE;`.
 #[derive(Clone, Debug)]
 pub(crate) struct Global {
     pub attributes: String,
-    pub declaration: String,
+    pub space: String,
+    pub name: String,
+    pub ty: String,
     pub doc: String,
 }
 
@@ -230,7 +233,10 @@ impl KernelModule {
             } else {
                 format!("{} ", g.attributes)
             };
-            w.push_line(&format!("{attributes}{};", g.declaration));
+            w.push_line(&format!(
+                "{attributes}var<{}> {}: {};",
+                g.space, g.name, g.ty
+            ));
         }
         if let Some(library) = &self.library {
             w.section(&library.title);

@@ -5,9 +5,11 @@ pub(crate) mod checks;
 pub(crate) mod diagnostics;
 pub(crate) mod layout;
 pub(crate) mod plan;
+pub(crate) mod workgroup;
 
 use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
 
+use crate::codegen::bindings::{self, Kernels};
 use crate::codegen::generate::{ENTRY_POINT, generate};
 use crate::codegen::module::{KernelModule, Rendered};
 use crate::{CompileError, CompileOptions, Graph, MAX_CHUNKS_PER_BATCH, SourceOrigin};
@@ -21,6 +23,8 @@ pub struct CompiledGraph {
     pub(crate) plan: Plan,
     pub(crate) wgsl: String,
     pub(crate) module: naga::Module,
+    /// Workgroup memory, measured on `module`.
+    pub(crate) workgroup_bytes: u32,
 }
 
 impl CompiledGraph {
@@ -47,6 +51,14 @@ impl CompiledGraph {
     /// The workgroup size compiled for.
     pub fn workgroup_size(&self) -> u32 {
         self.plan.workgroup_size
+    }
+
+    /// Bytes of workgroup memory, measured on the module: the scheduler's
+    /// variables, the shared scratch and every `var<workgroup>` of the
+    /// library, each rounded up to 16 bytes as WebGPU counts them. Compiling
+    /// checks it against `max_compute_workgroup_storage_size`.
+    pub fn workgroup_memory_bytes(&self) -> u32 {
+        self.workgroup_bytes
     }
 
     /// Features the module was compiled for (the device must have them).
@@ -153,6 +165,7 @@ impl Graph {
         }
 
         check_resources(self, options)?;
+        crate::constant::check(&self.constants)?;
         let items = item_layouts(self)?;
 
         // Queue plans: staging capacity of a queue is the most items any single
@@ -190,28 +203,13 @@ impl Graph {
             stage_words += queue.stage_capacity * queue.slot_words;
         }
 
-        // One scratch region, sized by the largest procedure.
-        let internal = plan::internal_workgroup_bytes(queues.len());
-        let (scratch_words, largest) = queues
+        // One scratch region, sized by the largest procedure. Whether it fits
+        // is measured on the module, with every other workgroup variable.
+        let scratch_words = queues
             .iter()
-            .map(|q| (q.scratch_words * q.items_per_workgroup, q))
-            .max_by_key(|(words, _)| *words)
-            .map(|(words, q)| (words, Some(q)))
-            .unwrap_or((0, None));
-        let limit = options.limits.max_compute_workgroup_storage_size;
-        if let Some(q) = largest {
-            let needed = scratch_words.max(1) * 4 + internal;
-            if needed > limit {
-                return Err(CompileError::ScratchTooLarge {
-                    procedure: q.name.clone(),
-                    per_item: q.scratch_words * 4,
-                    items: q.items_per_workgroup,
-                    internal,
-                    needed,
-                    limit,
-                });
-            }
-        }
+            .map(|q| q.scratch_words.saturating_mul(q.items_per_workgroup))
+            .max()
+            .unwrap_or(0);
 
         let scan_order = Plan::compute_scan_order(&queues, options.policy);
         let plan = Plan {
@@ -227,15 +225,24 @@ impl Graph {
             features: options.features,
         };
 
-        let kernel = generate(&plan, &self.procedures, &self.library, &items);
+        let mut kernel = generate(&plan, &self.procedures, &self.library, &items);
+        kernel
+            .constants
+            .extend(crate::constant::declarations(&self.constants));
         let rendered = kernel.render();
         let (module, _info) = diagnostics::parse_and_validate(&rendered, options.features)?;
         checks::reserved_names(&module, &generated_names(&kernel))?;
         checks::enqueue_call_graph(&module, &plan)?;
+        let workgroup_bytes = workgroup::check(
+            &module,
+            &plan,
+            options.limits.max_compute_workgroup_storage_size,
+        )?;
         Ok(CompiledGraph {
             plan,
             wgsl: rendered.text,
             module,
+            workgroup_bytes,
         })
     }
 }
@@ -245,15 +252,7 @@ impl Graph {
 fn generated_names(kernel: &KernelModule) -> BTreeSet<String> {
     let mut names: BTreeSet<String> = kernel.functions.iter().map(|f| f.name.clone()).collect();
     names.extend(kernel.constants.iter().map(|c| c.name.clone()));
-    for global in &kernel.globals {
-        if let Some(name) = global
-            .declaration
-            .split_once("> ")
-            .and_then(|(_, rest)| rest.split(':').next())
-        {
-            names.insert(name.trim().to_owned());
-        }
-    }
+    names.extend(kernel.globals.iter().map(|g| g.name.clone()));
     if let Some(runtime) = &kernel.runtime {
         for line in runtime.text.lines() {
             if let Some(rest) = line.strip_prefix("fn ") {
@@ -280,29 +279,24 @@ fn check_resources(graph: &Graph, options: &CompileOptions) -> Result<(), Compil
             )));
         }
     }
-    // The scheduler itself uses 3 storage buffers and 1 uniform buffer.
-    let storage = 3 + graph
-        .resources
-        .iter()
-        .filter(|r| matches!(r, crate::Resource::Storage { .. }))
-        .count() as u32;
-    let uniform = 1 + graph
-        .resources
-        .iter()
-        .filter(|r| matches!(r, crate::Resource::Uniform { .. }))
-        .count() as u32;
+    // Per pipeline: every kernel's stage binds its group-0 buffers, and the
+    // procedure kernels the graph's resources too.
     let limits = &options.limits;
-    if storage > limits.max_storage_buffers_per_shader_stage {
-        return Err(CompileError::Resource(format!(
-            "{storage} storage buffers (3 for the scheduler) exceed the limit of {}",
-            limits.max_storage_buffers_per_shader_stage
-        )));
-    }
-    if uniform > limits.max_uniform_buffers_per_shader_stage {
-        return Err(CompileError::Resource(format!(
-            "{uniform} uniform buffers (1 for the scheduler) exceed the limit of {}",
-            limits.max_uniform_buffers_per_shader_stage
-        )));
+    for kernels in Kernels::ALL {
+        let own = bindings::scheduler_buffers(kernels);
+        let count = bindings::buffers(kernels, &graph.resources);
+        if count.storage > limits.max_storage_buffers_per_shader_stage {
+            return Err(CompileError::Resource(format!(
+                "{} storage buffers ({} for the scheduler) exceed the limit of {}",
+                count.storage, own.storage, limits.max_storage_buffers_per_shader_stage
+            )));
+        }
+        if count.uniform > limits.max_uniform_buffers_per_shader_stage {
+            return Err(CompileError::Resource(format!(
+                "{} uniform buffers ({} for the scheduler) exceed the limit of {}",
+                count.uniform, own.uniform, limits.max_uniform_buffers_per_shader_stage
+            )));
+        }
     }
     Ok(())
 }
@@ -328,6 +322,7 @@ fn item_layouts(graph: &Graph) -> Result<BTreeMap<String, (String, ItemLayout)>,
         sources.insert(item.wgsl_name.clone(), item);
     }
     let mut layouts = BTreeMap::new();
+    let mut declared = crate::item::Declared::default();
     for (name, item) in sources {
         let rendered = Rendered {
             text: item.wgsl_source.clone(),
@@ -348,7 +343,7 @@ fn item_layouts(graph: &Graph) -> Result<BTreeMap<String, (String, ItemLayout)>,
                 detail: e.to_string(),
             })?;
         let layout = layout::analyze(item, &module, &layouter)?;
-        layouts.insert(name, (item.wgsl_source.clone(), layout));
+        layouts.insert(name, (declared.fresh(item)?, layout));
     }
     Ok(layouts)
 }

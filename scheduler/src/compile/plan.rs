@@ -103,12 +103,6 @@ pub(crate) mod control {
     }
 }
 
-/// Workgroup bytes the scheduler itself needs besides scratch.
-pub(crate) fn internal_workgroup_bytes(queues: usize) -> u32 {
-    // pick (vec4<u32>) + flush (vec2<u32>) + one staged counter per queue
-    16 + 8 + 4 * queues as u32
-}
-
 impl Plan {
     pub fn queue_index(&self, name: &str) -> Option<usize> {
         self.queues.iter().position(|q| q.name == name)

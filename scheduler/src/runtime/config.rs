@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 use std::time::Duration;
 
 use crate::CompiledGraph;
+use crate::codegen::uniform;
 use crate::compile::plan::control;
 
 /// Default queue capacity in items.
@@ -153,7 +154,7 @@ impl CompiledGraph {
             .sum();
         let control_bytes =
             2 * 4 * u64::from(control::words(self.plan.queues.len())) + 4 * 2 * slots;
-        let config_bytes = 16 * (self.plan.queues.len() as u64 + 1);
+        let config_bytes = uniform::bytes(self.plan.queues.len());
         MemoryPlan {
             queue_bytes,
             staging_bytes,

@@ -3,21 +3,20 @@
 
 use std::time::{Duration, Instant};
 
+use crate::codegen::bindings::{RESOURCE_GROUP, SCHEDULER_GROUP, resource_bindings, resource_kind};
 use crate::codegen::generate::{PREPARE_ENTRY_POINT, round_entry_point};
 use crate::compile::plan::control;
 use crate::readback::map_read;
 use crate::runtime::config::{
     CPU_CHUNK_BUDGET, CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, DEFAULT_WORKGROUPS, ExecutorConfig,
 };
-use crate::runtime::state::{Layouts, QueueState, Tuning, storage_entry, uniform_entry};
-use crate::{
-    Access, CompiledGraph, ProcedureStats, Resource, RunError, RunReport, Seeds, Strategy,
-};
+use crate::runtime::state::{Layouts, QueueState, Tuning};
+use crate::{CompiledGraph, ProcedureStats, RunError, RunReport, Seeds, Strategy};
 
 /// A user resource bound for a run, by its declared name.
 #[derive(Clone, Debug)]
 pub struct Binding<'a> {
-    /// The name given in [`Resource`].
+    /// The name given in [`Resource`](crate::Resource).
     pub name: &'a str,
     /// The buffer (or buffer range) to bind.
     pub resource: wgpu::BindingResource<'a>,
@@ -183,16 +182,8 @@ impl Executor {
             )
         };
         let resource_layout = (!plan.resources.is_empty()).then(|| {
-            let entries: Vec<_> = plan
-                .resources
-                .iter()
-                .enumerate()
-                .map(|(i, r)| match r {
-                    Resource::Storage { access, .. } => {
-                        storage_entry(i as u32, *access == Access::Read)
-                    }
-                    Resource::Uniform { .. } => uniform_entry(i as u32),
-                })
+            let entries: Vec<_> = resource_bindings(&plan.resources)
+                .map(|(binding, r)| resource_kind(r).layout_entry(binding))
                 .collect();
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("graph resources"),
@@ -511,9 +502,9 @@ impl Executor {
             timestamp_writes: self.timestamp_writes(true, true),
         });
         pass.set_pipeline(&self.megakernel);
-        pass.set_bind_group(0, &self.state.scheduler_group, &[]);
+        pass.set_bind_group(SCHEDULER_GROUP, &self.state.scheduler_group, &[]);
         if let Some(group) = resources {
-            pass.set_bind_group(1, group, &[]);
+            pass.set_bind_group(RESOURCE_GROUP, group, &[]);
         }
         pass.dispatch_workgroups(self.tuning.workgroups, 1, 1);
     }
@@ -541,7 +532,7 @@ impl Executor {
                 timestamp_writes: self.timestamp_writes(first, last),
             });
             pass.set_pipeline(&pipelines.prepare);
-            pass.set_bind_group(0, &self.state.prepare_group, &[]);
+            pass.set_bind_group(SCHEDULER_GROUP, &self.state.prepare_group, &[]);
             pass.dispatch_workgroups(1, 1, 1);
         };
         if first_batch {
@@ -555,9 +546,9 @@ impl Executor {
                     label: Some("round"),
                     timestamp_writes: self.timestamp_writes(first, false),
                 });
-                pass.set_bind_group(0, &self.state.scheduler_group, &[]);
+                pass.set_bind_group(SCHEDULER_GROUP, &self.state.scheduler_group, &[]);
                 if let Some(group) = resources {
-                    pass.set_bind_group(1, group, &[]);
+                    pass.set_bind_group(RESOURCE_GROUP, group, &[]);
                 }
                 for q in round_order(plan, first_round + r) {
                     pass.set_pipeline(&pipelines.procedures[q]);
@@ -637,7 +628,7 @@ impl Executor {
             return Ok(None);
         };
         let mut entries = Vec::with_capacity(self.compiled.plan.resources.len());
-        for (i, resource) in self.compiled.plan.resources.iter().enumerate() {
+        for (index, resource) in resource_bindings(&self.compiled.plan.resources) {
             let binding = bindings
                 .iter()
                 .find(|b| b.name == resource.name())
@@ -645,7 +636,7 @@ impl Executor {
                     RunError::Binding(format!("resource `{}` is not bound", resource.name()))
                 })?;
             entries.push(wgpu::BindGroupEntry {
-                binding: i as u32,
+                binding: index,
                 resource: binding.resource.clone(),
             });
         }
@@ -670,6 +661,7 @@ fn procedure_pipeline(
     resources: Option<&wgpu::BindGroupLayout>,
     entry_point: &str,
 ) -> wgpu::ComputePipeline {
+    // In group order: SCHEDULER_GROUP, then RESOURCE_GROUP.
     let groups = [Some(&layouts.scheduler), resources];
     let count = if resources.is_some() { 2 } else { 1 };
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

@@ -3,6 +3,8 @@
 use std::fmt;
 use std::time::Duration;
 
+use crate::ProcedureId;
+
 /// Counters of one procedure's queue for one run.
 #[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct ProcedureStats {
@@ -51,8 +53,14 @@ pub struct RunReport {
 }
 
 impl RunReport {
-    /// Stats of the named procedure.
-    pub fn procedure(&self, name: &str) -> Option<&ProcedureStats> {
+    /// Stats of a procedure.
+    pub fn procedure<T>(&self, procedure: &ProcedureId<T>) -> Option<&ProcedureStats> {
+        self.procedure_named(procedure.name())
+    }
+
+    /// Stats of the procedure called `name` (for a report read back from
+    /// JSON, which has no handles).
+    pub fn procedure_named(&self, name: &str) -> Option<&ProcedureStats> {
         self.procedures.iter().find(|p| p.name == name)
     }
 

@@ -1,5 +1,7 @@
 //! Initial items given by the host.
 
+use crate::{Item, ProcedureId, Untyped};
+
 /// Initial items for one run, per procedure.
 #[derive(Clone, Debug, Default)]
 pub struct Seeds {
@@ -21,13 +23,40 @@ impl Seeds {
     }
 
     /// Adds initial items for `procedure` (which must accept initial items).
-    pub fn add<T: bytemuck::Pod>(mut self, procedure: &str, items: &[T]) -> Self {
+    /// The items must be of the procedure's item type: anything else does
+    /// not compile.
+    pub fn add<T: Item>(mut self, procedure: &ProcedureId<T>, items: &[T]) -> Self {
         self.push(procedure, items);
         self
     }
 
     /// Adds initial items for `procedure` in place.
-    pub fn push<T: bytemuck::Pod>(&mut self, procedure: &str, items: &[T]) -> &mut Self {
+    pub fn push<T: Item>(&mut self, procedure: &ProcedureId<T>, items: &[T]) -> &mut Self {
+        self.push_bytes(procedure.name(), items)
+    }
+
+    /// Adds initial items for an [`Untyped`] procedure (one declared with an
+    /// explicit [`ItemType`](crate::ItemType)). Only their size is checked,
+    /// when the run starts.
+    pub fn add_untyped<T: bytemuck::Pod>(
+        mut self,
+        procedure: &ProcedureId<Untyped>,
+        items: &[T],
+    ) -> Self {
+        self.push_untyped(procedure, items);
+        self
+    }
+
+    /// Adds initial items for an [`Untyped`] procedure in place.
+    pub fn push_untyped<T: bytemuck::Pod>(
+        &mut self,
+        procedure: &ProcedureId<Untyped>,
+        items: &[T],
+    ) -> &mut Self {
+        self.push_bytes(procedure.name(), items)
+    }
+
+    fn push_bytes<T: bytemuck::Pod>(&mut self, procedure: &str, items: &[T]) -> &mut Self {
         self.entries.push(SeedEntry {
             procedure: procedure.to_owned(),
             bytes: bytemuck::cast_slice(items).to_vec(),

@@ -2,64 +2,40 @@
 //! staging, configuration, indirect dispatch sizes), their bind groups, and
 //! seeding them for a run. Rebuilt when a retry grows the queues.
 
+use crate::codegen::bindings::{Kernels, SCHEDULER_BINDINGS, SchedulerBuffer};
+use crate::codegen::uniform::{self, QueueConfig, RunConfig};
 use crate::compile::plan::{Plan, control};
 use crate::{CompiledGraph, ExecutorConfig, RunError, Seeds};
 
 /// Bind group layouts shared by every [`QueueState`] of an executor.
 #[derive(Debug)]
 pub(crate) struct Layouts {
-    /// Group 0 of the megakernel and of the round kernels.
+    /// Group 0 of [`Kernels::Procedures`].
     pub scheduler: wgpu::BindGroupLayout,
-    /// Group 0 of the prepare kernel: control, configuration and dispatch
-    /// sizes. It is separate because a buffer cannot be written as storage and
-    /// read as indirect arguments in one dispatch.
+    /// Group 0 of [`Kernels::Prepare`].
     pub prepare: wgpu::BindGroupLayout,
-}
-
-fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-/// A storage buffer layout entry.
-pub(crate) fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    buffer_entry(binding, wgpu::BufferBindingType::Storage { read_only })
-}
-
-/// A uniform buffer layout entry.
-pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    buffer_entry(binding, wgpu::BufferBindingType::Uniform)
 }
 
 impl Layouts {
     pub fn new(device: &wgpu::Device) -> Self {
-        let scheduler = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("scheduler state"),
-            entries: &[
-                storage_entry(0, false),
-                storage_entry(1, false),
-                storage_entry(2, false),
-                uniform_entry(3),
-            ],
-        });
-        let prepare = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("scheduler round preparation"),
-            entries: &[
-                storage_entry(1, false),
-                uniform_entry(3),
-                storage_entry(4, false),
-            ],
-        });
-        Self { scheduler, prepare }
+        Self {
+            scheduler: group_layout(device, Kernels::Procedures, "scheduler state"),
+            prepare: group_layout(device, Kernels::Prepare, "scheduler round preparation"),
+        }
     }
+}
+
+/// The group-0 layout of `kernels`, from the binding table.
+fn group_layout(device: &wgpu::Device, kernels: Kernels, label: &str) -> wgpu::BindGroupLayout {
+    let entries: Vec<_> = SCHEDULER_BINDINGS
+        .iter()
+        .filter(|b| b.bound_to(kernels))
+        .map(|b| b.kind.layout_entry(b.binding()))
+        .collect();
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &entries,
+    })
 }
 
 /// Numbers written into the configuration uniform besides the capacities.
@@ -74,6 +50,8 @@ pub(crate) struct Tuning {
 #[derive(Debug)]
 pub(crate) struct QueueState {
     pub capacities: Vec<u32>,
+    /// Where each queue's slots and markers start, as the uniform holds it.
+    queue_configs: Vec<QueueConfig>,
     queue_words: wgpu::Buffer,
     pub control: wgpu::Buffer,
     pub control_readback: wgpu::Buffer,
@@ -170,48 +148,65 @@ impl QueueState {
             U::STORAGE | U::INDIRECT,
         );
 
-        // Per queue (capacity - 1, first slot word, first marker word, 0), then (iteration
-        // budget, spin limit, workgroups per round dispatch, 0). The round
-        // clamp is the staging room, which `Executor::new` keeps within the
-        // device's workgroups-per-dimension limit.
-        let mut words = Vec::with_capacity(4 * (plan.queues.len() + 1));
-        let mut next = 0u32;
-        let mut markers = control::words(plan.queues.len());
-        for (q, queue_plan) in plan.queues.iter().enumerate() {
-            let slots = next;
-            next = slots + capacities[q] * queue_plan.slot_words;
-            words.extend_from_slice(&[capacities[q] - 1, slots, markers, 0]);
-            markers += 2 * capacities[q];
-        }
-        words.extend_from_slice(&[
-            tuning.iteration_budget,
-            tuning.spin_limit,
-            tuning.workgroups,
-            0,
-        ]);
+        // Slots and then markers (two per slot) are laid out queue after queue.
+        let mut first_slot_word = 0u32;
+        let mut first_marker_word = control::words(plan.queues.len());
+        let queue_configs: Vec<QueueConfig> = plan
+            .queues
+            .iter()
+            .zip(&capacities)
+            .map(|(queue_plan, &capacity)| {
+                let config = QueueConfig {
+                    capacity,
+                    first_slot_word,
+                    first_marker_word,
+                };
+                first_slot_word += capacity * queue_plan.slot_words;
+                first_marker_word += 2 * capacity;
+                config
+            })
+            .collect();
+        // The round clamp is the staging room, which `Executor::new` keeps
+        // within the device's workgroups-per-dimension limit.
+        let run = RunConfig {
+            iteration_budget: tuning.iteration_budget,
+            spin_limit: tuning.spin_limit,
+            round_workgroups: tuning.workgroups,
+        };
+        let words = uniform::words(&queue_configs, &run);
         queue.write_buffer(&config_buffer, 0, bytemuck::cast_slice(&words));
 
-        let scheduler_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("scheduler state"),
-            layout: &layouts.scheduler,
-            entries: &[
-                entry(0, &queue_words),
-                entry(1, &control),
-                entry(2, &staging),
-                entry(3, &config_buffer),
-            ],
-        });
-        let prepare_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("scheduler round preparation"),
-            layout: &layouts.prepare,
-            entries: &[
-                entry(1, &control),
-                entry(3, &config_buffer),
-                entry(4, &dispatch),
-            ],
-        });
+        let buffer_of = |which: SchedulerBuffer| match which {
+            SchedulerBuffer::QueueWords => &queue_words,
+            SchedulerBuffer::Control => &control,
+            SchedulerBuffer::Staging => &staging,
+            SchedulerBuffer::Config => &config_buffer,
+            SchedulerBuffer::Dispatch => &dispatch,
+        };
+        let group = |kernels: Kernels, layout: &wgpu::BindGroupLayout, label: &str| {
+            let entries: Vec<_> = SCHEDULER_BINDINGS
+                .iter()
+                .filter(|b| b.bound_to(kernels))
+                .map(|b| wgpu::BindGroupEntry {
+                    binding: b.binding(),
+                    resource: buffer_of(b.buffer).as_entire_binding(),
+                })
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout,
+                entries: &entries,
+            })
+        };
+        let scheduler_group = group(Kernels::Procedures, &layouts.scheduler, "scheduler state");
+        let prepare_group = group(
+            Kernels::Prepare,
+            &layouts.prepare,
+            "scheduler round preparation",
+        );
         Ok(Self {
             capacities,
+            queue_configs,
             queue_words,
             control,
             control_readback,
@@ -279,10 +274,10 @@ impl QueueState {
         // Stale payload in the queues is harmless: only tickets below
         // `published` are ever read, so the queues need no clearing.
         let mut control_words = vec![0u32; control::words(n) as usize];
-        let mut slot_base = 0u64;
-        for (q, queue_plan) in plan.queues.iter().enumerate() {
+        for (q, config) in self.queue_configs.iter().enumerate() {
             if counts[q] > 0 {
-                queue.write_buffer(&self.queue_words, 4 * slot_base, &per_queue[q]);
+                let offset = 4 * u64::from(config.first_slot_word);
+                queue.write_buffer(&self.queue_words, offset, &per_queue[q]);
             }
             // Seeds hold tickets 0..count, published and unclaimed.
             let count = counts[q] as u32;
@@ -294,7 +289,6 @@ impl QueueState {
             ] {
                 control_words[control::index(q, field)] = count;
             }
-            slot_base += u64::from(self.capacities[q]) * u64::from(queue_plan.slot_words);
         }
         control_words[control::PENDING as usize] = counts.iter().sum::<u64>() as u32;
         queue.write_buffer(&self.control, 0, bytemuck::cast_slice(&control_words));
@@ -306,12 +300,5 @@ impl QueueState {
         encoder.clear_buffer(&self.control, header, None);
         queue.submit([encoder.finish()]);
         Ok(counts)
-    }
-}
-
-fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
     }
 }

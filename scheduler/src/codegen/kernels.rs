@@ -1,0 +1,263 @@
+//! The generated functions around the procedure bodies: item copies, payload
+//! access, the queue policy, the runners and the entry points.
+
+use crate::Policy;
+use crate::codegen::generate::{ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, round_entry_point};
+use crate::codegen::module::Function;
+use crate::compile::layout::{PACKET_WORDS, decode_name};
+use crate::compile::plan::{Plan, QueuePlan};
+
+/// Name of the function that copies one staged item of `queue` into its slot.
+fn copy_out_name(queue: &str) -> String {
+    format!("sched_copy_out_{queue}")
+}
+
+/// Straight-line packet copy from the workgroup's region of the staging buffer
+/// into a queue slot. It is written out word by word on purpose: a loop here
+/// could be cut short by llvmpipe's loop limiter (docs/scheduler.md, "Loop
+/// limits"), publishing half-copied items.
+pub(crate) fn copy_out_function(queue: &QueuePlan) -> Function {
+    let mut copy_out = Function::new(copy_out_name(&queue.name))
+        .doc(format!(
+            "Copies one staged `{}` at `source` into queue slot word `slot`.",
+            queue.item
+        ))
+        .param("source", "u32")
+        .param("slot", "u32");
+    for w in (0..queue.slot_words).step_by(PACKET_WORDS as usize) {
+        copy_out.line(format!(
+            "sched_payload_store4(slot + {w}u, sched_staging_load4(source + {w}u));"
+        ));
+    }
+    copy_out
+}
+
+/// Access to queue payload words. With coherent memory they are plain loads
+/// and stores; otherwise relaxed atomics, which are always coherent. Either
+/// way the runtime orders them with device-scope fences (storageBarrier).
+pub(crate) fn payload_functions(coherent: bool) -> [Function; 2] {
+    let mut load = Function::new("sched_payload_load4")
+        .doc("Reads the packet of a queue slot at word `word` (a multiple of 4).")
+        .param("word", "u32")
+        .returns("vec4<u32>");
+    let mut store = Function::new("sched_payload_store4")
+        .doc("Writes the packet of a queue slot at word `word` (a multiple of 4).")
+        .param("word", "u32")
+        .param("value", "vec4<u32>");
+    if coherent {
+        load.line("return sched_queue_words[word / 4u];");
+        store.line("sched_queue_words[word / 4u] = value;");
+    } else {
+        load.line("return vec4<u32>(");
+        for c in 0..4 {
+            let comma = if c < 3 { "," } else { "" };
+            load.line(format!(
+                "    atomicLoad(&sched_queue_words[word + {c}u]){comma}"
+            ));
+        }
+        load.line(");");
+        for (c, component) in ["x", "y", "z", "w"].iter().enumerate() {
+            store.line(format!(
+                "atomicStore(&sched_queue_words[word + {c}u], value.{component});"
+            ));
+        }
+    }
+    [load, store]
+}
+
+pub(crate) fn policy_function(policy: Policy) -> Function {
+    let mut f = Function::new("sched_policy_start")
+        .doc("Index into sched_queue_order where this workgroup's scan starts.")
+        .param("workgroup", "u32")
+        .param("iteration", "u32")
+        .returns("u32");
+    match policy {
+        Policy::Priority => f.line("return 0u;"),
+        Policy::RoundRobin => f.line("return (workgroup + iteration) % SCHED_NUM_QUEUES;"),
+    }
+    f
+}
+
+pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
+    let tpi = queue.threads_per_item;
+    let mut f = Function::new(format!("sched_run_{}", queue.name))
+        .doc(format!("Runs one batch of `{}`: receive the items, run the body on every thread, publish the children.", queue.name))
+        .param("lid", "u32")
+        .param("first", "u32")
+        .param("count", "u32");
+    let per_chunk = queue.items_per_workgroup;
+    f.line(format!("let slot = lid / {tpi}u;"));
+    f.line(format!("let thread = lid % {tpi}u;"));
+    f.line(format!("sched_scratch_stride = {}u;", queue.scratch_words));
+    f.line("// Acquire: the reads below come after the claim saw `published`.");
+    f.line("storageBarrier();");
+    // The body's call on one chunk; `chunk` is its index within the batch.
+    let call = |chunk: &str| {
+        [
+            format!("let at = {chunk} * {per_chunk}u + slot;"),
+            "let valid = at < count;".to_owned(),
+            "// Every thread decodes its item straight from the slot, without loops".to_owned(),
+            "// (docs/scheduler.md, \"Loop limits\").".to_owned(),
+            format!("var item: {};", queue.item),
+            "if (valid) {".to_owned(),
+            format!(
+                "    item = {}(sched_slot_word({q}u, first + at));",
+                decode_name(&queue.item)
+            ),
+            "}".to_owned(),
+            format!("{}(item, valid, thread, slot);", body_name(&queue.name)),
+        ]
+    };
+    if plan.chunks_per_batch == 1 {
+        // A single chunk needs no loop, which llvmpipe runs markedly faster.
+        for line in call("0u") {
+            f.line(line);
+        }
+    } else {
+        f.line(format!(
+            "// One body call per chunk of {per_chunk} items; `count` is uniform, so is the loop."
+        ));
+        f.line("var chunk = 0u;");
+        f.line(format!(
+            "for (; chunk * {per_chunk}u < count; chunk += 1u) {{"
+        ));
+        f.line("    // The previous call is over in every thread before this one reuses");
+        f.line("    // scratch and the body's workgroup variables.");
+        f.line("    workgroupBarrier();");
+        for line in call("chunk") {
+            f.line(format!("    {line}"));
+        }
+        f.line("}");
+        f.line(format!(
+            "sched_check_left_in_step(chunk * {per_chunk}u >= count);"
+        ));
+    }
+    f.line("// Every item was read: release the slots.");
+    f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
+    for &(t, _) in &queue.targets {
+        let target = &plan.queues[t];
+        let flush = format!("flush_{}", target.name);
+        f.line(format!(
+            "// Publish the items staged for `{}`.",
+            target.name
+        ));
+        f.line(format!(
+            "let {flush} = sched_flush_reserve(lid, {t}u, {}u);",
+            target.stage_capacity
+        ));
+        f.line(format!("if ({flush}.y > 0u) {{"));
+        let per_thread = target.stage_capacity.div_ceil(plan.workgroup_size);
+        for j in 0..per_thread {
+            let k = if j == 0 {
+                "lid".to_owned()
+            } else {
+                format!("lid + {}u", j * plan.workgroup_size)
+            };
+            f.line(format!("    if ({k} < {flush}.y) {{"));
+            f.line(format!(
+                "        {}(sched_stage_word({}u, {}u, {k}), sched_slot_word({t}u, {flush}.x + {k}));",
+                copy_out_name(&target.name),
+                target.stage_offset,
+                target.slot_words
+            ));
+            f.line("    }");
+        }
+        f.line(format!("    sched_flush_publish(lid, {t}u, {flush});"));
+        f.line("}");
+    }
+    f.line("if (lid == 0u) {");
+    f.line(format!(
+        "    atomicAdd(&sched_control[sched_ctrl({q}u, SCHED_Q_EXECUTED)], count);"
+    ));
+    f.line("    // Children were counted by the flushes above, so outstanding work");
+    f.line("    // never reaches zero while any of them exists.");
+    f.line("    atomicSub(&sched_control[SCHED_CTRL_PENDING], count);");
+    f.line("}");
+    f
+}
+
+pub(crate) fn entry_point(plan: &Plan) -> Function {
+    let mut f = Function::new(ENTRY_POINT)
+        .doc("Persistent workgroups: pick a batch, run it, until no work is left or the iteration budget is spent.")
+        .param("@builtin(local_invocation_index) lid", "u32")
+        .param("@builtin(workgroup_id) workgroup", "vec3<u32>");
+    f.attributes
+        .push(format!("@compute @workgroup_size({})", plan.workgroup_size));
+    f.line("sched_wg_base = workgroup.x * SCHED_WORKGROUP_WORDS;");
+    f.line("let budget = sched_config[SCHED_NUM_QUEUES].x;");
+    f.line("var iteration = 0u;");
+    f.line("var finished = false;");
+    f.line("for (; iteration < budget; iteration += 1u) {");
+    f.line("    if (lid == 0u) {");
+    f.line("        sched_wg_pick = sched_pick(workgroup.x, iteration);");
+    f.line("    }");
+    f.line("    let pick = workgroupUniformLoad(&sched_wg_pick);");
+    f.line("    if (pick.x == SCHED_EXIT) {");
+    f.line("        finished = true;");
+    f.line("        break;");
+    f.line("    }");
+    f.line("    switch pick.x {");
+    for (q, queue) in plan.queues.iter().enumerate() {
+        f.line(format!(
+            "        case {q}u: {{ sched_run_{}(lid, pick.y, pick.z); }}",
+            queue.name
+        ));
+    }
+    f.line("        default: {}");
+    f.line("    }");
+    f.line("}");
+    f.line("sched_check_left_in_step(finished || iteration >= budget);");
+    f
+}
+
+/// The Rounds strategy's prepare kernel: one thread retires the round that ran
+/// and sizes the next one for every queue.
+pub(crate) fn prepare_entry_point() -> Function {
+    let mut f = Function::new(PREPARE_ENTRY_POINT)
+        .doc("Rounds strategy: between two rounds, retire the round that ran and size the next one's indirect dispatches.");
+    f.attributes.push("@compute @workgroup_size(1)".to_owned());
+    f.line("var items = 0u;");
+    f.line("for (var q = 0u; q < SCHED_NUM_QUEUES; q += 1u) {");
+    f.line("    items += sched_prepare_queue(q);");
+    f.line("}");
+    f.line("if (items > 0u) {");
+    f.line("    atomicAdd(&sched_control[SCHED_CTRL_ROUNDS], 1u);");
+    f.line("}");
+    f
+}
+
+/// One procedure's kernel for the Rounds strategy: workgroups stride over the
+/// batches of the round's items; nobody waits on another workgroup.
+pub(crate) fn round_entry(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
+    let mut f = Function::new(round_entry_point(&queue.name))
+        .doc(format!(
+            "Rounds strategy: runs the `{}` items queued before this round, children go to the next round.",
+            queue.name
+        ))
+        .param("@builtin(local_invocation_index) lid", "u32")
+        .param("@builtin(workgroup_id) workgroup", "vec3<u32>")
+        .param("@builtin(num_workgroups) groups", "vec3<u32>");
+    f.attributes
+        .push(format!("@compute @workgroup_size({})", plan.workgroup_size));
+    f.line("sched_rounds = true;");
+    f.line("sched_wg_base = workgroup.x * SCHED_WORKGROUP_WORDS;");
+    f.line("if (lid == 0u) {");
+    f.line(format!(
+        "    sched_wg_pick = vec4<u32>(sched_round_range({q}u), 0u, 0u);"
+    ));
+    f.line("}");
+    f.line("let range = workgroupUniformLoad(&sched_wg_pick).xy;");
+    f.line(format!("let per = {}u;", queue.items_per_batch));
+    f.line("// Grid-stride over batches: the dispatch size may be clamped.");
+    f.line("var batch = workgroup.x;");
+    f.line("for (; batch * per < range.y; batch += groups.x) {");
+    f.line(format!(
+        "    sched_run_{}(lid, range.x + batch * per, min(per, range.y - batch * per));",
+        queue.name
+    ));
+    f.line("}");
+    f.line("// A driver that cut a loop short (llvmpipe's loop limit) may have");
+    f.line("// skipped items or part of a body: flag it so the run fails loudly.");
+    f.line("sched_check_left_in_step(batch * per >= range.y);");
+    f
+}
