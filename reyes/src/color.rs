@@ -66,6 +66,25 @@ pub fn average_rgb10(colors: [u32; 4]) -> u32 {
     channel(0) | channel(10) | channel(20)
 }
 
+/// The colour of a sample inside a triangle whose corners `a`, `b`, `c`
+/// carry the packed colours `colors`, from the sample's edge functions
+/// `edges = [E_bc, E_ca, E_ab]` (their sum is the triangle's doubled area
+/// `area`): channel by channel `round((E_bc a + E_ca b + E_ab c) / area)`,
+/// the same barycentric weights the sample's depth uses. Three equal
+/// colours (constant shading, the grids picture) are returned unchanged.
+pub fn blend_rgb10(colors: [u32; 3], edges: [f32; 3], area: f32) -> u32 {
+    if colors[0] == colors[1] && colors[1] == colors[2] {
+        return colors[0];
+    }
+    let channel = |shift: u32| {
+        let [a, b, c] = colors.map(|packed| ((packed >> shift) & 0x3ff) as f32);
+        let value = (edges[0] * a + edges[1] * b + edges[2] * c) / area;
+        // `as` saturates (and maps NaN to 0): the clamp keeps 10 bits.
+        ((value + 0.5).floor() as u32).min(0x3ff) << shift
+    };
+    channel(0) | channel(10) | channel(20)
+}
+
 /// Unpacks a colour packed by [`pack_rgb10`] (the inverse up to quantization).
 pub fn unpack_rgb10(packed: u32) -> Vec3 {
     let channel = |shift: u32| ((packed >> shift) & 0x3ff) as f32 / CHANNEL_MAX;
@@ -93,6 +112,23 @@ pub fn key_color(key: u64) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn blending_weighs_the_corners_barycentrically() {
+        let (red, green, blue) = (0x3ff, 0x3ff << 10, 0x3ff << 20);
+        // At a corner, that corner's colour; in the middle, a third each.
+        assert_eq!(blend_rgb10([red, green, blue], [2.0, 0.0, 0.0], 2.0), red);
+        assert_eq!(blend_rgb10([red, green, blue], [0.0, 0.0, 2.0], 2.0), blue);
+        let third = blend_rgb10([red, green, blue], [1.0, 1.0, 1.0], 3.0);
+        assert_eq!(third, 341 | (341 << 10) | (341 << 20));
+        // Equal colours pass through exactly, whatever the weights' rounding.
+        let grey = 0x155 | (0x155 << 10) | (0x155 << 20);
+        assert_eq!(blend_rgb10([grey; 3], [0.1, 0.7, 0.2000001], 1.0), grey);
+        // Halfway between 0 and 1 rounds up; weights a hair over the area
+        // stay within 10 bits.
+        assert_eq!(blend_rgb10([0, 1, 0], [1.0, 1.0, 0.0], 2.0), 1);
+        assert_eq!(blend_rgb10([red, red, 0], [1.0, 1.0000001, 0.0], 2.0) & 0x3ff, 0x3ff);
+    }
 
     #[test]
     fn srgb_round_trip() {

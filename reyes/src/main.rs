@@ -9,7 +9,7 @@
 //!              [--eye x,y,z] [--target x,y,z] [--up x,y,z] [--fov DEG] [--cpu]
 //!              [--displace bumps|sines|FILE.png|FILE.wgsl --displace-scale S
 //!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
-//!              [--chunks N] [--dicing rate|fixed] [--shading-rate R]
+//!              [--chunks N] [--dicing rate|fixed] [--shading-rate R] [--shading-interpolation smooth|constant]
 //!              [--aov shaded|grids|depth|normal] [--sides 1|2] [--reverse-orientation]
 //! ```
 
@@ -24,7 +24,7 @@ use reyes::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use reyes::gpu::{GpuOptions, GpuRenderer};
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
-use reyes::scene::{CameraDesc, Dicing, Sampling, Scene};
+use reyes::scene::{CameraDesc, Dicing, Sampling, Scene, ShadingInterpolation};
 use reyes::stats::RenderStats;
 
 #[derive(Debug, Parser)]
@@ -70,6 +70,14 @@ enum DicingArg {
 }
 
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum InterpolationArg {
+    /// Each sample blends its triangle's corner colours.
+    Smooth,
+    /// One colour per micropolygon.
+    Constant,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
 enum AovArg {
     /// The shaded surface.
     Shaded,
@@ -108,6 +116,9 @@ struct RenderArgs {
     /// scene's, 1).
     #[arg(long, value_name = "R")]
     shading_rate: Option<f32>,
+    /// How colour varies over a micropolygon (default: the scene's, smooth).
+    #[arg(long, value_enum)]
+    shading_interpolation: Option<InterpolationArg>,
     /// What the image shows: the shaded surface, each micropolygon coloured
     /// by its grid's size (checkered), the view depth or the shading normal.
     #[arg(long, value_enum)]
@@ -346,6 +357,12 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
     if let Some(rate) = args.shading_rate {
         scene.shading_rate = rate;
     }
+    if let Some(interpolation) = args.shading_interpolation {
+        scene.shading_interpolation = match interpolation {
+            InterpolationArg::Smooth => ShadingInterpolation::Smooth,
+            InterpolationArg::Constant => ShadingInterpolation::Constant,
+        };
+    }
     if let Some(aov) = args.aov {
         scene.aov = match aov {
             AovArg::Shaded => Aov::Shaded,
@@ -434,6 +451,7 @@ fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
         ),
         Dicing::Fixed => format!("fixed, threshold {} px", scene.dice_threshold),
     };
+    let dicing = format!("{dicing}, {} shading", scene.shading_interpolation.name());
     let rows: [(&str, String); 17] = [
         ("input patches", stats.input_patches.to_string()),
         ("splits", stats.splits.to_string()),

@@ -10,7 +10,7 @@ use crate::displacement::PreparedDisplacement;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
 use crate::params::MAX_GRID_QUADS;
-use crate::scene::{CameraDesc, Dicing, Sampling, Scene, SceneError};
+use crate::scene::{CameraDesc, Dicing, Sampling, Scene, SceneError, ShadingInterpolation};
 
 /// One input patch in world space, with the object it belongs to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -95,6 +95,8 @@ pub struct PreparedScene {
     pub lens: PreparedLens,
     /// What the image shows.
     pub aov: Aov,
+    /// How colour varies over a micropolygon.
+    pub shading_interpolation: ShadingInterpolation,
 }
 
 impl PreparedScene {
@@ -207,6 +209,7 @@ impl PreparedScene {
             },
             max_split_depth: scene.max_split_depth,
             aov: scene.aov,
+            shading_interpolation: scene.shading_interpolation,
         })
     }
 

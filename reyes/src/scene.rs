@@ -25,6 +25,7 @@
 //! dicing = "rate"                   # "rate" (to the shading rate) or "fixed" (16 x 16 points)
 //! aov = "shaded"                     # what the image shows: "shaded", "grids", "depth" or "normal"
 //! shading_rate = 1.0                 # target micropolygon area in pixels (rate dicing)
+//! shading_interpolation = "smooth"   # "smooth" (blend corner colours) or "constant" (one per micropolygon)
 //! dice_threshold = 16.0              # fixed dicing: dice when the projected patch fits in this many pixels
 //! max_split_depth = 24               # drop patches that still need a split at this depth
 //!
@@ -235,6 +236,30 @@ pub enum Dicing {
     /// Every piece that fits `dice_threshold` pixels gets the same 16 x 16
     /// points (15 x 15 micropolygons), whatever its size.
     Fixed,
+}
+
+/// How a micropolygon's colour varies over it: RenderMan's
+/// `ShadingInterpolation` (see `docs/reyes.md`, "Shading interpolation").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShadingInterpolation {
+    /// Each sample blends the colours shaded at its triangle's three
+    /// corners by its barycentric weights (Gouraud), so that a picture at
+    /// shading rate 1 shows no facets (default).
+    #[default]
+    Smooth,
+    /// One colour per micropolygon, the mean of its four corners'.
+    Constant,
+}
+
+impl ShadingInterpolation {
+    /// The name used in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadingInterpolation::Smooth => "smooth",
+            ShadingInterpolation::Constant => "constant",
+        }
+    }
 }
 
 impl Dicing {
@@ -539,6 +564,10 @@ pub struct Scene {
     /// What the image shows (default the shaded surface; see [`Aov`]).
     #[serde(default)]
     pub aov: Aov,
+    /// How colour varies over a micropolygon (default
+    /// [`ShadingInterpolation::Smooth`]).
+    #[serde(default)]
+    pub shading_interpolation: ShadingInterpolation,
     /// The target area of a micropolygon in pixels, RenderMan's
     /// `ShadingRate` (default [`DEFAULT_SHADING_RATE`]); used by
     /// [`Dicing::Rate`].
@@ -641,6 +670,7 @@ impl Default for Scene {
             ambient: default_ambient(),
             dicing: Dicing::default(),
             aov: Aov::default(),
+            shading_interpolation: ShadingInterpolation::default(),
             shading_rate: DEFAULT_SHADING_RATE,
             dice_threshold: DEFAULT_DICE_THRESHOLD,
             max_split_depth: DEFAULT_MAX_SPLIT_DEPTH,

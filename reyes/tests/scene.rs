@@ -348,20 +348,22 @@ fn default_teapot_and_for_model_frame_the_model() {
 #[test]
 fn dicing_aov_and_sides_keys() {
     use reyes::aov::Aov;
-    use reyes::scene::Dicing;
+    use reyes::scene::{Dicing, ShadingInterpolation};
     let defaults = Scene::from_toml_str("[[objects]]\nmodel = \"teapot\"").unwrap();
     assert_eq!(defaults.dicing, Dicing::Rate);
     assert_eq!(defaults.shading_rate, 1.0);
     assert_eq!(defaults.aov, Aov::Shaded);
+    assert_eq!(defaults.shading_interpolation, ShadingInterpolation::Smooth);
     assert_eq!(defaults.objects[0].sides, 2);
     assert!(!defaults.objects[0].reverse_orientation);
     let scene = Scene::from_toml_str(
-        "dicing = \"fixed\"\nshading_rate = 4.0\naov = \"grids\"\n[[objects]]\nmodel = \"teapot\"\nsides = 1\nreverse_orientation = true",
+        "dicing = \"fixed\"\nshading_rate = 4.0\naov = \"grids\"\nshading_interpolation = \"constant\"\n[[objects]]\nmodel = \"teapot\"\nsides = 1\nreverse_orientation = true",
     )
     .unwrap();
     assert_eq!(scene.dicing, Dicing::Fixed);
     assert_eq!(scene.shading_rate, 4.0);
     assert_eq!(scene.aov, Aov::Grids);
+    assert_eq!(scene.shading_interpolation, ShadingInterpolation::Constant);
     assert_eq!(scene.objects[0].sides, 1);
     assert!(scene.objects[0].reverse_orientation);
     let err = |text: &str| Scene::from_toml_str(text).unwrap_err();
@@ -383,4 +385,8 @@ fn dicing_aov_and_sides_keys() {
         SceneError::Parse { .. }
     ));
     assert!(matches!(err("aov = \"colour\""), SceneError::Parse { .. }));
+    assert!(matches!(
+        err("shading_interpolation = \"phong\""),
+        SceneError::Parse { .. }
+    ));
 }

@@ -14,7 +14,9 @@
 // Adaptive sampling.
 // Phase 2: thread t < nu * nv rasterizes micropolygon (t % nu, t / nu) as
 // the two triangles (a, b, c) and (a, c, d) (raster5d.wgsl with time and
-// lens), or its nearest sample.
+// lens), each sample blending its triangle's corner colours (smooth
+// shading) or taking the micropolygon's mean colour (constant shading,
+// the grids picture, nearest sampling).
 // Scratch: POINT_WORDS (9) words per point: px, py, depth, clip w, packed
 // colour, and at close px, py, depth, clip w.
 // llvmpipe turns every workgroupBarrier into a coroutine suspension whose
@@ -126,14 +128,20 @@ if (valid && thread < nu * nv) {
         atomicMax(&stats[STAT_LARGEST_MICROPOLYGON], bitcast<u32>(size));
     }
 
-    var color = average_rgb10(
-        scratch_load_u32(slot, wa + 4u),
-        scratch_load_u32(slot, wb + 4u),
-        scratch_load_u32(slot, wc + 4u),
-        scratch_load_u32(slot, wd + 4u),
-    );
+    // The corners' colours (smooth shading), or one for the micropolygon.
+    let ca = scratch_load_u32(slot, wa + 4u);
+    let cb = scratch_load_u32(slot, wb + 4u);
+    let cc = scratch_load_u32(slot, wc + 4u);
+    let cd = scratch_load_u32(slot, wd + 4u);
+    var color = average_rgb10(ca, cb, cc, cd);
     if (frame.aov == AOV_GRIDS) {
         color = grid_color(nu * nv, i, j);
+    }
+    var colors_abc = vec3<u32>(color);
+    var colors_acd = vec3<u32>(color);
+    if (frame.smooth_shading != 0u && frame.aov != AOV_GRIDS) {
+        colors_abc = vec3<u32>(ca, cb, cc);
+        colors_acd = vec3<u32>(ca, cc, cd);
     }
     // A one-sided object's back-facing triangles are culled.
     let front = objects[item.object].front;
@@ -150,10 +158,10 @@ if (valid && thread < nu * nv) {
         let mc = moving_point(c.xyz, c.w, grid_point_close(slot, wc).xyz, grid_point_close(slot, wc).w);
         let md = moving_point(d.xyz, d.w, grid_point_close(slot, wd).xyz, grid_point_close(slot, wd).w);
         if (draw_abc) {
-            raster_triangle_5d(mode, ma, mb, mc, color, &counts);
+            raster_triangle_5d(mode, ma, mb, mc, colors_abc, &counts);
         }
         if (draw_acd) {
-            raster_triangle_5d(mode, ma, mc, md, color, &counts);
+            raster_triangle_5d(mode, ma, mc, md, colors_acd, &counts);
         }
     } else if (frame.sampling == SAMPLING_NEAREST) {
         if (draw_abc || draw_acd) {
@@ -161,10 +169,10 @@ if (valid && thread < nu * nv) {
         }
     } else {
         if (draw_abc) {
-            raster_triangle(a, b, c, color, &counts);
+            raster_triangle(a, b, c, colors_abc, &counts);
         }
         if (draw_acd) {
-            raster_triangle(a, c, d, color, &counts);
+            raster_triangle(a, c, d, colors_acd, &counts);
         }
     }
     stat_add64(STAT_SAMPLES_TESTED, counts.tested);

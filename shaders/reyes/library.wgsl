@@ -55,7 +55,9 @@ struct Frame {
     aov: u32,
     // reyes::aov::depth_range.
     depth_range: f32,
-    pad1: u32,
+    // 1: a sample blends its triangle's corner colours
+    // (reyes::scene::ShadingInterpolation::Smooth); 0: one per micropolygon.
+    smooth_shading: u32,
 }
 
 // One object (reyes::gpu::objects::ObjectData).
@@ -665,6 +667,22 @@ fn average_rgb10(c0: u32, c1: u32, c2: u32, c3: u32) -> u32 {
     return packed;
 }
 
+// reyes::color::blend_rgb10: a sample's colour from its triangle's corner
+// colours (a, b, c), weighted by its edge functions (E_bc, E_ca, E_ab) over
+// the doubled area, as its depth is. Equal colours pass through unchanged.
+fn blend_rgb10(colors: vec3<u32>, edges: vec3<f32>, area: f32) -> u32 {
+    if (colors.x == colors.y && colors.y == colors.z) {
+        return colors.x;
+    }
+    var packed = 0u;
+    for (var shift = 0u; shift < 30u; shift += 10u) {
+        let corner = vec3<f32>((colors >> vec3<u32>(shift)) & vec3<u32>(0x3ffu));
+        let value = ((edges.x * corner.x + edges.y * corner.y) + edges.z * corner.z) / area;
+        packed |= min(u32(max(floor(value + 0.5), 0.0)), 0x3ffu) << shift;
+    }
+    return packed;
+}
+
 // Samples tested and hit by one thread, added to the statistics once per item.
 struct SampleCounts {
     tested: u32,
@@ -674,7 +692,8 @@ struct SampleCounts {
 // reyes::reference::raster::raster_triangle (bbox mode). The bbox loop is
 // flattened into one loop over (pixel, sample); a loop the driver cut short
 // is detected (n < total afterwards) and counted, never silently ignored.
-fn raster_triangle(pa: vec4<f32>, pb_in: vec4<f32>, pc_in: vec4<f32>, color: u32, counts: ptr<function, SampleCounts>) {
+// `colors` are the packed colours of the corners (equal for constant shading).
+fn raster_triangle(pa: vec4<f32>, pb_in: vec4<f32>, pc_in: vec4<f32>, colors_in: vec3<u32>, counts: ptr<function, SampleCounts>) {
     if (!(usable(pa) && usable(pb_in) && usable(pc_in))) {
         return;
     }
@@ -686,6 +705,7 @@ fn raster_triangle(pa: vec4<f32>, pb_in: vec4<f32>, pc_in: vec4<f32>, color: u32
     let flip = signed_area < 0.0;
     let pb = select(pb_in, pc_in, flip);
     let pc = select(pc_in, pb_in, flip);
+    let colors = select(colors_in, colors_in.xzy, vec3<bool>(flip));
     let area = abs(signed_area);
     let a = pa.xy;
     let b = pb.xy;
@@ -722,7 +742,7 @@ fn raster_triangle(pa: vec4<f32>, pb_in: vec4<f32>, pc_in: vec4<f32>, color: u32
         if (inside(e_bc, b, c) && inside(e_ca, c, a) && inside(e_ab, a, b)) {
             (*counts).hit += 1u;
             let z = (e_bc * pa.z + e_ca * pb.z + e_ab * pc.z) / area;
-            offer(x, y, s, z, color);
+            offer(x, y, s, z, blend_rgb10(colors, vec3<f32>(e_bc, e_ca, e_ab), area));
         }
         n += 1u;
     }

@@ -39,6 +39,8 @@ struct Placed {
     a: vec3<f32>,
     b: vec3<f32>,
     c: vec3<f32>,
+    // The packed colours of a, b and c.
+    colors: vec3<u32>,
     area: f32,
     ok: bool,
 }
@@ -55,28 +57,29 @@ fn uvt_pixel_at(x: u32, y: u32, s: u32) -> u32 {
     return frame.uvt_pixel + 4u * (((gy % TABLE_SIDE) * TABLE_SIDE + gx % TABLE_SIDE) * frame.spp + s);
 }
 
-fn place(ma: Moving, mb: Moving, mc: Moving, tl: vec3<f32>) -> Placed {
+fn place(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, tl: vec3<f32>) -> Placed {
     let a = moving_at(ma, tl.x, tl.yz);
     var b = moving_at(mb, tl.x, tl.yz);
     var c = moving_at(mc, tl.x, tl.yz);
     let area = edge(a.xy, b.xy, c.xy);
     if (area == 0.0 || !is_finite_f32(area)) {
-        return Placed(a, b, c, 0.0, false);
+        return Placed(a, b, c, colors, 0.0, false);
     }
     if (area < 0.0) {
         let swap = b;
         b = c;
         c = swap;
+        return Placed(a, b, c, colors.xzy, abs(area), true);
     }
-    return Placed(a, b, c, abs(area), true);
+    return Placed(a, b, c, colors, abs(area), true);
 }
 
 // Places the triangle at sample s's own time and lens (`tl`) and tests the
 // sample; a triangle without area there still counts as tested.
-fn place_and_test(ma: Moving, mb: Moving, mc: Moving, tl: vec3<f32>, x: u32, y: u32, s: u32, color: u32, counts: ptr<function, SampleCounts>) {
-    let placed = place(ma, mb, mc, tl);
+fn place_and_test(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, tl: vec3<f32>, x: u32, y: u32, s: u32, counts: ptr<function, SampleCounts>) {
+    let placed = place(ma, mb, mc, colors, tl);
     if (placed.ok) {
-        test_sample(placed, x, y, s, color, counts);
+        test_sample(placed, x, y, s, counts);
     } else {
         (*counts).tested += 1u;
     }
@@ -91,7 +94,7 @@ fn placed_hi(p: Placed) -> vec2<f32> {
 }
 
 // Tests sample s of pixel (x, y) against a placed triangle.
-fn test_sample(p: Placed, x: u32, y: u32, s: u32, color: u32, counts: ptr<function, SampleCounts>) {
+fn test_sample(p: Placed, x: u32, y: u32, s: u32, counts: ptr<function, SampleCounts>) {
     (*counts).tested += 1u;
     let q = sample_position(x, y, s);
     let a = p.a.xy;
@@ -103,7 +106,7 @@ fn test_sample(p: Placed, x: u32, y: u32, s: u32, color: u32, counts: ptr<functi
     if (inside(e_bc, b, c) && inside(e_ca, c, a) && inside(e_ab, a, b)) {
         (*counts).hit += 1u;
         let z = (e_bc * p.a.z + e_ca * p.b.z + e_ab * p.c.z) / p.area;
-        offer(x, y, s, z, color);
+        offer(x, y, s, z, blend_rgb10(p.colors, vec3<f32>(e_bc, e_ca, e_ab), p.area));
     }
 }
 
@@ -134,7 +137,7 @@ fn loop_cut() {
 
 // Bounding box: the box over both ends, grown by the corners' largest blur;
 // every sample of every pixel in it, each with its own time and lens.
-fn raster_bbox_5d(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<function, SampleCounts>) {
+fn raster_bbox_5d(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
     let r = max(max(max(0.0, moving_blur(ma)), moving_blur(mb)), moving_blur(mc));
     let lo = min(min(min(ma.open.xy, ma.close.xy), min(mb.open.xy, mb.close.xy)), min(mc.open.xy, mc.close.xy));
     let hi = max(max(max(ma.open.xy, ma.close.xy), max(mb.open.xy, mb.close.xy)), max(mc.open.xy, mc.close.xy));
@@ -153,7 +156,7 @@ fn raster_bbox_5d(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<fu
         let pixel = n / spp;
         let x = range.x0 + pixel % range.nx;
         let y = range.y0 + pixel / range.nx;
-        place_and_test(ma, mb, mc, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, color, counts);
+        place_and_test(ma, mb, mc, colors, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, counts);
         n += 1u;
     }
     if (n < total) {
@@ -163,14 +166,14 @@ fn raster_bbox_5d(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<fu
 
 // Simple UVT: tuple s positions the triangle once; sample s of each pixel
 // in its box is tested.
-fn raster_simple(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<function, SampleCounts>) {
+fn raster_simple(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
     let spp = frame.spp;
     var s = 0u;
     loop {
         if (s >= spp) {
             break;
         }
-        let placed = place(ma, mb, mc, uvt_record(frame.uvt_simple + 4u * s));
+        let placed = place(ma, mb, mc, colors, uvt_record(frame.uvt_simple + 4u * s));
         let range = pixel_range(placed_lo(placed), placed_hi(placed));
         if (placed.ok && range.ok) {
             let total = range.nx * range.ny;
@@ -179,7 +182,7 @@ fn raster_simple(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<fun
                 if (n >= total) {
                     break;
                 }
-                test_sample(placed, range.x0 + n % range.nx, range.y0 + n / range.nx, s, color, counts);
+                test_sample(placed, range.x0 + n % range.nx, range.y0 + n / range.nx, s, counts);
                 n += 1u;
             }
             if (n < total) {
@@ -195,14 +198,14 @@ fn raster_simple(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<fun
 
 // Interleave UVT: tuple n positions the triangle once; in every 2x2 tile
 // its box overlaps, the one sample carrying tuple n is tested.
-fn raster_interleave(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<function, SampleCounts>) {
+fn raster_interleave(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
     let tuples = frame.interleave_tuples;
     var tuple = 0u;
     loop {
         if (tuple >= tuples) {
             break;
         }
-        let placed = place(ma, mb, mc, uvt_record(frame.uvt_interleave + 4u * tuple));
+        let placed = place(ma, mb, mc, colors, uvt_record(frame.uvt_interleave + 4u * tuple));
         let range = pixel_range(placed_lo(placed), placed_hi(placed));
         if (placed.ok && range.ok) {
             let tx0 = range.x0 / INTERLEAVE_TILE;
@@ -229,7 +232,7 @@ fn raster_interleave(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr
                 let x = tx * INTERLEAVE_TILE + q % INTERLEAVE_TILE;
                 let y = ty * INTERLEAVE_TILE + q / INTERLEAVE_TILE;
                 if (x < frame.width && y < frame.height) {
-                    test_sample(placed, x, y, j % frame.spp, color, counts);
+                    test_sample(placed, x, y, j % frame.spp, counts);
                 }
                 n += 1u;
             }
@@ -247,7 +250,7 @@ fn raster_interleave(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr
 // INTERVAL: time interval i gets the box of the triangle over the interval
 // (grown by the largest blur in it); in each of its pixels the one sample
 // whose time lies in interval i is tested.
-fn raster_interval(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<function, SampleCounts>) {
+fn raster_interval(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
     let spp = frame.spp;
     let n_f = f32(spp);
     var i = 0u;
@@ -280,7 +283,7 @@ fn raster_interval(ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<f
                 let x = range.x0 + n % range.nx;
                 let y = range.y0 + n / range.nx;
                 let s = u32(height_texels[uvt_pixel_at(x, y, i) + 3u]);
-                place_and_test(ma, mb, mc, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, color, counts);
+                place_and_test(ma, mb, mc, colors, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, counts);
                 n += 1u;
             }
             if (n < total) {
@@ -317,22 +320,22 @@ fn mode_for_grid(motion: f32, blur: f32) -> u32 {
     return frame.sampling;
 }
 
-fn raster_triangle_5d(mode: u32, ma: Moving, mb: Moving, mc: Moving, color: u32, counts: ptr<function, SampleCounts>) {
+fn raster_triangle_5d(mode: u32, ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
     if (!(ma.usable && mb.usable && mc.usable)) {
         return;
     }
     switch mode {
         case SAMPLING_SIMPLE: {
-            raster_simple(ma, mb, mc, color, counts);
+            raster_simple(ma, mb, mc, colors, counts);
         }
         case SAMPLING_INTERLEAVE: {
-            raster_interleave(ma, mb, mc, color, counts);
+            raster_interleave(ma, mb, mc, colors, counts);
         }
         case SAMPLING_INTERVAL: {
-            raster_interval(ma, mb, mc, color, counts);
+            raster_interval(ma, mb, mc, colors, counts);
         }
         default: {
-            raster_bbox_5d(ma, mb, mc, color, counts);
+            raster_bbox_5d(ma, mb, mc, colors, counts);
         }
     }
 }

@@ -73,7 +73,7 @@ fn the_resource_structs_match_their_rust_twins() {
     ])
     .chain(same_names!(FrameUniform: interleave_tuples))
     .chain([("origin_x", origin), ("origin_y", origin + 4)])
-    .chain(same_names!(FrameUniform: micropolygon_side, patch_floats, aov, depth_range, pad1))
+    .chain(same_names!(FrameUniform: micropolygon_side, patch_floats, aov, depth_range, smooth_shading))
     .collect();
     assert_twins(&module, "Frame", size_of::<FrameUniform>(), &frame);
 

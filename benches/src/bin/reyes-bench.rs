@@ -6,7 +6,7 @@
 //!     [--resolutions 800x600,1920x1080] [--rates 0.25,1,4,16] [--no-rounds]
 //! ```
 //!
-//! Prints three markdown tables measured in this one process:
+//! Prints four markdown tables measured in this one process:
 //! 1. **Dicing**: every model, resolution and spp, rendered with `--dicing
 //!    rate` and `--dicing fixed` in alternating frames (so both see the
 //!    same machine load), with the median frame times, the grids,
@@ -14,7 +14,9 @@
 //!    and the ratio fixed / rate.
 //! 2. **Shading rates**: each model at the first resolution, spp 1, for
 //!    every `--rates` value.
-//! 3. **Megakernel vs. Rounds** on the rate-dicing graph, each model at the
+//! 3. **Shading interpolation**: smooth against constant shading, each
+//!    model at the first resolution and every spp, in alternating frames.
+//! 4. **Megakernel vs. Rounds** on the rate-dicing graph, each model at the
 //!    first resolution and spp 1, in alternating frames.
 //!
 //! Per configuration one warm-up frame creates the pipelines, the executor
@@ -31,7 +33,7 @@ use clap::Parser;
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
-use reyes::scene::{CameraDesc, Dicing, Scene};
+use reyes::scene::{CameraDesc, Dicing, Scene, ShadingInterpolation};
 use scheduler::Strategy;
 
 #[derive(Debug, Parser)]
@@ -254,6 +256,32 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
                 s.micropolygons_per_hit(),
                 s.thread_utilization(),
                 s.largest_micropolygon_px,
+            );
+        }
+    }
+
+    println!(
+        "\n### Shading interpolation: smooth vs. constant ({}x{}, shading rate 1)\n\n| model | spp | smooth ms | constant ms | smooth / constant | samples hit |\n|---|---:|---:|---:|---:|---:|",
+        first.0, first.1
+    );
+    let mut constant_renderer = GpuRenderer::new(&gpu, options.clone())?;
+    for (name, scene, model) in &models {
+        for &spp in &args.spp {
+            let smooth = prepare(scene, model, first, spp, Dicing::Rate, 1.0)?;
+            let mut constant_scene = sized(scene.clone(), model, first.0, first.1, spp);
+            constant_scene.shading_interpolation = ShadingInterpolation::Constant;
+            let constant = PreparedScene::load(&constant_scene)?;
+            let m = measure(
+                &mut [(&mut renderer, &smooth), (&mut constant_renderer, &constant)],
+                args.frames,
+                &format!("{name} spp {spp} shading interpolation"),
+            )?;
+            println!(
+                "| {name} | {spp} | {:.1} | {:.1} | {:.3} | {} |",
+                m[0].median_ms(),
+                m[1].median_ms(),
+                m[0].median_ms() / m[1].median_ms(),
+                m[0].frame().stats.samples_hit,
             );
         }
     }

@@ -68,8 +68,9 @@ pub struct FrameUniform {
     pub aov: u32,
     /// [`crate::aov::depth_range`] of the camera.
     pub depth_range: f32,
-    /// Padding.
-    pub pad1: u32,
+    /// 1 when samples blend their triangle's corner colours
+    /// ([`crate::scene::ShadingInterpolation::Smooth`]).
+    pub smooth_shading: u32,
 }
 
 impl FrameUniform {
@@ -105,7 +106,9 @@ impl FrameUniform {
             patch_floats: 0,
             aov: scene.aov.code(),
             depth_range: crate::aov::depth_range(camera),
-            pad1: 0,
+            smooth_shading: u32::from(
+                scene.shading_interpolation == crate::scene::ShadingInterpolation::Smooth,
+            ),
         }
     }
 

@@ -44,7 +44,7 @@ use crate::color::{average_rgb10, pack_rgb10};
 use crate::dicing::{EdgeSpacing, GridSize};
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
-use crate::scene::{Dicing, Sampling, Scene, SceneError};
+use crate::scene::{Dicing, Sampling, Scene, SceneError, ShadingInterpolation};
 use crate::stats::RenderStats;
 use crate::uvt::UvtTables;
 
@@ -332,10 +332,17 @@ fn dice_shade_sample(
             let micropolygon = micropolygon_size(&corners);
             // f32::max ignores a NaN size (possible only for unprojectable corners).
             stats.largest_micropolygon_px = stats.largest_micropolygon_px.max(micropolygon);
+            // The corners' colours, or one colour for the whole micropolygon.
+            let corner_colors = micropolygon_corners(&colors, size, i, j);
             let packed = match scene.aov {
                 Aov::Grids => aov::grid_color(size.quads(), i, j),
-                _ => average_rgb10(micropolygon_corners(&colors, size, i, j)),
+                _ => average_rgb10(corner_colors),
             };
+            let [ca, cb, cc, cd] = match (scene.aov, scene.shading_interpolation) {
+                (Aov::Grids, _) | (_, ShadingInterpolation::Constant) => [packed; 4],
+                (_, ShadingInterpolation::Smooth) => corner_colors,
+            };
+            let triangle_colors = [[ca, cb, cc], [ca, cc, cd]];
             // Which of the two triangles to sample: a one-sided object's
             // back-facing ones are culled.
             let [pa, pb, pc, pd] = corners.map(|c| c.pixel.truncate());
@@ -345,9 +352,13 @@ fn dice_shade_sample(
             let drawn = [front(pa, pb, pc), front(pa, pc, pd)];
             if let Some((sampler, points, mode)) = &moving {
                 let [a, b, c, d] = micropolygon_corners(points, size, i, j);
-                for (triangle, drawn) in [[a, b, c], [a, c, d]].into_iter().zip(drawn) {
+                for ((triangle, colors), drawn) in [[a, b, c], [a, c, d]]
+                    .into_iter()
+                    .zip(triangle_colors)
+                    .zip(drawn)
+                {
                     if drawn {
-                        raster_triangle_5d(framebuffer, sampler, *mode, triangle, packed, stats);
+                        raster_triangle_5d(framebuffer, sampler, *mode, triangle, colors, stats);
                     }
                 }
                 continue;
@@ -360,9 +371,13 @@ fn dice_shade_sample(
                 }
                 _ => {
                     let [a, b, c, d] = corners;
-                    for (triangle, drawn) in [[a, b, c], [a, c, d]].into_iter().zip(drawn) {
+                    for ((triangle, colors), drawn) in [[a, b, c], [a, c, d]]
+                        .into_iter()
+                        .zip(triangle_colors)
+                        .zip(drawn)
+                    {
                         if drawn {
-                            raster_triangle(framebuffer, samples, triangle, packed, stats);
+                            raster_triangle(framebuffer, samples, triangle, colors, stats);
                         }
                     }
                 }

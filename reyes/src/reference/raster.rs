@@ -9,7 +9,7 @@
 use glam::{Vec2, Vec3};
 
 use super::framebuffer::Framebuffer;
-use crate::color::pack_key;
+use crate::color::{blend_rgb10, pack_key};
 use crate::dicing::GridSize;
 use crate::params::NEAR_EPS;
 use crate::sampling::sample_offset;
@@ -110,13 +110,14 @@ pub(crate) fn key_depth(z: f32) -> f32 {
     if z == 0.0 { 0.0 } else { z }
 }
 
-/// Rasterizes one triangle in bbox mode, offering `packed_color` at the
-/// interpolated depth to every covered sample.
+/// Rasterizes one triangle in bbox mode, offering every covered sample the
+/// interpolated depth and the blend of its corners' packed `colors`
+/// ([`blend_rgb10`]; three equal colours for constant shading).
 pub fn raster_triangle(
     framebuffer: &mut Framebuffer,
     samples: &SampleGrid,
     corners: [ScreenPoint; 3],
-    packed_color: u32,
+    colors: [u32; 3],
     stats: &mut RenderStats,
 ) {
     if !corners.iter().all(ScreenPoint::usable) {
@@ -129,7 +130,11 @@ pub fn raster_triangle(
     }
     // Normalise the orientation: with b and c swapped the area is positive,
     // and "inside" means every edge function is positive.
-    let (pb, pc) = if area < 0.0 { (pc, pb) } else { (pb, pc) };
+    let (pb, pc, colors) = if area < 0.0 {
+        (pc, pb, [colors[0], colors[2], colors[1]])
+    } else {
+        (pb, pc, colors)
+    };
     let area = area.abs();
     let (a, b, c) = (pa.truncate(), pb.truncate(), pc.truncate());
 
@@ -155,7 +160,8 @@ pub fn raster_triangle(
                 if inside(e_bc, b, c) && inside(e_ca, c, a) && inside(e_ab, a, b) {
                     stats.samples_hit += 1;
                     let z = (e_bc * pa.z + e_ca * pb.z + e_ab * pc.z) / area;
-                    framebuffer.offer(x, y, s, pack_key(key_depth(z), packed_color));
+                    let color = blend_rgb10(colors, [e_bc, e_ca, e_ab], area);
+                    framebuffer.offer(x, y, s, pack_key(key_depth(z), color));
                 }
             }
         }
@@ -263,7 +269,7 @@ mod tests {
                 let mut stats = RenderStats::default();
                 for (t, tri) in [[a, b, c], [a, c, d]].into_iter().enumerate() {
                     let mut fb = Framebuffer::new(16, 16, k * k);
-                    raster_triangle(&mut fb, &samples, tri, t as u32, &mut stats);
+                    raster_triangle(&mut fb, &samples, tri, [t as u32; 3], &mut stats);
                     for (count, key) in hits.iter_mut().zip(&fb.keys) {
                         *count += u32::from(*key != CLEAR_KEY);
                     }
@@ -326,7 +332,7 @@ mod tests {
                 let d = point(x0, y0 + 1.0);
                 for tri in [[a, b, c], [a, c, d]] {
                     let mut fb = Framebuffer::new(8, 8, 1);
-                    raster_triangle(&mut fb, &samples, tri, 0, &mut stats);
+                    raster_triangle(&mut fb, &samples, tri, [0; 3], &mut stats);
                     for (h, key) in fb_hits.iter_mut().zip(&fb.keys) {
                         *h += u32::from(*key != CLEAR_KEY);
                     }
@@ -377,10 +383,10 @@ mod tests {
         let samples = SampleGrid::new(1, false);
         let mut behind = [point(0.0, 0.0), point(8.0, 0.0), point(0.0, 8.0)];
         behind[1].w = 0.0;
-        raster_triangle(&mut fb, &samples, behind, 0, &mut stats);
+        raster_triangle(&mut fb, &samples, behind, [0; 3], &mut stats);
         let mut beyond = [point(0.0, 0.0), point(8.0, 0.0), point(0.0, 8.0)];
         beyond[2].pixel.z = 1.5;
-        raster_triangle(&mut fb, &samples, beyond, 0, &mut stats);
+        raster_triangle(&mut fb, &samples, beyond, [0; 3], &mut stats);
         assert_eq!(stats.samples_tested, 0);
         assert!(fb.keys.iter().all(|&k| k == CLEAR_KEY));
     }

@@ -15,7 +15,7 @@ use glam::{Vec2, Vec3};
 
 use super::framebuffer::Framebuffer;
 use super::raster::{SampleGrid, edge, inside, key_depth};
-use crate::color::pack_key;
+use crate::color::{blend_rgb10, pack_key};
 use crate::params::{ADAPTIVE_INTERLEAVE_BIAS, NEAR_EPS};
 use crate::scene::Sampling;
 use crate::stats::RenderStats;
@@ -84,12 +84,14 @@ struct Placed {
     a: Vec3,
     b: Vec3,
     c: Vec3,
+    /// The packed colours of `a`, `b` and `c`.
+    colors: [u32; 3],
     area: f32,
 }
 
 /// Positions triangle `corners` at `(t, lens)`; `None` when it has no area
 /// there (degenerate, or not finite).
-fn place(corners: &[MovingPoint; 3], tl: TimeLens) -> Option<Placed> {
+fn place(corners: &[MovingPoint; 3], colors: [u32; 3], tl: TimeLens) -> Option<Placed> {
     let a = corners[0].at(tl.t, tl.lens);
     let b = corners[1].at(tl.t, tl.lens);
     let c = corners[2].at(tl.t, tl.lens);
@@ -98,25 +100,31 @@ fn place(corners: &[MovingPoint; 3], tl: TimeLens) -> Option<Placed> {
         return None;
     }
     // With b and c swapped the area is positive (as in the plain path).
-    let (b, c) = if area < 0.0 { (c, b) } else { (b, c) };
+    let (b, c, colors) = if area < 0.0 {
+        (c, b, [colors[0], colors[2], colors[1]])
+    } else {
+        (b, c, colors)
+    };
     Some(Placed {
         a,
         b,
         c,
+        colors,
         area: area.abs(),
     })
 }
 
 impl Placed {
-    /// The depth at `p` if `p` is inside.
+    /// The depth and the blended colour at `p` if `p` is inside.
     #[inline]
-    fn depth_at(&self, p: Vec2) -> Option<f32> {
+    fn fragment_at(&self, p: Vec2) -> Option<(f32, u32)> {
         let (a, b, c) = (self.a.truncate(), self.b.truncate(), self.c.truncate());
         let e_bc = edge(b, c, p);
         let e_ca = edge(c, a, p);
         let e_ab = edge(a, b, p);
         if inside(e_bc, b, c) && inside(e_ca, c, a) && inside(e_ab, a, b) {
-            Some((e_bc * self.a.z + e_ca * self.b.z + e_ab * self.c.z) / self.area)
+            let z = (e_bc * self.a.z + e_ca * self.b.z + e_ab * self.c.z) / self.area;
+            Some((z, blend_rgb10(self.colors, [e_bc, e_ca, e_ab], self.area)))
         } else {
             None
         }
@@ -151,18 +159,18 @@ fn pixel_range(lo: Vec2, hi: Vec2, width: u32, height: u32) -> Option<[u32; 4]> 
     Some([x0 as u32, y0 as u32, x1 as u32, y1 as u32])
 }
 
-/// Tests sample `s` of pixel `(x, y)` against `placed`, offering `color` on a hit.
+/// Tests sample `s` of pixel `(x, y)` against `placed`, offering its
+/// fragment on a hit.
 #[inline]
 fn test(
     framebuffer: &mut Framebuffer,
     sampler: &Sampler<'_>,
     placed: &Placed,
     (x, y, s): (u32, u32, u32),
-    color: u32,
     stats: &mut RenderStats,
 ) {
     stats.samples_tested += 1;
-    if let Some(z) = placed.depth_at(sampler.samples.position(x, y, s)) {
+    if let Some((z, color)) = placed.fragment_at(sampler.samples.position(x, y, s)) {
         stats.samples_hit += 1;
         framebuffer.offer(x, y, s, pack_key(key_depth(z), color));
     }
@@ -174,13 +182,13 @@ fn place_and_test(
     framebuffer: &mut Framebuffer,
     sampler: &Sampler<'_>,
     corners: &[MovingPoint; 3],
+    colors: [u32; 3],
     tl: TimeLens,
     sample: (u32, u32, u32),
-    color: u32,
     stats: &mut RenderStats,
 ) {
-    match place(corners, tl) {
-        Some(placed) => test(framebuffer, sampler, &placed, sample, color, stats),
+    match place(corners, colors, tl) {
+        Some(placed) => test(framebuffer, sampler, &placed, sample, stats),
         None => stats.samples_tested += 1,
     }
 }
@@ -234,13 +242,14 @@ impl Mode5d {
     }
 }
 
-/// Rasterizes one moving, defocused triangle with `mode`.
+/// Rasterizes one moving, defocused triangle with `mode`; its corners carry
+/// the packed `colors` (see [`crate::reference::raster::raster_triangle`]).
 pub fn raster_triangle_5d(
     framebuffer: &mut Framebuffer,
     sampler: &Sampler<'_>,
     mode: Mode5d,
     corners: [MovingPoint; 3],
-    color: u32,
+    colors: [u32; 3],
     stats: &mut RenderStats,
 ) {
     if !corners.iter().all(|c| c.usable) {
@@ -268,14 +277,14 @@ pub fn raster_triangle_5d(
                 for x in x0..=x1 {
                     for s in 0..spp {
                         let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
-                        place_and_test(framebuffer, sampler, &corners, tl, (x, y, s), color, stats);
+                        place_and_test(framebuffer, sampler, &corners, colors, tl, (x, y, s), stats);
                     }
                 }
             }
         }
         Mode5d::Simple => {
             for (s, &tl) in uvt.simple.iter().enumerate() {
-                let Some(placed) = place(&corners, tl) else {
+                let Some(placed) = place(&corners, colors, tl) else {
                     continue;
                 };
                 let Some([x0, y0, x1, y1]) = pixel_range(placed.lo(), placed.hi(), width, height)
@@ -284,21 +293,14 @@ pub fn raster_triangle_5d(
                 };
                 for y in y0..=y1 {
                     for x in x0..=x1 {
-                        test(
-                            framebuffer,
-                            sampler,
-                            &placed,
-                            (x, y, s as u32),
-                            color,
-                            stats,
-                        );
+                        test(framebuffer, sampler, &placed, (x, y, s as u32), stats);
                     }
                 }
             }
         }
         Mode5d::Interleave => {
             for (n, &tl) in uvt.interleave.iter().enumerate() {
-                let Some(placed) = place(&corners, tl) else {
+                let Some(placed) = place(&corners, colors, tl) else {
                     continue;
                 };
                 let Some([x0, y0, x1, y1]) = pixel_range(placed.lo(), placed.hi(), width, height)
@@ -309,7 +311,7 @@ pub fn raster_triangle_5d(
                     for tx in x0 / INTERLEAVE_TILE..=x1 / INTERLEAVE_TILE {
                         let (x, y, s) = uvt.interleave_sample(tx, ty, n as u32);
                         if x < width && y < height {
-                            test(framebuffer, sampler, &placed, (x, y, s), color, stats);
+                            test(framebuffer, sampler, &placed, (x, y, s), stats);
                         }
                     }
                 }
@@ -339,7 +341,7 @@ pub fn raster_triangle_5d(
                     for x in x0..=x1 {
                         let s = uvt.sample_in_stratum[uvt.pixel_index(x, y, i)];
                         let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
-                        place_and_test(framebuffer, sampler, &corners, tl, (x, y, s), color, stats);
+                        place_and_test(framebuffer, sampler, &corners, colors, tl, (x, y, s), stats);
                     }
                 }
             }
