@@ -3,6 +3,8 @@
 //! This crate holds the renderer's CPU side:
 //!
 //! * [`model`] and [`load`]: patch models and the `.bpt`/`.bez` loaders;
+//! * [`input`]: the one way input files are read (regular files only, with a
+//!   size cap);
 //! * [`scene`]: the TOML scene description;
 //! * [`displacement`]: displacement sources (height maps, procedural and
 //!   user WGSL heights) and their preparation;
@@ -24,6 +26,7 @@ pub mod camera;
 pub mod color;
 pub mod dicing;
 pub mod displacement;
+pub mod input;
 pub mod load;
 pub mod model;
 pub mod motion;

@@ -11,6 +11,7 @@
 //!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
 //!              [--chunks N] [--dicing rate|fixed] [--shading-rate R] [--shading-interpolation smooth|constant]
 //!              [--aov shaded|grids|depth|normal] [--sides 1|2] [--reverse-orientation]
+//!              [--max-input-bytes BYTES]
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -22,6 +23,7 @@ use reyes::aov::Aov;
 use reyes::displacement::DisplacementDesc;
 use reyes::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use reyes::gpu::{GpuOptions, GpuRenderer};
+use reyes::input::{InputKind, Limits};
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
 use reyes::scene::{CameraDesc, Dicing, Sampling, Scene, ShadingInterpolation};
@@ -217,6 +219,37 @@ struct RenderArgs {
     /// distance from the eye to the camera target).
     #[arg(long, value_name = "D", allow_hyphen_values = true)]
     focus: Option<f32>,
+    /// Largest input file read, in bytes, for every kind of input: models,
+    /// scenes, .wgsl functions and height-map PNGs (suffixes K, M, G, T:
+    /// KiB, MiB, GiB, TiB). Default: 1G for models, 16M for scenes and
+    /// .wgsl files, 64M for height maps. Only regular files are read.
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    max_input_bytes: Option<u64>,
+}
+
+/// A byte count: digits with an optional binary suffix K, M, G or T
+/// (case-insensitive, an optional trailing `B` or `iB` allowed: `16M`, `2GiB`).
+fn parse_bytes(text: &str) -> Result<u64, String> {
+    let trimmed = text.trim();
+    let upper = trimmed.to_ascii_uppercase();
+    let unitless = upper
+        .strip_suffix("IB")
+        .or_else(|| upper.strip_suffix('B'))
+        .unwrap_or(&upper);
+    let (digits, shift) = match unitless.as_bytes().last() {
+        Some(b'K') => (&unitless[..unitless.len() - 1], 10),
+        Some(b'M') => (&unitless[..unitless.len() - 1], 20),
+        Some(b'G') => (&unitless[..unitless.len() - 1], 30),
+        Some(b'T') => (&unitless[..unitless.len() - 1], 40),
+        _ => (unitless, 0),
+    };
+    let value: u64 = digits
+        .trim()
+        .parse()
+        .map_err(|_| format!("{text:?} is not a byte count (e.g. 1048576, 512K, 16M, 2G)"))?;
+    value
+        .checked_mul(1u64 << shift)
+        .ok_or_else(|| format!("{text:?} is too large"))
 }
 
 fn parse_vec3(text: &str) -> Result<Vec3, String> {
@@ -268,7 +301,14 @@ fn base_scene(path: Option<&Path>) -> Result<Scene, BoxError> {
     match extension.as_deref() {
         Some("toml") => Ok(Scene::load(path)?),
         Some("bpt" | "bez") => {
-            let model = Model::load(path)?;
+            let model = Model::load(path).map_err(|e| -> BoxError {
+                // Parse errors give only the line; name the file as the
+                // read errors already do.
+                match e.line() {
+                    Some(_) => format!("{}: {e}", path.display()).into(),
+                    None => e.into(),
+                }
+            })?;
             Ok(Scene::for_model(path.to_string_lossy(), &model))
         }
         _ => Err(format!(
@@ -289,8 +329,8 @@ fn displacement(args: &RenderArgs) -> Result<Option<DisplacementDesc>, BoxError>
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("wgsl"));
     let (source, wgsl) = if is_wgsl {
-        let text = std::fs::read_to_string(source)
-            .map_err(|e| format!("cannot read displacement function {source}: {e}"))?;
+        let text =
+            reyes::input::read_text(Path::new(source), InputKind::Wgsl, InputKind::Wgsl.limit())?;
         (SOURCE_WGSL.to_owned(), Some(text))
     } else if source == SOURCE_WGSL {
         return Err(format!(
@@ -505,6 +545,9 @@ fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
 }
 
 fn render(args: &RenderArgs) -> Result<(), BoxError> {
+    if let Some(bytes) = args.max_input_bytes {
+        reyes::input::set_limits(Limits::all(bytes));
+    }
     let scene = prepare(args)?;
     let (image, stats, backend) = if args.cpu {
         let rendered = reyes::reference::try_render(&scene)?;
@@ -583,5 +626,22 @@ fn main() -> ExitCode {
             }
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_bytes;
+
+    #[test]
+    fn byte_counts_parse_with_binary_suffixes() {
+        assert_eq!(parse_bytes("1048576"), Ok(1 << 20));
+        assert_eq!(parse_bytes("512K"), Ok(512 << 10));
+        assert_eq!(parse_bytes("16m"), Ok(16 << 20));
+        assert_eq!(parse_bytes("2GiB"), Ok(2 << 30));
+        assert_eq!(parse_bytes("1TB"), Ok(1 << 40));
+        assert!(parse_bytes("lots").is_err());
+        assert!(parse_bytes("-1").is_err());
+        assert!(parse_bytes("99999999999T").is_err());
     }
 }

@@ -4,6 +4,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use crate::input::{self, InputKind};
 use crate::load::{self, LoadError};
 
 /// The embedded Utah teapot (32 patches, z up) in `.bpt` format.
@@ -53,7 +54,17 @@ impl Model {
 
     /// Loads a model file, choosing the parser by extension: `.bpt` or `.bez`
     /// (case-insensitive). Any other extension is [`LoadError::UnknownExtension`].
+    ///
+    /// The file is read through [`crate::input`]: it must be a regular file
+    /// of at most the model cap ([`InputKind::Model`]`.limit()`, 1 GiB by
+    /// default), else [`LoadError::Input`].
     pub fn load(path: impl AsRef<Path>) -> Result<Model, LoadError> {
+        Model::load_with_limit(path, InputKind::Model.limit())
+    }
+
+    /// [`Model::load`] with an explicit size cap in bytes instead of the
+    /// process-wide one.
+    pub fn load_with_limit(path: impl AsRef<Path>, limit: u64) -> Result<Model, LoadError> {
         let path = path.as_ref();
         let extension = path
             .extension()
@@ -68,10 +79,9 @@ impl Model {
                 });
             }
         };
-        let text = std::fs::read_to_string(path).map_err(|source| LoadError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        // The parsers need the whole text; the cap bounds it (and the error
+        // messages quote at most an excerpt of it).
+        let text = input::read_text(path, InputKind::Model, limit)?;
         parse(&text)
     }
 }

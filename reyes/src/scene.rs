@@ -92,6 +92,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::aov::Aov;
 use crate::displacement::{DisplacementDesc, DisplacementError, desc::SourceKind};
+use crate::input::{self, InputError, InputKind};
 use crate::load::LoadError;
 use crate::model::Model;
 use crate::params::{
@@ -105,7 +106,7 @@ pub const TEAPOT_MODEL: &str = "teapot";
 /// Why a scene could not be loaded or is invalid.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    /// The scene file could not be read.
+    /// The scene file could not be opened or read (missing, no permission, ...).
     #[error("cannot read scene file {}: {source}", path.display())]
     Io {
         /// The scene file.
@@ -114,6 +115,10 @@ pub enum SceneError {
         #[source]
         source: std::io::Error,
     },
+    /// The scene file was refused before parsing: not a regular file, larger
+    /// than the scene cap, or not UTF-8 (see [`crate::input`]).
+    #[error(transparent)]
+    Input(InputError),
     /// The text is not valid TOML or does not match the scene format.
     #[error("{}{}: {message}", path.as_ref().map(|p| format!("{}: ", p.display())).unwrap_or_default(), line.map(|l| format!("line {l}")).unwrap_or_else(|| "scene".to_string()))]
     Parse {
@@ -698,7 +703,8 @@ fn parse_toml(text: &str, path: Option<&Path>) -> Result<Scene, SceneError> {
     toml::from_str::<Scene>(text).map_err(|e| SceneError::Parse {
         path: path.map(Path::to_path_buf),
         line: e.span().map(|span| line_of(text, span.start)),
-        message: e.message().to_string(),
+        // serde quotes offending string values whole: bound the message.
+        message: input::excerpt_to(e.message(), input::MESSAGE_CHARS),
     })
 }
 
@@ -712,13 +718,18 @@ impl Scene {
     }
 
     /// Reads, parses and validates a TOML scene file; relative model paths are
-    /// resolved against the file's directory.
+    /// resolved against the file's directory. The file is read through
+    /// [`crate::input`]: a regular file of at most the scene cap (16 MiB by
+    /// default), else [`SceneError::Input`].
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        // A regular file of at most the scene cap, byte-order mark removed.
+        let text = input::read_text(path, InputKind::Scene, InputKind::Scene.limit()).map_err(
+            |error| match error {
+                InputError::Io { path, source, .. } => SceneError::Io { path, source },
+                other => SceneError::Input(other),
+            },
+        )?;
         let mut scene = parse_toml(&text, Some(path))?;
         scene.base_dir = Some(
             path.parent()

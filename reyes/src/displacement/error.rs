@@ -2,12 +2,14 @@
 
 use std::path::PathBuf;
 
+use crate::input::InputError;
+
 /// Errors found while preparing an object's displacement (reading its height
 /// map, checking its bound). Scene-level value errors (NaN, negative bound,
 /// ...) are [`crate::scene::SceneError`]s found by [`crate::scene::Scene::validate`].
 #[derive(Debug, thiserror::Error)]
 pub enum DisplacementError {
-    /// The height-map file could not be read.
+    /// The height-map file could not be opened or read (missing, no permission, ...).
     #[error("cannot read height map {}: {source}", path.display())]
     Io {
         /// The PNG file.
@@ -16,6 +18,11 @@ pub enum DisplacementError {
         #[source]
         source: std::io::Error,
     },
+    /// The height-map file was refused before decoding: not a regular file,
+    /// or larger than the height-map cap (never [`InputError::Io`], which
+    /// becomes [`DisplacementError::Io`]).
+    #[error(transparent)]
+    Input(InputError),
     /// The file is not a PNG the `image` crate can decode.
     #[error("height map {} is not a valid PNG: {source}", path.display())]
     Decode {
@@ -36,7 +43,8 @@ pub enum DisplacementError {
         /// The image's colour type, e.g. `Rgb8`.
         color: String,
     },
-    /// The image is larger than [`crate::params::MAX_HEIGHT_MAP_SIDE`] on a side.
+    /// The image is larger than [`crate::params::MAX_HEIGHT_MAP_SIDE`] on a
+    /// side (found from the PNG header, before anything is decoded).
     #[error(
         "height map {} is {width}x{height}; at most {max}x{max} texels are supported",
         path.display()
@@ -62,4 +70,15 @@ pub enum DisplacementError {
         /// `|scale| * max height` of the source.
         needed: f32,
     },
+}
+
+impl From<InputError> for DisplacementError {
+    /// Plain I/O failures keep their long-standing [`DisplacementError::Io`]
+    /// variant; refusals become [`DisplacementError::Input`].
+    fn from(error: InputError) -> DisplacementError {
+        match error {
+            InputError::Io { path, source, .. } => DisplacementError::Io { path, source },
+            other => DisplacementError::Input(other),
+        }
+    }
 }

@@ -2,13 +2,33 @@
 //! the GPU repeats operation for operation (`height_image` in
 //! `shaders/reyes/displacement.wgsl`).
 
+use std::io::Cursor;
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 
-use image::DynamicImage;
+use image::{ColorType, DynamicImage, ImageDecoder, ImageFormat, ImageReader};
 
 use super::error::DisplacementError;
+use crate::input::{self, InputKind};
 use crate::params::MAX_HEIGHT_MAP_SIDE;
+
+/// The eight bytes every PNG file starts with.
+const PNG_SIGNATURE: &[u8; 8] = b"\x89PNG\r\n\x1a\n";
+
+/// The width and height a PNG's header declares, read from the IHDR chunk
+/// (which the format requires to come first), without decoding anything.
+/// `None` when `bytes` does not start like a PNG; the decoder then says why.
+fn png_header_size(bytes: &[u8]) -> Option<(u32, u32)> {
+    // Signature (8), IHDR length (4), "IHDR" (4), width (4), height (4).
+    let header = bytes.get(..24)?;
+    if &header[..8] != PNG_SIGNATURE || &header[12..16] != b"IHDR" {
+        return None;
+    }
+    let be = |at: usize| {
+        u32::from_be_bytes([header[at], header[at + 1], header[at + 2], header[at + 3]])
+    };
+    Some((be(16), be(20)))
+}
 
 /// The embedded `bumps.png`: a tileable 512 x 512 8-bit grey height map
 /// (sines plus a 16 x 16 grid of round bumps). It was made for this project
@@ -44,32 +64,64 @@ impl HeightMap {
             .clone()
     }
 
-    /// Reads and decodes a greyscale PNG (8 or 16 bits, no alpha).
+    /// Reads and decodes a greyscale PNG (8 or 16 bits, no alpha). The file
+    /// is read through [`crate::input`]: a regular file of at most the
+    /// height-map cap ([`InputKind::HeightMap`]`.limit()`, 64 MiB by
+    /// default), else [`DisplacementError::Input`].
     pub fn load(path: &Path) -> Result<HeightMap, DisplacementError> {
-        let bytes = std::fs::read(path).map_err(|source| DisplacementError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        HeightMap::load_with_limit(path, InputKind::HeightMap.limit())
+    }
+
+    /// [`HeightMap::load`] with an explicit file-size cap in bytes instead of
+    /// the process-wide one.
+    pub fn load_with_limit(path: &Path, limit: u64) -> Result<HeightMap, DisplacementError> {
+        let bytes = input::read_input(path, InputKind::HeightMap, limit)?;
         HeightMap::decode(&bytes, path)
     }
 
     /// Decodes PNG bytes; `path` only names the image in errors.
+    ///
+    /// The size and colour type come from the header and are checked before
+    /// any pixel is decoded, so a header claiming 60000 x 60000 texels is a
+    /// [`DisplacementError::TooLarge`], not a decoder memory error, and a
+    /// 20000 x 20000 map is refused without decoding 400 MB first.
     pub fn decode(bytes: &[u8], path: &Path) -> Result<HeightMap, DisplacementError> {
-        let image = image::load_from_memory_with_format(bytes, image::ImageFormat::Png).map_err(
-            |source| DisplacementError::Decode {
+        let too_large = |width, height| DisplacementError::TooLarge {
+            path: path.to_path_buf(),
+            width,
+            height,
+            max: MAX_HEIGHT_MAP_SIDE,
+        };
+        let fits = |width, height| width <= MAX_HEIGHT_MAP_SIDE && height <= MAX_HEIGHT_MAP_SIDE;
+        // Before the decoder: it reserves buffers from the header's size and
+        // would fail on a huge one with a memory error of its own.
+        match png_header_size(bytes) {
+            Some((width, height)) if !fits(width, height) => return Err(too_large(width, height)),
+            _ => {}
+        }
+        let decode_error = |source| DisplacementError::Decode {
+            path: path.to_path_buf(),
+            source,
+        };
+        let mut reader = ImageReader::with_format(Cursor::new(bytes), ImageFormat::Png);
+        // A second guard on the size, in the decoder itself.
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(MAX_HEIGHT_MAP_SIDE);
+        limits.max_image_height = Some(MAX_HEIGHT_MAP_SIDE);
+        reader.limits(limits);
+        let decoder = reader.into_decoder().map_err(decode_error)?;
+        let (width, height) = decoder.dimensions();
+        if !fits(width, height) {
+            return Err(too_large(width, height));
+        }
+        let color = decoder.color_type();
+        if !matches!(color, ColorType::L8 | ColorType::L16) {
+            return Err(DisplacementError::NotGrey {
                 path: path.to_path_buf(),
-                source,
-            },
-        )?;
-        let (width, height) = (image.width(), image.height());
-        if width > MAX_HEIGHT_MAP_SIDE || height > MAX_HEIGHT_MAP_SIDE {
-            return Err(DisplacementError::TooLarge {
-                path: path.to_path_buf(),
-                width,
-                height,
-                max: MAX_HEIGHT_MAP_SIDE,
+                color: format!("{color:?}"),
             });
         }
+        let image = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
         // Converted on the host once: the GPU receives these exact f32 values.
         let texels: Vec<f32> = match &image {
             DynamicImage::ImageLuma8(grey) => grey

@@ -15,7 +15,8 @@ use std::fmt::Write as _;
 use glam::Vec3;
 
 use super::LoadError;
-use super::lines::{Lines, capacity_hint, parse_point};
+use super::lines::{Lines, capacity_hint, exactly, parse_point};
+use crate::input::excerpt;
 use crate::model::{Model, Patch};
 
 /// Parses a `.bez` text.
@@ -34,18 +35,13 @@ pub fn parse(text: &str) -> Result<Model, LoadError> {
                 patch_index + 1
             )
         })?;
-        let tokens: Vec<&str> = text.split(',').map(str::trim).collect();
-        if tokens.len() != 16 {
-            return Err(LoadError::WrongIndexCount {
-                line,
-                found: tokens.len(),
-            });
-        }
+        let tokens: [&str; 16] = exactly(text.split(',').map(str::trim))
+            .map_err(|found| LoadError::WrongIndexCount { line, found })?;
         let mut indices = [0u64; 16];
-        for (slot, token) in indices.iter_mut().zip(&tokens) {
+        for (slot, token) in indices.iter_mut().zip(tokens) {
             *slot = token.parse::<u64>().map_err(|_| LoadError::InvalidNumber {
                 line,
-                token: token.to_string(),
+                token: excerpt(token),
             })?;
         }
         index_lines.push((line, indices));

@@ -13,7 +13,8 @@
 use std::fmt::Write as _;
 
 use super::LoadError;
-use super::lines::{Lines, capacity_hint, parse_point};
+use super::lines::{Lines, capacity_hint, exactly, parse_point};
+use crate::input::excerpt;
 use crate::model::{Model, Patch};
 
 /// Parses a `.bpt` text.
@@ -24,11 +25,10 @@ pub fn parse(text: &str) -> Result<Model, LoadError> {
     for patch_index in 0..count {
         let (line, degree) = lines
             .expect_line(|| format!("the degree line \"3 3\" of patch {}", patch_index + 1))?;
-        let tokens: Vec<&str> = degree.split_whitespace().collect();
-        if tokens != ["3", "3"] {
+        if exactly::<2>(degree.split_whitespace()) != Ok(["3", "3"]) {
             return Err(LoadError::UnsupportedDegree {
                 line,
-                found: degree.to_string(),
+                found: excerpt(degree),
             });
         }
         let mut patch = Patch::default();

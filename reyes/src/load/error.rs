@@ -2,11 +2,14 @@
 
 use std::path::PathBuf;
 
+use crate::input::InputError;
+
 /// Why a model file could not be loaded. Parse errors carry the 1-based line
-/// number where the problem was found and say what was expected there.
+/// number where the problem was found and say what was expected there; text
+/// they quote from the file is cut to [`crate::input::EXCERPT_CHARS`] characters.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
-    /// The file could not be read.
+    /// The file could not be opened or read (missing, no permission, ...).
     #[error("cannot read model file {}: {source}", path.display())]
     Io {
         /// The file that was being read.
@@ -15,6 +18,11 @@ pub enum LoadError {
         #[source]
         source: std::io::Error,
     },
+    /// The file was refused before parsing: not a regular file, larger than
+    /// the model cap, or not UTF-8 (never [`InputError::Io`], which becomes
+    /// [`LoadError::Io`]).
+    #[error(transparent)]
+    Input(InputError),
     /// The file name does not end in a supported extension (`.bpt`, `.bez`).
     #[error("unsupported model file extension for {} (expected .bpt or .bez)", path.display())]
     UnknownExtension {
@@ -108,10 +116,11 @@ pub enum LoadError {
 }
 
 impl LoadError {
-    /// The 1-based line number of a parse error (`None` for I/O and extension errors).
+    /// The 1-based line number of a parse error (`None` for I/O, input and
+    /// extension errors).
     pub fn line(&self) -> Option<usize> {
         match self {
-            LoadError::Io { .. } | LoadError::UnknownExtension { .. } => None,
+            LoadError::Io { .. } | LoadError::Input(_) | LoadError::UnknownExtension { .. } => None,
             LoadError::MissingCount { line, .. }
             | LoadError::InvalidCount { line, .. }
             | LoadError::UnsupportedDegree { line, .. }
@@ -122,6 +131,17 @@ impl LoadError {
             | LoadError::TrailingGarbage { line, .. }
             | LoadError::VertexIndexOutOfRange { line, .. }
             | LoadError::WrongIndexCount { line, .. } => Some(*line),
+        }
+    }
+}
+
+impl From<InputError> for LoadError {
+    /// Plain I/O failures keep their long-standing [`LoadError::Io`] variant;
+    /// refusals become [`LoadError::Input`].
+    fn from(error: InputError) -> LoadError {
+        match error {
+            InputError::Io { path, source, .. } => LoadError::Io { path, source },
+            other => LoadError::Input(other),
         }
     }
 }

@@ -1,10 +1,14 @@
 //! Line-oriented helpers shared by the two text formats: a cursor over the
 //! non-blank lines with their 1-based numbers, and number parsing that reports
 //! errors with those numbers.
+//!
+//! Nothing here collects a line's tokens into a vector: a single line can be
+//! hundreds of megabytes long, and its tokens would take many times that.
 
 use glam::Vec3;
 
 use super::LoadError;
+use crate::input::{excerpt, strip_bom};
 
 /// A cursor over the non-blank, trimmed lines of a text, remembering line numbers.
 pub(crate) struct Lines<'a> {
@@ -15,9 +19,10 @@ pub(crate) struct Lines<'a> {
 }
 
 impl<'a> Lines<'a> {
+    /// A cursor over `text`; a leading byte-order mark is skipped.
     pub(crate) fn new(text: &'a str) -> Self {
         Lines {
-            inner: text.lines().enumerate(),
+            inner: strip_bom(text).lines().enumerate(),
             last_line: 0,
         }
     }
@@ -59,7 +64,7 @@ impl<'a> Lines<'a> {
         let count = text.parse::<usize>().map_err(|_| LoadError::InvalidCount {
             line,
             what,
-            found: text.to_string(),
+            found: excerpt(text),
         })?;
         Ok((line, count))
     }
@@ -69,10 +74,25 @@ impl<'a> Lines<'a> {
         match self.next_line() {
             Some((line, text)) => Err(LoadError::TrailingGarbage {
                 line,
-                text: text.to_string(),
+                text: excerpt(text),
             }),
             None => Ok(()),
         }
+    }
+}
+
+/// Takes exactly `N` tokens, or reports how many there were (counting the
+/// rest without storing them) as `Err(count)`.
+pub(crate) fn exactly<'a, const N: usize>(
+    mut tokens: impl Iterator<Item = &'a str>,
+) -> Result<[&'a str; N], usize> {
+    let mut taken = [""; N];
+    for (index, slot) in taken.iter_mut().enumerate() {
+        *slot = tokens.next().ok_or(index)?;
+    }
+    match tokens.count() {
+        0 => Ok(taken),
+        extra => Err(N + extra),
     }
 }
 
@@ -81,25 +101,20 @@ pub(crate) fn parse_point<'a>(
     line: usize,
     tokens: impl Iterator<Item = &'a str>,
 ) -> Result<Vec3, LoadError> {
-    let tokens: Vec<&str> = tokens.collect();
-    if tokens.len() != 3 {
-        return Err(LoadError::WrongCoordinateCount {
-            line,
-            found: tokens.len(),
-        });
-    }
+    let tokens: [&str; 3] =
+        exactly(tokens).map_err(|found| LoadError::WrongCoordinateCount { line, found })?;
     let mut xyz = [0.0f32; 3];
-    for (slot, token) in xyz.iter_mut().zip(&tokens) {
+    for (slot, token) in xyz.iter_mut().zip(tokens) {
         let value = token.parse::<f32>().map_err(|_| LoadError::InvalidNumber {
             line,
-            token: token.to_string(),
+            token: excerpt(token),
         })?;
         // Rust's float parser accepts "nan" and "inf"; a NaN or infinite control
         // point would poison every bound and grid derived from it, so reject it here.
         if !value.is_finite() {
             return Err(LoadError::NonFiniteCoordinate {
                 line,
-                token: token.to_string(),
+                token: excerpt(token),
             });
         }
         *slot = value;

@@ -6,9 +6,12 @@
 //!   comma-separated 1-based vertex indices per patch, a vertex count, and one
 //!   `x,y,z` line per vertex.
 //!
-//! Both parsers work on `&str`, skip blank lines, tolerate extra whitespace,
-//! and report errors as [`LoadError`] with the 1-based line number.
-//! Use [`crate::model::Model::load`] to read a file by path.
+//! Both parsers work on `&str`, skip a leading UTF-8 byte-order mark and
+//! blank lines, tolerate extra whitespace, and report errors as [`LoadError`]
+//! with the 1-based line number; text they quote is cut to
+//! [`crate::input::EXCERPT_CHARS`] characters. Use
+//! [`crate::model::Model::load`] to read a file by path (through
+//! [`crate::input`]: regular files only, at most 1 GiB by default).
 
 pub mod bez;
 pub mod bpt;
