@@ -4,6 +4,7 @@
 //! ```text
 //! cargo run --release -p benches --bin reyes-bench -- [--frames 5] [--spp 1,16]
 //!     [--resolutions 800x600,1920x1080] [--rates 0.25,1,4,16] [--no-rounds]
+//!     [--tables dicing,rates,interpolation,rounds]
 //! ```
 //!
 //! Prints four markdown tables measured in this one process:
@@ -55,6 +56,39 @@ struct Args {
     /// Skip the megakernel vs. Rounds table.
     #[arg(long)]
     no_rounds: bool,
+    /// The tables to measure (default: all four).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = Table::ALL)]
+    tables: Vec<Table>,
+}
+
+/// One of the benchmark's tables.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Table {
+    /// Rate dicing vs. the fixed dicer.
+    Dicing,
+    /// The shading-rate sweep.
+    Rates,
+    /// Smooth vs. constant shading.
+    Interpolation,
+    /// Megakernel vs. Rounds.
+    Rounds,
+}
+
+impl Table {
+    const ALL: [Table; 4] = [
+        Table::Dicing,
+        Table::Rates,
+        Table::Interpolation,
+        Table::Rounds,
+    ];
+}
+
+impl std::fmt::Display for Table {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use clap::ValueEnum;
+        let value = self.to_possible_value().ok_or(std::fmt::Error)?;
+        f.write_str(value.get_name())
+    }
 }
 
 fn killeroo_path() -> PathBuf {
@@ -197,96 +231,106 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     };
 
     println!("device: {device}");
-    println!(
-        "\n### Dicing: to the shading rate (1) vs. the fixed 16 x 16 dicer\n\nMedian of {} frames after a warm-up, in alternating frames; ms = megakernel GPU time (timestamp queries) where the device has them, else the frame's wall time; mp/hit = micropolygons per sample hit; util = the dice procedures' thread utilization; grids = small/medium/large.\n",
-        args.frames
-    );
-    println!(
-        "| model | resolution | spp | rate ms | fixed ms | fixed / rate | rate grids | rate micropolygons | rate mp/hit | rate util | fixed micropolygons | fixed mp/hit | retries |"
-    );
-    println!("|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|");
-    for (name, scene, model) in &models {
-        for &(w, h) in &resolutions {
-            for &spp in &args.spp {
-                let rate = prepare(scene, model, (w, h), spp, Dicing::Rate, 1.0)?;
-                let fixed = prepare(scene, model, (w, h), spp, Dicing::Fixed, 1.0)?;
-                let label = format!("{name} {w}x{h} spp {spp}");
+    let wants = |table: Table| args.tables.contains(&table);
+    if wants(Table::Dicing) {
+        println!(
+            "\n### Dicing: to the shading rate (1) vs. the fixed 16 x 16 dicer\n\nMedian of {} frames after a warm-up, in alternating frames; ms = megakernel GPU time (timestamp queries) where the device has them, else the frame's wall time; mp/hit = micropolygons per sample hit; util = the dice procedures' thread utilization; grids = small/medium/large.\n",
+            args.frames
+        );
+        println!(
+            "| model | resolution | spp | rate ms | fixed ms | fixed / rate | rate grids | rate micropolygons | rate mp/hit | rate util | fixed micropolygons | fixed mp/hit | retries |"
+        );
+        println!("|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|");
+        for (name, scene, model) in &models {
+            for &(w, h) in &resolutions {
+                for &spp in &args.spp {
+                    let rate = prepare(scene, model, (w, h), spp, Dicing::Rate, 1.0)?;
+                    let fixed = prepare(scene, model, (w, h), spp, Dicing::Fixed, 1.0)?;
+                    let label = format!("{name} {w}x{h} spp {spp}");
+                    let m = measure(
+                        &mut [(&mut renderer, &rate), (&mut fixed_renderer, &fixed)],
+                        args.frames,
+                        &label,
+                    )?;
+                    let (r, f) = (m[0].frame(), m[1].frame());
+                    println!(
+                        "| {name} | {w}x{h} | {spp} | {:.1} | {:.1} | {:.2} | {} | {} | {:.2} | {:.2} | {} | {:.2} | {} |",
+                        m[0].median_ms(),
+                        m[1].median_ms(),
+                        m[1].median_ms() / m[0].median_ms(),
+                        grids(r),
+                        r.stats.micropolygons,
+                        r.stats.micropolygons_per_hit(),
+                        r.stats.thread_utilization(),
+                        f.stats.micropolygons,
+                        f.stats.micropolygons_per_hit(),
+                        r.overflow_retries + r.loop_retries + f.overflow_retries + f.loop_retries,
+                    );
+                }
+            }
+        }
+    }
+
+    if wants(Table::Rates) {
+        println!(
+            "\n### Shading rates ({}x{}, spp 1)\n\n| model | shading rate | ms | grids | micropolygons | samples hit | mp/hit | util | largest micropolygon px |\n|---|---:|---:|---|---:|---:|---:|---:|---:|",
+            first.0, first.1
+        );
+        for (name, scene, model) in &models {
+            for &rate in &args.rates {
+                let prepared = prepare(scene, model, first, 1, Dicing::Rate, rate)?;
                 let m = measure(
-                    &mut [(&mut renderer, &rate), (&mut fixed_renderer, &fixed)],
+                    &mut [(&mut renderer, &prepared)],
                     args.frames,
-                    &label,
+                    &format!("{name} shading rate {rate}"),
                 )?;
-                let (r, f) = (m[0].frame(), m[1].frame());
+                let s = &m[0].frame().stats;
                 println!(
-                    "| {name} | {w}x{h} | {spp} | {:.1} | {:.1} | {:.2} | {} | {} | {:.2} | {:.2} | {} | {:.2} | {} |",
+                    "| {name} | {rate} | {:.1} | {} | {} | {} | {:.2} | {:.2} | {:.2} |",
                     m[0].median_ms(),
-                    m[1].median_ms(),
-                    m[1].median_ms() / m[0].median_ms(),
-                    grids(r),
-                    r.stats.micropolygons,
-                    r.stats.micropolygons_per_hit(),
-                    r.stats.thread_utilization(),
-                    f.stats.micropolygons,
-                    f.stats.micropolygons_per_hit(),
-                    r.overflow_retries + r.loop_retries + f.overflow_retries + f.loop_retries,
+                    grids(m[0].frame()),
+                    s.micropolygons,
+                    s.samples_hit,
+                    s.micropolygons_per_hit(),
+                    s.thread_utilization(),
+                    s.largest_micropolygon_px,
                 );
             }
         }
     }
 
-    println!(
-        "\n### Shading rates ({}x{}, spp 1)\n\n| model | shading rate | ms | grids | micropolygons | samples hit | mp/hit | util | largest micropolygon px |\n|---|---:|---:|---|---:|---:|---:|---:|---:|",
-        first.0, first.1
-    );
-    for (name, scene, model) in &models {
-        for &rate in &args.rates {
-            let prepared = prepare(scene, model, first, 1, Dicing::Rate, rate)?;
-            let m = measure(
-                &mut [(&mut renderer, &prepared)],
-                args.frames,
-                &format!("{name} shading rate {rate}"),
-            )?;
-            let s = &m[0].frame().stats;
-            println!(
-                "| {name} | {rate} | {:.1} | {} | {} | {} | {:.2} | {:.2} | {:.2} |",
-                m[0].median_ms(),
-                grids(m[0].frame()),
-                s.micropolygons,
-                s.samples_hit,
-                s.micropolygons_per_hit(),
-                s.thread_utilization(),
-                s.largest_micropolygon_px,
-            );
+    if wants(Table::Interpolation) {
+        println!(
+            "\n### Shading interpolation: smooth vs. constant ({}x{}, shading rate 1)\n\n| model | spp | smooth ms | constant ms | smooth / constant | samples hit |\n|---|---:|---:|---:|---:|---:|",
+            first.0, first.1
+        );
+        let mut constant_renderer = GpuRenderer::new(&gpu, options.clone())?;
+        for (name, scene, model) in &models {
+            for &spp in &args.spp {
+                let smooth = prepare(scene, model, first, spp, Dicing::Rate, 1.0)?;
+                let mut constant_scene = sized(scene.clone(), model, first.0, first.1, spp);
+                constant_scene.shading_interpolation = ShadingInterpolation::Constant;
+                let constant = PreparedScene::load(&constant_scene)?;
+                let m = measure(
+                    &mut [
+                        (&mut renderer, &smooth),
+                        (&mut constant_renderer, &constant),
+                    ],
+                    args.frames,
+                    &format!("{name} spp {spp} shading interpolation"),
+                )?;
+                println!(
+                    "| {name} | {spp} | {:.1} | {:.1} | {:.3} | {} |",
+                    m[0].median_ms(),
+                    m[1].median_ms(),
+                    m[0].median_ms() / m[1].median_ms(),
+                    m[0].frame().stats.samples_hit,
+                );
+            }
         }
     }
 
-    println!(
-        "\n### Shading interpolation: smooth vs. constant ({}x{}, shading rate 1)\n\n| model | spp | smooth ms | constant ms | smooth / constant | samples hit |\n|---|---:|---:|---:|---:|---:|",
-        first.0, first.1
-    );
-    let mut constant_renderer = GpuRenderer::new(&gpu, options.clone())?;
-    for (name, scene, model) in &models {
-        for &spp in &args.spp {
-            let smooth = prepare(scene, model, first, spp, Dicing::Rate, 1.0)?;
-            let mut constant_scene = sized(scene.clone(), model, first.0, first.1, spp);
-            constant_scene.shading_interpolation = ShadingInterpolation::Constant;
-            let constant = PreparedScene::load(&constant_scene)?;
-            let m = measure(
-                &mut [(&mut renderer, &smooth), (&mut constant_renderer, &constant)],
-                args.frames,
-                &format!("{name} spp {spp} shading interpolation"),
-            )?;
-            println!(
-                "| {name} | {spp} | {:.1} | {:.1} | {:.3} | {} |",
-                m[0].median_ms(),
-                m[1].median_ms(),
-                m[0].median_ms() / m[1].median_ms(),
-                m[0].frame().stats.samples_hit,
-            );
-        }
-    }
-
-    if !args.no_rounds {
+    if wants(Table::Rounds) && !args.no_rounds {
         let mut rounds = GpuRenderer::new(
             &gpu,
             GpuOptions {
