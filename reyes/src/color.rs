@@ -127,7 +127,10 @@ mod tests {
         // Halfway between 0 and 1 rounds up; weights a hair over the area
         // stay within 10 bits.
         assert_eq!(blend_rgb10([0, 1, 0], [1.0, 1.0, 0.0], 2.0), 1);
-        assert_eq!(blend_rgb10([red, red, 0], [1.0, 1.0000001, 0.0], 2.0) & 0x3ff, 0x3ff);
+        assert_eq!(
+            blend_rgb10([red, red, 0], [1.0, 1.0000001, 0.0], 2.0) & 0x3ff,
+            0x3ff
+        );
     }
 
     #[test]

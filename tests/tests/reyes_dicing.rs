@@ -154,14 +154,34 @@ fn smooth_shading_approaches_the_converged_picture() {
         reference::render(&with(scene, dicing, rate))
     };
     for (name, scene, slack) in scenes {
-        let converged = render(&scene, Dicing::Rate, 1.0 / 32.0, ShadingInterpolation::Smooth);
+        let converged = render(
+            &scene,
+            Dicing::Rate,
+            1.0 / 32.0,
+            ShadingInterpolation::Smooth,
+        );
         let off = |frame: &Rendered| {
             off_pixels(&frame.image, &frame.covered_samples, &converged, scene.spp)
         };
-        let fixed = off(&render(&scene, Dicing::Fixed, 1.0, ShadingInterpolation::Constant));
+        let fixed = off(&render(
+            &scene,
+            Dicing::Fixed,
+            1.0,
+            ShadingInterpolation::Constant,
+        ));
         for rate in [0.5, 1.0] {
-            let constant = off(&render(&scene, Dicing::Rate, rate, ShadingInterpolation::Constant));
-            let smooth = off(&render(&scene, Dicing::Rate, rate, ShadingInterpolation::Smooth));
+            let constant = off(&render(
+                &scene,
+                Dicing::Rate,
+                rate,
+                ShadingInterpolation::Constant,
+            ));
+            let smooth = off(&render(
+                &scene,
+                Dicing::Rate,
+                rate,
+                ShadingInterpolation::Smooth,
+            ));
             eprintln!(
                 "{name} at shading rate {rate}: interior pixels off the converged picture by > 2/255: smooth {smooth}, constant {constant}, fixed dicer (constant) {fixed}"
             );

@@ -277,7 +277,15 @@ pub fn raster_triangle_5d(
                 for x in x0..=x1 {
                     for s in 0..spp {
                         let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
-                        place_and_test(framebuffer, sampler, &corners, colors, tl, (x, y, s), stats);
+                        place_and_test(
+                            framebuffer,
+                            sampler,
+                            &corners,
+                            colors,
+                            tl,
+                            (x, y, s),
+                            stats,
+                        );
                     }
                 }
             }
@@ -341,7 +349,15 @@ pub fn raster_triangle_5d(
                     for x in x0..=x1 {
                         let s = uvt.sample_in_stratum[uvt.pixel_index(x, y, i)];
                         let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
-                        place_and_test(framebuffer, sampler, &corners, colors, tl, (x, y, s), stats);
+                        place_and_test(
+                            framebuffer,
+                            sampler,
+                            &corners,
+                            colors,
+                            tl,
+                            (x, y, s),
+                            stats,
+                        );
                     }
                 }
             }
