@@ -7,7 +7,7 @@ use std::fmt;
 use std::marker::PhantomData;
 use std::sync::Arc;
 
-use crate::{ConstantValue, Item, ItemType, ProcedureId, Untyped};
+use crate::{ConstantValue, Item, ItemType, ProcedureId, Untyped, WgslStructs, WgslType};
 
 /// Default priority of a procedure. Higher runs first under
 /// [`Policy::Priority`](crate::Policy::Priority).
@@ -25,9 +25,21 @@ pub const DEFAULT_PRIORITY: i32 = 0;
 /// | `thread` | `u32` | the thread's index within its item, `0..threads_per_item` |
 /// | `slot` | `u32` | the item's slot within the workgroup |
 ///
-/// Barriers (`workgroupBarrier`, `storageBarrier`, `workgroupUniformLoad`) are
-/// allowed only at the body's top level, never inside a branch on `valid`,
-/// `thread` or data: every thread reaches them, including those without an item.
+/// The threads of one slot share an item, so they are all valid or all
+/// invalid; with several chunks per batch, the last chunk may be partly
+/// filled.
+///
+/// Barriers (`workgroupBarrier`, `storageBarrier`, `workgroupUniformLoad`)
+/// and the item-wide helpers (`item_sum_u32`, `item_broadcast_f32`, ...,
+/// which contain barriers) are allowed only at the body's top level, never
+/// inside a branch or loop on `valid`, `thread`, `slot` or data: every thread
+/// reaches them, including those without an item. A workgroup barrier
+/// separates consecutive calls.
+///
+/// Scratch is per slot: typed with [`Procedure::scratch`] (the body's
+/// `scratch` pointer), or untyped words with [`Procedure::scratch_bytes`]
+/// (`scratch_load_u32(slot, index)`, `scratch_store_u32(slot, index,
+/// value)`, and `_i32`/`_f32`). The crate's front page lists the helpers.
 ///
 /// `T` is the Rust item type: [`Procedure::of`] takes it from a type that
 /// derives [`Item`], and [`Graph::procedure`] returns a [`ProcedureId<T>`]
@@ -39,9 +51,20 @@ pub struct Procedure<T = Untyped> {
     pub(crate) threads_per_item: u32,
     pub(crate) initial: bool,
     pub(crate) scratch_bytes: u32,
+    pub(crate) scratch_type: Option<ScratchType>,
     pub(crate) priority: i32,
     pub(crate) body: String,
     marker: PhantomData<fn() -> T>,
+}
+
+/// A procedure's typed scratch: one value of a WGSL type per item slot.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct ScratchType {
+    /// The WGSL type, e.g. `Partial` or `array<f32, 4>`.
+    pub wgsl_type: String,
+    /// Struct declarations the type needs, dependencies first (empty for a
+    /// type named by [`Procedure::scratch_wgsl`], declared in the library).
+    pub structs: Vec<(String, String)>,
 }
 
 impl Procedure {
@@ -56,6 +79,7 @@ impl Procedure {
             threads_per_item: 1,
             initial: false,
             scratch_bytes: 0,
+            scratch_type: None,
             priority: DEFAULT_PRIORITY,
             body: String::new(),
             marker: PhantomData,
@@ -78,6 +102,7 @@ impl<T> Procedure<T> {
             threads_per_item: self.threads_per_item,
             initial: self.initial,
             scratch_bytes: self.scratch_bytes,
+            scratch_type: self.scratch_type,
             priority: self.priority,
             body: self.body,
             marker: PhantomData,
@@ -96,9 +121,54 @@ impl<T> Procedure<T> {
         self
     }
 
-    /// Bytes of workgroup scratch memory per item (rounded up to 4-byte words).
+    /// Bytes of untyped workgroup scratch memory per item (rounded up to
+    /// 4-byte words), read and written with `scratch_load_u32(slot, index)`
+    /// and its siblings. Prefer [`Procedure::scratch`].
     pub fn scratch_bytes(mut self, bytes: u32) -> Self {
         self.scratch_bytes = bytes;
+        self
+    }
+
+    /// Typed scratch: one `S` of workgroup memory per item, which the body
+    /// reaches through the pointer `scratch` (`scratch.total += 1u;`,
+    /// `(*scratch)[thread] = x;`). The generator declares
+    /// `var<workgroup> sched_scratch_<Procedure>: array<S, items per chunk>`
+    /// and starts the body with `let scratch = &sched_scratch_<Procedure>[slot];`.
+    /// Its size is measured by naga with the rest of the workgroup memory.
+    /// `S` is any [`WgslType`]: a struct deriving [`Item`], a scalar, or an
+    /// array. Unlike untyped scratch, each procedure's typed scratch is its
+    /// own variable, so typed scratch of several procedures adds up.
+    ///
+    /// ```
+    /// #[scheduler::item]
+    /// struct Partial { total: u32, count: u32 }
+    ///
+    /// let sum = scheduler::Procedure::of::<Partial>("Sum")
+    ///     .threads_per_item(4)
+    ///     .scratch::<Partial>()
+    ///     .body("if (valid && thread == 0u) { scratch.total = item.total; }");
+    /// ```
+    pub fn scratch<S: WgslType>(mut self) -> Self {
+        let mut structs = WgslStructs::default();
+        S::wgsl_structs(&mut structs);
+        self.scratch_type = Some(ScratchType {
+            wgsl_type: S::wgsl_type(),
+            structs: structs
+                .into_entries()
+                .into_iter()
+                .map(|(name, source)| (name.to_owned(), source))
+                .collect(),
+        });
+        self
+    }
+
+    /// Typed scratch of a WGSL type the graph's library declares (a struct
+    /// with a `bool` or an atomic, say), otherwise like [`Procedure::scratch`].
+    pub fn scratch_wgsl(mut self, wgsl_type: impl Into<String>) -> Self {
+        self.scratch_type = Some(ScratchType {
+            wgsl_type: wgsl_type.into(),
+            structs: Vec::new(),
+        });
         self
     }
 
@@ -133,6 +203,7 @@ impl<T> Clone for Procedure<T> {
             name: self.name.clone(),
             item: self.item.clone(),
             body: self.body.clone(),
+            scratch_type: self.scratch_type.clone(),
             marker: PhantomData,
             ..*self
         }
@@ -147,6 +218,7 @@ impl<T> fmt::Debug for Procedure<T> {
             .field("threads_per_item", &self.threads_per_item)
             .field("initial", &self.initial)
             .field("scratch_bytes", &self.scratch_bytes)
+            .field("scratch_type", &self.scratch_type)
             .field("priority", &self.priority)
             .field("body", &self.body)
             .finish()

@@ -36,8 +36,78 @@
 //! of the wrong type do not compile; see [`Item`] for the derive and the
 //! layouts it accepts, and [`Graph::constant`] for host values.
 //!
-//! See `docs/scheduler.md` for the body contract, the queue protocol and the
-//! arguments for termination and race freedom.
+//! # The body contract
+//!
+//! A body is the text of a WGSL function. **Every** thread of the workgroup
+//! calls it, once per chunk of the batch, whether it has an item or not:
+//!
+//! | parameter | type | meaning |
+//! |---|---|---|
+//! | `item` | the item type | this thread's item (zeroed when `valid` is false) |
+//! | `valid` | `bool` | whether this thread has an item in this chunk; the last chunk of a batch may be partly filled |
+//! | `thread` | `u32` | the thread's index within its item, `0..threads_per_item` |
+//! | `slot` | `u32` | the item's slot in the workgroup, `0..workgroup_size / threads_per_item`; the threads of one slot share an item and are all valid or all invalid |
+//!
+//! - **Barriers** (`workgroupBarrier`, `storageBarrier`,
+//!   `workgroupUniformLoad`) and the item-wide helpers below, which contain
+//!   barriers, are allowed only at the body's **top level**: never inside a
+//!   branch or loop on `valid`, `thread`, `slot` or data. Every thread must
+//!   reach each of them the same number of times. naga does not check this.
+//! - Consecutive calls are separated by a workgroup barrier, so scratch and
+//!   the body's own workgroup variables may be reused from call to call.
+//! - `enqueue_<Target>(item)` may be called from any thread, under any
+//!   condition, up to the declared fan-out; the items are published when the
+//!   batch ends.
+//!
+//! # Runtime helpers
+//!
+//! **Scratch**, per item slot, in workgroup memory:
+//!
+//! - typed, with [`Procedure::scratch::<S>()`](Procedure::scratch): the body
+//!   gets `scratch`, a `ptr<workgroup, S>` to its slot's value
+//!   (`scratch.total = 0u;`);
+//! - untyped, with [`Procedure::scratch_bytes`]: `scratch_load_u32(slot,
+//!   index)`, `scratch_store_u32(slot, index, value)` and the `_i32`/`_f32`
+//!   variants read and write the slot's `scratch_bytes / 4` words (an index
+//!   beyond them is clamped into the slot's own words).
+//!
+//! **Item-wide helpers**: each thread of an item passes a value and every
+//! thread of the item gets the result.
+//!
+//! | helper | result |
+//! |---|---|
+//! | `item_min_u32`, `item_min_i32`, `item_min_f32` | the minimum |
+//! | `item_max_u32`, `item_max_i32`, `item_max_f32` | the maximum |
+//! | `item_sum_u32`, `item_sum_i32`, `item_sum_f32` | the sum (integers wrap; `f32` adds in a fixed tree order: pairs `threads_per_item / 2` apart, then half that, down to 1) |
+//! | `item_all_equal_u32(value) -> bool` | whether every thread passed the same value |
+//! | `item_all(condition)`, `item_any(condition)` | whether the condition holds in every, or in some, thread |
+//! | `item_broadcast_u32`, `item_broadcast_i32`, `item_broadcast_f32` | thread 0's value |
+//!
+//! They contain workgroup barriers, so **every thread of the workgroup**
+//! calls them at the top level of the body, with or without an item, in the
+//! same order. Threads without an item reduce among themselves (an item's
+//! threads are all valid or all invalid): they never change another item's
+//! result, need not pass a neutral value, and their own result is
+//! meaningless. The helpers and their workgroup array (one word per thread:
+//! 4 × `workgroup_size` bytes) are added to the module only when a body or
+//! the library calls one. With one thread per item they return the value
+//! itself.
+//!
+//! ```no_run
+//! # use scheduler::Procedure;
+//! # #[scheduler::item] struct Row { index: u32 }
+//! # let mut graph = scheduler::Graph::new("rows");
+//! graph.resource(scheduler::Resource::storage("rows", "array<f32>"));
+//! graph.procedure(Procedure::of::<Row>("Normalize").initial(true).threads_per_item(32).body(
+//!     "var value = 0.0;
+//!      if (valid) { value = rows[item.index * 32u + thread]; }
+//!      let total = item_sum_f32(value);      // top level: every thread calls it
+//!      if (valid) { rows[item.index * 32u + thread] = value / total; }",
+//! ));
+//! ```
+//!
+//! See `docs/scheduler.md` for the queue protocol and the arguments for
+//! termination and race freedom.
 
 // The derives name `::scheduler`, which must also resolve inside this crate
 // (its unit tests derive items).

@@ -4,12 +4,12 @@
 use std::collections::BTreeMap;
 
 use crate::SourceOrigin;
-use crate::codegen::globals;
 use crate::codegen::kernels::{
     copy_out_function, entry_point, payload_functions, policy_function, prepare_entry_point,
     round_entry, runner,
 };
-use crate::codegen::module::{Constant, Function, KernelModule, Verbatim};
+use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
+use crate::codegen::{globals, helpers};
 use crate::compile::layout::{ItemLayout, encode_name};
 use crate::compile::plan::{Plan, control};
 use crate::graph::Procedure;
@@ -31,6 +31,11 @@ pub(crate) fn round_entry_point(procedure: &str) -> String {
 /// Name of the function holding a procedure's body.
 pub(crate) fn body_name(procedure: &str) -> String {
     format!("sched_proc_{procedure}")
+}
+
+/// Name of the workgroup array holding a procedure's typed scratch.
+pub(crate) fn scratch_name(procedure: &str) -> String {
+    format!("sched_scratch_{procedure}")
 }
 
 /// Name of the enqueue function for a target procedure.
@@ -59,6 +64,7 @@ pub(crate) fn generate(
     procedures: &[Procedure],
     library: &str,
     items: &BTreeMap<String, (String, ItemLayout)>,
+    scratch_structs: &[(String, String)],
 ) -> KernelModule {
     let n = plan.queues.len();
     let mut module = KernelModule {
@@ -183,7 +189,29 @@ pub(crate) fn generate(
         });
     }
 
+    for (procedure, text) in scratch_structs {
+        module.items.push(Verbatim {
+            title: format!("scratch type of {procedure}"),
+            text: text.clone(),
+            origin: SourceOrigin::Item(procedure.clone()),
+        });
+    }
+
     module.globals = globals::globals(plan);
+    for (procedure, queue) in procedures.iter().zip(&plan.queues) {
+        if let Some(ty) = &procedure.scratch_type {
+            module.globals.push(Global {
+                attributes: String::new(),
+                space: "workgroup".into(),
+                name: scratch_name(&procedure.name),
+                ty: format!("array<{}, {}>", ty.wgsl_type, queue.items_per_workgroup),
+                doc: format!(
+                    "Typed scratch of `{}`: one `{}` per item slot.",
+                    procedure.name, ty.wgsl_type
+                ),
+            });
+        }
+    }
     let coherent = globals::shape(plan).coherent;
 
     if !library.trim().is_empty() {
@@ -199,6 +227,17 @@ pub(crate) fn generate(
         origin: SourceOrigin::Generated,
     });
 
+    if plan.item_helpers {
+        module.globals.extend(helpers::globals(plan.workgroup_size));
+        module.helpers = Some(Verbatim {
+            title: "item-wide helpers".into(),
+            text: helpers::HELPERS_WGSL.to_owned(),
+            origin: SourceOrigin::Generated,
+        });
+        module
+            .functions
+            .push(helpers::reduce_function(plan.workgroup_size));
+    }
     module.functions.push(policy_function(plan.policy));
     module.functions.extend(payload_functions(coherent));
     for (_, layout) in items.values() {
@@ -237,6 +276,12 @@ pub(crate) fn generate(
             .lines()
             .map(str::to_owned)
             .collect();
+        if procedure.scratch_type.is_some() {
+            f.prelude.push(format!(
+                "let scratch = &{}[slot];",
+                scratch_name(&procedure.name)
+            ));
+        }
         f.origin = SourceOrigin::Body(procedure.name.clone());
         module.functions.push(f);
     }

@@ -89,6 +89,11 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     f.line(format!("let slot = lid / {tpi}u;"));
     f.line(format!("let thread = lid % {tpi}u;"));
     f.line(format!("sched_scratch_stride = {}u;", queue.scratch_words));
+    if plan.item_helpers {
+        for line in crate::codegen::helpers::runner_lines(tpi) {
+            f.line(line);
+        }
+    }
     f.line("// Acquire: the reads below come after the claim saw `published`.");
     f.line("storageBarrier();");
     // The body's call on one chunk; `chunk` is its index within the batch.

@@ -35,6 +35,8 @@ pub(crate) struct Function {
     pub name: String,
     pub params: Vec<(String, String)>,
     pub ret: Option<String>,
+    /// Generated lines written before `body` (not part of its user region).
+    pub prelude: Vec<String>,
     pub body: Vec<String>,
     pub origin: SourceOrigin,
 }
@@ -47,6 +49,7 @@ impl Function {
             name: name.into(),
             params: Vec::new(),
             ret: None,
+            prelude: Vec::new(),
             body: Vec::new(),
             origin: SourceOrigin::Generated,
         }
@@ -90,6 +93,8 @@ pub(crate) struct KernelModule {
     pub globals: Vec<Global>,
     pub library: Option<Verbatim>,
     pub runtime: Option<Verbatim>,
+    /// The item-wide helpers, when the graph uses them.
+    pub helpers: Option<Verbatim>,
     pub functions: Vec<Function>,
 }
 
@@ -195,6 +200,9 @@ impl Writer {
             params.join(", "),
             ret
         ));
+        for line in &function.prelude {
+            self.push_line(&format!("    {line}"));
+        }
         let body = function.body.join("\n");
         self.verbatim(&body, "    ", &function.origin);
         self.push_line("}");
@@ -246,6 +254,10 @@ impl KernelModule {
             w.blank();
             w.verbatim(&runtime.text, "", &runtime.origin);
         }
+        if let Some(helpers) = &self.helpers {
+            w.blank();
+            w.verbatim(&helpers.text, "", &helpers.origin);
+        }
         let mut last_section = String::new();
         for function in &self.functions {
             let section = section_of(&function.name);
@@ -272,6 +284,8 @@ fn section_of(name: &str) -> &'static str {
         "procedure bodies"
     } else if name.starts_with("sched_run_") {
         "procedure runners"
+    } else if name.starts_with("sched_item_") {
+        "item-wide helpers"
     } else if name == "sched_policy_start" {
         "queue policy"
     } else if name.starts_with("sched_payload_") {

@@ -166,7 +166,7 @@ impl Graph {
 
         check_resources(self, options)?;
         crate::constant::check(&self.constants)?;
-        let items = item_layouts(self)?;
+        let (items, scratch_structs) = item_layouts(self)?;
 
         // Queue plans: staging capacity of a queue is the most items any single
         // source batch (all its chunks) may stage into it.
@@ -222,10 +222,17 @@ impl Graph {
             stage_words,
             scratch_words,
             resources: self.resources.clone(),
+            item_helpers: crate::codegen::helpers::used(&self.procedures, &self.library),
             features: options.features,
         };
 
-        let mut kernel = generate(&plan, &self.procedures, &self.library, &items);
+        let mut kernel = generate(
+            &plan,
+            &self.procedures,
+            &self.library,
+            &items,
+            &scratch_structs,
+        );
         kernel
             .constants
             .extend(crate::constant::declarations(&self.constants));
@@ -253,10 +260,12 @@ fn generated_names(kernel: &KernelModule) -> BTreeSet<String> {
     let mut names: BTreeSet<String> = kernel.functions.iter().map(|f| f.name.clone()).collect();
     names.extend(kernel.constants.iter().map(|c| c.name.clone()));
     names.extend(kernel.globals.iter().map(|g| g.name.clone()));
-    if let Some(runtime) = &kernel.runtime {
-        for line in runtime.text.lines() {
+    for verbatim in kernel.runtime.iter().chain(&kernel.helpers) {
+        for line in verbatim.text.lines() {
             if let Some(rest) = line.strip_prefix("fn ") {
                 names.insert(rest.split('(').next().unwrap_or_default().to_owned());
+            } else if let Some(rest) = line.strip_prefix("const ") {
+                names.insert(rest.split(':').next().unwrap_or_default().to_owned());
             }
         }
     }
@@ -301,10 +310,18 @@ fn check_resources(graph: &Graph, options: &CompileOptions) -> Result<(), Compil
     Ok(())
 }
 
+/// Item layouts by WGSL name, and the struct declarations typed scratch adds
+/// (procedure name, declarations).
+type Layouts = (
+    BTreeMap<String, (String, ItemLayout)>,
+    Vec<(String, String)>,
+);
+
 /// Parses every distinct item declaration and checks its layout. Returns a
 /// sorted map so the generated module does not depend on declaration order of
-/// equal item types.
-fn item_layouts(graph: &Graph) -> Result<BTreeMap<String, (String, ItemLayout)>, CompileError> {
+/// equal item types. Then adds the structs of typed scratch that no item type
+/// declares, in procedure order.
+fn item_layouts(graph: &Graph) -> Result<Layouts, CompileError> {
     let mut sources: BTreeMap<String, &crate::ItemType> = BTreeMap::new();
     for p in &graph.procedures {
         let item = &p.item;
@@ -345,5 +362,23 @@ fn item_layouts(graph: &Graph) -> Result<BTreeMap<String, (String, ItemLayout)>,
         let layout = layout::analyze(item, &module, &layouter)?;
         layouts.insert(name, (declared.fresh(item)?, layout));
     }
-    Ok(layouts)
+    let mut scratch = Vec::new();
+    for p in &graph.procedures {
+        let Some(ty) = &p.scratch_type else { continue };
+        let text =
+            declared
+                .fresh_structs(&ty.structs)
+                .map_err(|name| CompileError::ItemLayoutMismatch {
+                    item: name.clone(),
+                    rust: ty.wgsl_type.clone(),
+                    detail: format!(
+                        "the scratch type of `{}` declares a WGSL struct `{name}` that an item type declares differently",
+                        p.name
+                    ),
+                })?;
+        if !text.is_empty() {
+            scratch.push((p.name.clone(), text));
+        }
+    }
+    Ok((layouts, scratch))
 }

@@ -52,6 +52,8 @@ pub(crate) struct Plan {
     /// Words of the shared scratch region.
     pub scratch_words: u32,
     pub resources: Vec<Resource>,
+    /// Whether bodies or the library call the item-wide helpers.
+    pub item_helpers: bool,
     pub features: wgpu::Features,
 }
 

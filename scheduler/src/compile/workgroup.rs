@@ -5,6 +5,7 @@
 use naga::{AddressSpace, Module};
 
 use crate::CompileError;
+use crate::codegen::generate::scratch_name;
 use crate::compile::plan::Plan;
 
 /// WebGPU counts each workgroup variable as its size rounded up to 16 bytes
@@ -29,20 +30,38 @@ pub(crate) fn bytes(module: &Module) -> u32 {
         .fold(0u32, u32::saturating_add)
 }
 
+/// Bytes of the workgroup variable `name` as WebGPU counts it, 0 if absent.
+fn variable_bytes(module: &Module, name: &str) -> u32 {
+    module
+        .global_variables
+        .iter()
+        .find(|(_, var)| var.space == AddressSpace::WorkGroup && var.name.as_deref() == Some(name))
+        .map_or(0, |(_, var)| {
+            module.types[var.ty]
+                .inner
+                .size(module.to_ctx())
+                .next_multiple_of(VARIABLE_GRANULE)
+        })
+}
+
 /// The module's workgroup bytes. Fails with [`CompileError::ScratchTooLarge`]
 /// beyond `limit`, naming the procedure with the largest scratch (the part of
-/// the need a graph usually controls).
+/// the need a graph usually controls): its untyped words plus its typed
+/// scratch, measured on the module.
 pub(crate) fn check(module: &Module, plan: &Plan, limit: u32) -> Result<u32, CompileError> {
     let needed = bytes(module);
     if needed <= limit {
         return Ok(needed);
     }
-    let largest = plan
+    let (largest, per_item) = plan
         .queues
         .iter()
-        .max_by_key(|q| q.scratch_words.saturating_mul(q.items_per_workgroup))
+        .map(|q| {
+            let typed = variable_bytes(module, &scratch_name(&q.name)) / q.items_per_workgroup;
+            (q, q.scratch_words * 4 + typed)
+        })
+        .max_by_key(|&(q, per_item)| per_item.saturating_mul(q.items_per_workgroup))
         .expect("a compiled graph has at least one procedure");
-    let per_item = largest.scratch_words * 4;
     Err(CompileError::ScratchTooLarge {
         procedure: largest.name.clone(),
         per_item,

@@ -121,30 +121,37 @@ impl Declared {
     /// order, so this is deterministic). Two different declarations under
     /// one name are an error: one of them would be silently dropped.
     pub(crate) fn fresh(&mut self, item: &ItemType) -> Result<String, CompileError> {
-        let mut text = Vec::new();
-        for (name, source) in &item.structs {
-            match self.structs.get(name) {
-                Some(existing) if existing == source => {}
-                Some(_) => {
-                    return Err(CompileError::ItemLayoutMismatch {
-                        item: item.wgsl_name.clone(),
-                        rust: item.rust_name.to_owned(),
-                        detail: format!(
-                            "it declares a WGSL struct `{name}` that another item type declares differently"
-                        ),
-                    });
-                }
-                None => {
-                    self.structs.insert(name.clone(), source.clone());
-                    text.push(source.as_str());
-                }
+        let text = self.fresh_structs(&item.structs).map_err(|name| {
+            CompileError::ItemLayoutMismatch {
+                item: item.wgsl_name.clone(),
+                rust: item.rust_name.to_owned(),
+                detail: format!(
+                    "it declares a WGSL struct `{name}` that another item type declares differently"
+                ),
             }
-        }
+        })?;
         if text.is_empty() {
             return Ok(format!(
                 "// `{}` is declared above, nested in another item type.",
                 item.wgsl_name
             ));
+        }
+        Ok(text)
+    }
+
+    /// The declarations of `structs` not written yet, joined by newlines, or
+    /// the name of a struct declared differently before.
+    pub(crate) fn fresh_structs(&mut self, structs: &[(String, String)]) -> Result<String, String> {
+        let mut text = Vec::new();
+        for (name, source) in structs {
+            match self.structs.get(name) {
+                Some(existing) if existing == source => {}
+                Some(_) => return Err(name.clone()),
+                None => {
+                    self.structs.insert(name.clone(), source.clone());
+                    text.push(source.as_str());
+                }
+            }
         }
         Ok(text.join("\n"))
     }
