@@ -8,7 +8,7 @@ use std::fmt;
 pub enum BenchError {
     /// No adapter or device.
     Device(scheduler::DeviceError),
-    /// The spawn-tree graph did not compile.
+    /// A benchmark's graph did not compile.
     Compile(scheduler::CompileError),
     /// The megakernel (or a read-back) failed.
     Run(scheduler::RunError),
@@ -38,7 +38,7 @@ impl fmt::Display for BenchError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Device(e) => write!(f, "no usable GPU: {e}"),
-            Self::Compile(e) => write!(f, "the spawn-tree graph did not compile: {e}"),
+            Self::Compile(e) => write!(f, "the graph did not compile: {e}"),
             Self::Run(e) => write!(f, "megakernel run failed: {e}"),
             Self::Gpu(e) => write!(f, "GPU error: {e}"),
             Self::Config(e) => write!(f, "bad configuration: {e}"),

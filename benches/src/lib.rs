@@ -24,11 +24,14 @@
 //! - [`blur`]: the 5D sampling modes of the Reyes renderer (`blur-bench`).
 //! - [`strategies`]: megakernel vs. Rounds under each policy, on the spawn
 //!   tree; [`reyes_strategies`]: the same on Reyes frames.
+//! - [`mandelbrot`]: the Mandelbrot example (Mariani–Silver subdivision)
+//!   against a flat per-pixel dispatch (`scheduler-bench`).
 
 pub mod blur;
 pub mod error;
 pub mod flat;
 pub mod gpu;
+pub mod mandelbrot;
 pub mod megakernel;
 pub mod reyes_strategies;
 pub mod strategies;

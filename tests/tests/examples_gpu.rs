@@ -161,3 +161,144 @@ fn snapshots_of_the_example_graphs() {
         .unwrap();
     insta::assert_snapshot!("bfs_megakernel", bfs.wgsl());
 }
+
+#[path = "../../scheduler/examples/mandelbrot.rs"]
+#[allow(
+    dead_code,
+    reason = "the example's `main` and helpers only its binary uses"
+)]
+mod mandelbrot;
+
+/// Side of the Mandelbrot test image, and its iteration limit: lavapipe
+/// renders it in well under a second.
+const MANDELBROT_SIZE: u32 = 256;
+const MANDELBROT_MAX_ITER: u32 = 256;
+
+/// Renders the Mandelbrot set by Mariani–Silver subdivision and compares
+/// every pixel with the CPU's subdivision, and the scheduler's counters with
+/// its tile counts.
+fn mandelbrot_at(name: &str, workgroups: u32, strategy: scheduler::Strategy) {
+    let Some(gpu) = tests::gpu() else { return };
+    let view = mandelbrot::View::whole_set(MANDELBROT_SIZE, MANDELBROT_MAX_ITER);
+    let config = ExecutorConfig {
+        workgroups: Some(workgroups),
+        ..mandelbrot::config(gpu, &view)
+    };
+    let options =
+        scheduler::CompileOptions::with_features(scheduler::recommended_features(&gpu.device));
+    let mut renderer = mandelbrot::Mandelbrot::new(gpu, view, &options, &config)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let report = renderer
+        .render(strategy)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let counts = renderer.counts().unwrap();
+    let cpu = mandelbrot::cpu_mariani_silver(&view);
+    let mismatches = renderer.compare(&report, &counts, &cpu);
+    eprintln!(
+        "{report}\n{} tiles, {} filled, {} split, {} blocks",
+        cpu.tiles, cpu.filled, cpu.split, cpu.blocks
+    );
+    assert!(
+        mismatches.is_empty(),
+        "{name}: GPU and CPU disagree:\n{}\n{report}",
+        mismatches.join("\n")
+    );
+    assert_eq!(report.workgroups, workgroups);
+}
+
+#[test]
+fn mandelbrot_one_workgroup() {
+    mandelbrot_at(
+        "mandelbrot_one_workgroup",
+        1,
+        scheduler::Strategy::Megakernel,
+    );
+}
+
+#[test]
+fn mandelbrot_64_workgroups() {
+    mandelbrot_at(
+        "mandelbrot_64_workgroups",
+        64,
+        scheduler::Strategy::Megakernel,
+    );
+}
+
+#[test]
+fn mandelbrot_rounds() {
+    mandelbrot_at("mandelbrot_rounds", 64, scheduler::Strategy::rounds());
+}
+
+/// The example's own checked run (default workgroups), which also counts the
+/// pixels where Mariani–Silver differs from brute force.
+#[test]
+fn mandelbrot_example_run() {
+    let Some(gpu) = tests::gpu() else { return };
+    let view = mandelbrot::View::whole_set(MANDELBROT_SIZE, MANDELBROT_MAX_ITER);
+    let checked = mandelbrot::run(gpu, &view, &mandelbrot::config(gpu, &view)).unwrap();
+    eprintln!("{}\n{}", checked.report, checked.summary);
+    assert!(
+        checked.mismatches.is_empty(),
+        "GPU and CPU disagree:\n{}",
+        checked.mismatches.join("\n")
+    );
+    assert_eq!(checked.counts.len(), view.pixels());
+}
+
+/// The Mandelbrot CPU references on cases checked by hand.
+#[test]
+fn mandelbrot_cpu_references() {
+    let view = mandelbrot::View::whole_set(64, 100);
+    // Pixel (48, 32) is c = 0, in the set; pixel (0, 32) is c = -2.25, which
+    // leaves the disc after one step.
+    assert_eq!(view.x0 + 48.0 * view.step, 0.0);
+    assert_eq!(mandelbrot::escape_count(&view, 48, 32), 100);
+    assert_eq!(mandelbrot::escape_count(&view, 0, 32), 1);
+
+    // The border walk visits every border pixel once.
+    let tile = mandelbrot::Tile {
+        x: 8,
+        y: 16,
+        size: 8,
+    };
+    let mut border: Vec<(u32, u32)> = (0..4 * 7)
+        .map(|i| mandelbrot::border_pixel(&tile, i))
+        .collect();
+    border.sort_unstable();
+    border.dedup();
+    assert_eq!(border.len(), 28);
+    assert!(border.iter().all(|&(x, y)| {
+        (x == 8 || x == 15 || y == 16 || y == 23) && (8..16).contains(&x) && (16..24).contains(&y)
+    }));
+
+    // The quarters cover their tile exactly.
+    let mut covered = vec![0u32; 64];
+    for q in mandelbrot::quarters(&tile) {
+        for y in q.y..q.y + q.size {
+            for x in q.x..q.x + q.size {
+                covered[((y - 16) * 8 + x - 8) as usize] += 1;
+            }
+        }
+    }
+    assert!(covered.iter().all(|&c| c == 1));
+
+    // The subdivision writes every pixel, and on the test view it equals
+    // brute force.
+    let view = mandelbrot::View::whole_set(MANDELBROT_SIZE, MANDELBROT_MAX_ITER);
+    let cpu = mandelbrot::cpu_mariani_silver(&view);
+    assert!(cpu.counts.iter().all(|&n| n <= MANDELBROT_MAX_ITER));
+    assert_eq!(cpu.counts, mandelbrot::cpu_brute_force(&view));
+    assert_eq!(cpu.tiles, 16 + 4 * cpu.split);
+    assert_eq!(cpu.tiles, cpu.filled + cpu.split + cpu.blocks);
+}
+
+/// A snapshot of the Mandelbrot example's megakernel.
+#[test]
+fn snapshot_of_the_mandelbrot_graph() {
+    let options = scheduler::CompileOptions::with_features(
+        scheduler::wgpu::Features::MEMORY_DECORATION_COHERENT,
+    );
+    let view = mandelbrot::View::whole_set(MANDELBROT_SIZE, MANDELBROT_MAX_ITER);
+    let compiled = mandelbrot::graph(&view).graph.compile(&options).unwrap();
+    insta::assert_snapshot!("mandelbrot_megakernel", compiled.wgsl());
+}

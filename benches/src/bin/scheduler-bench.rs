@@ -2,17 +2,25 @@
 //!
 //! ```text
 //! cargo run --release -p benches --bin scheduler-bench -- \
-//!     [--items-log2 20] [--runs 7] [--workgroups N ...] [--chunks N ...] [--capacity N] [--json FILE]
+//!     [--items-log2 20] [--runs 7] [--workgroups N ...] [--chunks N ...] [--capacity N] \
+//!     [--mandelbrot-size 512] [--mandelbrot-max-iter 1024] [--json FILE]
 //! ```
 //!
-//! Prints one table measured in this one process: for work 64 and work 0, the
-//! flat dispatch and the megakernel at the default workgroup count plus any
-//! `--workgroups` given. Every variant is verified against a CPU reference;
-//! a mismatch exits with an error.
+//! Prints two tables measured in this one process. The spawn tree: for work
+//! 64 and work 0, the flat dispatch and the megakernel at the default
+//! workgroup count plus any `--workgroups` given. The Mandelbrot set by
+//! Mariani–Silver subdivision (`scheduler/examples/mandelbrot.rs`): a flat
+//! per-pixel dispatch, the megakernel at the same workgroup counts and the
+//! Rounds strategy, for each `--chunks`. Every variant is verified against a
+//! CPU reference; a mismatch exits with an error.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use benches::mandelbrot::{
+    MandelbrotConfig, format_mandelbrot_header, format_mandelbrot_row, format_mandelbrot_table,
+    run_mandelbrot,
+};
 use benches::suite::{BenchConfig, recommended_iteration_budget, run_suite};
 use benches::table::{format_row, format_table};
 use benches::workload::{FIXED_WORK, MAX_ITEMS_LOG2};
@@ -20,7 +28,9 @@ use clap::Parser;
 use scheduler::{DEFAULT_WORKGROUPS, DeviceRequest, Gpu};
 
 #[derive(Debug, Parser)]
-#[command(about = "Megakernel vs. flat dispatch on a synthetic binary spawn tree")]
+#[command(
+    about = "Megakernel vs. flat dispatch on a synthetic binary spawn tree and on the Mandelbrot set"
+)]
 struct Args {
     /// log2 of the number of items (tree nodes).
     #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_ITEMS_LOG2)))]
@@ -43,6 +53,12 @@ struct Args {
     /// Megakernel queue capacity in items (default: the item count).
     #[arg(long)]
     capacity: Option<u32>,
+    /// Side of the Mandelbrot image (a power of two, at least 64); 0 skips it.
+    #[arg(long, default_value_t = 512)]
+    mandelbrot_size: u32,
+    /// Most iterations per Mandelbrot pixel.
+    #[arg(long, default_value_t = 1024)]
+    mandelbrot_max_iter: u32,
     /// Also write the results as JSON to this file.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -108,10 +124,45 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         "high-water = most items the megakernel queue held at once (median run); \
          all variants verified: OK"
     );
+    let mandelbrot = if args.mandelbrot_size == 0 {
+        None
+    } else {
+        let config = MandelbrotConfig {
+            size: args.mandelbrot_size,
+            max_iter: args.mandelbrot_max_iter,
+            runs: args.runs,
+            workgroups: report.config.workgroups.clone(),
+            chunks: args.chunks.clone(),
+        };
+        println!();
+        println!(
+            "workload: Mandelbrot set [-2.25, 0.75] x [-1.5, 1.5], {0}x{0} pixels, at most {1} \
+             iterations; Mariani-Silver subdivision (scheduler/examples/mandelbrot.rs) vs. a \
+             flat dispatch of the same per-pixel function; median of {2} timed runs after a \
+             verified warm-up",
+            config.size, config.max_iter, config.runs
+        );
+        eprintln!("measuring (each variant verified against the CPU reference)...");
+        eprintln!("  {}", format_mandelbrot_header());
+        let mandelbrot = run_mandelbrot(&gpu, &config, |row| {
+            eprintln!("  {}", format_mandelbrot_row(row));
+        })?;
+        println!();
+        print!("{}", format_mandelbrot_table(&mandelbrot));
+        println!(
+            "ratio = flat median / row median (above 1: faster than the flat dispatch); \
+             escape px = pixels whose escape count was iterated, iterations = their counts \
+             summed; {} pixel(s) where Mariani-Silver differs from brute force; \
+             all variants verified: OK",
+            mandelbrot.differ_from_brute_force
+        );
+        Some(mandelbrot)
+    };
     if let Some(path) = &args.json {
         let json = serde_json::json!({
             "command": command_line,
             "report": report,
+            "mandelbrot": mandelbrot,
         });
         std::fs::write(path, serde_json::to_string_pretty(&json)?)?;
         println!("JSON written to {}", path.display());
