@@ -89,6 +89,46 @@ pub(crate) fn trusted_pipeline(
     })
 }
 
+/// A flat kernel ready to dispatch: its pipeline, its one output buffer of
+/// `words` u32s at binding 0, and the bind group holding it.
+pub(crate) struct BoundKernel {
+    pub pipeline: wgpu::ComputePipeline,
+    pub out: wgpu::Buffer,
+    pub bind_group: wgpu::BindGroup,
+}
+
+impl BoundKernel {
+    /// Builds `wgsl` with [`trusted_pipeline`] and binds a fresh output
+    /// buffer of `words` u32s; validation errors come back as
+    /// [`BenchError::Gpu`].
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        label: &str,
+        wgsl: String,
+        words: u32,
+    ) -> Result<Self, BenchError> {
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let pipeline = trusted_pipeline(device, label, wgsl);
+        let out = out_buffer(device, words, label);
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: out.as_entire_binding(),
+            }],
+        });
+        if let Some(error) = block_on(scope.pop()) {
+            return Err(BenchError::Gpu(error.to_string()));
+        }
+        Ok(Self {
+            pipeline,
+            out,
+            bind_group,
+        })
+    }
+}
+
 /// Runs one dispatch of `workgroups` and returns its time (GPU timestamps
 /// around the pass with `timestamps`, else wall time) and the host wall time
 /// from submission to completion.
@@ -164,23 +204,19 @@ impl FlatKernel {
         queue: &wgpu::Queue,
         workload: Workload,
     ) -> Result<Self, BenchError> {
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         // The very same runtime checks as the megakernel, so that both run the
         // same machine code for `bench_work`; its only loop is bounded by a
         // constant.
-        let pipeline = trusted_pipeline(device, "flat kernel", flat_wgsl(&workload));
-        let out = out_buffer(device, workload.items(), "flat out");
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("flat kernel"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: out.as_entire_binding(),
-            }],
-        });
-        if let Some(error) = block_on(scope.pop()) {
-            return Err(BenchError::Gpu(error.to_string()));
-        }
+        let BoundKernel {
+            pipeline,
+            out,
+            bind_group,
+        } = BoundKernel::new(
+            device,
+            "flat kernel",
+            flat_wgsl(&workload),
+            workload.items(),
+        )?;
         let timestamps = Timestamps::new(device, queue);
         Ok(Self {
             device: device.clone(),

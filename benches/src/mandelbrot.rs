@@ -15,8 +15,7 @@ use std::time::Duration;
 use scheduler::{CompileOptions, ConstantValue, ExecutorConfig, Gpu, Strategy, wgpu};
 
 use crate::BenchError;
-use crate::flat::{Timestamps, dispatch_timed, trusted_pipeline};
-use crate::gpu::{block_on, out_buffer};
+use crate::flat::{BoundKernel, Timestamps, dispatch_timed};
 use crate::timing::{TimeSource, Timings};
 
 #[path = "../../scheduler/examples/mandelbrot.rs"]
@@ -128,20 +127,16 @@ impl FlatMandelbrot {
     /// Creates the pipeline and the output buffer (not timed).
     pub fn new(gpu: &Gpu, view: View) -> Result<Self, BenchError> {
         let device = &gpu.device;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let pipeline = trusted_pipeline(device, "flat mandelbrot", flat_wgsl(&view));
-        let counts = out_buffer(device, view.width * view.height, "flat mandelbrot counts");
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("flat mandelbrot"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: counts.as_entire_binding(),
-            }],
-        });
-        if let Some(error) = block_on(scope.pop()) {
-            return Err(BenchError::Gpu(error.to_string()));
-        }
+        let BoundKernel {
+            pipeline,
+            out: counts,
+            bind_group,
+        } = BoundKernel::new(
+            device,
+            "flat mandelbrot",
+            flat_wgsl(&view),
+            view.width * view.height,
+        )?;
         Ok(Self {
             device: device.clone(),
             queue: gpu.queue.clone(),
