@@ -96,7 +96,10 @@ struct RenderArgs {
     /// A scene file (.toml) or a bare model (.bpt/.bez, framed automatically
     /// with a default light). Default: the embedded teapot.
     scene: Option<PathBuf>,
-    /// Output PNG.
+    /// Output image; the extension chooses the format: `.png` (8-bit sRGB)
+    /// or `.exr` (OpenEXR, float linear RGBA), case-insensitive. Missing
+    /// directories are created. Checked before rendering, written through a
+    /// temporary file renamed over it, so a failure leaves no partial file.
     #[arg(short, long, default_value = "reyes.png")]
     output: PathBuf,
     /// Image width in pixels (default: the scene's, 800).
@@ -136,7 +139,9 @@ struct RenderArgs {
     /// Print the statistics table.
     #[arg(long)]
     stats: bool,
-    /// Write the statistics as JSON to FILE.
+    /// Write the statistics as JSON to FILE (any name but the image's;
+    /// missing directories are created, as for `-o`). The image and FILE
+    /// are replaced together, or neither is.
     #[arg(long, value_name = "FILE")]
     stats_json: Option<PathBuf>,
     /// Camera position, e.g. `4,-12,7`.
@@ -151,7 +156,10 @@ struct RenderArgs {
     /// Vertical field of view in degrees.
     #[arg(long)]
     fov: Option<f32>,
-    /// Render with the CPU reference instead of the GPU.
+    /// Render with the CPU reference instead of the GPU. It refuses frames
+    /// whose RGBA image exceeds 128 MiB (as the GPU does) or whose sample
+    /// framebuffer exceeds 2 GiB, and stops after 2^26 work items, 2^30
+    /// micropolygons or the --timeout.
     #[arg(long)]
     cpu: bool,
     /// Displace every object: `bumps` (the embedded height map), `sines`
@@ -179,10 +187,10 @@ struct RenderArgs {
     /// Repetitions of the displacement source per patch (default 1).
     #[arg(long, value_name = "T", requires = "displace")]
     displace_tiling: Option<f32>,
-    /// Longest a GPU frame may take, in seconds (default 600). It includes the
-    /// driver's first compile of the megakernel, which takes longer than a
-    /// minute on lavapipe when its shader cache is cold (e.g. for a new
-    /// `--displace FILE.wgsl` function).
+    /// Longest a frame may take, in seconds (default 600), on the GPU or
+    /// with --cpu. On the GPU it includes the driver's first compile of the
+    /// megakernel, which takes longer than a minute on lavapipe when its
+    /// shader cache is cold (e.g. for a new `--displace FILE.wgsl` function).
     #[arg(long, value_name = "SECONDS")]
     timeout: Option<u64>,
     /// Chunks per batch of the megakernel, 1 to 64: how many workgroup-fulls
@@ -545,12 +553,18 @@ fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
 }
 
 fn render(args: &RenderArgs) -> Result<(), BoxError> {
+    let outputs = check_outputs(args)?;
     if let Some(bytes) = args.max_input_bytes {
         reyes::input::set_limits(Limits::all(bytes));
     }
     let scene = prepare(args)?;
     let (image, stats, backend) = if args.cpu {
-        let rendered = reyes::reference::try_render(&scene)?;
+        // The reference's frame, work and time bounds; --timeout as on the GPU.
+        let mut options = reyes::reference::ReferenceOptions::default();
+        if let Some(seconds) = args.timeout {
+            options.timeout = Some(std::time::Duration::from_secs(seconds.max(1)));
+        }
+        let rendered = reyes::reference::try_render_with(&scene, &options)?;
         (rendered.image, rendered.stats, "CPU wall".to_owned())
     } else {
         let gpu = reyes::gpu::create_gpu()?;
@@ -573,7 +587,9 @@ fn render(args: &RenderArgs) -> Result<(), BoxError> {
             format!("{backend}, {}", gpu.describe()),
         )
     };
-    reyes::output::write_png(&image, &args.output)?;
+    // The image and the statistics are renamed into place together, or
+    // neither is.
+    outputs.write(&image, &stats)?;
     println!(
         "wrote {} ({}x{}, {} spp)",
         args.output.display(),
@@ -584,18 +600,35 @@ fn render(args: &RenderArgs) -> Result<(), BoxError> {
     if args.stats {
         print_stats(&stats, &backend, &scene);
     }
-    if stats.displacement_bound_exceeded > 0 {
-        eprintln!(
-            "warning: {} displaced grid point(s) moved further than the displacement bound; surfaces near the screen edges may be culled wrongly (raise the bound)",
-            stats.displacement_bound_exceeded
-        );
-    }
-    if let Some(path) = &args.stats_json {
-        let json = serde_json::to_string_pretty(&stats)?;
-        std::fs::write(path, json + "\n")
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    let warnings =
+        reyes::output::frame_warnings(&stats, scene.objects.len(), scene.max_split_depth);
+    for warning in warnings {
+        eprintln!("warning: {warning}");
     }
     Ok(())
+}
+
+/// Checks the output paths before any work (see
+/// [`reyes::output::OutputPlan::check`]): a render must not run for minutes
+/// towards an output it cannot write, or overwrite its own inputs.
+fn check_outputs(args: &RenderArgs) -> Result<reyes::output::OutputPlan, BoxError> {
+    let mut inputs: Vec<(&str, &Path)> = Vec::new();
+    if let Some(scene) = &args.scene {
+        inputs.push(("scene", scene));
+    }
+    // A height map or .wgsl function; the built-in sources are no file.
+    if let Some(source) = args.displace.as_deref()
+        && source != SOURCE_BUMPS
+        && source != SOURCE_SINES
+        && source != SOURCE_WGSL
+    {
+        inputs.push(("displacement", Path::new(source)));
+    }
+    Ok(reyes::output::OutputPlan::check(
+        &args.output,
+        args.stats_json.as_deref(),
+        &inputs,
+    )?)
 }
 
 fn main() -> ExitCode {

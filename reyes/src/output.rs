@@ -1,12 +1,70 @@
-//! Writing rendered images to disk.
+//! Writing rendered images (and their statistics) to disk.
+//!
+//! The file extension chooses the format ([`ImageFormat`]): `.png` for
+//! 8-bit sRGB PNG, `.exr` for OpenEXR in float linear RGBA. Every file is
+//! written to a temporary file beside its target and renamed over it once
+//! complete, so a failed write leaves no truncated file and destroys no old
+//! one. [`OutputPlan`] checks a render's output paths before the render
+//! starts and writes the image and the statistics all or nothing.
+
+mod paths;
+mod staged;
+mod warnings;
 
 use std::path::{Path, PathBuf};
 
-use image::RgbaImage;
+use image::{ImageBuffer, Rgba, RgbaImage};
 
-/// Why an image could not be written.
+use self::staged::Staged;
+pub use self::warnings::frame_warnings;
+use crate::color::srgb_to_linear;
+use crate::stats::RenderStats;
+
+/// The extensions an image may be written with, for error messages.
+pub const IMAGE_EXTENSIONS: &str = ".png (8-bit sRGB PNG) or .exr (float linear RGBA OpenEXR)";
+
+/// Why an output could not be checked or written. Every variant names the
+/// file concerned.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
+    /// The path is empty or ends in `/` or `..`.
+    #[error("{}: names no file", path.display())]
+    NoFileName {
+        /// The path as given.
+        path: PathBuf,
+    },
+    /// The image path's extension names no format written here.
+    #[error("{}: unknown image format; the extension chooses it: {IMAGE_EXTENSIONS}", path.display())]
+    UnknownFormat {
+        /// The path as given.
+        path: PathBuf,
+    },
+    /// The path exists and is a directory, device, FIFO or socket, which a
+    /// rename must not replace.
+    #[error("{}: exists and is not a regular file", path.display())]
+    NotAFile {
+        /// The file the path leads to.
+        path: PathBuf,
+    },
+    /// Two outputs, or an output and an input, lead to the same file.
+    #[error("the {first} and the {second} both name {}; nothing was written", path.display())]
+    SameFile {
+        /// What the first path is for (e.g. `image`).
+        first: String,
+        /// What the second path is for (e.g. `statistics JSON`).
+        second: String,
+        /// The file both lead to.
+        path: PathBuf,
+    },
+    /// The path's links could not be followed.
+    #[error("cannot resolve {}: {source}", path.display())]
+    Resolve {
+        /// The path as given.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
     /// The parent directory could not be created.
     #[error("cannot create directory {}: {source}", path.display())]
     CreateDir {
@@ -16,52 +74,248 @@ pub enum OutputError {
         #[source]
         source: std::io::Error,
     },
-    /// Encoding or writing the PNG failed.
-    #[error("cannot write PNG {}: {source}", path.display())]
-    Write {
+    /// No file can be created in the directory (read-only, no permission,
+    /// a pseudo file system such as `/proc`).
+    #[error("cannot create files in {}: {source}", path.display())]
+    NotWritable {
+        /// The directory.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Encoding the image failed (image errors wrap I/O errors).
+    #[error("cannot write image {}: {source}", path.display())]
+    Encode {
         /// The file.
         path: PathBuf,
-        /// The underlying image error (wraps I/O errors).
+        /// The underlying image error.
         #[source]
         source: image::ImageError,
     },
+    /// Serializing the statistics failed.
+    #[error("cannot write statistics {}: {source}", path.display())]
+    Json {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: serde_json::Error,
+    },
+    /// Writing the temporary file failed (e.g. the disk is full).
+    #[error("cannot write {}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Renaming the complete temporary file over the target failed.
+    #[error("cannot replace {}: {source}", path.display())]
+    Rename {
+        /// The file.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
 }
 
-/// Writes an image as PNG, creating the parent directory if needed.
-pub fn write_png(image: &RgbaImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
-    let path = path.as_ref();
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|source| OutputError::CreateDir {
-            path: dir.to_path_buf(),
-            source,
-        })?;
+/// An image file format, chosen by the file's extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// `.png`: the 8-bit sRGB image as rendered.
+    Png,
+    /// `.exr`: OpenEXR, 32-bit float linear RGBA (the 8-bit sRGB result
+    /// decoded with the exact sRGB transfer function; alpha as is).
+    Exr,
+}
+
+impl ImageFormat {
+    /// The format `path`'s extension names (case-insensitive), or
+    /// [`OutputError::UnknownFormat`].
+    pub fn from_path(path: &Path) -> Result<ImageFormat, OutputError> {
+        let extension = path.extension().and_then(|e| e.to_str());
+        match extension.map(str::to_ascii_lowercase).as_deref() {
+            Some("png") => Ok(ImageFormat::Png),
+            Some("exr") => Ok(ImageFormat::Exr),
+            _ => Err(OutputError::UnknownFormat {
+                path: path.to_path_buf(),
+            }),
+        }
     }
-    image
-        .save_with_format(path, image::ImageFormat::Png)
-        .map_err(|source| OutputError::Write {
+}
+
+/// The checked outputs of one render: the image and, optionally, the
+/// statistics as JSON. Made before rendering by [`OutputPlan::check`],
+/// written after it by [`OutputPlan::write`].
+#[derive(Debug, Clone)]
+pub struct OutputPlan {
+    /// The image's resolved path (links followed) and format.
+    image: (PathBuf, ImageFormat),
+    /// Where the statistics go, resolved.
+    stats_json: Option<PathBuf>,
+}
+
+impl OutputPlan {
+    /// Checks the outputs of a render before it starts: the image's
+    /// extension names a format, neither path is an existing directory or
+    /// special file, no two of the outputs and `inputs` (labelled files the
+    /// render reads, which an output must not overwrite) lead to the same
+    /// file, and both outputs' directories exist or are created now (both
+    /// paths alike) and accept new files. Nothing is created unless every
+    /// other check passed.
+    pub fn check(
+        image: &Path,
+        stats_json: Option<&Path>,
+        inputs: &[(&str, &Path)],
+    ) -> Result<OutputPlan, OutputError> {
+        let format = ImageFormat::from_path(image)?;
+        let image_file = resolve_output(image)?;
+        let stats_file = stats_json.map(resolve_output).transpose()?;
+        let mut named = vec![("image".to_owned(), image_file.clone())];
+        if let Some(file) = &stats_file {
+            named.push(("statistics JSON".to_owned(), file.clone()));
+        }
+        for (label, path) in inputs {
+            // An input that cannot be resolved fails when it is read.
+            if let Ok(Some(file)) = paths::resolve(path) {
+                named.push((format!("input {label}"), file));
+            }
+        }
+        for (i, (first, file)) in named.iter().enumerate() {
+            if let Some((second, _)) = named[i + 1..].iter().find(|(_, other)| other == file) {
+                return Err(OutputError::SameFile {
+                    first: first.clone(),
+                    second: second.clone(),
+                    path: file.clone(),
+                });
+            }
+        }
+        prepare_dir(&image_file)?;
+        if let Some(file) = &stats_file {
+            prepare_dir(file)?;
+        }
+        Ok(OutputPlan {
+            image: (image_file, format),
+            stats_json: stats_file,
+        })
+    }
+
+    /// The file the image goes to (links followed).
+    pub fn image_path(&self) -> &Path {
+        &self.image.0
+    }
+
+    /// Writes the image and, if planned, `stats` as pretty JSON: both go to
+    /// temporary files first and are renamed over their targets only when
+    /// both were written, so a failure leaves neither new file behind.
+    pub fn write(&self, image: &RgbaImage, stats: &RenderStats) -> Result<(), OutputError> {
+        let (path, format) = &self.image;
+        let staged_image = stage_image(image, path, *format)?;
+        let staged_stats = match &self.stats_json {
+            Some(path) => {
+                let json =
+                    serde_json::to_string_pretty(stats).map_err(|source| OutputError::Json {
+                        path: path.clone(),
+                        source,
+                    })?;
+                Some(staged::write_bytes(path, (json + "\n").as_bytes())?)
+            }
+            None => None,
+        };
+        staged_image.commit()?;
+        staged_stats.map(Staged::commit).transpose()?;
+        Ok(())
+    }
+}
+
+/// The file an output path leads to, which must be a regular file if it
+/// exists (a rename would replace a directory entry of any other kind).
+fn resolve_output(path: &Path) -> Result<PathBuf, OutputError> {
+    let file = paths::resolve(path)
+        .map_err(|source| OutputError::Resolve {
+            path: path.to_path_buf(),
+            source,
+        })?
+        .ok_or_else(|| OutputError::NoFileName {
+            path: path.to_path_buf(),
+        })?;
+    match std::fs::metadata(&file) {
+        Ok(meta) if !meta.is_file() => Err(OutputError::NotAFile { path: file }),
+        _ => Ok(file),
+    }
+}
+
+/// Creates `file`'s directory if missing and checks that it takes files.
+fn prepare_dir(file: &Path) -> Result<(), OutputError> {
+    let dir = file.parent().unwrap_or(Path::new("/"));
+    std::fs::create_dir_all(dir).map_err(|source| OutputError::CreateDir {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let name = file
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    paths::probe_writable(dir, &name).map_err(|source| OutputError::NotWritable {
+        path: dir.to_path_buf(),
+        source,
+    })
+}
+
+/// Encodes `image` in `format` to a temporary file beside `path`.
+fn stage_image(image: &RgbaImage, path: &Path, format: ImageFormat) -> Result<Staged, OutputError> {
+    Staged::write(path, |writer| {
+        let encoded = match format {
+            ImageFormat::Png => image.write_to(writer, image::ImageFormat::Png),
+            ImageFormat::Exr => to_linear(image).write_to(writer, image::ImageFormat::OpenExr),
+        };
+        encoded.map_err(|source| OutputError::Encode {
             path: path.to_path_buf(),
             source,
         })
+    })
+}
+
+/// The 8-bit sRGB image as float linear RGBA: colour channels decoded with
+/// the sRGB transfer function, alpha scaled to [0, 1] (it is not encoded).
+pub fn to_linear(image: &RgbaImage) -> ImageBuffer<Rgba<f32>, Vec<f32>> {
+    let table: Vec<f32> = (0..=255u8)
+        .map(|v| srgb_to_linear(f32::from(v) / 255.0))
+        .collect();
+    ImageBuffer::from_fn(image.width(), image.height(), |x, y| {
+        let Rgba([r, g, b, a]) = *image.get_pixel(x, y);
+        Rgba([
+            table[usize::from(r)],
+            table[usize::from(g)],
+            table[usize::from(b)],
+            f32::from(a) / 255.0,
+        ])
+    })
+}
+
+/// Writes an image in the format its extension names (see
+/// [`ImageFormat`]), creating the parent directory if needed, through a
+/// temporary file renamed over `path` once complete.
+pub fn write_image(image: &RgbaImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
+    let path = path.as_ref();
+    let format = ImageFormat::from_path(path)?;
+    let file = resolve_output(path)?;
+    prepare_dir(&file)?;
+    stage_image(image, &file, format)?.commit()
+}
+
+/// Writes an image as PNG whatever the extension, creating the parent
+/// directory if needed, through a temporary file renamed over `path` once
+/// complete.
+pub fn write_png(image: &RgbaImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
+    let path = path.as_ref();
+    let file = resolve_output(path)?;
+    prepare_dir(&file)?;
+    stage_image(image, &file, ImageFormat::Png)?.commit()
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn writes_and_reports_errors() {
-        let dir = std::env::temp_dir().join(format!("reyes-output-test-{}", std::process::id()));
-        let path = dir.join("nested").join("img.png");
-        let image = RgbaImage::from_pixel(3, 2, image::Rgba([10, 20, 30, 255]));
-        write_png(&image, &path).unwrap();
-        let back = image::open(&path).unwrap().to_rgba8();
-        assert_eq!(back, image);
-        // A path whose parent is a file cannot be created.
-        let bad = path.join("below-a-file.png");
-        assert!(matches!(
-            write_png(&image, &bad),
-            Err(OutputError::CreateDir { .. })
-        ));
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-}
+mod tests;

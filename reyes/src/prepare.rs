@@ -9,8 +9,43 @@ use crate::camera::Camera;
 use crate::displacement::PreparedDisplacement;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
-use crate::params::MAX_GRID_QUADS;
-use crate::scene::{CameraDesc, Dicing, Sampling, Scene, SceneError, ShadingInterpolation};
+use crate::params::{DEGENERATE_NORMAL_REL_EPS, MAX_GRID_QUADS};
+use crate::scene::{
+    CameraDesc, Dicing, FramingError, Sampling, Scene, SceneError, ShadingInterpolation,
+};
+
+/// Largest RGBA image of a frame, in bytes, for both renderers: 128 MiB,
+/// WebGPU's default `max_storage_buffer_binding_size`, which is also what
+/// lavapipe binds. The GPU path refuses a frame whose image exceeds its
+/// device's buffer limit; the CPU reference, which has no device, takes
+/// this one (see [`crate::reference::limits`]).
+pub const MAX_IMAGE_BYTES: u64 = wgpu::Limits::defaults().max_storage_buffer_binding_size;
+
+/// Whether a patch has no area: all control points equal, or all on one
+/// line (up to [`DEGENERATE_NORMAL_REL_EPS`] relative to their spread).
+/// Such a patch has no normal anywhere; rendered, it is float noise.
+/// The points must be finite.
+pub fn degenerate_patch(points: &[Vec3; 16]) -> bool {
+    let origin = points[0];
+    let spread = |p: Vec3| (p - origin).abs().max_element();
+    let farthest = points
+        .iter()
+        .copied()
+        .max_by(|a, b| spread(*a).total_cmp(&spread(*b)))
+        .unwrap_or(origin);
+    let scale = spread(farthest);
+    if scale == 0.0 {
+        return true;
+    }
+    // Scaled so that neither the cross products nor the squared lengths
+    // overflow or underflow.
+    let axis = (farthest - origin) / scale;
+    points.iter().all(|&p| {
+        let offset = (p - origin) / scale;
+        offset.cross(axis).length_squared()
+            <= DEGENERATE_NORMAL_REL_EPS * offset.length_squared() * axis.length_squared()
+    })
+}
 
 /// One input patch in world space, with the object it belongs to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,6 +126,10 @@ pub struct PreparedScene {
     pub dice_threshold: f32,
     /// Drop patches that still need a split at this depth.
     pub max_split_depth: u32,
+    /// Input patches left out because they have no area
+    /// ([`degenerate_patch`]: all control points equal, or collinear); each
+    /// preparation logs the count as a warning.
+    pub skipped_degenerate_patches: usize,
     /// The thin lens (aperture 0: a pinhole).
     pub lens: PreparedLens,
     /// What the image shows.
@@ -104,7 +143,15 @@ impl PreparedScene {
     /// `scene.objects[i]`). The scene is validated first; height maps named
     /// by displacement tables are read here. Without a camera in
     /// the scene, the camera is framed around the world-space bounds of all
-    /// patches ([`CameraDesc::framing_points`]).
+    /// patches ([`CameraDesc::try_framing_points`]).
+    ///
+    /// Besides [`Scene::validate`], this checks what the models derive:
+    /// every transformed control point (at shutter open and close) must be
+    /// finite ([`SceneError::TransformOverflow`]), and an automatically
+    /// framed camera must be usable in `f32` ([`SceneError::Framing`],
+    /// naming the models' bounds). Patches without area
+    /// ([`degenerate_patch`]) are left out and counted in
+    /// [`PreparedScene::skipped_degenerate_patches`], with a logged warning.
     pub fn new(scene: &Scene, models: &[Model]) -> Result<PreparedScene, SceneError> {
         scene.validate()?;
         if models.len() != scene.objects.len() {
@@ -114,30 +161,79 @@ impl PreparedScene {
             });
         }
         let mut patches = Vec::with_capacity(models.iter().map(|m| m.patches.len()).sum());
+        let mut skipped_degenerate_patches = 0;
         for (index, (object, model)) in scene.objects.iter().zip(models).enumerate() {
             let matrix = object.transform.matrix();
-            patches.extend(model.patches.iter().map(|patch| WorldPatch {
-                points: patch.points.map(|p| matrix.transform_point3(p)),
-                object: index as u32,
-            }));
+            // Where the object is at shutter close (without camera motion,
+            // which moves the view, not the world).
+            let close = object
+                .transform_close
+                .as_ref()
+                .map(|close| object.transform.interpolate(close, scene.shutter));
+            let overflow = |field| SceneError::TransformOverflow {
+                index,
+                field,
+                model: object.model.clone(),
+            };
+            for patch in &model.patches {
+                let points = patch.points.map(|p| matrix.transform_point3(p));
+                if !points.iter().all(|p| p.is_finite()) {
+                    return Err(overflow("transform"));
+                }
+                if let Some(close) = close {
+                    if !patch
+                        .points
+                        .iter()
+                        .all(|&p| close.transform_point3(p).is_finite())
+                    {
+                        return Err(overflow("transform_close"));
+                    }
+                }
+                if degenerate_patch(&points) {
+                    skipped_degenerate_patches += 1;
+                    continue;
+                }
+                patches.push(WorldPatch {
+                    points,
+                    object: index as u32,
+                });
+            }
+        }
+        if skipped_degenerate_patches > 0 {
+            log::warn!(
+                "skipped {skipped_degenerate_patches} degenerate patch(es) without area (all control points equal or on one line)"
+            );
         }
         let (width, height) = (scene.resolution.width, scene.resolution.height);
-        let desc = scene.camera.unwrap_or_else(|| {
-            CameraDesc::framing_points(
-                patches.iter().flat_map(|p| p.points.iter().copied()),
-                width as f32 / height as f32,
-            )
-        });
-        let camera = Camera::new(
-            desc.eye,
-            desc.target,
-            desc.up,
-            desc.fov_y_degrees.to_radians(),
-            width,
-            height,
-            desc.near,
-            desc.far,
-        );
+        let desc = match scene.camera {
+            Some(desc) => desc,
+            None => {
+                let framing = |source| SceneError::Framing {
+                    objects: scene.objects.len(),
+                    source,
+                };
+                let desc = CameraDesc::try_framing_points(
+                    patches.iter().flat_map(|p| p.points.iter().copied()),
+                    width as f32 / height as f32,
+                )
+                .map_err(framing)?;
+                if let Some(reason) = desc.camera(width, height).matrix_problem() {
+                    let (lo, hi) = patches
+                        .iter()
+                        .flat_map(|p| p.points)
+                        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+                            (lo.min(p), hi.max(p))
+                        });
+                    return Err(framing(FramingError::TooLarge {
+                        lo,
+                        hi,
+                        detail: format!("for the camera that would frame them, {reason}"),
+                    }));
+                }
+                desc
+            }
+        };
+        let camera = desc.camera(width, height);
         // A moving camera becomes a motion of the whole world (see
         // `crate::motion`); validation guarantees a `[camera]` with it, so
         // `camera` is that camera here.
@@ -208,6 +304,7 @@ impl PreparedScene {
                 Dicing::Rate => MAX_GRID_QUADS as f32 * micropolygon_side,
             },
             max_split_depth: scene.max_split_depth,
+            skipped_degenerate_patches,
             aov: scene.aov,
             shading_interpolation: scene.shading_interpolation,
         })

@@ -91,13 +91,14 @@ use glam::{Mat4, Quat, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::aov::Aov;
+use crate::camera::{Camera, PoseProblem, pose_problem};
 use crate::displacement::{DisplacementDesc, DisplacementError, desc::SourceKind};
 use crate::input::{self, InputError, InputKind};
 use crate::load::LoadError;
 use crate::model::Model;
 use crate::params::{
     DEFAULT_DICE_THRESHOLD, DEFAULT_MAX_SPLIT_DEPTH, DEFAULT_SHADING_RATE, MAX_SHADING_RATE,
-    MAX_SPLIT_DEPTH_LIMIT, VALID_SPP,
+    MAX_SPLIT_DEPTH_LIMIT, NEAR_EPS, VALID_SPP,
 };
 
 /// The model name that selects the embedded teapot instead of a file.
@@ -187,6 +188,35 @@ pub enum SceneError {
         /// Why preparing failed.
         #[source]
         source: DisplacementError,
+    },
+    /// The scene has no camera and its objects cannot be framed
+    /// automatically ([`CameraDesc::try_framing_points`]).
+    #[error(
+        "{} ({} to {}) {source}",
+        if *objects == 1 { "the model's bounds".to_string() } else { format!("the bounds of the scene's {objects} models") },
+        format_point(source.bounds().0),
+        format_point(source.bounds().1)
+    )]
+    Framing {
+        /// Number of objects framed together.
+        objects: usize,
+        /// Why framing fails.
+        #[source]
+        source: FramingError,
+    },
+    /// An object's transform maps its model's points (at shutter open or
+    /// close) beyond `f32`: the product of the transform and the model's
+    /// coordinates overflows.
+    #[error(
+        "objects[{index}].{field} maps model {model:?} beyond f32 range (the transformed control points are not finite: scale times the model's coordinates, plus translate, overflows); scale the model down"
+    )]
+    TransformOverflow {
+        /// Index of the object.
+        index: usize,
+        /// `transform` or `transform_close`.
+        field: &'static str,
+        /// The object's `model` string.
+        model: String,
     },
     /// A prepared scene was given a different number of models than objects.
     #[error("the scene has {objects} objects but {models} models were given")]
@@ -761,18 +791,30 @@ impl Scene {
     /// ([`CameraDesc::framing_points`] over its control points): z up, eye in
     /// front of and above the model, the whole model in view with a margin; one light from over the camera's left shoulder. Other fields
     /// are defaults.
+    ///
+    /// A model that cannot be framed (its bounds too large or too small for
+    /// `f32` view math) gets no camera and the default light: preparing the
+    /// scene then reports why automatic framing fails
+    /// ([`SceneError::Framing`]), naming the model's bounds.
     pub fn for_model(model_name: impl Into<String>, model: &Model) -> Scene {
         let resolution = Resolution::default();
         let (lo, hi) = model.bounds();
-        let camera =
-            CameraDesc::framing(lo, hi, resolution.width as f32 / resolution.height as f32);
-        let light = Light {
-            direction: camera.shoulder_light_direction(),
-            ..Light::default()
+        let corners = box_corners(lo, hi);
+        let camera = CameraDesc::try_framing_points(
+            corners,
+            resolution.width as f32 / resolution.height as f32,
+        )
+        .ok();
+        let light = match &camera {
+            Some(camera) => Light {
+                direction: camera.shoulder_light_direction(),
+                ..Light::default()
+            },
+            None => Light::default(),
         };
         Scene {
             resolution,
-            camera: Some(camera),
+            camera,
             objects: vec![SceneObject {
                 model: model_name.into(),
                 transform: Transform::default(),
@@ -823,6 +865,16 @@ impl Scene {
     /// `shininess >= 0`, non-zero light directions, and every displacement table ([`DisplacementDesc::validate`]), with at
     /// most one distinct user WGSL function per scene (it becomes part of
     /// the one megakernel).
+    ///
+    /// What the camera derives is checked too, not only what is written:
+    /// the eye's and target's squared lengths and the squared distance
+    /// between them must fit `f32` without overflow or underflow, so that
+    /// the view direction can be normalized
+    /// ([`crate::camera::pose_problem`]), and the view, projection and
+    /// world-to-clip matrices must be finite
+    /// ([`Camera::matrix_problem`]). What depends on the models (the
+    /// transformed control points, an automatically framed camera) is
+    /// checked when the scene is prepared ([`crate::prepare::PreparedScene::new`]).
     pub fn validate(&self) -> Result<(), SceneError> {
         let Resolution { width, height } = self.resolution;
         if width == 0 || height == 0 {
@@ -882,6 +934,19 @@ impl Scene {
         }
         if let Some(camera) = &self.camera {
             camera.validate()?;
+            // What the camera derives must be finite too: its matrices.
+            let built = camera.camera(width, height);
+            if let Some(reason) = built.matrix_problem() {
+                return Err(SceneError::InvalidCamera {
+                    reason: reason.to_string(),
+                });
+            }
+            if let Some(close) = &self.camera_close {
+                let up = close.up.unwrap_or(camera.up);
+                if let Some(reason) = built.looking(close.eye, close.target, up).matrix_problem() {
+                    return Err(invalid("camera_close", reason));
+                }
+            }
         }
         if let Some(close) = &self.camera_close {
             let Some(camera) = &self.camera else {
@@ -894,8 +959,8 @@ impl Scene {
             finite("camera_close.target", close.target.to_array())?;
             let up = close.up.unwrap_or(camera.up);
             finite("camera_close.up", up.to_array())?;
-            if let Some(reason) = pose_problem(close.eye, close.target, up) {
-                return Err(invalid("camera_close", reason));
+            if let Some(problem) = pose_problem(close.eye, close.target, up) {
+                return Err(invalid("camera_close", &problem.reason("camera_close")));
             }
         }
         for (i, object) in self.objects.iter().enumerate() {
@@ -980,6 +1045,68 @@ impl Scene {
     }
 }
 
+/// The 8 corners of the box `[lo, hi]`.
+fn box_corners(lo: Vec3, hi: Vec3) -> impl Iterator<Item = Vec3> + Clone {
+    (0..8).map(move |i| {
+        Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
+}
+
+/// The smallest view depth at which automatic framing places a point
+/// (twice [`NEAR_EPS`], the clip `w` below which the renderers cannot project
+/// a point): a model framed closer is too small for `f32` view math.
+pub const MIN_FRAMED_DEPTH: f32 = 2.0 * NEAR_EPS;
+
+/// Why points cannot be framed automatically
+/// ([`CameraDesc::try_framing_points`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FramingError {
+    /// The bounds are too large (or not finite) for `f32` view math.
+    #[error(
+        "are too large to frame automatically ({detail}); give the scene a [camera] (or --eye and --target), or scale the model down (objects[].transform.scale)"
+    )]
+    TooLarge {
+        /// Smallest corner of the bounds.
+        lo: Vec3,
+        /// Largest corner of the bounds.
+        hi: Vec3,
+        /// What overflows.
+        detail: String,
+    },
+    /// The bounds are too small: the framing camera would be too close.
+    #[error(
+        "are too small to frame automatically: the camera would be {nearest:e} from the nearest point, below the {MIN_FRAMED_DEPTH:e} that f32 view math resolves; scale the model up (objects[].transform.scale)"
+    )]
+    TooSmall {
+        /// Smallest corner of the bounds.
+        lo: Vec3,
+        /// Largest corner of the bounds.
+        hi: Vec3,
+        /// The nearest point's view depth.
+        nearest: f32,
+    },
+}
+
+impl FramingError {
+    /// The bounds that could not be framed.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        match self {
+            FramingError::TooLarge { lo, hi, .. } | FramingError::TooSmall { lo, hi, .. } => {
+                (*lo, *hi)
+            }
+        }
+    }
+}
+
+/// A point in short scientific notation, e.g. `[1e19, -2.5e-30, 0e0]`.
+pub fn format_point(p: Vec3) -> String {
+    format!("[{:e}, {:e}, {:e}]", p.x, p.y, p.z)
+}
+
 fn finite<const N: usize>(field: &str, values: [f32; N]) -> Result<(), SceneError> {
     if values.iter().all(|v| v.is_finite()) {
         Ok(())
@@ -997,22 +1124,6 @@ fn invalid(field: &str, reason: &str) -> SceneError {
     }
 }
 
-/// What keeps a finite eye, target and up from making a view, if anything.
-fn pose_problem(eye: Vec3, target: Vec3, up: Vec3) -> Option<&'static str> {
-    if eye == target {
-        Some("eye and target must differ")
-    } else if (target - eye)
-        .normalize()
-        .cross(up.normalize_or_zero())
-        .length_squared()
-        < 1e-12
-    {
-        Some("up must be non-zero and not parallel to the view direction")
-    } else {
-        None
-    }
-}
-
 impl CameraDesc {
     /// Checks the camera (see [`Scene::validate`]).
     pub fn validate(&self) -> Result<(), SceneError> {
@@ -1024,19 +1135,32 @@ impl CameraDesc {
         finite("camera.far", [self.far])?;
         // All values are finite here (checked above), so plain comparisons suffice.
         let reason = if self.near <= 0.0 {
-            "near must be > 0"
+            "near must be > 0".to_string()
         } else if self.far <= self.near {
-            "far must be > near"
+            "far must be > near".to_string()
         } else if !(self.fov_y_degrees > 0.0 && self.fov_y_degrees < 180.0) {
-            "fov_y_degrees must be in (0, 180)"
-        } else if let Some(reason) = pose_problem(self.eye, self.target, self.up) {
-            reason
+            "fov_y_degrees must be in (0, 180)".to_string()
+        } else if let Some(problem) = pose_problem(self.eye, self.target, self.up) {
+            // Derived: the view direction must be computable in f32.
+            problem.reason("camera")
         } else {
             return Ok(());
         };
-        Err(SceneError::InvalidCamera {
-            reason: reason.to_string(),
-        })
+        Err(SceneError::InvalidCamera { reason })
+    }
+
+    /// The camera this description makes for an image of `width x height`.
+    pub fn camera(&self, width: u32, height: u32) -> Camera {
+        Camera::new(
+            self.eye,
+            self.target,
+            self.up,
+            self.fov_y_degrees.to_radians(),
+            width,
+            height,
+            self.near,
+            self.far,
+        )
     }
 
     /// This camera's pose at shutter close after it moves by `by` and pans
@@ -1064,14 +1188,7 @@ impl CameraDesc {
     /// the longer horizontal side faces the camera; the view is turned about
     /// 17 degrees off axis for a three-quarter view.
     pub fn framing(lo: Vec3, hi: Vec3, aspect: f32) -> CameraDesc {
-        let corners = (0..8).map(|i| {
-            Vec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            )
-        });
-        CameraDesc::framing_points(corners, aspect)
+        CameraDesc::framing_points(box_corners(lo, hi), aspect)
     }
 
     /// Like [`CameraDesc::framing`], but the distance is fitted to the given
@@ -1079,10 +1196,61 @@ impl CameraDesc {
     /// to their bounding box's corners: a tighter fit for rounded models. The
     /// view direction and target still come from the points' bounding box.
     /// With no points, frames the unit box around the origin.
+    ///
+    /// Points too far apart or too far out for `f32` view math give a
+    /// camera that does not validate; [`CameraDesc::try_framing_points`]
+    /// says so instead.
     pub fn framing_points(
         points: impl IntoIterator<Item = Vec3> + Clone,
         aspect: f32,
     ) -> CameraDesc {
+        Self::framing_fit(points, aspect).0
+    }
+
+    /// [`CameraDesc::framing_points`], or why the points cannot be framed
+    /// in `f32`: the bounds are non-finite or too large for the view math
+    /// (the squared distances overflow), or so small that the nearest point
+    /// would lie closer to the eye than [`MIN_FRAMED_DEPTH`] (the renderers
+    /// cannot project points at clip `w <= NEAR_EPS`).
+    pub fn try_framing_points(
+        points: impl IntoIterator<Item = Vec3> + Clone,
+        aspect: f32,
+    ) -> Result<CameraDesc, FramingError> {
+        let (desc, lo, hi, nearest) = Self::framing_fit(points, aspect);
+        let too_large = |detail: String| FramingError::TooLarge { lo, hi, detail };
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Err(too_large("they are not finite".into()));
+        }
+        let fields = [desc.eye, desc.target, Vec3::new(desc.near, desc.far, 0.0)];
+        let usable =
+            fields.iter().all(|v| v.is_finite()) && desc.near > 0.0 && desc.far > desc.near;
+        if !usable {
+            return Err(too_large(
+                "the camera that would frame them is not finite in f32".into(),
+            ));
+        }
+        if let Some(problem) = pose_problem(desc.eye, desc.target, desc.up) {
+            return Err(match problem {
+                PoseProblem::TooClose => FramingError::TooSmall { lo, hi, nearest },
+                _ => too_large(
+                    "the camera that would frame them lies too far out for f32 view math: its squared distances overflow"
+                        .into(),
+                ),
+            });
+        }
+        // Also refuses a NaN depth.
+        if nearest.is_nan() || nearest < MIN_FRAMED_DEPTH {
+            return Err(FramingError::TooSmall { lo, hi, nearest });
+        }
+        Ok(desc)
+    }
+
+    /// The framing camera, the points' bounds and the view depth of the
+    /// nearest point.
+    fn framing_fit(
+        points: impl IntoIterator<Item = Vec3> + Clone,
+        aspect: f32,
+    ) -> (CameraDesc, Vec3, Vec3, f32) {
         const MARGIN: f32 = 0.9;
         let fov_y_degrees = default_fov();
         let (lo, hi) = points
@@ -1093,9 +1261,23 @@ impl CameraDesc {
                 Some((lo, hi)) => Some((lo.min(p), hi.max(p))),
             })
             .unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5)));
-        let center = (lo + hi) * 0.5;
+        let mut center = (lo + hi) * 0.5;
+        if !center.is_finite() {
+            // lo + hi overflowed.
+            center = lo * 0.5 + hi * 0.5;
+        }
         let extent = hi - lo;
-        let radius = (extent.length() * 0.5).max(1e-3);
+        let length = extent.length();
+        let radius = if length > 0.0 && length.is_finite() && length >= 1e-18 {
+            length * 0.5
+        } else if extent.max_element() > 0.0 {
+            // The squared length underflows or overflows: scale first.
+            let m = extent.max_element();
+            (extent / m).length() * m * 0.5
+        } else {
+            // One point: frame a small ball around it.
+            1e-3f32.max(center.abs().max_element() * 1e-3)
+        };
         // Direction from the target to the eye.
         let to_eye = if extent.x >= extent.y {
             Vec3::new(0.3, -1.0, 0.55)
@@ -1111,7 +1293,7 @@ impl CameraDesc {
         // A point at offset q from the centre has depth (dist - q.to_eye) and
         // must satisfy |q.right| <= depth * tan_x and |q.up| <= depth * tan_y.
         let mut distance = radius * 0.1;
-        for point in points {
+        for point in points.clone() {
             let q = point - center;
             let along = q.dot(to_eye);
             distance = distance
@@ -1120,14 +1302,25 @@ impl CameraDesc {
         }
         let near = ((distance - radius) * 0.5).max(distance * 1e-3);
         let far = distance + radius * 4.0;
-        CameraDesc {
-            eye: center + to_eye * distance,
-            target: center,
-            up: Vec3::Z,
-            fov_y_degrees,
-            near,
-            far,
-        }
+        let farthest_along = points
+            .clone()
+            .into_iter()
+            .map(|p| (p - center).dot(to_eye))
+            .fold(f32::NEG_INFINITY, f32::max);
+        let nearest = distance - farthest_along.max(-distance);
+        (
+            CameraDesc {
+                eye: center + to_eye * distance,
+                target: center,
+                up: Vec3::Z,
+                fov_y_degrees,
+                near,
+                far,
+            },
+            lo,
+            hi,
+            nearest,
+        )
     }
 
     /// The travel direction of a light coming from over the camera's left
@@ -1143,7 +1336,6 @@ impl CameraDesc {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::Camera;
     use crate::test_random::{fresh_rng, random_vec3};
 
     /// The full example in this module's documentation stays valid.

@@ -27,6 +27,23 @@ impl Framebuffer {
         }
     }
 
+    /// A cleared framebuffer, or `None` when the host cannot allocate its
+    /// keys (instead of aborting the process).
+    pub fn try_new(width: u32, height: u32, spp: u32) -> Option<Framebuffer> {
+        let len = (width as usize)
+            .checked_mul(height as usize)?
+            .checked_mul(spp as usize)?;
+        let mut keys = Vec::new();
+        keys.try_reserve_exact(len).ok()?;
+        keys.resize(len, CLEAR_KEY);
+        Some(Framebuffer {
+            width,
+            height,
+            spp,
+            keys,
+        })
+    }
+
     /// Index of sample `s` of pixel `(x, y)`.
     pub fn index(&self, x: u32, y: u32, s: u32) -> usize {
         (y as usize * self.width as usize + x as usize) * self.spp as usize + s as usize

@@ -17,13 +17,14 @@ pub mod bound;
 pub mod dice;
 pub mod displace;
 pub mod framebuffer;
+pub mod limits;
 pub mod raster;
 pub mod raster5d;
 pub mod resolve;
 pub mod shade;
 pub mod work;
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use image::RgbaImage;
 
@@ -32,6 +33,8 @@ use self::bound::{
 };
 use self::dice::dice;
 use self::framebuffer::Framebuffer;
+use self::limits::Budget;
+pub use self::limits::ReferenceOptions;
 use self::raster::{
     SampleGrid, ScreenPoint, micropolygon_corners, micropolygon_size, raster_nearest,
     raster_triangle, shows_front,
@@ -73,11 +76,86 @@ pub enum ReferenceError {
         /// Index of the object.
         object: usize,
     },
+    /// The RGBA image is larger than the renderers allow
+    /// ([`ReferenceOptions::max_image_bytes`], by default
+    /// [`limits::MAX_IMAGE_BYTES`], the GPU path's limit too).
+    #[error(
+        "{width}x{height} needs a {needed}-byte RGBA image but at most {limit} bytes are allowed (reyes::prepare::MAX_IMAGE_BYTES, lavapipe's per-buffer limit, which the CPU reference shares with the GPU path); lower the resolution (--width/--height)"
+    )]
+    ImageTooLarge {
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+        /// Bytes needed.
+        needed: u64,
+        /// Bytes allowed.
+        limit: u64,
+    },
+    /// The sample framebuffer (8 bytes per sample) is larger than
+    /// [`ReferenceOptions::max_framebuffer_bytes`].
+    #[error(
+        "{width}x{height} at {spp} spp needs a {needed}-byte sample framebuffer but the CPU reference allows at most {limit} bytes; lower the resolution or spp, raise ReferenceOptions::max_framebuffer_bytes through the API, or render on the GPU, which renders large frames in tiles"
+    )]
+    FramebufferTooLarge {
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+        /// Samples per pixel.
+        spp: u32,
+        /// Bytes needed.
+        needed: u64,
+        /// Bytes allowed.
+        limit: u64,
+    },
+    /// The host could not allocate the sample framebuffer.
+    #[error(
+        "the host could not allocate the {bytes}-byte sample framebuffer of the CPU reference; lower the resolution or spp"
+    )]
+    OutOfMemory {
+        /// Bytes asked for.
+        bytes: u64,
+    },
+    /// The frame needs more work than the options allow.
+    #[error(
+        "the CPU reference stopped after {limit} {what} (ReferenceOptions::{field}, a bound on the work of one frame); the scene needs more: raise dice_threshold or shading_rate, lower max_split_depth or the resolution, or raise ReferenceOptions::{field} through the API"
+    )]
+    WorkLimit {
+        /// What was counted.
+        what: &'static str,
+        /// The bound.
+        limit: u64,
+        /// The option that sets it.
+        field: &'static str,
+    },
+    /// The frame took longer than [`ReferenceOptions::timeout`].
+    #[error(
+        "the CPU render timed out after {elapsed:.1?} (limit {timeout:?}, {items} work items processed); raise --timeout (ReferenceOptions::timeout), or make the frame cheaper: raise dice_threshold or shading_rate, lower max_split_depth, spp or the resolution"
+    )]
+    Timeout {
+        /// The limit.
+        timeout: Duration,
+        /// Work items processed when it expired.
+        items: u64,
+        /// Time taken until the check that found it expired.
+        elapsed: Duration,
+    },
 }
 
-/// Renders a prepared scene, or says why the reference cannot (see
-/// [`ReferenceError`]).
+/// Renders a prepared scene within the default [`ReferenceOptions`], or
+/// says why the reference cannot (see [`ReferenceError`]).
 pub fn try_render(scene: &PreparedScene) -> Result<Rendered, ReferenceError> {
+    try_render_with(scene, &ReferenceOptions::default())
+}
+
+/// Renders a prepared scene within `options`, or says why the reference
+/// cannot (see [`ReferenceError`]): a user WGSL displacement without a
+/// Rust twin, a frame too large, too much work or too much time.
+pub fn try_render_with(
+    scene: &PreparedScene,
+    options: &ReferenceOptions,
+) -> Result<Rendered, ReferenceError> {
     if let Some(object) = scene
         .objects
         .iter()
@@ -85,26 +163,41 @@ pub fn try_render(scene: &PreparedScene) -> Result<Rendered, ReferenceError> {
     {
         return Err(ReferenceError::UserDisplacement { object });
     }
-    Ok(render(scene))
+    render_bounded(scene, options)
 }
 
 /// Renders a prepared scene.
 ///
 /// An object displaced by a user WGSL function without a Rust twin cannot be
 /// displaced on the CPU: it is rendered undisplaced (with a logged warning).
-/// Use [`try_render`] to get an error instead.
+/// The work and time are not bounded ([`ReferenceOptions::unbounded_work`]).
+///
+/// # Panics
+///
+/// When the frame is larger than the reference allows
+/// ([`ReferenceOptions::check_frame`]) or its framebuffer cannot be
+/// allocated. Use [`try_render`] or [`try_render_with`] to get an error
+/// instead.
 pub fn render(scene: &PreparedScene) -> Rendered {
+    render_bounded(scene, &ReferenceOptions::unbounded_work())
+        .unwrap_or_else(|error| panic!("the reference cannot render this scene: {error}"))
+}
+
+fn render_bounded(
+    scene: &PreparedScene,
+    options: &ReferenceOptions,
+) -> Result<Rendered, ReferenceError> {
     let start = Instant::now();
-    let (framebuffer, mut stats) = render_samples(scene);
+    let (framebuffer, mut stats) = try_render_samples(scene, options)?;
     let (image, covered_samples) = resolve::resolve(&framebuffer, scene.background);
     let coverage = covered_samples.iter().map(|&n| n != 0).collect();
     stats.frame_time_ms = Some(start.elapsed().as_secs_f64() * 1000.0);
-    Rendered {
+    Ok(Rendered {
         image,
         coverage,
         covered_samples,
         stats,
-    }
+    })
 }
 
 /// Loads the scene's models, prepares and renders it.
@@ -115,10 +208,33 @@ pub fn render_scene(scene: &Scene) -> Result<Rendered, SceneError> {
 /// Runs the pipeline up to (not including) the resolve: the filled sample
 /// framebuffer and the statistics (`frame_time_ms` unset). Useful to compare
 /// sample keys with another implementation.
+///
+/// # Panics
+///
+/// Like [`render`]; [`try_render_samples`] returns the error instead.
 pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
+    try_render_samples(scene, &ReferenceOptions::unbounded_work())
+        .unwrap_or_else(|error| panic!("the reference cannot render this scene: {error}"))
+}
+
+/// [`render_samples`] within `options` (see [`try_render_with`]; a user
+/// WGSL displacement is rendered undisplaced here, with a warning).
+pub fn try_render_samples(
+    scene: &PreparedScene,
+    options: &ReferenceOptions,
+) -> Result<(Framebuffer, RenderStats), ReferenceError> {
     let camera = &scene.camera;
+    options.check_frame(camera.width, camera.height, scene.spp)?;
+    let mut budget = Budget::new(options);
     let view_proj = camera.view_proj();
-    let mut framebuffer = Framebuffer::new(camera.width, camera.height, scene.spp);
+    let mut framebuffer = Framebuffer::try_new(camera.width, camera.height, scene.spp).ok_or(
+        ReferenceError::OutOfMemory {
+            bytes: u64::from(camera.width)
+                .saturating_mul(u64::from(camera.height))
+                .saturating_mul(u64::from(scene.spp))
+                .saturating_mul(8),
+        },
+    )?;
     let samples = SampleGrid::new(grid_size(scene.spp), scene.jitter);
     let uvt = scene
         .samples_time_and_lens()
@@ -167,6 +283,7 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
         })
         .collect();
     while let Some(item) = stack.pop() {
+        budget.item()?;
         let object = &scene.objects[item.object as usize];
         // One-sided, still, sharp and undisplaced input patches that face
         // away everywhere are culled here (split pieces are culled
@@ -223,6 +340,7 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
                 stack.push(first);
             }
             BoundDecision::Dice(size) => {
+                budget.grid(&stats, size.quads())?;
                 dice_shade_sample(
                     scene,
                     &item,
@@ -232,11 +350,12 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
                     sampler.as_ref(),
                     &mut framebuffer,
                     &mut stats,
-                );
+                    &mut budget,
+                )?;
             }
         }
     }
-    (framebuffer, stats)
+    Ok((framebuffer, stats))
 }
 
 /// Dices one piece into `size`, shades its grid points and samples its
@@ -254,7 +373,8 @@ fn dice_shade_sample(
     sampler: Option<&Sampler<'_>>,
     framebuffer: &mut Framebuffer,
     stats: &mut RenderStats,
-) {
+    budget: &mut Budget,
+) -> Result<(), ReferenceError> {
     let class = size.class();
     stats.grids_diced += 1;
     stats.micropolygons += u64::from(size.quads());
@@ -328,6 +448,7 @@ fn dice_shade_sample(
 
     for j in 0..size.nv {
         for i in 0..size.nu {
+            budget.samples(stats)?;
             let corners = micropolygon_corners(&screen, size, i, j);
             let micropolygon = micropolygon_size(&corners);
             // f32::max ignores a NaN size (possible only for unprojectable corners).
@@ -384,4 +505,5 @@ fn dice_shade_sample(
             }
         }
     }
+    Ok(())
 }

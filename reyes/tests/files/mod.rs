@@ -146,3 +146,38 @@ fn crc32_matches_the_reference_value() {
     // The standard check value of CRC-32.
     assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
 }
+
+/// Runs `command` (a `reyes` invocation the caller set up: another working
+/// directory, a shell with resource limits...) like [`run_cli`]: stdin an
+/// open empty pipe, killed past [`READ_BOUND`]. Returns (success, stderr).
+pub fn run_command(mut command: std::process::Command) -> (bool, String) {
+    use std::io::Read;
+    use std::process::Stdio;
+    let mut child = command
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the command starts");
+    // Drained on its own thread, so a chatty child cannot fill the pipe and stall.
+    let mut stderr_pipe = child.stderr.take().unwrap();
+    let stderr_reader = std::thread::spawn(move || {
+        let mut text = String::new();
+        let _ = stderr_pipe.read_to_string(&mut text);
+        text
+    });
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > READ_BOUND {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{command:?} did not finish within {READ_BOUND:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    drop(child);
+    (status.success(), stderr_reader.join().unwrap())
+}

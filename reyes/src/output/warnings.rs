@@ -1,0 +1,136 @@
+//! Warnings about a frame that rendered but may not show what was asked:
+//! the counters say so, and a command line should say it too.
+
+use crate::params::MAX_SPLIT_DEPTH_LIMIT;
+use crate::stats::RenderStats;
+
+/// The warnings a frame's statistics call for, one sentence each (without
+/// a `warning:` prefix): patches dropped by the depth guard, a frame that
+/// covered no sample although the scene has objects, and displaced points
+/// beyond their bound. `objects` is the scene's object count and
+/// `max_split_depth` the depth guard it rendered with.
+pub fn frame_warnings(stats: &RenderStats, objects: usize, max_split_depth: u32) -> Vec<String> {
+    let mut warnings = Vec::new();
+    let drops = stats.depth_guard_drops;
+    // Raising the key helps only below its limit.
+    let remedy = if max_split_depth < MAX_SPLIT_DEPTH_LIMIT {
+        format!(
+            "raise the scene key `max_split_depth` (now {max_split_depth}, at most {MAX_SPLIT_DEPTH_LIMIT})"
+        )
+    } else {
+        format!("`max_split_depth` is already at its limit {MAX_SPLIT_DEPTH_LIMIT}")
+    };
+    if drops > 0 && stats.grids_diced == 0 {
+        warnings.push(format!(
+            "the depth guard dropped all {drops} patch piece(s) left after culling: each still needed a split at max_split_depth = {max_split_depth}, so nothing was diced; {remedy}"
+        ));
+    } else if drops > 0 {
+        warnings.push(format!(
+            "the depth guard dropped {drops} patch piece(s) that still needed a split at max_split_depth = {max_split_depth} ({} were diced): parts of the surface may be missing; {remedy}",
+            stats.grids_diced
+        ));
+    }
+    if objects > 0 && stats.samples_hit == 0 {
+        warnings.push(format!(
+            "the frame covered no sample although the scene has {objects} object(s) with {} patch(es): {}",
+            stats.input_patches,
+            empty_frame_cause(stats)
+        ));
+    }
+    if stats.displacement_bound_exceeded > 0 {
+        warnings.push(format!(
+            "{} displaced grid point(s) moved further than the displacement bound; surfaces near the screen edges may be culled wrongly (raise the bound)",
+            stats.displacement_bound_exceeded
+        ));
+    }
+    warnings
+}
+
+/// Why no sample was covered, as far as the counters tell.
+fn empty_frame_cause(stats: &RenderStats) -> String {
+    if stats.input_patches == 0 {
+        "the models have no patches".to_owned()
+    } else if stats.grids_diced == 0 && stats.depth_guard_drops == 0 {
+        format!(
+            "all {} patch piece(s) were culled outside the view; check the camera (eye, target, fov) and the objects' transforms",
+            stats.culled_patches
+        )
+    } else if stats.grids_diced == 0 {
+        "nothing was diced (see the depth-guard warning)".to_owned()
+    } else {
+        format!(
+            "{} grid(s) were diced but none of their {} sample test(s) hit; the surfaces may face away (sides = 1) or fall between the samples",
+            stats.grids_diced, stats.samples_tested
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The statistics of a frame that diced and hit.
+    fn healthy() -> RenderStats {
+        RenderStats {
+            input_patches: 32,
+            splits: 10,
+            grids_diced: 42,
+            samples_tested: 1000,
+            samples_hit: 400,
+            ..RenderStats::default()
+        }
+    }
+
+    #[test]
+    fn a_healthy_frame_has_no_warning() {
+        assert!(frame_warnings(&healthy(), 1, 24).is_empty());
+    }
+
+    #[test]
+    fn a_guard_that_drops_everything_names_the_key() {
+        let stats = RenderStats {
+            input_patches: 32,
+            depth_guard_drops: 32,
+            ..RenderStats::default()
+        };
+        let warnings = frame_warnings(&stats, 1, 0);
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(warnings[0].starts_with("the depth guard dropped all 32 patch piece(s)"));
+        assert!(warnings[0].contains("max_split_depth = 0"));
+        assert!(warnings[0].contains("raise the scene key `max_split_depth`"));
+        assert!(warnings[1].contains("covered no sample"));
+    }
+
+    #[test]
+    fn some_drops_are_counted() {
+        let stats = RenderStats {
+            depth_guard_drops: 3,
+            ..healthy()
+        };
+        let warnings = frame_warnings(&stats, 1, MAX_SPLIT_DEPTH_LIMIT);
+        assert_eq!(warnings.len(), 1);
+        assert!(warnings[0].starts_with("the depth guard dropped 3 patch piece(s)"));
+        assert!(warnings[0].contains("already at its limit"));
+    }
+
+    #[test]
+    fn an_empty_frame_says_why() {
+        let culled = RenderStats {
+            input_patches: 32,
+            culled_patches: 32,
+            ..RenderStats::default()
+        };
+        let warnings = frame_warnings(&culled, 1, 24);
+        assert_eq!(warnings.len(), 1);
+        assert!(warnings[0].contains("culled outside the view"));
+        // No objects, nothing to cover: not a warning.
+        assert!(frame_warnings(&RenderStats::default(), 0, 24).is_empty());
+        let missed = RenderStats {
+            samples_hit: 0,
+            ..healthy()
+        };
+        assert!(
+            frame_warnings(&missed, 2, 24)[0].contains("none of their 1000 sample test(s) hit")
+        );
+    }
+}
