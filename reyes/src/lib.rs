@@ -34,6 +34,7 @@ pub mod output;
 pub mod params;
 pub mod prepare;
 pub mod reference;
+pub mod rib;
 pub mod sampling;
 pub mod scene;
 pub mod stats;

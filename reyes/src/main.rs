@@ -41,9 +41,42 @@ struct Cli {
 }
 
 #[derive(Debug, Subcommand)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "one command is parsed once per process"
+)]
 enum Command {
-    /// Render a scene (.toml), a model (.bpt/.bez) or, without SCENE, the teapot.
+    /// Render a scene (.toml or RenderMan .rib), a model (.bpt/.bez) or,
+    /// without SCENE, the teapot.
     Render(RenderArgs),
+    /// Convert a RenderMan RIB scene to a TOML scene plus `.bpt` models
+    /// (written beside the TOML as `<stem>-<i>.bpt`).
+    Convert(ConvertArgs),
+}
+
+#[derive(Debug, clap::Args)]
+struct ConvertArgs {
+    /// The ASCII RIB file.
+    input: PathBuf,
+    /// The TOML scene to write.
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+/// `reyes convert`: RIB to TOML plus `.bpt` files.
+fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
+    let rib = reyes::rib::RibScene::load(&args.input)?;
+    for warning in &rib.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let written = rib.write(&args.output)?;
+    for path in &written {
+        println!("wrote {}", path.display());
+    }
+    if let Some(display) = &rib.display {
+        println!("the RIB's Display file is {display} (render with -o {display})");
+    }
+    Ok(())
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -297,17 +330,31 @@ fn parse_pan(text: &str) -> Result<f32, String> {
 
 type BoxError = Box<dyn std::error::Error>;
 
-/// The scene named on the command line, before overrides.
-fn base_scene(path: Option<&Path>) -> Result<Scene, BoxError> {
+/// The scene named on the command line, before overrides, and the models
+/// of a scene that brings them in memory (RIB) rather than by path.
+fn base_scene(path: Option<&Path>) -> Result<(Scene, Option<Vec<Model>>), BoxError> {
     let Some(path) = path else {
-        return Ok(Scene::default_teapot());
+        return Ok((Scene::default_teapot(), None));
     };
     let extension = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match extension.as_deref() {
-        Some("toml") => Ok(Scene::load(path)?),
+        Some("toml") => Ok((Scene::load(path)?, None)),
+        Some("rib") => {
+            let rib = reyes::rib::RibScene::load(path)?;
+            for warning in &rib.warnings {
+                eprintln!("warning: {warning}");
+            }
+            if let Some(display) = &rib.display {
+                eprintln!(
+                    "note: the RIB's Display file {display} is not used; the image goes to -o"
+                );
+            }
+            // The models stay in memory: nothing is written for a render.
+            Ok((rib.scene, Some(rib.models)))
+        }
         Some("bpt" | "bez") => {
             let model = Model::load(path).map_err(|e| -> BoxError {
                 // Parse errors give only the line; name the file as the
@@ -317,10 +364,10 @@ fn base_scene(path: Option<&Path>) -> Result<Scene, BoxError> {
                     None => e.into(),
                 }
             })?;
-            Ok(Scene::for_model(path.to_string_lossy(), &model))
+            Ok((Scene::for_model(path.to_string_lossy(), &model), None))
         }
         _ => Err(format!(
-            "{}: unknown scene type; expected a .toml scene or a .bpt/.bez model",
+            "{}: unknown scene type; expected a .toml or .rib scene or a .bpt/.bez model",
             path.display()
         )
         .into()),
@@ -370,7 +417,11 @@ fn displacement(args: &RenderArgs) -> Result<Option<DisplacementDesc>, BoxError>
 
 /// Loads the scene, applies the command-line overrides and prepares it.
 fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
-    let mut scene = base_scene(args.scene.as_deref())?;
+    let (mut scene, in_memory) = base_scene(args.scene.as_deref())?;
+    let prepared = |scene: &Scene| match &in_memory {
+        Some(models) => PreparedScene::new(scene, models),
+        None => PreparedScene::load(scene),
+    };
     if let Some(desc) = displacement(args)? {
         for object in &mut scene.objects {
             object.displacement = Some(desc.clone());
@@ -446,12 +497,12 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
         args.eye.is_some() || args.target.is_some() || args.up.is_some() || args.fov.is_some();
     // A bare model or the teapot was framed for 800x600: frame it again for
     // the requested aspect ratio (through the same helper), unless the user
-    // places the camera.
+    // places the camera. Scene files (TOML, RIB) keep their own camera.
     let is_model = args
         .scene
         .as_deref()
         .and_then(|p| p.extension())
-        .is_none_or(|e| !e.eq_ignore_ascii_case("toml"));
+        .is_none_or(|e| !(e.eq_ignore_ascii_case("toml") || e.eq_ignore_ascii_case("rib")));
     if resized && is_model && scene.camera.is_some() {
         let models = scene.load_models()?;
         let (lo, hi) = models[0].bounds();
@@ -464,7 +515,7 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
         let camera = match scene.camera {
             Some(desc) => desc,
             None => {
-                let framed = PreparedScene::load(&scene)?.camera;
+                let framed = prepared(&scene)?.camera;
                 CameraDesc {
                     eye: framed.eye,
                     target: framed.target,
@@ -488,7 +539,7 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
             scene.camera_close = Some(camera.moved(by, args.camera_pan.unwrap_or(0.0)));
         }
     }
-    Ok(PreparedScene::load(&scene)?)
+    Ok(prepared(&scene)?)
 }
 
 fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
@@ -641,6 +692,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Render(args) => render(args),
+        Command::Convert(args) => convert(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

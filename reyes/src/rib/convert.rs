@@ -1,0 +1,300 @@
+//! The [`Scene`] made from an interpreted RIB stream.
+
+use std::path::Path;
+
+use glam::{DMat4, EulerRot, Vec3};
+
+use super::interp::{Interp, Prim};
+use super::state::Surface;
+use super::{RibError, RibScene, Warning};
+use crate::model::{Model, Patch};
+use crate::params::{MAX_SHADING_RATE, NEAR_EPS};
+use crate::scene::{
+    CameraDesc, CameraPose, Lens, Light, Resolution, Scale, Scene, SceneObject,
+    ShadingInterpolation, Specular, Transform,
+};
+
+/// RenderMan's default `Format`.
+const DEFAULT_FORMAT: (u32, u32) = (640, 480);
+
+/// Builds the scene of a finished interpreter run of `file`.
+pub fn build(interp: Interp, file: &Path) -> Result<RibScene, RibError> {
+    let mut warnings = interp.warnings;
+    if interp.more_warnings > 0 {
+        warnings.push(Warning {
+            file: file.to_path_buf(),
+            line: 0,
+            message: format!("{} more warnings not shown", interp.more_warnings),
+        });
+    }
+    let mut warn = |message: String| {
+        warnings.push(Warning {
+            file: file.to_path_buf(),
+            line: 0,
+            message,
+        })
+    };
+    let opts = &interp.opts;
+    let mut scene = Scene {
+        background: Vec3::ZERO,
+        lights: Vec::new(),
+        objects: Vec::new(),
+        ..Scene::default()
+    };
+    let (width, height) = opts.format.map_or(DEFAULT_FORMAT, |(w, h, _)| (w, h));
+    scene.resolution = Resolution { width, height };
+
+    // PixelSamples: the renderer takes k x k samples.
+    let (xs, ys) = opts.pixel_samples.unwrap_or((2.0, 2.0));
+    let k = (xs * ys).max(1.0).sqrt().round().clamp(1.0, 8.0) as u32;
+    if f64::from(k * k) != xs * ys {
+        warn(format!(
+            "PixelSamples {xs} {ys}: the renderer takes a square grid; using {k} x {k} = {} samples",
+            k * k
+        ));
+    }
+    scene.spp = k * k;
+
+    if let Some(rate) = opts.shading_rate {
+        let clamped = rate.clamp(0.01, f64::from(MAX_SHADING_RATE));
+        if clamped != rate {
+            warn(format!(
+                "ShadingRate {rate} is out of range; using {clamped}"
+            ));
+        }
+        scene.shading_rate = clamped as f32;
+    }
+
+    if let Some(smooth) = opts.smooth {
+        scene.shading_interpolation = if smooth {
+            ShadingInterpolation::Smooth
+        } else {
+            ShadingInterpolation::Constant
+        };
+    }
+
+    // Camera: the origin of camera space looking down +z (RenderMan), which
+    // the x mirror makes a right-handed look_at towards +z.
+    if !opts.perspective {
+        warn("no Projection \"perspective\": RenderMan's default orthographic projection is not supported; using perspective with fov 90".into());
+    }
+    let fov = opts.fov.unwrap_or(90.0);
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(scene_error(
+            file,
+            format!("Projection fov {fov} is not in (0, 180)"),
+        ));
+    }
+    // The fov spans the shorter side of the image.
+    let half = (fov.to_radians() / 2.0).tan();
+    let fov_y = if width >= height {
+        fov
+    } else {
+        (2.0 * (half * f64::from(height) / f64::from(width)).atan()).to_degrees()
+    };
+    let far_geometry = interp
+        .prims
+        .iter()
+        .flat_map(|p| p.patches.iter().flatten())
+        .map(|p| p.z)
+        .fold(0.0f32, f32::max);
+    let (near, far) = match opts.clipping {
+        Some((n, f)) => (n.max(f64::from(NEAR_EPS)) as f32, f.min(1e30) as f32),
+        None => (0.1, (2.0 * far_geometry).max(1000.0)),
+    };
+    scene.camera = Some(CameraDesc {
+        eye: Vec3::ZERO,
+        target: Vec3::Z,
+        up: Vec3::Y,
+        fov_y_degrees: fov_y as f32,
+        near,
+        far,
+    });
+
+    let mut camera_warning = None;
+    // Camera motion: the pose at close, in the renderer's world (camera
+    // space at open, x mirrored), if it is rigid.
+    if let (Some(open), Some((close, line))) = (interp.camera, interp.camera_close) {
+        let f = super::interp::camera_to_world();
+        let pose = f * open * close.inverse() * f;
+        let basis = glam::DMat3::from_mat4(pose);
+        let rigid = (basis.transpose() * basis - glam::DMat3::IDENTITY)
+            .to_cols_array()
+            .iter()
+            .all(|x| x.abs() < 1e-6)
+            && basis.determinant() > 0.0;
+        if rigid {
+            scene.camera_close = Some(CameraPose {
+                eye: pose.transform_point3(glam::DVec3::ZERO).as_vec3(),
+                target: pose.transform_point3(glam::DVec3::Z).as_vec3(),
+                up: Some(pose.transform_vector3(glam::DVec3::Y).as_vec3()),
+            });
+        } else {
+            camera_warning = Some(Warning {
+                file: file.to_path_buf(),
+                line,
+                message: "the camera's motion is not rigid (it scales, shears or mirrors): the camera at shutter open is used".into(),
+            });
+        }
+    }
+
+    if let Some((fstop, focal_length, focal_distance)) = opts.dof {
+        if fstop > 0.0 && focal_length > 0.0 && focal_distance > 0.0 && fstop.is_finite() {
+            scene.lens = Lens {
+                aperture: (focal_length / (2.0 * fstop)) as f32,
+                focus_distance: Some(focal_distance as f32),
+            };
+        } else {
+            warn(
+                "DepthOfField with a non-positive or infinite value: a pinhole camera is used"
+                    .into(),
+            );
+        }
+    }
+
+    // Shutter: the fraction of the open-to-close motion the shutter sees.
+    let (open, close) = opts.shutter.unwrap_or((0.0, 0.0));
+    scene.shutter = match opts.motion_times {
+        Some((t0, t1)) if t1 != t0 => {
+            if open != t0 {
+                warn(format!(
+                    "Shutter opens at {open}, the motion starts at {t0}: the renderer's shutter opens at the first motion sample"
+                ));
+            }
+            ((close - t0) / (t1 - t0)).clamp(0.0, 1.0) as f32
+        }
+        _ => 1.0,
+    };
+
+    // Lights.
+    for light in &interp.lights {
+        scene.lights.push(Light {
+            direction: light.direction.as_vec3(),
+            color: light.color.as_vec3(),
+            intensity: light.intensity as f32,
+        });
+    }
+    let ambient = interp.ambient;
+    if (ambient.x - ambient.y).abs() > 1e-6 || (ambient.y - ambient.z).abs() > 1e-6 {
+        warn("ambientlight colour: the renderer's ambient term is grey; using the mean".into());
+    }
+    scene.ambient = ((ambient.x + ambient.y + ambient.z) / 3.0) as f32;
+    if interp.lights.is_empty() && ambient == glam::DVec3::ZERO {
+        warn("no light sources: the image is black (add LightSource \"distantlight\")".into());
+    }
+
+    // Specular: scene-wide in the renderer, from the last plastic surface.
+    let mut specular = Specular {
+        strength: 0.0,
+        shininess: 10.0,
+    };
+    let mut surfaces = std::collections::HashSet::new();
+    for prim in &interp.prims {
+        if let Surface::Plastic { ks, roughness, .. } = prim.attrs.surface {
+            specular = Specular {
+                strength: ks as f32,
+                shininess: (1.0 / roughness.max(1e-3)) as f32,
+            };
+        }
+        surfaces.insert(format!("{:?}", prim.attrs.surface));
+    }
+    if surfaces.len() > 1 {
+        warn("the renderer has one specular term for the whole scene: it is taken from the last \"plastic\" surface".into());
+    }
+    scene.specular = specular;
+
+    // Objects: consecutive primitives with the same look and motion share one.
+    let mut models: Vec<Model> = Vec::new();
+    let mut keys: Vec<(Vec3, u8, bool, Option<DMat4>)> = Vec::new();
+    for prim in &interp.prims {
+        if prim.patches.is_empty() {
+            continue;
+        }
+        let key = object_key(prim);
+        if keys.last() != Some(&key) {
+            let transform_close = match prim.close {
+                None => None,
+                Some(m) => match decompose(m) {
+                    Some(t) => Some(t),
+                    None => {
+                        warn("a motion that is not scale, rotation and translation (shear) is not supported; that object does not move".into());
+                        None
+                    }
+                },
+            };
+            scene.objects.push(SceneObject {
+                model: format!("rib-object-{}", scene.objects.len()),
+                transform: Transform::default(),
+                color: key.0,
+                displacement: None,
+                transform_close,
+                sides: key.1,
+                reverse_orientation: key.2,
+            });
+            models.push(Model::default());
+            keys.push(key);
+        }
+        let model = models.last_mut().expect("pushed");
+        model
+            .patches
+            .extend(prim.patches.iter().map(|&points| Patch { points }));
+    }
+    warnings.extend(camera_warning);
+    scene.validate().map_err(|source| RibError::Scene {
+        file: file.to_path_buf(),
+        source: Box::new(source),
+    })?;
+    Ok(RibScene {
+        scene,
+        models,
+        display: interp.opts.display.clone(),
+        warnings,
+    })
+}
+
+/// Colour, sides, reverse orientation and motion of a primitive.
+fn object_key(prim: &Prim) -> (Vec3, u8, bool, Option<DMat4>) {
+    let kd = match prim.attrs.surface {
+        Surface::Matte { kd } | Surface::Plastic { kd, .. } => kd,
+    };
+    // The baked points are in a mirrored (right-handed) frame, which turns
+    // RenderMan's front (dP/du x dP/dv with a left-handed orientation) into
+    // the renderer's back.
+    (
+        (prim.attrs.color * kd).as_vec3(),
+        prim.attrs.sides,
+        prim.attrs.orientation_lh,
+        prim.close,
+    )
+}
+
+/// `m` as the renderer's scale-rotate-translate [`Transform`], if it is one.
+fn decompose(m: DMat4) -> Option<Transform> {
+    let (scale, rotation, translation) = m.to_scale_rotation_translation();
+    let back = DMat4::from_scale_rotation_translation(scale, rotation, translation);
+    let size = m.to_cols_array().iter().fold(1.0f64, |a, b| a.max(b.abs()));
+    let error = (back - m)
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |a, b| a.max(b.abs()));
+    if error.is_nan() || error > 1e-6 * size {
+        return None;
+    }
+    let (z, y, x) = rotation.to_euler(EulerRot::ZYX);
+    Some(Transform {
+        translate: translation.as_vec3(),
+        rotate_degrees: Vec3::new(
+            x.to_degrees() as f32,
+            y.to_degrees() as f32,
+            z.to_degrees() as f32,
+        ),
+        scale: Scale::PerAxis(scale.as_vec3()),
+    })
+}
+
+fn scene_error(file: &Path, reason: String) -> RibError {
+    RibError::Scene {
+        file: file.to_path_buf(),
+        source: Box::new(crate::scene::SceneError::InvalidCamera { reason }),
+    }
+}

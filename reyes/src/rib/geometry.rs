@@ -1,0 +1,236 @@
+//! The interpreter's transform, basis and geometry requests.
+
+use std::path::Path;
+
+use glam::{DMat4, DVec3};
+
+use super::basis::{self, MeshDir, Wrap};
+use super::interp::{Interp, MAX_PATCHES, Prim, camera_to_world};
+use super::parser::Value;
+use super::state;
+
+impl Interp {
+    pub(super) fn basis(&mut self, v: &[Value]) -> Result<(), String> {
+        let mut next = 0;
+        let one = |next: &mut usize| -> Result<basis::Basis, String> {
+            let m = match v.get(*next) {
+                Some(Value::Str(s)) => {
+                    basis::named(s).ok_or_else(|| format!("unknown basis {s:?}"))?
+                }
+                Some(Value::Nums(n)) if n.len() == 16 => {
+                    let mut m = [[0.0; 4]; 4];
+                    for (i, x) in n.iter().enumerate() {
+                        m[i / 4][i % 4] = *x;
+                    }
+                    basis::Basis { m, step: 1 }
+                }
+                _ => return Err("expected a basis name or 16 numbers".into()),
+            };
+            let step = state::arg_f(v, *next + 1, "the step")?;
+            if !(1.0..=4.0).contains(&step) || step.fract() != 0.0 {
+                return Err(format!("step {step} is not 1, 2, 3 or 4"));
+            }
+            *next += 2;
+            Ok(basis::Basis {
+                step: step as usize,
+                ..m
+            })
+        };
+        let u = one(&mut next)?;
+        let vb = one(&mut next)?;
+        self.attrs.ubasis = u;
+        self.attrs.vbasis = vb;
+        Ok(())
+    }
+
+    pub(super) fn transform(&mut self, name: &str, v: &[Value]) -> Result<(), String> {
+        let m = match name {
+            "Identity" => None,
+            "Transform" | "ConcatTransform" => {
+                let n = state::all_nums(v, 16)?;
+                let a: [f64; 16] = n.try_into().expect("16 numbers");
+                Some(DMat4::from_cols_array(&a))
+            }
+            "Translate" => {
+                let n = state::all_nums(v, 3)?;
+                Some(DMat4::from_translation(DVec3::new(n[0], n[1], n[2])))
+            }
+            "Rotate" => {
+                let n = state::all_nums(v, 4)?;
+                let axis = DVec3::new(n[1], n[2], n[3]);
+                if axis.length_squared() == 0.0 || !axis.is_finite() {
+                    return Err("the axis must be non-zero".into());
+                }
+                Some(DMat4::from_axis_angle(axis.normalize(), n[0].to_radians()))
+            }
+            "Scale" => {
+                let n = state::all_nums(v, 3)?;
+                Some(DMat4::from_scale(DVec3::new(n[0], n[1], n[2])))
+            }
+            _ => unreachable!("only transform requests"),
+        };
+        if m.is_some_and(|m| !m.is_finite()) {
+            return Err("the matrix is not finite".into());
+        }
+        let absolute = matches!(name, "Identity" | "Transform");
+        let apply = |base: DMat4| match (absolute, m) {
+            (true, m) => m.unwrap_or(DMat4::IDENTITY),
+            (false, m) => base * m.unwrap_or(DMat4::IDENTITY),
+        };
+        match &mut self.motion {
+            Some(motion) => {
+                match motion.index {
+                    0 => self.xf.open = apply(motion.base.open),
+                    1 => self.xf.close = apply(motion.base.close),
+                    _ => {}
+                }
+                motion.index += 1;
+            }
+            None => {
+                self.xf.open = apply(self.xf.open);
+                self.xf.close = apply(self.xf.close);
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn geometry(
+        &mut self,
+        name: &str,
+        v: &[Value],
+        file: &Path,
+        line: usize,
+    ) -> Result<(), String> {
+        let positional = match name {
+            "Patch" => 1,
+            "PatchMesh" => 5,
+            _ => 0,
+        };
+        let (args, params, unknown) = state::split_params(v, positional, &self.declared)?;
+        for u in unknown {
+            self.warn_once(
+                &format!("#param {u}"),
+                file,
+                line,
+                format!("{name}: undeclared parameter {u:?} ignored"),
+            );
+        }
+        if params.iter().any(|p| p.name == "Pw") {
+            self.warn(
+                file,
+                line,
+                format!(
+                    "{name} with \"Pw\" (rational/homogeneous points) is not supported yet; skipped"
+                ),
+            );
+            return Ok(());
+        }
+        let Some(p) = state::points(&params)? else {
+            return Err("needs \"P\"".into());
+        };
+        let patches = match name {
+            "Patch" => match state::arg_str(&args, 0, "the type")? {
+                "bicubic" => {
+                    let g: [DVec3; 16] = p.try_into().map_err(|p: Vec<DVec3>| {
+                        format!("bicubic needs 16 points, found {}", p.len())
+                    })?;
+                    vec![basis::bicubic_to_bezier(
+                        &g,
+                        &self.attrs.ubasis,
+                        &self.attrs.vbasis,
+                    )]
+                }
+                "bilinear" => {
+                    let c: [DVec3; 4] = p.try_into().map_err(|p: Vec<DVec3>| {
+                        format!("bilinear needs 4 points, found {}", p.len())
+                    })?;
+                    vec![basis::bilinear_to_bezier(&c)]
+                }
+                other => return Err(format!("unknown patch type {other:?}")),
+            },
+            "PatchMesh" => {
+                let bicubic = match state::arg_str(&args, 0, "the type")? {
+                    "bicubic" => true,
+                    "bilinear" => false,
+                    other => return Err(format!("unknown patch type {other:?}")),
+                };
+                let count = |i: usize, what: &str| -> Result<usize, String> {
+                    let n = state::arg_f(&args, i, what)?;
+                    if n < 1.0 || n.fract() != 0.0 || n > p.len() as f64 {
+                        return Err(format!("{what} {n} is not a count of the points given"));
+                    }
+                    Ok(n as usize)
+                };
+                let wrap = |i: usize| -> Result<Wrap, String> {
+                    match state::arg_str(&args, i, "the wrap mode")? {
+                        "periodic" => Ok(Wrap::Periodic),
+                        "nonperiodic" => Ok(Wrap::Nonperiodic),
+                        other => Err(format!("unknown wrap mode {other:?}")),
+                    }
+                };
+                let u = MeshDir {
+                    n: count(1, "nu")?,
+                    wrap: wrap(2)?,
+                    basis: self.attrs.ubasis,
+                };
+                let vd = MeshDir {
+                    n: count(3, "nv")?,
+                    wrap: wrap(4)?,
+                    basis: self.attrs.vbasis,
+                };
+                basis::patch_mesh(bicubic, u, vd, &p)?
+            }
+            _ => {
+                if p.len() < 3 {
+                    return Err(format!("needs at least 3 points, found {}", p.len()));
+                }
+                if !basis::convex(&p) {
+                    self.warn(
+                        file,
+                        line,
+                        "Polygon is not convex (or not planar): its fan of patches covers a different area"
+                            .into(),
+                    );
+                }
+                basis::polygon(&p)
+            }
+        };
+        self.emit(patches, file, line)
+    }
+
+    pub(super) fn emit(
+        &mut self,
+        patches: Vec<[DVec3; 16]>,
+        file: &Path,
+        line: usize,
+    ) -> Result<(), String> {
+        let camera = self.camera.unwrap_or(DMat4::IDENTITY);
+        let open = camera_to_world() * camera * self.xf.open;
+        let close = camera_to_world() * camera * self.xf.close;
+        if self.patch_count + patches.len() > MAX_PATCHES {
+            return Err(format!("the scene has more than {MAX_PATCHES} patches"));
+        }
+        let mut out = Vec::with_capacity(patches.len());
+        for patch in &patches {
+            let pts = patch.map(|p| open.transform_point3(p).as_vec3());
+            if pts.iter().any(|p| !p.is_finite()) {
+                self.warn(
+                    file,
+                    line,
+                    "a patch's transformed control points are not finite (beyond f32); skipped"
+                        .into(),
+                );
+                continue;
+            }
+            out.push(pts);
+        }
+        self.patch_count += out.len();
+        let moving = (self.xf.open != self.xf.close).then(|| close * open.inverse());
+        self.prims.push(Prim {
+            patches: out,
+            attrs: self.attrs,
+            close: moving,
+        });
+        Ok(())
+    }
+}

@@ -1,0 +1,476 @@
+//! The RIB interpreter: runs requests against the graphics state and
+//! collects the scene's options, primitives (as Bezier patches in the
+//! renderer's world space) and lights.
+
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
+
+use glam::{DMat4, DVec3, Vec3};
+
+use super::parser::Call;
+use super::state::{self, Attributes, Decl, Surface, Xform};
+use super::{RibError, Warning};
+use crate::input::{self, InputKind};
+
+/// Deepest `ReadArchive` nesting.
+const MAX_INCLUDE_DEPTH: usize = 64;
+/// Most warnings kept (the rest are counted).
+pub const MAX_WARNINGS: usize = 100;
+/// Most Bezier patches one scene may produce (bounds memory: 16 points each).
+pub(super) const MAX_PATCHES: usize = 1 << 24;
+
+/// Options set before `WorldBegin`.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    /// `Format` width, height, pixel aspect.
+    pub format: Option<(u32, u32, f64)>,
+    /// `PixelSamples` x, y.
+    pub pixel_samples: Option<(f64, f64)>,
+    /// `ShadingRate`.
+    pub shading_rate: Option<f64>,
+    /// `Projection "perspective"` field of view in degrees (of the shorter side).
+    pub fov: Option<f64>,
+    /// Whether a perspective projection was requested.
+    pub perspective: bool,
+    /// `Clipping` near, far.
+    pub clipping: Option<(f64, f64)>,
+    /// `Shutter` open, close.
+    pub shutter: Option<(f64, f64)>,
+    /// `DepthOfField` fstop, focal length, focal distance.
+    pub dof: Option<(f64, f64, f64)>,
+    /// `Display` file name.
+    pub display: Option<String>,
+    /// `ShadingInterpolation`: `true` for `"smooth"`.
+    pub smooth: Option<bool>,
+    /// The times of the first `MotionBegin` block.
+    pub motion_times: Option<(f64, f64)>,
+}
+
+/// One primitive, in the renderer's (right-handed) world space.
+#[derive(Debug, Clone)]
+pub struct Prim {
+    /// Its Bezier patches at shutter open.
+    pub patches: Vec<[Vec3; 16]>,
+    /// The attributes it was made with.
+    pub attrs: Attributes,
+    /// The world-space motion from shutter open to close, if it moves.
+    pub close: Option<DMat4>,
+}
+
+/// A `distantlight`, in world space.
+#[derive(Debug, Clone, Copy)]
+pub struct DistantLight {
+    /// The direction the light travels.
+    pub direction: DVec3,
+    /// `lightcolor`.
+    pub color: DVec3,
+    /// `intensity`.
+    pub intensity: f64,
+}
+
+#[derive(Debug)]
+pub(super) struct Motion {
+    pub(super) base: Xform,
+    pub(super) index: usize,
+    pub(super) line: usize,
+}
+
+/// The interpreter's state.
+#[derive(Debug)]
+pub struct Interp {
+    /// Warnings so far.
+    pub warnings: Vec<Warning>,
+    pub(super) warned: HashSet<String>,
+    pub(super) declared: HashMap<String, Decl>,
+    /// The options.
+    pub opts: Options,
+    pub(super) attrs: Attributes,
+    pub(super) xf: Xform,
+    pub(super) stack: Vec<(Option<Attributes>, Xform)>,
+    /// The world-to-camera transform, from `WorldBegin` on.
+    pub camera: Option<DMat4>,
+    /// The world-to-camera transform at shutter close, if the camera
+    /// moves, and the line of its `WorldBegin`.
+    pub camera_close: Option<(DMat4, usize)>,
+    pub(super) world_done: bool,
+    pub(super) motion: Option<Motion>,
+    /// The primitives.
+    pub prims: Vec<Prim>,
+    pub(super) patch_count: usize,
+    /// The distant lights.
+    pub lights: Vec<DistantLight>,
+    /// Sum of `ambientlight` intensity times colour.
+    pub ambient: DVec3,
+    pub(super) includes: Vec<PathBuf>,
+    pub(super) budget: u64,
+    pub(super) object_depth: usize,
+    /// Warnings beyond [`MAX_WARNINGS`], counted only.
+    pub more_warnings: usize,
+}
+
+/// RenderMan's camera space is left-handed (x right, y up, z forward); the
+/// renderer's world is right-handed and its camera looks down -z with x to
+/// the left when looking from the origin along +z: mirror x.
+pub fn camera_to_world() -> DMat4 {
+    DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0))
+}
+
+impl Interp {
+    /// A fresh state; `budget` bounds the bytes read over all files.
+    pub fn new(budget: u64) -> Interp {
+        Interp {
+            warnings: Vec::new(),
+            warned: HashSet::new(),
+            declared: HashMap::new(),
+            opts: Options::default(),
+            attrs: Attributes::default(),
+            xf: Xform::default(),
+            stack: Vec::new(),
+            camera: None,
+            camera_close: None,
+            world_done: false,
+            motion: None,
+            prims: Vec::new(),
+            patch_count: 0,
+            lights: Vec::new(),
+            ambient: DVec3::ZERO,
+            includes: Vec::new(),
+            budget,
+            object_depth: 0,
+            more_warnings: 0,
+        }
+    }
+
+    pub(super) fn warn(&mut self, file: &Path, line: usize, message: String) {
+        if self.warnings.len() >= MAX_WARNINGS {
+            self.more_warnings += 1;
+            return;
+        }
+        self.warnings.push(Warning {
+            file: file.to_path_buf(),
+            line,
+            message,
+        });
+    }
+
+    pub(super) fn warn_once(&mut self, key: &str, file: &Path, line: usize, message: String) {
+        if self.warned.insert(key.to_owned()) {
+            self.warn(file, line, message);
+        }
+    }
+
+    /// Reads and runs the RIB file at `path`.
+    pub fn run_file(&mut self, path: &Path) -> Result<(), RibError> {
+        let bytes =
+            input::read_input(path, InputKind::Scene, self.budget).map_err(RibError::Input)?;
+        self.budget = self.budget.saturating_sub(bytes.len() as u64);
+        let text = super::decode(bytes, path)?;
+        self.run_text(&text, path)
+    }
+
+    /// Runs RIB `text`, named `file` (relative archives resolve against its directory).
+    pub fn run_text(&mut self, text: &str, file: &Path) -> Result<(), RibError> {
+        let key = std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf());
+        if self.includes.contains(&key) {
+            return Err(RibError::Syntax {
+                file: file.to_path_buf(),
+                line: 1,
+                col: 1,
+                message: "ReadArchive cycle: this file includes itself".into(),
+            });
+        }
+        // One request at a time: memory holds one request's values, not
+        // the file's tokens.
+        let mut parser = super::parser::Parser::new(input::strip_bom(text), file);
+        self.includes.push(key);
+        let result = (|| {
+            while let Some(call) = parser.next_call()? {
+                self.call(&call, file)?;
+            }
+            Ok(())
+        })();
+        self.includes.pop();
+        result
+    }
+
+    fn call(&mut self, call: &Call, file: &Path) -> Result<(), RibError> {
+        let at = |message: String| RibError::Syntax {
+            file: file.to_path_buf(),
+            line: call.line,
+            col: call.col,
+            message: format!("{}: {message}", call.name),
+        };
+        if call.name == "ReadArchive" && self.object_depth == 0 && !self.world_done {
+            let (args, _, _) = state::split_params(&call.values, 1, &self.declared).map_err(at)?;
+            let name = state::arg_str(&args, 0, "the archive name").map_err(at)?;
+            let dir = file.parent().unwrap_or(Path::new(""));
+            let path = dir.join(name);
+            if self.includes.len() >= MAX_INCLUDE_DEPTH {
+                return Err(at(format!(
+                    "archives nested deeper than {MAX_INCLUDE_DEPTH}"
+                )));
+            }
+            let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+            if self.includes.contains(&key) {
+                return Err(at(format!(
+                    "include cycle: {} is already being read",
+                    path.display()
+                )));
+            }
+            return self.run_file(&path).map_err(|e| match e {
+                RibError::Input(_) => at(e.to_string()),
+                other => other,
+            });
+        }
+        self.request(call, file).map_err(at)
+    }
+
+    fn request(&mut self, call: &Call, file: &Path) -> Result<(), String> {
+        let v = &call.values;
+        let line = call.line;
+        let name = call.name.as_str();
+        if self.object_depth > 0 {
+            match name {
+                "ObjectBegin" => self.object_depth += 1,
+                "ObjectEnd" => self.object_depth -= 1,
+                _ => {}
+            }
+            return Ok(());
+        }
+        if self.world_done && !matches!(name, "FrameEnd" | "FrameBegin") {
+            self.warn_once("#frames", file, line, "only the first world block is rendered; the requests after its WorldEnd are ignored".into());
+            return Ok(());
+        }
+        if let Some(m) = &mut self.motion
+            && !is_transform(name)
+            && name != "MotionEnd"
+        {
+            m.index += 1;
+            if m.index > 1 {
+                return Ok(());
+            }
+            self.warn(
+                file,
+                line,
+                format!(
+                    "{name} inside MotionBegin: only transforms can move; the first sample is used"
+                ),
+            );
+        }
+        let world = self.camera.is_some();
+        match name {
+            "version" | "FrameBegin" | "FrameEnd" => {}
+            "Declare" => {
+                let name = state::arg_str(v, 0, "the name")?.to_owned();
+                let decl = state::parse_decl(state::arg_str(v, 1, "the declaration")?)?;
+                self.declared.insert(name, decl);
+            }
+            "Format"
+            | "PixelSamples"
+            | "ShadingRate"
+            | "Projection"
+            | "Clipping"
+            | "Shutter"
+            | "DepthOfField"
+            | "Display"
+            | "PixelFilter"
+            | "ShadingInterpolation" => self.option(name, v, file, line)?,
+            "WorldBegin" => {
+                if world {
+                    return Err("WorldBegin inside a world block".into());
+                }
+                if self.xf.open != self.xf.close {
+                    self.camera_close = Some((self.xf.close, line));
+                }
+                self.camera = Some(self.xf.open);
+                self.xf = Xform::default();
+                self.stack.clear();
+            }
+            "WorldEnd" => {
+                if !world {
+                    return Err("WorldEnd without WorldBegin".into());
+                }
+                self.world_done = true;
+            }
+            "AttributeBegin" => self.stack.push((Some(self.attrs), self.xf)),
+            "TransformBegin" => self.stack.push((None, self.xf)),
+            "AttributeEnd" | "TransformEnd" => {
+                let Some((attrs, xf)) = self.stack.pop() else {
+                    return Err("without a matching begin".into());
+                };
+                if attrs.is_some() != (name == "AttributeEnd") {
+                    return Err("does not match the innermost begin".into());
+                }
+                if let Some(a) = attrs {
+                    self.attrs = a;
+                }
+                self.xf = xf;
+            }
+            "MotionBegin" => {
+                if self.motion.is_some() {
+                    return Err("nested MotionBegin".into());
+                }
+                let times =
+                    state::all_nums(v, v.iter().map(|x| x.nums().map_or(1, |n| n.len())).sum())?;
+                if times.len() != 2 {
+                    self.warn(file, line, format!("MotionBegin with {} times: only two (open and close) are supported; the first two samples are used", times.len()));
+                }
+                if times.len() >= 2 {
+                    let t = (times[0], times[1]);
+                    match self.opts.motion_times {
+                        None => self.opts.motion_times = Some(t),
+                        Some(old) if old != t => self.warn(file, line, "MotionBegin times differ from the first block's; the first block's are used".into()),
+                        _ => {}
+                    }
+                }
+                self.motion = Some(Motion {
+                    base: self.xf,
+                    index: 0,
+                    line,
+                });
+            }
+            "MotionEnd" => {
+                let Some(m) = self.motion.take() else {
+                    return Err("without MotionBegin".into());
+                };
+                if m.index == 1 {
+                    // One sample only: the same at open and close.
+                    self.xf.close = self.xf.open;
+                    self.warn(file, m.line, "MotionBegin block with one sample".into());
+                }
+            }
+            "Color" => {
+                let n = state::all_nums(v, 3)?;
+                self.attrs.color = DVec3::new(n[0], n[1], n[2]);
+            }
+            "Surface" => {
+                let (args, params, _) = state::split_params(v, 1, &self.declared)?;
+                self.attrs.surface = match state::arg_str(&args, 0, "the shader")? {
+                    "matte" => Surface::Matte {
+                        kd: state::param_f(&params, "Kd", 1.0)?,
+                    },
+                    "plastic" => Surface::Plastic {
+                        kd: state::param_f(&params, "Kd", 0.5)?,
+                        ks: state::param_f(&params, "Ks", 0.5)?,
+                        roughness: state::param_f(&params, "roughness", 0.1)?,
+                    },
+                    other => {
+                        self.warn(
+                            file,
+                            line,
+                            format!("Surface {other:?} is not supported; shading as \"matte\""),
+                        );
+                        Surface::Matte { kd: 1.0 }
+                    }
+                };
+            }
+            "LightSource" => {
+                // The light handle (a number or a string) is optional.
+                let positional = if v.len().is_multiple_of(2) { 2 } else { 1 };
+                let (args, params, _) = state::split_params(v, positional, &self.declared)?;
+                let m = camera_to_world() * self.camera.unwrap_or(DMat4::IDENTITY) * self.xf.open;
+                let intensity = state::param_f(&params, "intensity", 1.0)?;
+                let color = state::param_v3(&params, "lightcolor", DVec3::ONE)?;
+                match state::arg_str(&args, 0, "the shader")? {
+                    "distantlight" => {
+                        let from = state::param_v3(&params, "from", DVec3::ZERO)?;
+                        let to = state::param_v3(&params, "to", DVec3::Z)?;
+                        let direction = m.transform_point3(to) - m.transform_point3(from);
+                        if direction.length_squared() > 0.0 && direction.is_finite() {
+                            self.lights.push(DistantLight {
+                                direction,
+                                color,
+                                intensity,
+                            });
+                        } else {
+                            self.warn(
+                                file,
+                                line,
+                                "distantlight with no direction (from = to); ignored".into(),
+                            );
+                        }
+                    }
+                    "ambientlight" => self.ambient += color * intensity,
+                    other => self.warn(
+                        file,
+                        line,
+                        format!("LightSource {other:?} is not supported; ignored"),
+                    ),
+                }
+            }
+            "Sides" => {
+                let n = state::all_nums(v, 1)?[0];
+                self.attrs.sides = if n == 1.0 { 1 } else { 2 };
+            }
+            "Orientation" => {
+                let lh_now = self.handedness_lh();
+                self.attrs.orientation_lh = match state::arg_str(v, 0, "the orientation")? {
+                    "lh" => true,
+                    "rh" => false,
+                    "outside" => lh_now,
+                    "inside" => !lh_now,
+                    other => return Err(format!("unknown orientation {other:?}")),
+                };
+            }
+            "ReverseOrientation" => self.attrs.orientation_lh = !self.attrs.orientation_lh,
+            "Basis" => self.basis(v)?,
+            "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale" => {
+                self.transform(name, v)?
+            }
+            "Patch" | "PatchMesh" | "Polygon" => {
+                if !world {
+                    return Err("geometry before WorldBegin".into());
+                }
+                self.geometry(name, v, file, line)?;
+            }
+            "Sphere"
+            | "Cone"
+            | "Cylinder"
+            | "Hyperboloid"
+            | "Paraboloid"
+            | "Disk"
+            | "Torus"
+            | "NuPatch"
+            | "SubdivisionMesh"
+            | "Curves"
+            | "Points"
+            | "PointsPolygons"
+            | "PointsGeneralPolygons"
+            | "GeneralPolygon"
+            | "Blobby"
+            | "Procedural"
+            | "Geometry"
+            | "TrimCurve"
+            | "ObjectInstance" => {
+                self.warn(file, line, format!("{name} is not supported yet; skipped"));
+            }
+            "ObjectBegin" => {
+                self.warn(file, line, "ObjectBegin/ObjectInstance are not supported yet; the object definition is skipped".into());
+                self.object_depth = 1;
+            }
+            _ => {
+                self.warn_once(
+                    name,
+                    file,
+                    line,
+                    format!("{name} is not supported; ignored"),
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether the current object space is left-handed (camera space is).
+    fn handedness_lh(&self) -> bool {
+        let m = self.camera.unwrap_or(DMat4::IDENTITY) * self.xf.open;
+        m.determinant() >= 0.0
+    }
+}
+
+/// Whether `name` is a transform request (allowed as a motion sample).
+pub(super) fn is_transform(name: &str) -> bool {
+    matches!(
+        name,
+        "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale"
+    )
+}

@@ -1,0 +1,212 @@
+//! RenderMan RIB input (ASCII RIB; see `docs/rib.md` for what each request
+//! does here).
+//!
+//! [`RibScene::load`] reads a `.rib` file (through [`crate::input`]: regular
+//! files only, at most the scene cap over the file and all its archives),
+//! interprets it and gives a [`Scene`] with its [`Model`]s in memory, plus
+//! the warnings for what was ignored. All geometry is baked into the
+//! renderer's world space, which is RenderMan's camera space with x
+//! mirrored (camera space is left-handed; the renderer's world is
+//! right-handed): the camera sits at the origin looking down +z with +y up.
+//!
+//! * [`lexer`]: tokens with line and column; [`parser`]: requests and their
+//!   values; [`state`]: graphics state and parameter lists;
+//!   [`basis`]: spline bases and the change of basis to Bezier;
+//!   [`interp`]: the interpreter (`options`: its option requests;
+//!   `geometry`: its transform, basis and geometry requests); `convert`: the [`Scene`] it makes.
+
+pub mod basis;
+mod convert;
+mod geometry;
+pub mod interp;
+pub mod lexer;
+mod options;
+pub mod parser;
+pub mod state;
+
+use std::path::{Path, PathBuf};
+
+use crate::input::InputError;
+use crate::model::Model;
+use crate::scene::{Scene, SceneError};
+
+/// Why a RIB file could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum RibError {
+    /// A tokenizer, parser or request error at a position of a file.
+    #[error("{}:{line}:{col}: {message}", file.display())]
+    Syntax {
+        /// The file (the archive, for an error inside one).
+        file: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column (in characters).
+        col: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The file was refused or could not be read (see [`crate::input`]).
+    #[error(transparent)]
+    Input(InputError),
+    /// The scene made from the RIB is not valid for the renderer.
+    #[error("{}: the converted scene is invalid: {source}", file.display())]
+    Scene {
+        /// The RIB file.
+        file: PathBuf,
+        /// Why.
+        #[source]
+        source: Box<SceneError>,
+    },
+}
+
+impl RibError {
+    /// The `(line, column)` of a syntax or request error.
+    pub fn position(&self) -> Option<(usize, usize)> {
+        match self {
+            RibError::Syntax { line, col, .. } => Some((*line, *col)),
+            _ => None,
+        }
+    }
+}
+
+/// A request that was ignored or only approximated.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Warning {
+    /// The file.
+    pub file: PathBuf,
+    /// 1-based line (0: the scene as a whole).
+    pub line: usize,
+    /// What happened.
+    pub message: String,
+}
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.line == 0 {
+            write!(f, "{}: {}", self.file.display(), self.message)
+        } else {
+            write!(f, "{}:{}: {}", self.file.display(), self.line, self.message)
+        }
+    }
+}
+
+/// A scene read from RIB: the scene, its models in memory (`models[i]` is
+/// object `i`'s), the `Display` file name and the warnings.
+#[derive(Debug, Clone)]
+pub struct RibScene {
+    /// The scene; object `i`'s `model` is a placeholder name until
+    /// [`RibScene::write`] writes the models.
+    pub scene: Scene,
+    /// One model per object.
+    pub models: Vec<Model>,
+    /// The first `Display` file name.
+    pub display: Option<String>,
+    /// What was ignored or approximated.
+    pub warnings: Vec<Warning>,
+}
+
+/// The UTF-8 text of a RIB file's bytes; anything else is taken for binary
+/// RIB, which is not supported.
+pub(crate) fn decode(bytes: Vec<u8>, file: &Path) -> Result<String, RibError> {
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let bytes = e.as_bytes();
+        let before = &bytes[..valid];
+        let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+        let line_start = before
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |i| i + 1);
+        let col = String::from_utf8_lossy(&before[line_start..])
+            .chars()
+            .count()
+            + 1;
+        RibError::Syntax {
+            file: file.to_path_buf(),
+            line,
+            col,
+            message: format!(
+                "byte {:#04x} is not ASCII text: binary RIB is not supported (only ASCII RIB)",
+                bytes[valid]
+            ),
+        }
+    })
+}
+
+impl RibScene {
+    /// Reads and interprets the RIB file at `path`. `ReadArchive` paths are
+    /// relative to the including file's directory.
+    pub fn load(path: impl AsRef<Path>) -> Result<RibScene, RibError> {
+        let path = path.as_ref();
+        let mut interp = interp::Interp::new(crate::input::InputKind::Scene.limit());
+        interp.run_file(path)?;
+        convert::build(interp, path)
+    }
+
+    /// Interprets RIB `text` as if read from the file `name` (which names
+    /// it in errors; archives resolve against its directory).
+    pub fn from_text(text: &str, name: impl AsRef<Path>) -> Result<RibScene, RibError> {
+        let name = name.as_ref();
+        let mut interp = interp::Interp::new(crate::input::InputKind::Scene.limit());
+        interp.run_text(text, name)?;
+        convert::build(interp, name)
+    }
+
+    /// Interprets the bytes of a RIB file as if read from `name` (non-UTF-8
+    /// bytes are reported as unsupported binary RIB).
+    pub fn from_bytes(bytes: &[u8], name: impl AsRef<Path>) -> Result<RibScene, RibError> {
+        let name = name.as_ref();
+        let text = decode(bytes.to_vec(), name)?;
+        RibScene::from_text(&text, name)
+    }
+
+    /// Writes the models as `.bpt` files named `{stem}-{i}.bpt` into `dir`
+    /// and returns the scene referring to them by those relative names
+    /// (with [`Scene::base_dir`] set to `dir`), and the files written.
+    pub fn write_models(&self, dir: &Path, stem: &str) -> std::io::Result<(Scene, Vec<PathBuf>)> {
+        let mut scene = self.scene.clone();
+        let mut written = Vec::new();
+        for (i, (object, model)) in scene.objects.iter_mut().zip(&self.models).enumerate() {
+            let name = format!("{stem}-{i}.bpt");
+            let path = dir.join(&name);
+            std::fs::write(&path, crate::load::bpt::write(model))?;
+            written.push(path);
+            object.model = name;
+        }
+        scene.base_dir = Some(dir.to_path_buf());
+        Ok((scene, written))
+    }
+
+    /// Writes the scene as TOML to `toml` plus its models as `.bpt` files
+    /// beside it (`{toml stem}-{i}.bpt`), creating missing directories;
+    /// returns every file written.
+    pub fn write(&self, toml: &Path) -> std::io::Result<Vec<PathBuf>> {
+        let dir = match toml.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let stem = toml
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("scene")
+            .to_owned();
+        std::fs::create_dir_all(&dir)?;
+        let (scene, mut written) = self.write_models(&dir, &stem)?;
+        let header = "# Converted from RenderMan RIB by `reyes convert`.\n";
+        std::fs::write(toml, format!("{header}{}", scene.to_toml_string()))?;
+        written.push(toml.to_path_buf());
+        Ok(written)
+    }
+
+    /// The scene prepared with its in-memory models.
+    pub fn prepare(&self) -> Result<crate::prepare::PreparedScene, SceneError> {
+        crate::prepare::PreparedScene::new(&self.scene, &self.models)
+    }
+}
+
+impl Scene {
+    /// Reads a RenderMan RIB file ([`RibScene::load`]).
+    pub fn load_rib(path: impl AsRef<Path>) -> Result<RibScene, RibError> {
+        RibScene::load(path)
+    }
+}

@@ -1,0 +1,104 @@
+//! The interpreter's options: the requests that set up the camera and the
+//! image (before `WorldBegin`, except `ShadingRate`).
+
+use std::path::Path;
+
+use super::interp::Interp;
+use super::parser::Value;
+use super::state;
+
+impl Interp {
+    /// Runs option request `name` (one of those matched by the caller).
+    pub(super) fn option(
+        &mut self,
+        name: &str,
+        v: &[Value],
+        file: &Path,
+        line: usize,
+    ) -> Result<(), String> {
+        let world = self.camera.is_some();
+        match name {
+            "Format" => {
+                let n = state::all_nums(v, 3)?;
+                let (w, h) = (n[0], n[1]);
+                if !(1.0..=65536.0).contains(&w) || !(1.0..=65536.0).contains(&h) {
+                    return Err(format!("resolution {w} x {h} is out of range"));
+                }
+                if n[2] != 1.0 && n[2] != -1.0 {
+                    self.warn(
+                        file,
+                        line,
+                        "Format: pixel aspect ratios other than 1 are not supported; using 1"
+                            .into(),
+                    );
+                }
+                self.opts.format = Some((w as u32, h as u32, n[2]));
+            }
+            "PixelSamples" => {
+                let n = state::all_nums(v, 2)?;
+                self.opts.pixel_samples = Some((n[0], n[1]));
+            }
+            "ShadingRate" => {
+                let r = state::all_nums(v, 1)?[0];
+                if world && self.opts.shading_rate.is_some_and(|old| old != r) {
+                    self.warn(file, line, "ShadingRate: the renderer has one scene-wide shading rate; the last one is used".into());
+                }
+                self.opts.shading_rate = Some(r);
+            }
+            "Projection" => {
+                let (args, params, _) = state::split_params(v, 1, &self.declared)?;
+                match state::arg_str(&args, 0, "the projection")? {
+                    "perspective" => {
+                        self.opts.perspective = true;
+                        self.opts.fov = Some(state::param_f(&params, "fov", 90.0)?);
+                    }
+                    other => {
+                        self.warn(
+                            file,
+                            line,
+                            format!("Projection {other:?} is not supported; using \"perspective\""),
+                        );
+                    }
+                }
+            }
+            "Clipping" => {
+                let n = state::all_nums(v, 2)?;
+                self.opts.clipping = Some((n[0], n[1]));
+            }
+            "Shutter" => {
+                let n = state::all_nums(v, 2)?;
+                self.opts.shutter = Some((n[0], n[1]));
+            }
+            "DepthOfField" => {
+                let n = state::all_nums(v, 3)?;
+                self.opts.dof = Some((n[0], n[1], n[2]));
+            }
+            "Display" => {
+                let (args, _, _) = state::split_params(v, 3, &self.declared)?;
+                let name = state::arg_str(&args, 0, "the file name")?;
+                if self.opts.display.is_none() && !name.starts_with('+') {
+                    self.opts.display = Some(name.to_owned());
+                }
+            }
+            "PixelFilter" => {
+                let filter = state::arg_str(v, 0, "the filter")?;
+                if filter != "box" {
+                    self.warn(file, line, format!("PixelFilter {filter:?} is not supported; the renderer uses a box filter"));
+                }
+            }
+            "ShadingInterpolation" => {
+                let smooth = match state::arg_str(v, 0, "the interpolation")? {
+                    "smooth" => true,
+                    "constant" => false,
+                    other => return Err(format!("unknown interpolation {other:?}")),
+                };
+                if self.opts.smooth.is_some_and(|old| old != smooth) {
+                    self.warn(file, line, "ShadingInterpolation: the renderer has one for the whole scene; the last one is used".into());
+                }
+                self.opts.smooth = Some(smooth);
+            }
+            _ => unreachable!("only option requests"),
+        }
+        Ok(())
+    }
+}

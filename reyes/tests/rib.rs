@@ -1,0 +1,678 @@
+//! RenderMan RIB input: tokenizer and parser errors, ReadArchive, the
+//! change of basis of every PatchMesh basis, handedness, the convert round
+//! trip, unsupported requests and a mutation test.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use glam::{DVec3, Vec3};
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+use reyes::prepare::PreparedScene;
+use reyes::rib::{RibError, RibScene};
+use reyes::scene::Scene;
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/rib")
+        .join(name)
+}
+
+fn fresh_rng(test: &str) -> StdRng {
+    let seed: u64 = rand::random();
+    eprintln!("{test} seed = {seed}");
+    StdRng::seed_from_u64(seed)
+}
+
+/// A fresh, empty directory under the system's temporary directory.
+fn temp_dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("reyes-rib-test-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn parse_error(text: &str) -> RibError {
+    RibScene::from_text(text, "bad.rib").expect_err("the RIB is invalid")
+}
+
+#[test]
+fn syntax_errors_give_file_line_and_column() {
+    let cases: [(&str, (usize, usize), &str); 9] = [
+        (
+            "WorldBegin\n  Color [1 0 \"x\"]\n",
+            (2, 14),
+            "mixes numbers and strings",
+        ),
+        (
+            "WorldBegin\n Display \"unterminated\n",
+            (2, 10),
+            "unterminated string",
+        ),
+        ("Format 64 4x8 1\n", (1, 11), "invalid number"),
+        ("WorldBegin ]\n", (1, 12), "without a matching"),
+        ("Color [1 0\nWorldBegin\n", (2, 1), "inside an array"),
+        ("1 2 3\n", (1, 1), "before the first request"),
+        ("Format 64 48\n", (1, 1), "expected 3 numbers"),
+        (
+            "WorldBegin\n\n   Surface \"matte\" \"Kd\"\n",
+            (3, 4),
+            "odd count",
+        ),
+        (
+            "# comment \"[\n  Surface \"matte\" \"bogus float Kd\" 1\n",
+            (2, 3),
+            "unknown storage class",
+        ),
+    ];
+    for (text, (line, col), message) in cases {
+        let error = parse_error(text);
+        let shown = error.to_string();
+        assert_eq!(error.position(), Some((line, col)), "{text:?}: {shown}");
+        assert!(shown.contains(message), "{text:?}: {shown}");
+        assert!(
+            shown.starts_with(&format!("bad.rib:{line}:{col}:")),
+            "{shown}"
+        );
+    }
+}
+
+#[test]
+fn binary_rib_is_refused_as_not_supported() {
+    let mut bytes = b"Format 64 48 1\nWorldBegin\n  ".to_vec();
+    bytes.extend_from_slice(&[0o200, 0x41, 0xff]);
+    let error = RibScene::from_bytes(&bytes, "binary.rib").expect_err("binary RIB");
+    assert_eq!(error.position(), Some((3, 3)));
+    assert!(
+        error.to_string().contains("binary RIB is not supported"),
+        "{error}"
+    );
+}
+
+#[test]
+fn read_archive_resolves_against_the_including_file() {
+    let rib = RibScene::load(data("archive/main.rib")).unwrap();
+    assert_eq!(rib.scene.lights.len(), 1);
+    // square.rib (before the colour) and the polygon after it.
+    assert_eq!(rib.scene.objects.len(), 2, "{:?}", rib.scene.objects);
+    assert_eq!(rib.scene.objects[0].color, Vec3::ONE);
+    assert_eq!(rib.scene.objects[1].color, Vec3::new(0.25, 0.5, 0.75));
+    let missing = RibScene::from_text("WorldBegin\nReadArchive \"nope.rib\"\n", data("x.rib"))
+        .expect_err("missing archive");
+    assert_eq!(missing.position(), Some((2, 1)), "{missing}");
+}
+
+#[test]
+fn read_archive_cycles_are_detected() {
+    let error = RibScene::load(data("cycle_a.rib")).expect_err("cycle");
+    let shown = error.to_string();
+    assert!(shown.contains("cycle"), "{shown}");
+    assert!(shown.contains("cycle_b.rib:2:1"), "{shown}");
+}
+
+/// `[u^3 u^2 u 1] B`, with the bases of the RenderMan specification typed
+/// here again (not taken from the crate).
+fn weights(m: &[[f64; 4]; 4], u: f64) -> [f64; 4] {
+    let pu = [u * u * u, u * u, u, 1.0];
+    std::array::from_fn(|k| (0..4).map(|r| pu[r] * m[r][k]).sum())
+}
+
+fn spec_bases() -> Vec<(&'static str, [[f64; 4]; 4], usize)> {
+    let s = 1.0 / 6.0;
+    vec![
+        (
+            "bezier",
+            [
+                [-1., 3., -3., 1.],
+                [3., -6., 3., 0.],
+                [-3., 3., 0., 0.],
+                [1., 0., 0., 0.],
+            ],
+            3,
+        ),
+        (
+            "b-spline",
+            [
+                [-s, 3. * s, -3. * s, s],
+                [3. * s, -6. * s, 3. * s, 0.],
+                [-3. * s, 0., 3. * s, 0.],
+                [s, 4. * s, s, 0.],
+            ],
+            1,
+        ),
+        (
+            "catmull-rom",
+            [
+                [-0.5, 1.5, -1.5, 0.5],
+                [1., -2.5, 2., -0.5],
+                [-0.5, 0., 0.5, 0.],
+                [0., 1., 0., 0.],
+            ],
+            1,
+        ),
+        (
+            "hermite",
+            [
+                [2., 1., -2., 1.],
+                [-3., -2., 3., -1.],
+                [0., 1., 0., 0.],
+                [1., 0., 0., 0.],
+            ],
+            2,
+        ),
+        (
+            "power",
+            [
+                [1., 0., 0., 0.],
+                [0., 1., 0., 0.],
+                [0., 0., 1., 0.],
+                [0., 0., 0., 1.],
+            ],
+            4,
+        ),
+    ]
+}
+
+fn fmt_nums(v: impl IntoIterator<Item = f64>) -> String {
+    v.into_iter()
+        .map(|x| format!("{x:?}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A mesh of random points and the RIB for it; checks the Bezier patches
+/// made from it against direct evaluation of the spline.
+#[allow(clippy::too_many_arguments)]
+fn check_mesh(
+    rng: &mut StdRng,
+    basis_rib: &str,
+    (um, ustep): (&[[f64; 4]; 4], usize),
+    (vm, vstep): (&[[f64; 4]; 4], usize),
+    bicubic: bool,
+    uperiodic: bool,
+    vperiodic: bool,
+) {
+    let order = if bicubic { 4 } else { 2 };
+    let (ustep, vstep) = if bicubic { (ustep, vstep) } else { (1, 1) };
+    let count = |rng: &mut StdRng, periodic: bool, step: usize| {
+        let k = rng.random_range(1..=3usize);
+        if periodic {
+            step * k.max(if step == 1 { 2 } else { 1 })
+        } else {
+            order + step * (k - 1)
+        }
+    };
+    let nu = count(rng, uperiodic, ustep);
+    let nv = count(rng, vperiodic, vstep);
+    let p: Vec<DVec3> = (0..nu * nv)
+        .map(|_| {
+            DVec3::new(
+                rng.random_range(-2.0..2.0),
+                rng.random_range(-2.0..2.0),
+                rng.random_range(3.0..6.0),
+            )
+        })
+        .collect();
+    let wrap = |w| if w { "periodic" } else { "nonperiodic" };
+    let text = format!(
+        "Projection \"perspective\"\nWorldBegin\n{basis_rib}\nPatchMesh \"{}\" {nu} \"{}\" {nv} \"{}\" \"P\" [{}]\nWorldEnd\n",
+        if bicubic { "bicubic" } else { "bilinear" },
+        wrap(uperiodic),
+        wrap(vperiodic),
+        fmt_nums(p.iter().flat_map(|q| q.to_array())),
+    );
+    let rib = RibScene::from_text(&text, "mesh.rib").unwrap_or_else(|e| panic!("{e}\n{text}"));
+    let nup = if uperiodic {
+        nu / ustep
+    } else if bicubic {
+        (nu - 4) / ustep + 1
+    } else {
+        nu - 1
+    };
+    let nvp = if vperiodic {
+        nv / vstep
+    } else if bicubic {
+        (nv - 4) / vstep + 1
+    } else {
+        nv - 1
+    };
+    let patches: Vec<_> = rib.models.iter().flat_map(|m| m.patches.iter()).collect();
+    assert_eq!(patches.len(), nup * nvp, "{text}");
+    for _ in 0..20 {
+        let (pu, pv) = (rng.random_range(0..nup), rng.random_range(0..nvp));
+        let (u, v): (f64, f64) = (rng.random_range(0.0..=1.0), rng.random_range(0.0..=1.0));
+        let (wu, wv) = if bicubic {
+            (weights(um, u).to_vec(), weights(vm, v).to_vec())
+        } else {
+            (vec![1.0 - u, u], vec![1.0 - v, v])
+        };
+        let mut expected = DVec3::ZERO;
+        for (j, wj) in wv.iter().enumerate() {
+            for (i, wi) in wu.iter().enumerate() {
+                let index = ((pv * vstep + j) % nv) * nu + (pu * ustep + i) % nu;
+                expected += p[index] * wi * wj;
+            }
+        }
+        // The renderer's world is camera space with x mirrored.
+        let expected = (expected * DVec3::new(-1.0, 1.0, 1.0)).as_vec3();
+        let got = reyes::bezier::position(&patches[pv * nup + pu].points, u as f32, v as f32);
+        let scale = 1.0 + p.iter().map(|q| q.abs().max_element()).fold(0.0, f64::max) as f32 * 20.0;
+        assert!(
+            (got - expected).abs().max_element() < 2e-5 * scale,
+            "{basis_rib} patch ({pu}, {pv}) at ({u}, {v}): {got} != {expected}\n{text}"
+        );
+    }
+}
+
+#[test]
+fn patch_mesh_bases_match_direct_evaluation() {
+    let mut rng = fresh_rng("patch_mesh_bases_match_direct_evaluation");
+    let bases = spec_bases();
+    for (name, m, step) in &bases {
+        for (up, vp) in [(false, false), (true, false), (false, true), (true, true)] {
+            // The same basis both ways, and paired with another one.
+            let (other, om, ostep) = &bases[rng.random_range(0..bases.len())];
+            let rib = format!("Basis \"{name}\" {step} \"{other}\" {ostep}");
+            check_mesh(&mut rng, &rib, (m, *step), (om, *ostep), true, up, vp);
+            check_mesh(&mut rng, &rib, (m, *step), (om, *ostep), false, up, vp);
+        }
+    }
+    // Explicit matrices with their own steps.
+    for _ in 0..8 {
+        let mut matrix = || -> [[f64; 4]; 4] {
+            std::array::from_fn(|_| std::array::from_fn(|_| rng.random_range(-2.0..2.0)))
+        };
+        let (mu, mv) = (matrix(), matrix());
+        let (us, vs) = (rng.random_range(1..=4usize), rng.random_range(1..=4usize));
+        let flat = |m: &[[f64; 4]; 4]| fmt_nums(m.iter().flatten().copied());
+        let rib = format!("Basis [{}] {us} [{}] {vs}", flat(&mu), flat(&mv));
+        let (up, vp) = (rng.random_bool(0.5), rng.random_bool(0.5));
+        check_mesh(&mut rng, &rib, (&mu, us), (&mv, vs), true, up, vp);
+    }
+}
+
+#[test]
+fn bicubic_patch_uses_the_current_basis_and_bilinear_is_exact() {
+    // Power basis: the control points are the coefficients of u^i v^j;
+    // only the constant one (the last) is non-zero.
+    let mut coefficients = vec![0.0; 45];
+    coefficients.extend([1.0, 2.0, 5.0]);
+    let text = format!(
+        "Projection \"perspective\"\nWorldBegin\nBasis \"power\" 4 \"power\" 4\n\
+         Patch \"bicubic\" \"P\" [{}]\n\
+         Patch \"bilinear\" \"P\" [0 0 1  1 0 2  0 1 3  1 1 4]\nWorldEnd\n",
+        fmt_nums(coefficients)
+    );
+    let rib = RibScene::from_text(&text, "p.rib").unwrap();
+    let patches = &rib.models[0].patches;
+    assert_eq!(patches.len(), 2);
+    let c = reyes::bezier::position(&patches[0].points, 0.3, 0.7);
+    assert!((c - Vec3::new(-1.0, 2.0, 5.0)).length() < 1e-5, "{c}");
+    let b = reyes::bezier::position(&patches[1].points, 0.25, 0.5);
+    let (u, v) = (0.25f32, 0.5f32);
+    let z = (1.0 - u) * (1.0 - v) + 2.0 * u * (1.0 - v) + 3.0 * (1.0 - u) * v + 4.0 * u * v;
+    assert!((b - Vec3::new(-u, v, z)).length() < 1e-6, "{b}");
+}
+
+/// Lit pixels per quadrant: upper-left, upper-right, lower-left, lower-right.
+fn quadrants(rib: &RibScene) -> [usize; 4] {
+    let image = reyes::reference::render(&rib.prepare().unwrap()).image;
+    let (w, h) = image.dimensions();
+    let mut q = [0; 4];
+    for (x, y, p) in image.enumerate_pixels() {
+        if p[0] > 60 {
+            q[usize::from(y >= h / 2) * 2 + usize::from(x >= w / 2)] += 1;
+        }
+    }
+    q
+}
+
+#[test]
+fn camera_space_is_left_handed_x_right_y_up() {
+    // The patch spans x, y in [1, 2] at z = 5; fov 60 on the 48-pixel
+    // height: tan 30 = 0.577, so y / z in [0.2, 0.4] is rows 7.4 to 15.7
+    // and x / z (over tan 30 * 4/3) columns 40.3 to 48.6: upper right.
+    let text = std::fs::read_to_string(data("quadrant.rib")).unwrap();
+    let rib = RibScene::from_text(&text, "quadrant.rib").unwrap();
+    assert_eq!(rib.display.as_deref(), Some("quadrant.png"));
+    let image = reyes::reference::render(&rib.prepare().unwrap()).image;
+    for (x, y, p) in image.enumerate_pixels() {
+        let inside = (41..48).contains(&x) && (8..15).contains(&y);
+        let outside = !(40..=48).contains(&x) || !(7..=15).contains(&y);
+        if inside {
+            assert!(p[0] > 200, "pixel ({x}, {y}) should be lit");
+        } else if outside {
+            assert!(p[0] < 10, "pixel ({x}, {y}) should be background");
+        }
+    }
+    // A camera rotated 90 degrees about z maps world (x, y) to (-y, x):
+    // upper left. A mirrored camera (Scale -1 1 1) also puts it upper left.
+    for camera in ["Rotate 90 0 0 1", "Scale -1 1 1"] {
+        let moved = text.replace("WorldBegin", &format!("{camera}\nWorldBegin"));
+        let q = quadrants(&RibScene::from_text(&moved, "q.rib").unwrap());
+        assert!(q[0] > 40 && q[1] + q[2] + q[3] == 0, "{camera}: {q:?}");
+    }
+    // Translate 0 -3 0 before WorldBegin moves the world down: lower right.
+    let moved = text.replace("WorldBegin", "Translate 0 -3 0\nWorldBegin");
+    let q = quadrants(&RibScene::from_text(&moved, "q.rib").unwrap());
+    assert!(q[3] > 40 && q[0] + q[1] + q[2] == 0, "{q:?}");
+}
+
+#[test]
+fn sides_one_shows_the_front_clockwise_on_screen() {
+    let text = std::fs::read_to_string(data("quadrant.rib")).unwrap();
+    let one = text.replace("Color [1 1 1]", "Sides 1");
+    let lit = |t: &str| quadrants(&RibScene::from_text(t, "s.rib").unwrap())[1];
+    // The vertices go up, right, down on screen: clockwise, the front.
+    assert!(lit(&one) > 40);
+    let reversed = one.replace("1 1 5  1 2 5  2 2 5  2 1 5", "2 1 5  2 2 5  1 2 5  1 1 5");
+    assert_eq!(lit(&reversed), 0);
+    assert!(lit(&reversed.replace("Sides 1", "Sides 1 ReverseOrientation")) > 40);
+    assert!(lit(&reversed.replace("Sides 1", "Sides 1 Orientation \"rh\"")) > 40);
+    // A mirroring transform does not change which side is the front.
+    let mirrored = one.replace("Sides 1", "Sides 1 Scale 1 1 -1 Translate 0 0 -10");
+    assert!(lit(&mirrored) > 40);
+}
+
+#[test]
+fn options_are_mapped() {
+    let text = "Format 30 60 1\nPixelSamples 3 2\nShadingRate 4\nProjection \"perspective\" \"fov\" 40\n\
+        Clipping 0.5 50\nShadingInterpolation \"constant\"\nShutter 0 0.5\nDepthOfField 2 0.1 5\nPixelFilter \"gaussian\" 2 2\n\
+        Hider \"hidden\"\nHider \"hidden\"\nWorldBegin\nMotionBegin [0 1]\nTranslate 0 0 0\nTranslate 1 0 0\nMotionEnd\n\
+        Polygon \"P\" [0 0 5 0 1 5 1 1 5]\nWorldEnd\n";
+    let rib = RibScene::from_text(text, "o.rib").unwrap();
+    let s = &rib.scene;
+    assert_eq!((s.resolution.width, s.resolution.height), (30, 60));
+    assert_eq!(s.spp, 4);
+    assert_eq!(s.shading_rate, 4.0);
+    assert_eq!(
+        s.shading_interpolation,
+        reyes::scene::ShadingInterpolation::Constant
+    );
+    let camera = s.camera.unwrap();
+    let expected = 2.0 * (20f32.to_radians().tan() * 2.0).atan().to_degrees();
+    assert!(
+        (camera.fov_y_degrees - expected).abs() < 1e-3,
+        "{}",
+        camera.fov_y_degrees
+    );
+    assert_eq!((camera.near, camera.far), (0.5, 50.0));
+    assert_eq!(s.shutter, 0.5);
+    assert!((s.lens.aperture - 0.025).abs() < 1e-7);
+    assert_eq!(s.lens.focus_distance, Some(5.0));
+    let close = s.objects[0].transform_close.expect("moving");
+    assert!(
+        (close.translate - Vec3::new(-1.0, 0.0, 0.0)).length() < 1e-6,
+        "{close:?}"
+    );
+    let warnings: Vec<String> = rib.warnings.iter().map(ToString::to_string).collect();
+    let all = warnings.join("\n");
+    assert!(all.contains("PixelSamples 3 2"), "{all}");
+    assert!(all.contains("o.rib:9: PixelFilter \"gaussian\""), "{all}");
+    assert_eq!(all.matches("Hider is not supported").count(), 1, "{all}");
+    assert!(all.contains("o.rib:10: Hider"), "{all}");
+}
+
+#[test]
+fn unsupported_geometry_warns_and_the_rest_renders() {
+    let text = std::fs::read_to_string(data("quadrant.rib"))
+        .unwrap()
+        .replace("Color [1 1 1]", "Color [1 1 1]\n  Sphere 1 -1 1 360\n  NuPatch 4 4 [0 0 0 0 1 1 1 1] 0 1 4 4 [0 0 0 0 1 1 1 1] 0 1 \"Pw\" [0 0 0 1]\n  Patch \"bilinear\" \"Pw\" [0 0 0 1 1 0 0 1 0 1 0 1 1 1 0 1]");
+    let rib = RibScene::from_text(&text, "u.rib").unwrap();
+    let all: Vec<String> = rib.warnings.iter().map(ToString::to_string).collect();
+    let all = all.join("\n");
+    assert!(all.contains("u.rib:11: Sphere is not supported"), "{all}");
+    assert!(all.contains("u.rib:12: NuPatch is not supported"), "{all}");
+    assert!(all.contains("u.rib:13: Patch with \"Pw\""), "{all}");
+    assert_eq!(quadrants(&rib), [0, 81, 0, 0]);
+}
+
+#[test]
+fn convert_round_trip_renders_the_same_image() {
+    let dir = temp_dir("convert");
+    let rib = RibScene::load(data("scene.rib")).unwrap();
+    assert!(rib.scene.objects.len() >= 2);
+    let toml = dir.join("scene.toml");
+    let written = rib.write(&toml).unwrap();
+    assert!(
+        written
+            .iter()
+            .any(|p| p.extension().is_some_and(|e| e == "bpt"))
+    );
+    let scene = Scene::load(&toml).unwrap();
+    let from_toml = reyes::reference::render(&PreparedScene::load(&scene).unwrap()).image;
+    let from_rib = reyes::reference::render(&rib.prepare().unwrap()).image;
+    assert_eq!(from_toml.dimensions(), (48, 36));
+    assert!(
+        from_rib.pixels().filter(|p| p[0] > 30).count() > 100,
+        "the scene is visible"
+    );
+    assert!(
+        from_toml == from_rib,
+        "the converted scene renders differently"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn cli_renders_and_converts_rib() {
+    let dir = temp_dir("cli");
+    let exe = env!("CARGO_BIN_EXE_reyes");
+    let png = dir.join("out.png");
+    let child = std::process::Command::new(exe)
+        .args(["render", "--cpu", "-o"])
+        .arg(&png)
+        .arg(data("scene.rib"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // `render` keeps the RIB's models in memory: it writes only the image.
+    let out = child.wait_with_output().unwrap();
+    let written: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(written, ["out.png"], "render wrote only the image");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("Hider is not supported"));
+    let toml = dir.join("conv.toml");
+    let out = std::process::Command::new(exe)
+        .args(["convert"])
+        .arg(data("scene.rib"))
+        .arg("-o")
+        .arg(&toml)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("conv-0.bpt").exists() && toml.exists());
+    let png2 = dir.join("conv.png");
+    let out = std::process::Command::new(exe)
+        .args(["render", "--cpu", "-o"])
+        .arg(&png2)
+        .arg(&toml)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        image::open(&png).unwrap().to_rgba8(),
+        image::open(&png2).unwrap().to_rgba8()
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn mutated_rib_never_panics() {
+    let mut rng = fresh_rng("mutated_rib_never_panics");
+    let base = std::fs::read(data("scene.rib")).unwrap();
+    let interesting = b"[]\"#-+.eE0123456789 \n\\PWorldBeginEndAttribute";
+    let deadline = Instant::now() + Duration::from_secs(3);
+    let (mut runs, mut parsed) = (0, 0);
+    while Instant::now() < deadline {
+        let mut bytes = base.clone();
+        for _ in 0..rng.random_range(1..8) {
+            let at = rng.random_range(0..bytes.len().max(1));
+            match rng.random_range(0..5) {
+                0 => bytes[at] = rng.random(),
+                1 => bytes[at] = interesting[rng.random_range(0..interesting.len())],
+                2 => bytes.insert(at, interesting[rng.random_range(0..interesting.len())]),
+                3 => {
+                    let end = (at + rng.random_range(1..40)).min(bytes.len());
+                    bytes.drain(at..end);
+                }
+                _ => {
+                    let end = (at + rng.random_range(1..60)).min(bytes.len());
+                    let chunk = bytes[at..end].to_vec();
+                    let to = rng.random_range(0..bytes.len());
+                    bytes.splice(to..to, chunk);
+                }
+            }
+            if bytes.is_empty() {
+                bytes.push(b' ');
+            }
+        }
+        runs += 1;
+        if let Ok(rib) = RibScene::from_bytes(&bytes, Path::new("fuzz.rib")) {
+            parsed += 1;
+            let r = rib.scene.resolution;
+            if let Ok(prepared) = rib.prepare()
+                && u64::from(r.width) * u64::from(r.height) <= 64 * 64
+                && rib.scene.spp <= 16
+            {
+                let _ = reyes::reference::try_render(&prepared);
+            }
+        }
+    }
+    eprintln!("{runs} mutations, {parsed} parsed");
+    assert!(runs > 10);
+}
+
+#[test]
+fn transforms_stack_and_motion_maps_to_transform_close() {
+    let text = "Projection \"perspective\"\nTranslate 0 0 10\nWorldBegin\n\
+        TransformBegin\nTranslate 1 0 0\nAttributeBegin\nScale 2 2 2\nColor [1 0 0]\n\
+        Polygon \"P\" [0 0 0 0 1 0 1 1 0]\nAttributeEnd\n\
+        Polygon \"P\" [0 0 0 0 1 0 1 1 0]\nTransformEnd\n\
+        Identity\nConcatTransform [1 0 0 0 0 1 0 0 0 0 1 0 0 3 0 1]\n\
+        Polygon \"P\" [0 0 0 0 1 0 1 1 0]\n\
+        MotionBegin [0 1]\nRotate 0 0 0 1\nRotate 30 0 0 1\nMotionEnd\n\
+        Polygon \"P\" [0 0 0 0 1 0 1 1 0]\nWorldEnd\n";
+    let rib = RibScene::from_text(text, "t.rib").unwrap();
+    // Consecutive primitives that look the same share one object.
+    let corner = |object: usize, patch: usize| rib.models[object].patches[patch].points[15];
+    // Object 0: scaled by 2 and moved by 1, red; then one only moved, and
+    // one moved up by 3 from the world origin (Identity is world space),
+    // all 10 in front of the camera, x mirrored.
+    assert_eq!(rib.scene.objects[0].color, Vec3::new(1.0, 0.0, 0.0));
+    assert_eq!(rib.models.len(), 3);
+    assert!(
+        (corner(0, 0) - Vec3::new(-3.0, 2.0, 10.0)).length() < 1e-6,
+        "{}",
+        corner(0, 0)
+    );
+    assert!(
+        (corner(1, 0) - Vec3::new(-2.0, 1.0, 10.0)).length() < 1e-6,
+        "{}",
+        corner(1, 0)
+    );
+    assert!(
+        (corner(1, 1) - Vec3::new(-1.0, 4.0, 10.0)).length() < 1e-6,
+        "{}",
+        corner(1, 1)
+    );
+    // A 30 degree turn about camera z is -30 degrees in the mirrored world.
+    let close = rib.scene.objects[2].transform_close.expect("moving");
+    assert!(
+        (close.rotate_degrees - Vec3::new(0.0, 0.0, -30.0)).length() < 1e-3,
+        "{close:?}"
+    );
+    let mismatched = "WorldBegin\nAttributeBegin\nTransformEnd\n";
+    assert_eq!(parse_error(mismatched).position(), Some((3, 1)));
+    assert_eq!(
+        parse_error("WorldBegin\nAttributeEnd\n").position(),
+        Some((2, 1))
+    );
+}
+
+#[test]
+fn warnings_are_capped() {
+    let text = format!(
+        "WorldBegin\n{}WorldEnd\n",
+        "Sphere 1 -1 1 360\n".repeat(500)
+    );
+    let rib = RibScene::from_text(&text, "w.rib").unwrap();
+    let shown: Vec<String> = rib.warnings.iter().map(ToString::to_string).collect();
+    let spheres = shown.iter().filter(|w| w.contains("Sphere")).count();
+    assert_eq!(spheres, reyes::rib::interp::MAX_WARNINGS);
+    assert!(
+        shown
+            .iter()
+            .any(|w| w.contains("400 more warnings not shown")),
+        "{shown:?}"
+    );
+}
+
+#[test]
+fn non_convex_polygons_warn() {
+    let base = "Projection \"perspective\"\nWorldBegin\n";
+    let convex = format!("{base}Polygon \"P\" [0 0 5  0 1 5  1 1 5  1.5 0.5 5  1 0 5]\n");
+    assert!(
+        RibScene::from_text(&convex, "c.rib")
+            .unwrap()
+            .warnings
+            .iter()
+            .all(|w| !w.message.contains("convex"))
+    );
+    let dart = format!("{base}Polygon \"P\" [0 0 5  0 1 5  0.3 0.5 5  1 0 5]\n");
+    let rib = RibScene::from_text(&dart, "d.rib").unwrap();
+    assert!(
+        rib.warnings
+            .iter()
+            .any(|w| w.to_string().contains("d.rib:3: Polygon is not convex")),
+        "{:?}",
+        rib.warnings
+    );
+}
+
+#[test]
+fn camera_motion_maps_to_camera_close() {
+    let scene = |motion: &str| {
+        let text = format!(
+            "Projection \"perspective\"\nShutter 0 1\nMotionBegin [0 1]\n{motion}\nMotionEnd\nWorldBegin\n\
+             Polygon \"P\" [0 0 5 0 1 5 1 1 5]\nWorldEnd\n"
+        );
+        RibScene::from_text(&text, "m.rib").unwrap()
+    };
+    // The world moves +x (right) in camera space: the camera moves to the
+    // image's left, which is +x in the mirrored world.
+    let rib = scene("Translate 0 0 0\nTranslate 1 0 0");
+    let close = rib.scene.camera_close.expect("the camera moves");
+    assert!((close.eye - Vec3::X).length() < 1e-6, "{close:?}");
+    assert!(
+        (close.target - Vec3::new(1.0, 0.0, 1.0)).length() < 1e-6,
+        "{close:?}"
+    );
+    assert!((close.up.unwrap() - Vec3::Y).length() < 1e-6, "{close:?}");
+    assert_eq!(rib.scene.shutter, 1.0);
+    let rib = scene("Scale 1 1 1\nScale 2 2 2");
+    assert!(rib.scene.camera_close.is_none());
+    assert!(
+        rib.warnings.iter().any(|w| w
+            .to_string()
+            .contains("m.rib:7: the camera's motion is not rigid")),
+        "{:?}",
+        rib.warnings
+    );
+}
