@@ -4,6 +4,11 @@ use std::time::Duration;
 
 use crate::RunError;
 
+/// The longest single wait handed to the driver. Vulkan takes its fence
+/// timeout in nanoseconds as a `u64` (about 584 years), and a longer
+/// `Duration` would wrap in the conversion; a century is "forever" for a run.
+pub const LONGEST_WAIT: Duration = Duration::from_secs(100 * 365 * 24 * 60 * 60);
+
 /// Waits for all work submitted so far, failing with [`RunError::Timeout`]
 /// after `timeout`.
 pub fn wait(
@@ -13,7 +18,7 @@ pub fn wait(
 ) -> Result<(), RunError> {
     match device.poll(wgpu::PollType::Wait {
         submission_index: Some(submission),
-        timeout: Some(timeout),
+        timeout: Some(timeout.min(LONGEST_WAIT)),
     }) {
         Ok(_) => Ok(()),
         Err(wgpu::PollError::Timeout) => Err(RunError::Timeout(timeout)),

@@ -410,3 +410,27 @@ if (valid && h == 7u) {
     assert!(matches!(again, Err(RunError::Timeout(_))), "{again:?}");
     let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
 }
+
+#[test]
+fn a_timeout_of_any_length_is_accepted() {
+    let Some(gpu) = tests::gpu() else { return };
+    // `start + timeout` overflowed `Instant` for `Duration::MAX`; the longest
+    // timeouts mean "no deadline", and the run ends normally.
+    let tree = binary_tree(6);
+    let compiled = tree.compile(&CompileOptions::default()).unwrap();
+    for timeout in [Duration::MAX, Duration::from_secs(u64::MAX)] {
+        let config = ExecutorConfig {
+            timeout,
+            ..config(2, 1 << 10)
+        };
+        let report = run(
+            gpu,
+            &compiled,
+            config,
+            &Seeds::new().add(&tree.ids, &[Node { depth: 0, id: 1 }]),
+            &[],
+        )
+        .unwrap();
+        assert_eq!(report.procedure(&tree.ids).unwrap().executed, 127);
+    }
+}

@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 use crate::codegen::bindings::{RESOURCE_GROUP, SCHEDULER_GROUP, resource_bindings, resource_kind};
 use crate::codegen::generate::{PREPARE_ENTRY_POINT, round_entry_point};
 use crate::compile::plan::control;
-use crate::readback::map_read;
+use crate::readback::{LONGEST_WAIT, map_read};
 use crate::runtime::config::{
     CPU_CHUNK_BUDGET, CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, DEFAULT_WORKGROUPS, ExecutorConfig,
 };
@@ -354,7 +354,8 @@ impl Executor {
             .seed(&self.device, &self.queue, &self.compiled.plan, seeds)?;
 
         let start = Instant::now();
-        let deadline = start + self.timeout;
+        // A timeout too long to add to `start` means no deadline at all.
+        let deadline = start.checked_add(self.timeout);
         let mut gpu_time = self.timestamps.as_ref().map(|_| Duration::ZERO);
         let mut submissions = 0u32;
         let counters = loop {
@@ -387,7 +388,9 @@ impl Executor {
             }
             let submission = self.queue.submit([encoder.finish()]);
             submissions += 1;
-            let remaining = deadline.saturating_duration_since(Instant::now());
+            let remaining = deadline.map_or(LONGEST_WAIT, |deadline| {
+                deadline.saturating_duration_since(Instant::now())
+            });
             // A timeout reports the configured limit, not the time that was left.
             let limit = |error| match error {
                 RunError::Timeout(_) => RunError::Timeout(self.timeout),
@@ -420,7 +423,7 @@ impl Executor {
             // budget (or a driver ended the persistent loop early, between
             // batches, so nothing is lost), or the batch of rounds ended. The
             // queues persist, so submit again.
-            if Instant::now() >= deadline {
+            if deadline.is_some_and(|deadline| Instant::now() >= deadline) {
                 return Err(RunError::Timeout(self.timeout));
             }
         };
