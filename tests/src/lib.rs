@@ -3,28 +3,30 @@
 //! GPU tests call [`gpu`]. Without an adapter it **panics**, so a machine
 //! without a working driver fails loudly instead of passing by skipping. Set
 //! `SKIP_GPU_TESTS=1` to skip GPU tests deliberately (the one switch for the
-//! whole workspace).
+//! whole workspace): the build script turns it into the `skip_gpu_tests`
+//! cfg, and every GPU test carries
+//! `#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]`, so a skip shows
+//! as `ignored` in the summary.
 
 use std::sync::OnceLock;
 
 use scheduler::{Capacities, DeviceRequest, ExecutorConfig, Gpu};
 
-/// Whether the user asked to skip GPU tests.
-pub fn skip_gpu_tests() -> bool {
-    std::env::var("SKIP_GPU_TESTS").is_ok_and(|v| v == "1")
-}
-
-/// The shared device for GPU tests, or `None` when `SKIP_GPU_TESTS=1`.
+/// The shared device for GPU tests.
 ///
 /// # Panics
-/// When no adapter or device can be had and GPU tests were not skipped.
-pub fn gpu() -> Option<&'static Gpu> {
+/// When no adapter or device can be had, and when GPU tests are skipped
+/// (`SKIP_GPU_TESTS=1`) but the calling test was not marked ignored: a GPU
+/// test without the mark would otherwise pass without running.
+pub fn gpu() -> &'static Gpu {
     static GPU: OnceLock<Gpu> = OnceLock::new();
-    if skip_gpu_tests() {
-        eprintln!("SKIP_GPU_TESTS=1: skipping a GPU test");
-        return None;
+    if cfg!(skip_gpu_tests) {
+        panic!(
+            "SKIP_GPU_TESTS=1, but this GPU test is not marked \
+             #[cfg_attr(skip_gpu_tests, ignore = \"SKIP_GPU_TESTS=1\")]"
+        );
     }
-    Some(GPU.get_or_init(|| {
+    GPU.get_or_init(|| {
         let request = DeviceRequest {
             optional_features: scheduler::wgpu::Features::SHADER_INT64
                 | scheduler::wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX,
@@ -37,7 +39,7 @@ pub fn gpu() -> Option<&'static Gpu> {
         });
         eprintln!("GPU tests run on: {}", gpu.describe());
         gpu
-    }))
+    })
 }
 
 /// A fresh random seed, printed so a failure can be replayed with

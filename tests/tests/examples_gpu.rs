@@ -41,7 +41,7 @@ fn config(workgroups: u32, iteration_budget: Option<u32>) -> ExecutorConfig {
 }
 
 fn quadrature_at(name: &str, workgroups: u32, iteration_budget: Option<u32>) {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let problem = quadrature::Problem::random(tests::seed(name), BUMPS, THRESHOLD);
     let checked = quadrature::run(gpu, &problem, &config(workgroups, iteration_budget))
         .unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -56,7 +56,7 @@ fn quadrature_at(name: &str, workgroups: u32, iteration_budget: Option<u32>) {
 }
 
 fn bfs_at(name: &str, workgroups: u32, iteration_budget: Option<u32>) {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let problem = bfs::Problem::random(tests::seed(name), NODES, 3);
     let config = ExecutorConfig {
         capacities: bfs::capacities(&problem),
@@ -74,41 +74,49 @@ fn bfs_at(name: &str, workgroups: u32, iteration_budget: Option<u32>) {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn quadrature_one_workgroup() {
     quadrature_at("quadrature_one_workgroup", 1, None);
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn quadrature_two_workgroups() {
     quadrature_at("quadrature_two_workgroups", 2, None);
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn quadrature_64_workgroups() {
     quadrature_at("quadrature_64_workgroups", 64, None);
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn quadrature_with_iteration_budget() {
     quadrature_at("quadrature_with_iteration_budget", 2, Some(4));
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn bfs_one_workgroup() {
     bfs_at("bfs_one_workgroup", 1, None);
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn bfs_two_workgroups() {
     bfs_at("bfs_two_workgroups", 2, None);
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn bfs_64_workgroups() {
     bfs_at("bfs_64_workgroups", 64, None);
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn bfs_with_iteration_budget() {
     bfs_at("bfs_with_iteration_budget", 2, Some(4));
 }
@@ -178,7 +186,7 @@ const MANDELBROT_MAX_ITER: u32 = 256;
 /// every pixel with the CPU's subdivision, and the scheduler's counters with
 /// its tile counts.
 fn mandelbrot_at(name: &str, workgroups: u32, strategy: scheduler::Strategy) {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let view = mandelbrot::View::whole_set(MANDELBROT_SIZE, MANDELBROT_MAX_ITER);
     let config = ExecutorConfig {
         workgroups: Some(workgroups),
@@ -207,6 +215,7 @@ fn mandelbrot_at(name: &str, workgroups: u32, strategy: scheduler::Strategy) {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn mandelbrot_one_workgroup() {
     mandelbrot_at(
         "mandelbrot_one_workgroup",
@@ -216,6 +225,7 @@ fn mandelbrot_one_workgroup() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn mandelbrot_64_workgroups() {
     mandelbrot_at(
         "mandelbrot_64_workgroups",
@@ -225,6 +235,7 @@ fn mandelbrot_64_workgroups() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn mandelbrot_rounds() {
     mandelbrot_at("mandelbrot_rounds", 64, scheduler::Strategy::rounds());
 }
@@ -232,8 +243,9 @@ fn mandelbrot_rounds() {
 /// The example's own checked run (default workgroups), which also counts the
 /// pixels where Mariani–Silver differs from brute force.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn mandelbrot_example_run() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let view = mandelbrot::View::whole_set(MANDELBROT_SIZE, MANDELBROT_MAX_ITER);
     let checked = mandelbrot::run(gpu, &view, &mandelbrot::config(gpu, &view)).unwrap();
     eprintln!("{}\n{}", checked.report, checked.summary);

@@ -81,8 +81,9 @@ fn pinholes(coverage: &[bool], width: u32, reference: Option<&[bool]>) -> usize 
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn displaced_teapot_matches_the_reference() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let mut renderer = reyes_support::patient_renderer(gpu);
     let scene = displaced(teapot(160, 120), &displacement("bumps", 0.06, 2.0));
@@ -110,8 +111,9 @@ fn displaced_teapot_matches_the_reference() {
 /// micropolygon) leaves holes in the same scene, so the pinhole count does
 /// detect holes.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn large_displacement_leaves_no_pinholes() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let mut renderer = reyes_support::patient_renderer(gpu);
     let scene = displaced(teapot(160, 120), &displacement("sines", 0.25, 2.0));
@@ -196,8 +198,9 @@ fn wall_scene(bound: f32) -> PreparedScene {
 /// what the bound prevents; with a bound that is too small the renderers
 /// report the grid points that leave it.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn displacement_bound_keeps_surface_displaced_into_view() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let mut renderer = reyes_support::patient_renderer(gpu);
 
@@ -244,8 +247,9 @@ fn displacement_bound_keeps_surface_displaced_into_view() {
 /// a broken function is a typed error, and so is asking the CPU reference
 /// to run one without a twin.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn user_wgsl_displacement() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let mut renderer = reyes_support::patient_renderer(gpu);
     let wgsl = "fn displacement_user(u: f32, v: f32) -> f32 {
@@ -299,8 +303,9 @@ fn user_wgsl_displacement() {
 /// The largest-micropolygon statistic is present and grows with the
 /// displacement, on both renderers.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn largest_micropolygon_grows_with_displacement() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let mut renderer = reyes_support::patient_renderer(gpu);
     let plain = PreparedScene::load(&teapot(128, 96)).expect("scene prepares");

@@ -38,8 +38,9 @@ fn compare(renderer: &mut GpuRenderer<'_>, scene: &Scene) -> (GpuRendered, Rende
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn teapot_matches_the_reference() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let mut renderer = renderer(gpu, GpuOptions::default());
     let (g, c, a) = compare(&mut renderer, &teapot(256, 4));
@@ -64,8 +65,9 @@ fn teapot_matches_the_reference() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn renders_are_deterministic_across_runs_and_workgroup_counts() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let scene = PreparedScene::load(&teapot(256, 4)).expect("scene prepares");
     let mut default = renderer(gpu, GpuOptions::default());
@@ -103,8 +105,9 @@ fn renders_are_deterministic_across_runs_and_workgroup_counts() {
 /// maximum depth are dropped (and counted). The run must finish, match the
 /// reference on what stays visible, and drop a bounded number of pieces.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn eye_inside_the_bounding_box() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let mut scene = teapot(256, 1);
     let (lo, hi) = reyes::model::Model::teapot().bounds();
@@ -146,8 +149,9 @@ fn eye_inside_the_bounding_box() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn nearest_mode_runs_and_matches() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let mut scene = teapot(256, 1);
     scene.sampling = Sampling::Nearest;
@@ -161,8 +165,9 @@ fn nearest_mode_runs_and_matches() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn too_large_resolution_is_a_typed_error() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let mut scene = teapot(256, 64);
     scene.resolution.width = 60_000;
@@ -187,8 +192,9 @@ fn reyes_megakernel_wgsl_snapshot() {
 /// policies: the image does not depend on the order in which items run, and
 /// the per-procedure counts are equal.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn rounds_render_the_same_frame_as_the_megakernel() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let prepared = PreparedScene::load(&teapot(160, 4)).unwrap();
     let mut frames = Vec::new();

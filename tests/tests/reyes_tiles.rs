@@ -54,8 +54,9 @@ fn assert_agrees(what: &str, a: &Agreement) {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn tiled_frames_match_the_untiled_frame() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let (width, height, spp) = (200, 150, 4);
     let scene = teapot(width, height, spp);
@@ -116,8 +117,9 @@ fn tiled_frames_match_the_untiled_frame() {
 /// hashed from them too: a spinning, defocused, jittered teapot renders
 /// alike tiled and untiled in every mode.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn tiled_frames_with_motion_and_depth_of_field_match_the_untiled_frame() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let (width, height, spp) = (200, 150, 4);
     let mut scene = framed_teapot(width, height, spp);
@@ -160,8 +162,9 @@ fn tiled_frames_with_motion_and_depth_of_field_match_the_untiled_frame() {
 /// lavapipe's 128 MiB per buffer: it renders in tiles and agrees with the
 /// CPU reference.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn a_frame_over_the_device_limit_renders_in_tiles() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let scene = teapot(800, 600, 64);
     let limits = gpu.device.limits();
@@ -193,8 +196,9 @@ fn a_frame_over_the_device_limit_renders_in_tiles() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn frames_that_tiling_cannot_fix_are_too_large() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let _turn = gpu_turn();
     let expect_too_large = |what: &str, result: Result<GpuRendered, RenderError>| match result {
         Err(e @ RenderError::TooLarge { needed, limit, .. }) => {

@@ -438,8 +438,9 @@ fn dump(image: &image::RgbaImage, cracks: &[(u32, u32)], path: &std::path::Path)
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn rate_dicing_is_watertight() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let shots = shots();
     let _turn = gpu_turn();
     let start = Instant::now();
@@ -481,8 +482,9 @@ fn rate_dicing_is_watertight() {
 /// and pole views, and some in every scene; the test only asks for one, on
 /// each renderer.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn fixed_dicing_cracks_on_the_same_scenes() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let shots = shots();
     let _turn = gpu_turn();
     let start = Instant::now();

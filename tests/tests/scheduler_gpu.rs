@@ -49,8 +49,9 @@ fn run(
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn binary_tree_counts_are_exact_for_any_workgroup_count() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let mut rng = StdRng::seed_from_u64(tests::seed("binary_tree_counts"));
     for options in option_sets(gpu, &mut rng) {
         let depth = rng.random_range(8..=13);
@@ -82,8 +83,9 @@ fn binary_tree_counts_are_exact_for_any_workgroup_count() {
 /// Barriers in a body on a partially filled last batch: every thread reaches
 /// the barrier, with or without an item, and scratch is per item.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn scratch_and_barriers_with_a_partial_last_batch() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let mut rng = StdRng::seed_from_u64(tests::seed("scratch_and_barriers"));
     for options in option_sets(gpu, &mut rng) {
         let sum = scratch_sum();
@@ -131,8 +133,9 @@ fn scratch_and_barriers_with_a_partial_last_batch() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn cycles_across_procedures_match_a_cpu_simulation_under_both_policies() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let mut rng = StdRng::seed_from_u64(tests::seed("cycles"));
     let depth = rng.random_range(6..=9);
     let seeds: Vec<Node> = (0..rng.random_range(1..40))
@@ -173,8 +176,9 @@ fn cycles_across_procedures_match_a_cpu_simulation_under_both_policies() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn iteration_budget_spreads_the_run_over_dispatches() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let tree = binary_tree(10);
     let compiled = tree.compile(&CompileOptions::default()).unwrap();
     let config = ExecutorConfig {
@@ -200,8 +204,9 @@ fn iteration_budget_spreads_the_run_over_dispatches() {
 /// one invocation, and its loops would pass llvmpipe's 65,535 iterations
 /// (1,024 x 150 hash rounds). With the cap, an invocation runs 256 chunks.
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn many_chunks_per_batch_stay_within_the_default_loop_budget() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let depth = 17;
     let items = (1u32 << (depth + 1)) - 1;
     let options = CompileOptions {
@@ -236,8 +241,9 @@ fn many_chunks_per_batch_stay_within_the_default_loop_budget() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn overflow_is_a_typed_error_and_the_run_still_ends() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let tree = binary_tree(12);
     let compiled = tree.compile(&CompileOptions::default()).unwrap();
     for workgroups in [1, 8] {
@@ -271,8 +277,9 @@ fn overflow_is_a_typed_error_and_the_run_still_ends() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn exceeding_the_declared_fan_out_is_reported() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let mut graph = Graph::new("greedy");
     let greedy = graph.procedure(Procedure::of::<Node>("Greedy").initial(true).body(
         "if (valid && item.depth == 0u) {
@@ -304,8 +311,9 @@ fn exceeding_the_declared_fan_out_is_reported() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn seeding_and_binding_errors_are_typed() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let graph = ping_pong(3);
     let (ping, pong) = (&graph.ids.ping, &graph.ids.pong);
     let compiled = graph.compile(&CompileOptions::default()).unwrap();
@@ -339,8 +347,9 @@ fn seeding_and_binding_errors_are_typed() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn too_large_configurations_are_refused_before_allocating() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let compiled = binary_tree(3).compile(&CompileOptions::default()).unwrap();
     let huge = config(1, 1 << 31);
     assert!(matches!(
@@ -353,8 +362,9 @@ fn too_large_configurations_are_refused_before_allocating() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn reports_round_trip_through_json_and_print_a_table() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let tree = binary_tree(5);
     let compiled = tree.compile(&CompileOptions::default()).unwrap();
     let report = run(
@@ -375,8 +385,9 @@ fn reports_round_trip_through_json_and_print_a_table() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn a_run_past_its_timeout_returns_a_typed_error() {
-    let Some(_) = tests::gpu() else { return };
+    tests::gpu();
     // Its own device: the slow kernel keeps running after the timeout.
     let gpu = Gpu::new(&Default::default()).unwrap();
     let mut graph = Graph::new("slow");
@@ -412,8 +423,9 @@ if (valid && h == 7u) {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn a_timeout_of_any_length_is_accepted() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     // `start + timeout` overflowed `Instant` for `Duration::MAX`; the longest
     // timeouts mean "no deadline", and the run ends normally.
     let tree = binary_tree(6);

@@ -23,8 +23,9 @@ fn strategies() -> [Strategy; 3] {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn rounds_run_one_tree_level_per_round_with_exact_counts() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let depth = StdRng::seed_from_u64(tests::seed("rounds_tree")).random_range(6..=12);
     let tree = binary_tree(depth);
     let compiled = tree.compile(&CompileOptions::default()).unwrap();
@@ -53,8 +54,9 @@ fn rounds_run_one_tree_level_per_round_with_exact_counts() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn both_strategies_and_policies_give_the_cpu_counts_on_a_cycle() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let mut rng = StdRng::seed_from_u64(tests::seed("strategies_cycle"));
     let depth = rng.random_range(5..=8);
     let seeds: Vec<Node> = (0..rng.random_range(1..30))
@@ -91,8 +93,9 @@ fn both_strategies_and_policies_give_the_cpu_counts_on_a_cycle() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn rounds_keep_barriers_and_outputs_of_the_megakernel() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let count = StdRng::seed_from_u64(tests::seed("rounds_scratch")).random_range(65..3000u32) | 1;
     let sum = scratch_sum();
     let compiled = sum.compile(&CompileOptions::default()).unwrap();
@@ -128,8 +131,9 @@ fn rounds_keep_barriers_and_outputs_of_the_megakernel() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn rounds_overflow_is_typed_and_loses_nothing_silently() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let tree = binary_tree(10);
     let compiled = tree.compile(&CompileOptions::default()).unwrap();
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config(4, 64)).unwrap();
@@ -157,8 +161,9 @@ fn rounds_overflow_is_typed_and_loses_nothing_silently() {
 }
 
 #[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn retry_grows_the_queues_and_matches_a_large_enough_run() {
-    let Some(gpu) = tests::gpu() else { return };
+    let gpu = tests::gpu();
     let graph = binary_tree(9);
     let tree = graph.compile(&CompileOptions::default()).unwrap();
     // Also the seeds of `counted_tree`, whose `Grow` takes `Node`s as well.
