@@ -30,7 +30,7 @@ pub fn spawn_tree_graph(workload: &Workload) -> Graph {
     }
     graph
         .library(HASH_WGSL)
-        .resource(Resource::storage("out", "array<u32>"));
+        .resource(Resource::storage::<[u32]>("out"));
     let spawn = graph.procedure(
         Procedure::of::<SpawnItem>(PROCEDURE)
             .initial(true)

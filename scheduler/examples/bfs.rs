@@ -19,10 +19,9 @@ use std::error::Error;
 use std::fmt::Write as _;
 
 use rand::{Rng, SeedableRng, rngs::StdRng};
-use scheduler::wgpu::util::DeviceExt as _;
 use scheduler::{
-    Binding, Capacities, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Procedure,
-    ProcedureId, Resource, RunReport, Seeds, readback::read_buffer, wgpu,
+    Atomic, Capacities, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Procedure,
+    ProcedureId, Resource, RunReport, Seeds,
 };
 
 /// Level of a node no source reaches.
@@ -200,10 +199,11 @@ pub struct BfsGraph {
 /// degree: one item enqueues at most one visit per neighbour.
 pub fn graph(problem: &Problem) -> BfsGraph {
     let mut graph = Graph::new("bfs levels");
-    graph.resource(Resource::storage_read("row_start", "array<u32>"));
-    graph.resource(Resource::storage_read("adjacency", "array<u32>"));
-    graph.resource(Resource::storage("levels", "array<atomic<u32>>"));
-    graph.resource(Resource::storage("counters", "array<atomic<u32>>"));
+    let nodes = u64::from(problem.graph.nodes());
+    graph.resource(Resource::storage_read::<[u32]>("row_start").min_len(nodes + 1));
+    graph.resource(Resource::storage_read::<[u32]>("adjacency"));
+    graph.resource(Resource::storage::<[Atomic<u32>]>("levels").min_len(nodes));
+    graph.resource(Resource::storage::<[Atomic<u32>]>("counters").min_len(COUNTER_WORDS as u64));
     let visit = graph.procedure(Procedure::of::<Hop>("Visit").initial(true).body(VISIT_BODY));
     let expand = graph.procedure(
         Procedure::of::<Hop>("Expand")
@@ -262,54 +262,27 @@ pub fn run(
     ))?;
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, config)?;
 
-    let init = |label: &str, contents: &[u32], usage: wgpu::BufferUsages| {
-        gpu.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytemuck::cast_slice(contents),
-                usage,
-            })
-    };
-    use wgpu::BufferUsages as U;
+    // The executor creates, fills and reads the buffers of the typed
+    // resources; the run binds them by themselves.
     let nodes = problem.graph.nodes() as usize;
-    let row_start = init("row_start", &problem.graph.row_start, U::STORAGE);
+    executor.write("row_start", &problem.graph.row_start)?;
     // A binding may not be empty, hence the padding word of an edgeless graph.
     let mut adjacency_words = problem.graph.adjacency.clone();
     if adjacency_words.is_empty() {
         adjacency_words.push(0);
     }
-    let adjacency = init("adjacency", &adjacency_words, U::STORAGE);
-    let levels = init("levels", &vec![UNREACHED; nodes], U::STORAGE | U::COPY_SRC);
-    let counters = init("counters", &[0; COUNTER_WORDS], U::STORAGE | U::COPY_SRC);
+    executor.write("adjacency", &adjacency_words)?;
+    executor.write("levels", &vec![UNREACHED; nodes])?;
+    executor.write("counters", &[0u32; COUNTER_WORDS])?;
 
     let seeds: Vec<Hop> = problem
         .sources
         .iter()
         .map(|&node| Hop { node, level: 0 })
         .collect();
-    let report = executor.run(
-        &Seeds::new().add(&visit, &seeds),
-        &[
-            Binding::buffer("row_start", &row_start),
-            Binding::buffer("adjacency", &adjacency),
-            Binding::buffer("levels", &levels),
-            Binding::buffer("counters", &counters),
-        ],
-    )?;
-    let gpu_levels: Vec<u32> = bytemuck::cast_slice(&read_buffer(
-        &gpu.device,
-        &gpu.queue,
-        &levels,
-        config.timeout,
-    )?)
-    .to_vec();
-    let words: Vec<u32> = bytemuck::cast_slice(&read_buffer(
-        &gpu.device,
-        &gpu.queue,
-        &counters,
-        config.timeout,
-    )?)
-    .to_vec();
+    let report = executor.run(&Seeds::new().add(&visit, &seeds), &[])?;
+    let gpu_levels = executor.read::<u32>("levels")?;
+    let words = executor.read::<u32>("counters")?;
     let counters = Counters {
         improving_visits: words[0],
         visit_enqueues: words[1],

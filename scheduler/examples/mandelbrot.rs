@@ -33,9 +33,8 @@ use std::error::Error;
 use std::fmt::Write as _;
 
 use scheduler::{
-    Binding, Capacities, CompileOptions, CompiledGraph, ConstantValue, Executor, ExecutorConfig,
-    Gpu, Graph, Procedure, ProcedureId, Resource, RunError, RunReport, Seeds, Strategy, bytemuck,
-    readback::read_buffer, wgpu,
+    Capacities, CompileOptions, CompiledGraph, ConstantValue, Executor, ExecutorConfig, Gpu, Graph,
+    Procedure, ProcedureId, Resource, RunError, RunReport, Seeds, Strategy, wgpu,
 };
 
 /// Side of the root tiles the host seeds.
@@ -267,7 +266,7 @@ pub fn graph(view: &View) -> MandelbrotGraph {
         graph.constant(name, value);
     }
     graph.library(ESCAPE_WGSL).library(BORDER_WGSL);
-    graph.resource(Resource::storage("counts", "array<u32>"));
+    graph.resource(Resource::storage::<[u32]>("counts").min_len(view.pixels() as u64));
     let tile = graph.procedure(
         Procedure::of::<Tile>("Tile")
             .initial(true)
@@ -442,17 +441,15 @@ pub fn cpu_brute_force(view: &View) -> Vec<u32> {
         .collect()
 }
 
-/// A compiled graph, an executor and the output buffer, for repeated runs.
+/// A compiled graph and an executor, which owns the output buffer, for
+/// repeated runs.
 #[derive(Debug)]
 pub struct Mandelbrot {
     pub view: View,
     pub tile: ProcedureId<Tile>,
     pub block: ProcedureId<Block>,
     executor: Executor,
-    counts: wgpu::Buffer,
     seeds: Seeds,
-    device: wgpu::Device,
-    queue: wgpu::Queue,
 }
 
 impl Mandelbrot {
@@ -466,48 +463,27 @@ impl Mandelbrot {
         let MandelbrotGraph { graph, tile, block } = graph(&view);
         let compiled: CompiledGraph = graph.compile(options)?;
         let executor = Executor::new(&gpu.device, &gpu.queue, &compiled, config)?;
-        let counts = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("counts"),
-            size: 4 * view.pixels() as u64,
-            usage: wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::COPY_SRC
-                | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         let seeds = Seeds::new().add(&tile, &view.roots());
         Ok(Self {
             view,
             tile,
             block,
             executor,
-            counts,
             seeds,
-            device: gpu.device.clone(),
-            queue: gpu.queue.clone(),
         })
     }
 
-    /// Fills the output with [`UNWRITTEN`] and renders the image once.
+    /// Fills the output with [`UNWRITTEN`] and renders the image once. The
+    /// executor binds its own `counts` buffer, so the run names no binding.
     pub fn render(&mut self, strategy: Strategy) -> Result<RunReport, RunError> {
         let unwritten = vec![UNWRITTEN; self.view.pixels()];
-        self.queue
-            .write_buffer(&self.counts, 0, bytemuck::cast_slice(&unwritten));
-        self.executor.run_with(
-            strategy,
-            &self.seeds,
-            &[Binding::buffer("counts", &self.counts)],
-        )
+        self.executor.write("counts", &unwritten)?;
+        self.executor.run_with(strategy, &self.seeds, &[])
     }
 
     /// The escape counts of the last render, row by row.
     pub fn counts(&self) -> Result<Vec<u32>, RunError> {
-        let bytes = read_buffer(
-            &self.device,
-            &self.queue,
-            &self.counts,
-            std::time::Duration::from_secs(60),
-        )?;
-        Ok(bytemuck::cast_slice(&bytes).to_vec())
+        self.executor.read::<u32>("counts")
     }
 }
 

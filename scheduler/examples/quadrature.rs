@@ -20,10 +20,9 @@ use std::error::Error;
 use std::fmt::Write as _;
 
 use rand::{Rng, SeedableRng, rngs::StdRng};
-use scheduler::wgpu::util::DeviceExt as _;
 use scheduler::{
-    Binding, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Item as _, Procedure,
-    ProcedureId, Resource, RunReport, Seeds, readback::read_buffer, wgpu,
+    Atomic, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Procedure, ProcedureId, Resource,
+    RunReport, Seeds,
 };
 
 /// Grid points per unit length: x = k / 2^20, the domain is [0, 1].
@@ -439,10 +438,13 @@ pub fn graph(problem: &Problem) -> QuadratureGraph {
         .constant("MAX_DEPTH", MAX_DEPTH)
         .constant("THRESHOLD", problem.threshold)
         .constant("TALLY_STRIDE", TALLY_STRIDE);
-    graph.library(&Bump::wgsl_struct());
     graph.library(WGSL_LIBRARY);
-    graph.resource(Resource::storage_read("bumps", "array<Bump>"));
-    graph.resource(Resource::storage("tally", "array<atomic<u32>>"));
+    // The typed resource declares `struct Bump` from the Rust type.
+    graph.resource(Resource::storage_read::<[Bump]>("bumps"));
+    graph.resource(
+        Resource::storage::<[Atomic<u32>]>("tally")
+            .min_len(u64::from(TALLY_STRIDE * (MAX_DEPTH + 1))),
+    );
     let refine = graph.procedure(
         Procedure::of::<Interval>("Refine")
             .initial(true)
@@ -476,31 +478,13 @@ pub fn run(
     ))?;
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, config)?;
 
-    let bumps = gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("bumps"),
-            contents: bytemuck::cast_slice(&problem.bumps),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+    // The executor creates, fills and reads the typed resources' buffers.
+    executor.write("bumps", &problem.bumps)?;
     let tally_words = (TALLY_STRIDE * (MAX_DEPTH + 1)) as usize;
-    let tally = gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("tally"),
-            contents: bytemuck::cast_slice(&vec![0u32; tally_words]),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        });
+    executor.write("tally", &vec![0u32; tally_words])?;
     let roots = roots(problem);
-    let report = executor.run(
-        &Seeds::new().add(&refine, &roots),
-        &[
-            Binding::buffer("bumps", &bumps),
-            Binding::buffer("tally", &tally),
-        ],
-    )?;
-    let bytes = read_buffer(&gpu.device, &gpu.queue, &tally, config.timeout)?;
-    let words: &[u32] = bytemuck::cast_slice(&bytes);
+    let report = executor.run(&Seeds::new().add(&refine, &roots), &[])?;
+    let words = executor.read::<u32>("tally")?;
     let mut gpu_tally = Tally::new();
     for (d, chunk) in words.chunks_exact(TALLY_STRIDE as usize).enumerate() {
         gpu_tally.accepted[d] = chunk[0];

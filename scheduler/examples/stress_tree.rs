@@ -12,7 +12,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let gpu = Gpu::new(&Default::default())?;
     let mut g = Graph::new("tree");
     g.constant("DEPTH", 19u32);
-    g.resource(Resource::storage("log", "array<atomic<u32>>"));
+    g.resource(Resource::storage::<[Atomic<u32>]>("log").min_len(65));
     let grow = g.procedure(Procedure::of::<Node>("Grow").initial(true).body("if (valid) {
     if (item.check != (item.id ^ (item.depth * 2654435761u) ^ 0xa5a5a5a5u)) {
         let n = atomicAdd(&log[0], 1u);
@@ -37,14 +37,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         features: feats,
         ..Default::default()
     })?;
-    let log = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: 4 * 65,
-        usage: wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_SRC
-            | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
     let root = Node {
         depth: 0,
         id: 1,
@@ -67,20 +59,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 ..Default::default()
             },
         )?;
-        let mut enc = gpu.device.create_command_encoder(&Default::default());
-        enc.clear_buffer(&log, 0, None);
-        gpu.queue.submit([enc.finish()]);
-        let r = e.run(
-            &Seeds::new().add(&grow, &[root]),
-            &[Binding::buffer("log", &log)],
-        );
-        let bytes = readback::read_buffer(
-            &gpu.device,
-            &gpu.queue,
-            &log,
-            std::time::Duration::from_secs(20),
-        )?;
-        let l: &[u32] = bytemuck::cast_slice(&bytes);
+        e.create_buffer("log", 65)?;
+        let r = e.run(&Seeds::new().add(&grow, &[root]), &[]);
+        let l = e.read::<u32>("log")?;
         if l[0] > 0 || r.is_err() {
             println!(
                 "run {run}: {} corrupted; first: {:x?}; {:?}",

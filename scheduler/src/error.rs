@@ -247,6 +247,19 @@ pub enum RunError {
     /// The bindings given do not match the graph's declared resources.
     #[error("binding problem: {0}")]
     Binding(String),
+    /// A buffer bound (or created) for a typed resource is smaller than the
+    /// resource's declared minimum; the run did not start.
+    #[error(
+        "resource `{resource}` is bound to {bytes} bytes but needs at least {needed}; the run did not start"
+    )]
+    BufferTooSmall {
+        /// The resource.
+        resource: String,
+        /// Bytes bound.
+        bytes: u64,
+        /// Bytes its declared minimum length needs.
+        needed: u64,
+    },
     /// The configuration asks for more memory than the device allows.
     #[error("configuration needs a {what} of {needed} bytes but the device allows {limit}")]
     TooLarge {

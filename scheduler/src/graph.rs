@@ -7,7 +7,7 @@ use std::fmt;
 use std::marker::PhantomData;
 use std::sync::Arc;
 
-use crate::{ConstantValue, Item, ItemType, ProcedureId, Untyped, WgslStructs, WgslType};
+use crate::{ConstantValue, Item, ItemType, ProcedureId, Resource, Untyped, WgslStructs, WgslType};
 
 /// Default priority of a procedure. Higher runs first under
 /// [`Policy::Priority`](crate::Policy::Priority).
@@ -233,72 +233,6 @@ pub struct Connection {
     pub(crate) from: String,
     pub(crate) to: String,
     pub(crate) fan_out: u32,
-}
-
-/// Access mode of a storage buffer resource.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Access {
-    /// `var<storage, read>`
-    Read,
-    /// `var<storage, read_write>`
-    ReadWrite,
-}
-
-/// An extra resource that bodies and the library use, bound in group 1 in
-/// declaration order.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Resource {
-    /// A storage buffer `var<storage, access> name: wgsl_type`.
-    Storage {
-        /// WGSL variable name.
-        name: String,
-        /// WGSL type, e.g. `array<atomic<u32>>`.
-        wgsl_type: String,
-        /// Read-only or read-write.
-        access: Access,
-    },
-    /// A uniform buffer `var<uniform> name: wgsl_type`.
-    Uniform {
-        /// WGSL variable name.
-        name: String,
-        /// WGSL type (a struct declared in the library, typically).
-        wgsl_type: String,
-    },
-}
-
-impl Resource {
-    /// A read-write storage buffer.
-    pub fn storage(name: impl Into<String>, wgsl_type: impl Into<String>) -> Self {
-        Self::Storage {
-            name: name.into(),
-            wgsl_type: wgsl_type.into(),
-            access: Access::ReadWrite,
-        }
-    }
-
-    /// A read-only storage buffer.
-    pub fn storage_read(name: impl Into<String>, wgsl_type: impl Into<String>) -> Self {
-        Self::Storage {
-            name: name.into(),
-            wgsl_type: wgsl_type.into(),
-            access: Access::Read,
-        }
-    }
-
-    /// A uniform buffer.
-    pub fn uniform(name: impl Into<String>, wgsl_type: impl Into<String>) -> Self {
-        Self::Uniform {
-            name: name.into(),
-            wgsl_type: wgsl_type.into(),
-        }
-    }
-
-    /// The WGSL variable name.
-    pub fn name(&self) -> &str {
-        match self {
-            Self::Storage { name, .. } | Self::Uniform { name, .. } => name,
-        }
-    }
 }
 
 /// A procedure graph: compile it with [`Graph::compile`].

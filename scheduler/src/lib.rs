@@ -97,7 +97,7 @@
 //! # use scheduler::Procedure;
 //! # #[scheduler::item] struct Row { index: u32 }
 //! # let mut graph = scheduler::Graph::new("rows");
-//! graph.resource(scheduler::Resource::storage("rows", "array<f32>"));
+//! graph.resource(scheduler::Resource::storage::<[f32]>("rows"));
 //! graph.procedure(Procedure::of::<Row>("Normalize").initial(true).threads_per_item(32).body(
 //!     "var value = 0.0;
 //!      if (valid) { value = rows[item.index * 32u + thread]; }
@@ -123,6 +123,7 @@ mod handle;
 mod item;
 mod options;
 pub mod readback;
+mod resource;
 mod runtime;
 
 pub use adapter::{DeviceRequest, Gpu};
@@ -130,10 +131,11 @@ pub use compile::CompiledGraph;
 pub use compile::plan::QueuePlan;
 pub use constant::ConstantValue;
 pub use error::{CompileError, DeviceError, RunError, SourceOrigin};
-pub use graph::{Access, Connection, DEFAULT_PRIORITY, Graph, Procedure, Resource};
+pub use graph::{Connection, DEFAULT_PRIORITY, Graph, Procedure};
 pub use handle::{ProcedureId, Untyped};
 pub use item::{Item, ItemType, WgslStructs, WgslType, layout as wgsl_layout};
 pub use options::{CompileOptions, MAX_CHUNKS_PER_BATCH, Policy, recommended_features};
+pub use resource::{Access, Atomic, BufferContents, BufferShape, Resource, ResourceKind};
 pub use runtime::config::{
     CPU_CHUNK_BUDGET, CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, Capacities, DEFAULT_CAPACITY,
     DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,

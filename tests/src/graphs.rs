@@ -74,7 +74,7 @@ pub fn hashing_tree(depth: u32) -> Tree {
             grow_body(depth)
         ),
     );
-    tree.graph.resource(Resource::storage("out", "array<u32>"));
+    tree.graph.resource(Resource::storage::<[u32]>("out"));
     tree
 }
 
@@ -103,7 +103,7 @@ fn tree_graph(name: &str, body: String) -> Tree {
 /// an item.
 pub fn scratch_sum() -> WithIds<ProcedureId<Node>> {
     let mut graph = Graph::new("scratch sum");
-    graph.resource(Resource::storage("out", "array<u32>"));
+    graph.resource(Resource::storage::<[u32]>("out"));
     let sum = graph.procedure(
         Procedure::of::<Node>("Sum")
             .initial(true)

@@ -347,8 +347,8 @@ fn reserved_names_in_the_library() {
 #[test]
 fn resource_problems() {
     let mut g = Graph::new("resources");
-    g.resource(Resource::storage("out", "array<u32>"))
-        .resource(Resource::storage_read("out", "array<u32>"));
+    g.resource(Resource::storage::<[u32]>("out"))
+        .resource(Resource::storage_read::<[u32]>("out"));
     g.procedure(leaf("A"));
     assert!(
         matches!(compile(&g).unwrap_err(), CompileError::Resource(m) if m.contains("duplicate"))
@@ -356,7 +356,7 @@ fn resource_problems() {
 
     let mut g = Graph::new("too many");
     for i in 0..6 {
-        g.resource(Resource::storage(format!("buffer{i}"), "array<u32>"));
+        g.resource(Resource::storage::<[u32]>(format!("buffer{i}")));
     }
     g.procedure(leaf("A"));
     assert!(matches!(compile(&g).unwrap_err(), CompileError::Resource(m) if m.contains("exceed")));
@@ -415,4 +415,31 @@ fn wgsl_error_in_the_library_is_located_in_the_library() {
 #[test]
 fn item_type_helper_reports_size() {
     assert_eq!(node_type().size(), std::mem::size_of::<Node>());
+}
+
+/// A hand-written `WgslType` that states `vec3<f32>` for a 12-byte Rust
+/// type: WGSL's array stride is 16, so host and shader would disagree on
+/// every element after the first. naga's layout of the module catches it.
+#[test]
+fn a_typed_resource_whose_wgsl_stride_differs_from_rust_is_refused() {
+    #[repr(C)]
+    #[derive(Clone, Copy, scheduler::bytemuck::Pod, scheduler::bytemuck::Zeroable)]
+    struct Point([f32; 3]);
+    impl scheduler::WgslType for Point {
+        const WGSL_ALIGN: usize = 4;
+        const WGSL_SIZE: usize = 12;
+        fn wgsl_type() -> String {
+            "vec3<f32>".to_owned()
+        }
+    }
+    let mut g = Graph::new("stride");
+    g.resource(Resource::storage::<[Point]>("points"));
+    g.procedure(leaf("A"));
+    match compile(&g).unwrap_err() {
+        CompileError::Resource(message) => assert!(
+            message.contains("points") && message.contains("16") && message.contains("12"),
+            "{message}"
+        ),
+        other => panic!("expected a resource error, got {other}"),
+    }
 }

@@ -35,9 +35,9 @@ fn helpers_graph(threads: u32) -> (Graph, ProcedureId<Job>) {
     graph
         .constant("THREADS", threads)
         .constant("RESULTS", RESULTS as u32)
-        .resource(Resource::storage_read("words", "array<u32>"))
-        .resource(Resource::storage_read("reals", "array<f32>"))
-        .resource(Resource::storage("out", "array<u32>"));
+        .resource(Resource::storage_read::<[u32]>("words"))
+        .resource(Resource::storage_read::<[f32]>("reals"))
+        .resource(Resource::storage::<[u32]>("out"));
     let id = graph.procedure(
         Procedure::of::<Job>("Reduce")
             .initial(true)
@@ -310,7 +310,7 @@ fn the_generated_module_validates_and_declares_helpers_only_when_used() {
         // One word per thread, rounded to 16 bytes, plus the typed scratch.
         let without = {
             let mut plain = Graph::new("plain");
-            plain.resource(Resource::storage("out", "array<u32>"));
+            plain.resource(Resource::storage::<[u32]>("out"));
             plain.procedure(
                 Procedure::of::<Job>("Reduce")
                     .initial(true)

@@ -233,7 +233,9 @@ fn retry_grows_the_queues_and_matches_a_large_enough_run() {
 fn counted_tree(depth: u32) -> scheduler::Graph {
     let mut graph = scheduler::Graph::new("counted tree");
     graph.constant("DEPTH", depth);
-    graph.resource(scheduler::Resource::storage("levels", "array<atomic<u32>>"));
+    graph.resource(scheduler::Resource::storage::<[scheduler::Atomic<u32>]>(
+        "levels",
+    ));
     let grow = graph.procedure(scheduler::Procedure::of::<Node>("Grow").initial(true).body(
         "if (valid) {
     atomicAdd(&levels[item.depth], 1u);

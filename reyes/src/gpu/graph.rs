@@ -19,7 +19,8 @@
 //! drift apart.
 
 use scheduler::{
-    CompileError, CompileOptions, CompiledGraph, Graph, Policy, Procedure, Resource, item_type,
+    Atomic, CompileError, CompileOptions, CompiledGraph, Graph, Policy, Procedure, Resource,
+    item_type,
 };
 
 use crate::aov::Aov;
@@ -431,12 +432,12 @@ pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
     graph.library(DISPLACEMENT_WGSL);
     graph.library(user_displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));
     // Declaration order = binding order in group 1 (see `buffers.rs`).
-    graph.resource(Resource::uniform("frame", "Frame"));
-    graph.resource(Resource::storage_read("objects", "array<Object>"));
-    graph.resource(Resource::storage_read("lights", "array<Light>"));
-    graph.resource(Resource::storage("framebuffer", "array<atomic<u64>>"));
-    graph.resource(Resource::storage("stats", "array<atomic<u32>>"));
-    graph.resource(Resource::storage_read("height_texels", "array<f32>"));
+    graph.resource(Resource::uniform_wgsl("frame", "Frame"));
+    graph.resource(Resource::storage_read_wgsl("objects", "array<Object>"));
+    graph.resource(Resource::storage_read_wgsl("lights", "array<Light>"));
+    graph.resource(Resource::storage_wgsl("framebuffer", "array<atomic<u64>>"));
+    graph.resource(Resource::storage::<[Atomic<u32>]>("stats"));
+    graph.resource(Resource::storage_read::<[f32]>("height_texels"));
     let bound = graph.procedure(
         Procedure::new(BOUND, patch.clone())
             .initial(true)

@@ -6,7 +6,7 @@
 
 use crate::codegen::generate::{ENTRY_POINT, PREPARE_ENTRY_POINT, round_entry_point};
 use crate::codegen::uniform;
-use crate::{Access, Resource};
+use crate::{Access, Resource, ResourceKind};
 
 /// Bind group of the scheduler's own buffers.
 pub(crate) const SCHEDULER_GROUP: u32 = 0;
@@ -188,11 +188,11 @@ const _: () = {
 
 /// How a graph resource is bound.
 pub(crate) fn resource_kind(resource: &Resource) -> BufferKind {
-    match resource {
-        Resource::Storage { access, .. } => BufferKind::Storage {
-            read_only: *access == Access::Read,
+    match resource.kind() {
+        ResourceKind::Storage(access) => BufferKind::Storage {
+            read_only: access == Access::Read,
         },
-        Resource::Uniform { .. } => BufferKind::Uniform,
+        ResourceKind::Uniform => BufferKind::Uniform,
     }
 }
 
@@ -283,19 +283,14 @@ impl SchedulerBinding {
 pub(crate) fn declarations(shape: Shape, resources: &[Resource]) -> Vec<Declaration> {
     let scheduler = SCHEDULER_BINDINGS.iter().map(|b| b.declaration(shape));
     let graph = resource_bindings(resources).map(|(binding, resource)| {
-        let (name, ty) = match resource {
-            Resource::Storage {
-                name, wgsl_type, ..
-            }
-            | Resource::Uniform { name, wgsl_type } => (name, wgsl_type),
-        };
+        let (name, ty) = (resource.name(), resource.wgsl_type());
         Declaration {
             group: RESOURCE_GROUP,
             binding,
             decoration: None,
             kind: resource_kind(resource),
-            name: name.clone(),
-            ty: ty.clone(),
+            name: name.to_owned(),
+            ty: ty.to_owned(),
             doc: "User resource.".to_owned(),
         }
     });
@@ -352,7 +347,7 @@ mod tests {
             queues: 2,
             coherent: false,
         };
-        let resources = [Resource::storage("out", "array<u32>")];
+        let resources = [Resource::storage::<[u32]>("out")];
         let all = declarations(shape, &resources);
         let mut places: Vec<(u32, u32)> = all.iter().map(|d| (d.group, d.binding)).collect();
         places.sort();

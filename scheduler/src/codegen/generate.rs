@@ -10,6 +10,7 @@ use crate::codegen::kernels::{
 };
 use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
 use crate::codegen::{globals, helpers};
+use crate::compile::ExtraStructs;
 use crate::compile::layout::{ItemLayout, encode_name};
 use crate::compile::plan::{Plan, control};
 use crate::graph::Procedure;
@@ -64,7 +65,7 @@ pub(crate) fn generate(
     procedures: &[Procedure],
     library: &str,
     items: &BTreeMap<String, (String, ItemLayout)>,
-    scratch_structs: &[(String, String)],
+    extra_structs: &[ExtraStructs],
 ) -> KernelModule {
     let n = plan.queues.len();
     let mut module = KernelModule {
@@ -189,11 +190,11 @@ pub(crate) fn generate(
         });
     }
 
-    for (procedure, text) in scratch_structs {
+    for extra in extra_structs {
         module.items.push(Verbatim {
-            title: format!("scratch type of {procedure}"),
-            text: text.clone(),
-            origin: SourceOrigin::Item(procedure.clone()),
+            title: extra.title.clone(),
+            text: extra.text.clone(),
+            origin: SourceOrigin::Item(extra.origin.clone()),
         });
     }
 

@@ -1,12 +1,13 @@
-//! Checks on the parsed module: reserved names and the enqueue call graph.
+//! Checks on the parsed module: reserved names, the enqueue call graph, and
+//! the layout of typed resources.
 
 use std::collections::{BTreeSet, HashMap};
 
 use naga::{Block, Function, Handle, Module, Statement};
 
-use crate::CompileError;
 use crate::codegen::generate::{body_name, enqueue_name};
 use crate::compile::plan::Plan;
+use crate::{CompileError, Resource};
 
 const RESERVED_PREFIXES: [&str; 3] = ["sched_", "SCHED_", "enqueue_"];
 
@@ -111,4 +112,43 @@ fn collect_calls(block: &Block, out: &mut Vec<Handle<Function>>) {
             _ => {}
         }
     }
+}
+
+/// Checks every typed resource against the module naga laid out: the array
+/// stride of an `array<T>`, or the size of a single `T`, must be the element
+/// size the host writes and reads. The derive makes them agree; this catches
+/// a hand-written [`WgslType`](crate::WgslType) that does not.
+pub(crate) fn resource_layouts(
+    module: &Module,
+    resources: &[Resource],
+) -> Result<(), CompileError> {
+    let mut layouter = naga::proc::Layouter::default();
+    layouter
+        .update(module.to_ctx())
+        .map_err(|e| CompileError::Resource(format!("naga cannot lay out the module: {e}")))?;
+    for resource in resources {
+        let Some(shape) = resource.shape() else {
+            continue;
+        };
+        let Some((_, global)) = module
+            .global_variables
+            .iter()
+            .find(|(_, g)| g.name.as_deref() == Some(resource.name()))
+        else {
+            continue;
+        };
+        let wgsl_bytes = match module.types[global.ty].inner {
+            naga::TypeInner::Array { stride, .. } if shape.runtime_array => u64::from(stride),
+            _ => u64::from(layouter[global.ty].size),
+        };
+        if wgsl_bytes != shape.element_bytes {
+            return Err(CompileError::Resource(format!(
+                "resource `{}`: WGSL lays out `{}` with {wgsl_bytes} bytes per element, the Rust type has {}",
+                resource.name(),
+                resource.wgsl_type(),
+                shape.element_bytes
+            )));
+        }
+    }
+    Ok(())
 }

@@ -166,7 +166,7 @@ impl Graph {
 
         check_resources(self, options)?;
         crate::constant::check(&self.constants)?;
-        let (items, scratch_structs) = item_layouts(self)?;
+        let (items, extra_structs) = item_layouts(self)?;
 
         // Queue plans: staging capacity of a queue is the most items any single
         // source batch (all its chunks) may stage into it.
@@ -231,7 +231,7 @@ impl Graph {
             &self.procedures,
             &self.library,
             &items,
-            &scratch_structs,
+            &extra_structs,
         );
         kernel
             .constants
@@ -240,6 +240,7 @@ impl Graph {
         let (module, _info) = diagnostics::parse_and_validate(&rendered, options.features)?;
         checks::reserved_names(&module, &generated_names(&kernel))?;
         checks::enqueue_call_graph(&module, &plan)?;
+        checks::resource_layouts(&module, &plan.resources)?;
         let workgroup_bytes = workgroup::check(
             &module,
             &plan,
@@ -310,17 +311,27 @@ fn check_resources(graph: &Graph, options: &CompileOptions) -> Result<(), Compil
     Ok(())
 }
 
-/// Item layouts by WGSL name, and the struct declarations typed scratch adds
-/// (procedure name, declarations).
-type Layouts = (
-    BTreeMap<String, (String, ItemLayout)>,
-    Vec<(String, String)>,
-);
+/// Item layouts by WGSL name, and the struct declarations that typed scratch
+/// and typed resources add.
+type Layouts = (BTreeMap<String, (String, ItemLayout)>, Vec<ExtraStructs>);
+
+/// Struct declarations a typed scratch or a typed resource needs and no item
+/// type declares.
+#[derive(Debug)]
+pub(crate) struct ExtraStructs {
+    /// The section title in the generated module.
+    pub(crate) title: String,
+    /// The procedure or resource that needs them (for error locations).
+    pub(crate) origin: String,
+    /// The declarations.
+    pub(crate) text: String,
+}
 
 /// Parses every distinct item declaration and checks its layout. Returns a
 /// sorted map so the generated module does not depend on declaration order of
 /// equal item types. Then adds the structs of typed scratch that no item type
-/// declares, in procedure order.
+/// declares, in procedure order, and those of typed resources, in
+/// declaration order.
 fn item_layouts(graph: &Graph) -> Result<Layouts, CompileError> {
     let mut sources: BTreeMap<String, &crate::ItemType> = BTreeMap::new();
     for p in &graph.procedures {
@@ -362,7 +373,7 @@ fn item_layouts(graph: &Graph) -> Result<Layouts, CompileError> {
         let layout = layout::analyze(item, &module, &layouter)?;
         layouts.insert(name, (declared.fresh(item)?, layout));
     }
-    let mut scratch = Vec::new();
+    let mut extra = Vec::new();
     for p in &graph.procedures {
         let Some(ty) = &p.scratch_type else { continue };
         let text =
@@ -377,8 +388,31 @@ fn item_layouts(graph: &Graph) -> Result<Layouts, CompileError> {
                     ),
                 })?;
         if !text.is_empty() {
-            scratch.push((p.name.clone(), text));
+            extra.push(ExtraStructs {
+                title: format!("scratch type of {}", p.name),
+                origin: p.name.clone(),
+                text,
+            });
         }
     }
-    Ok((layouts, scratch))
+    for r in &graph.resources {
+        let text = declared
+            .fresh_structs(&r.structs)
+            .map_err(|name| CompileError::ItemLayoutMismatch {
+                item: name.clone(),
+                rust: r.wgsl_type.clone(),
+                detail: format!(
+                    "the type of resource `{}` declares a WGSL struct `{name}` that an item or scratch type declares differently",
+                    r.name
+                ),
+            })?;
+        if !text.is_empty() {
+            extra.push(ExtraStructs {
+                title: format!("types of resource {}", r.name),
+                origin: r.name.clone(),
+                text,
+            });
+        }
+    }
+    Ok((layouts, extra))
 }

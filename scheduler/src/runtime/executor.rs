@@ -10,6 +10,7 @@ use crate::readback::{LONGEST_WAIT, map_read};
 use crate::runtime::config::{
     CPU_CHUNK_BUDGET, CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, DEFAULT_WORKGROUPS, ExecutorConfig,
 };
+use crate::runtime::resources::OwnedBuffers;
 use crate::runtime::state::{Layouts, QueueState, Tuning};
 use crate::{CompiledGraph, ProcedureStats, RunError, RunReport, Seeds, Strategy};
 
@@ -95,18 +96,20 @@ impl std::fmt::Debug for Retry<'_> {
 /// them; each run starts from empty queues.
 #[derive(Debug)]
 pub struct Executor {
-    device: wgpu::Device,
-    queue: wgpu::Queue,
-    compiled: CompiledGraph,
+    pub(super) device: wgpu::Device,
+    pub(super) queue: wgpu::Queue,
+    pub(super) compiled: CompiledGraph,
     module: wgpu::ShaderModule,
     layouts: Layouts,
-    resource_layout: Option<wgpu::BindGroupLayout>,
+    pub(super) resource_layout: Option<wgpu::BindGroupLayout>,
+    /// Buffers created for typed resources.
+    pub(super) owned: OwnedBuffers,
     megakernel: wgpu::ComputePipeline,
     rounds: Option<RoundPipelines>,
     state: QueueState,
     timestamps: Option<Timestamps>,
     tuning: Tuning,
-    timeout: Duration,
+    pub(super) timeout: Duration,
 }
 
 impl Executor {
@@ -232,6 +235,7 @@ impl Executor {
             module,
             layouts,
             resource_layout,
+            owned: OwnedBuffers::default(),
             megakernel,
             rounds: None,
             state,
@@ -607,52 +611,6 @@ impl Executor {
             procedures,
         });
         Ok(())
-    }
-
-    fn resource_bind_group(
-        &self,
-        bindings: &[Binding<'_>],
-    ) -> Result<Option<wgpu::BindGroup>, RunError> {
-        for b in bindings {
-            if !self
-                .compiled
-                .plan
-                .resources
-                .iter()
-                .any(|r| r.name() == b.name)
-            {
-                return Err(RunError::Binding(format!(
-                    "`{}` is not a declared resource",
-                    b.name
-                )));
-            }
-        }
-        let Some(layout) = &self.resource_layout else {
-            return Ok(None);
-        };
-        let mut entries = Vec::with_capacity(self.compiled.plan.resources.len());
-        for (index, resource) in resource_bindings(&self.compiled.plan.resources) {
-            let binding = bindings
-                .iter()
-                .find(|b| b.name == resource.name())
-                .ok_or_else(|| {
-                    RunError::Binding(format!("resource `{}` is not bound", resource.name()))
-                })?;
-            entries.push(wgpu::BindGroupEntry {
-                binding: index,
-                resource: binding.resource.clone(),
-            });
-        }
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("graph resources"),
-            layout,
-            entries: &entries,
-        });
-        if let Some(error) = pollster::block_on(scope.pop()) {
-            return Err(RunError::Binding(error.to_string()));
-        }
-        Ok(Some(group))
     }
 }
 
