@@ -74,7 +74,9 @@ fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
         println!("wrote {}", path.display());
     }
     if let Some(display) = &rib.display {
-        println!("the RIB's Display file is {display} (render with -o {display})");
+        println!(
+            "the RIB's Display file is {display}: reyes render writes the image there unless -o is given"
+        );
     }
     Ok(())
 }
@@ -133,8 +135,10 @@ struct RenderArgs {
     /// or `.exr` (OpenEXR, float linear RGBA), case-insensitive. Missing
     /// directories are created. Checked before rendering, written through a
     /// temporary file renamed over it, so a failure leaves no partial file.
-    #[arg(short, long, default_value = "reyes.png")]
-    output: PathBuf,
+    /// Default: a RIB scene's `Display` file (relative to the current
+    /// directory), else `reyes.png`.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
     /// Image width in pixels (default: the scene's, 800).
     #[arg(long)]
     width: Option<u32>,
@@ -349,7 +353,7 @@ fn base_scene(path: Option<&Path>) -> Result<(Scene, Option<Vec<Model>>), BoxErr
             }
             if let Some(display) = &rib.display {
                 eprintln!(
-                    "note: the RIB's Display file {display} is not used; the image goes to -o"
+                    "note: the RIB's Display file is {display}: the image goes there unless -o is given"
                 );
             }
             // The models stay in memory: nothing is written for a render.
@@ -604,10 +608,11 @@ fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
 }
 
 fn render(args: &RenderArgs) -> Result<(), BoxError> {
-    let outputs = check_outputs(args)?;
     if let Some(bytes) = args.max_input_bytes {
         reyes::input::set_limits(Limits::all(bytes));
     }
+    let output = output_path(args)?;
+    let outputs = check_outputs(args, &output)?;
     let scene = prepare(args)?;
     let (image, stats, backend) = if args.cpu {
         // The reference's frame, work and time bounds; --timeout as on the GPU.
@@ -643,7 +648,7 @@ fn render(args: &RenderArgs) -> Result<(), BoxError> {
     outputs.write(&image, &stats)?;
     println!(
         "wrote {} ({}x{}, {} spp)",
-        args.output.display(),
+        output.display(),
         scene.camera.width,
         scene.camera.height,
         scene.spp
@@ -659,10 +664,29 @@ fn render(args: &RenderArgs) -> Result<(), BoxError> {
     Ok(())
 }
 
+/// The image's path: `-o`, else a RIB scene's `Display` file (read up to
+/// `WorldBegin`; a relative name is relative to the current directory, as in
+/// RenderMan), else `reyes.png`.
+fn output_path(args: &RenderArgs) -> Result<PathBuf, BoxError> {
+    if let Some(output) = &args.output {
+        return Ok(output.clone());
+    }
+    let rib = args
+        .scene
+        .as_deref()
+        .filter(|s| s.extension().is_some_and(|e| e.eq_ignore_ascii_case("rib")));
+    if let Some(scene) = rib
+        && let Some(display) = reyes::rib::RibScene::display_of(scene)?
+    {
+        return Ok(PathBuf::from(display));
+    }
+    Ok(PathBuf::from("reyes.png"))
+}
+
 /// Checks the output paths before any work (see
 /// [`reyes::output::OutputPlan::check`]): a render must not run for minutes
 /// towards an output it cannot write, or overwrite its own inputs.
-fn check_outputs(args: &RenderArgs) -> Result<reyes::output::OutputPlan, BoxError> {
+fn check_outputs(args: &RenderArgs, output: &Path) -> Result<reyes::output::OutputPlan, BoxError> {
     let mut inputs: Vec<(&str, &Path)> = Vec::new();
     if let Some(scene) = &args.scene {
         inputs.push(("scene", scene));
@@ -676,7 +700,7 @@ fn check_outputs(args: &RenderArgs) -> Result<reyes::output::OutputPlan, BoxErro
         inputs.push(("displacement", Path::new(source)));
     }
     Ok(reyes::output::OutputPlan::check(
-        &args.output,
+        output,
         args.stats_json.as_deref(),
         &inputs,
     )?)

@@ -12,6 +12,9 @@ use reyes::prepare::PreparedScene;
 use reyes::rib::{RibError, RibScene};
 use reyes::scene::Scene;
 
+#[path = "rib/quadrics.rs"]
+mod quadrics;
+
 fn data(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/rib")
@@ -417,11 +420,11 @@ fn options_are_mapped() {
 fn unsupported_geometry_warns_and_the_rest_renders() {
     let text = std::fs::read_to_string(data("quadrant.rib"))
         .unwrap()
-        .replace("Color [1 1 1]", "Color [1 1 1]\n  Sphere 1 -1 1 360\n  NuPatch 4 4 [0 0 0 0 1 1 1 1] 0 1 4 4 [0 0 0 0 1 1 1 1] 0 1 \"Pw\" [0 0 0 1]\n  Patch \"bilinear\" \"Pw\" [0 0 0 1 1 0 0 1 0 1 0 1 1 1 0 1]");
+        .replace("Color [1 1 1]", "Color [1 1 1]\n  Blobby 0 [] [] []\n  NuPatch 4 4 [0 0 0 0 1 1 1 1] 0 1 4 4 [0 0 0 0 1 1 1 1] 0 1 \"Pw\" [0 0 0 1]\n  Patch \"bilinear\" \"Pw\" [0 0 0 1 1 0 0 1 0 1 0 1 1 1 0 1]");
     let rib = RibScene::from_text(&text, "u.rib").unwrap();
     let all: Vec<String> = rib.warnings.iter().map(ToString::to_string).collect();
     let all = all.join("\n");
-    assert!(all.contains("u.rib:11: Sphere is not supported"), "{all}");
+    assert!(all.contains("u.rib:11: Blobby is not supported"), "{all}");
     assert!(all.contains("u.rib:12: NuPatch is not supported"), "{all}");
     assert!(all.contains("u.rib:13: Patch with \"Pw\""), "{all}");
     assert_eq!(quadrants(&rib), [0, 81, 0, 0]);
@@ -610,12 +613,12 @@ fn transforms_stack_and_motion_maps_to_transform_close() {
 fn warnings_are_capped() {
     let text = format!(
         "WorldBegin\n{}WorldEnd\n",
-        "Sphere 1 -1 1 360\n".repeat(500)
+        "Points \"P\" [0 0 1]\n".repeat(500)
     );
     let rib = RibScene::from_text(&text, "w.rib").unwrap();
     let shown: Vec<String> = rib.warnings.iter().map(ToString::to_string).collect();
-    let spheres = shown.iter().filter(|w| w.contains("Sphere")).count();
-    assert_eq!(spheres, reyes::rib::interp::MAX_WARNINGS);
+    let points = shown.iter().filter(|w| w.contains("Points")).count();
+    assert_eq!(points, reyes::rib::interp::MAX_WARNINGS);
     assert!(
         shown
             .iter()

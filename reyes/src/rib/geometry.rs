@@ -1,15 +1,119 @@
-//! The interpreter's transform, basis and geometry requests.
+//! The interpreter's transform, motion, basis and geometry requests (the
+//! quadrics in [`super::quadrics`]).
 
 use std::path::Path;
 
 use glam::{DMat4, DVec3};
 
 use super::basis::{self, MeshDir, Wrap};
-use super::interp::{Interp, MAX_PATCHES, Prim, camera_to_world};
+use super::interp::{Interp, MAX_PATCHES, Motion, Prim, camera_to_world};
 use super::parser::Value;
 use super::state;
 
+/// The geometric primitives, supported or not (`ObjectInstance` too).
+const GEOMETRY: [&str; 21] = [
+    "Patch",
+    "PatchMesh",
+    "Polygon",
+    "Sphere",
+    "Cone",
+    "Cylinder",
+    "Hyperboloid",
+    "Paraboloid",
+    "Disk",
+    "Torus",
+    "NuPatch",
+    "SubdivisionMesh",
+    "Curves",
+    "Points",
+    "PointsPolygons",
+    "PointsGeneralPolygons",
+    "GeneralPolygon",
+    "Blobby",
+    "Procedural",
+    "Geometry",
+    "TrimCurve",
+];
+
+/// Whether `name` is a geometry request ([`Interp::geometry_request`]).
+pub(super) fn is_geometry(name: &str) -> bool {
+    GEOMETRY.contains(&name) || name == "ObjectInstance"
+}
+
 impl Interp {
+    /// Runs geometry request `name`: patches and polygons, the quadrics,
+    /// and a warning for the rest.
+    pub(super) fn geometry_request(
+        &mut self,
+        name: &str,
+        v: &[Value],
+        file: &Path,
+        line: usize,
+    ) -> Result<(), String> {
+        let supported = matches!(name, "Patch" | "PatchMesh" | "Polygon")
+            || super::quadrics::arity(name).is_some();
+        if !supported {
+            self.warn(file, line, format!("{name} is not supported yet; skipped"));
+            return Ok(());
+        }
+        if self.camera.is_none() {
+            return Err("geometry before WorldBegin".into());
+        }
+        if super::quadrics::arity(name).is_some() {
+            self.quadric(name, v, file, line)
+        } else {
+            self.geometry(name, v, file, line)
+        }
+    }
+
+    /// `MotionBegin [t0 t1]` and `MotionEnd`: the transforms between them
+    /// are the samples at shutter open and close.
+    pub(super) fn motion_request(
+        &mut self,
+        name: &str,
+        v: &[Value],
+        file: &Path,
+        line: usize,
+    ) -> Result<(), String> {
+        match name {
+            "MotionBegin" => {
+                if self.motion.is_some() {
+                    return Err("nested MotionBegin".into());
+                }
+                let times =
+                    state::all_nums(v, v.iter().map(|x| x.nums().map_or(1, |n| n.len())).sum())?;
+                if times.len() != 2 {
+                    self.warn(file, line, format!("MotionBegin with {} times: only two (open and close) are supported; the first two samples are used", times.len()));
+                }
+                if times.len() >= 2 {
+                    let t = (times[0], times[1]);
+                    match self.opts.motion_times {
+                        None => self.opts.motion_times = Some(t),
+                        Some(old) if old != t => self.warn(file, line, "MotionBegin times differ from the first block's; the first block's are used".into()),
+                        _ => {}
+                    }
+                }
+                self.motion = Some(Motion {
+                    base: self.xf,
+                    index: 0,
+                    line,
+                });
+            }
+            "MotionEnd" => {
+                let Some(m) = self.motion.take() else {
+                    return Err("without MotionBegin".into());
+                };
+                if m.index == 1 {
+                    // One sample only: the same at open and close.
+                    self.xf.close = self.xf.open;
+                    self.warn(file, m.line, "MotionBegin block with one sample".into());
+                }
+            }
+            _ => unreachable!("only motion requests"),
+        }
+        Ok(())
+    }
+
     pub(super) fn basis(&mut self, v: &[Value]) -> Result<(), String> {
         let mut next = 0;
         let one = |next: &mut usize| -> Result<basis::Basis, String> {

@@ -106,6 +106,8 @@ pub struct Interp {
     pub(super) object_depth: usize,
     /// Warnings beyond [`MAX_WARNINGS`], counted only.
     pub more_warnings: usize,
+    /// Stop reading at `WorldBegin` (only the options are wanted).
+    pub options_only: bool,
 }
 
 /// RenderMan's camera space is left-handed (x right, y up, z forward); the
@@ -138,6 +140,7 @@ impl Interp {
             budget,
             object_depth: 0,
             more_warnings: 0,
+            options_only: false,
         }
     }
 
@@ -186,6 +189,9 @@ impl Interp {
         let result = (|| {
             while let Some(call) = parser.next_call()? {
                 self.call(&call, file)?;
+                if self.options_only && self.camera.is_some() {
+                    break;
+                }
             }
             Ok(())
         })();
@@ -306,39 +312,7 @@ impl Interp {
                 }
                 self.xf = xf;
             }
-            "MotionBegin" => {
-                if self.motion.is_some() {
-                    return Err("nested MotionBegin".into());
-                }
-                let times =
-                    state::all_nums(v, v.iter().map(|x| x.nums().map_or(1, |n| n.len())).sum())?;
-                if times.len() != 2 {
-                    self.warn(file, line, format!("MotionBegin with {} times: only two (open and close) are supported; the first two samples are used", times.len()));
-                }
-                if times.len() >= 2 {
-                    let t = (times[0], times[1]);
-                    match self.opts.motion_times {
-                        None => self.opts.motion_times = Some(t),
-                        Some(old) if old != t => self.warn(file, line, "MotionBegin times differ from the first block's; the first block's are used".into()),
-                        _ => {}
-                    }
-                }
-                self.motion = Some(Motion {
-                    base: self.xf,
-                    index: 0,
-                    line,
-                });
-            }
-            "MotionEnd" => {
-                let Some(m) = self.motion.take() else {
-                    return Err("without MotionBegin".into());
-                };
-                if m.index == 1 {
-                    // One sample only: the same at open and close.
-                    self.xf.close = self.xf.open;
-                    self.warn(file, m.line, "MotionBegin block with one sample".into());
-                }
-            }
+            "MotionBegin" | "MotionEnd" => self.motion_request(name, v, file, line)?,
             "Color" => {
                 let n = state::all_nums(v, 3)?;
                 self.attrs.color = DVec3::new(n[0], n[1], n[2]);
@@ -417,32 +391,8 @@ impl Interp {
             "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale" => {
                 self.transform(name, v)?
             }
-            "Patch" | "PatchMesh" | "Polygon" => {
-                if !world {
-                    return Err("geometry before WorldBegin".into());
-                }
-                self.geometry(name, v, file, line)?;
-            }
-            "Sphere"
-            | "Cone"
-            | "Cylinder"
-            | "Hyperboloid"
-            | "Paraboloid"
-            | "Disk"
-            | "Torus"
-            | "NuPatch"
-            | "SubdivisionMesh"
-            | "Curves"
-            | "Points"
-            | "PointsPolygons"
-            | "PointsGeneralPolygons"
-            | "GeneralPolygon"
-            | "Blobby"
-            | "Procedural"
-            | "Geometry"
-            | "TrimCurve"
-            | "ObjectInstance" => {
-                self.warn(file, line, format!("{name} is not supported yet; skipped"));
+            name if super::geometry::is_geometry(name) => {
+                self.geometry_request(name, v, file, line)?
             }
             "ObjectBegin" => {
                 self.warn(file, line, "ObjectBegin/ObjectInstance are not supported yet; the object definition is skipped".into());

@@ -13,7 +13,8 @@
 //!   values; [`state`]: graphics state and parameter lists;
 //!   [`basis`]: spline bases and the change of basis to Bezier;
 //!   [`interp`]: the interpreter (`options`: its option requests;
-//!   `geometry`: its transform, basis and geometry requests); `convert`: the [`Scene`] it makes.
+//!   `geometry`: its transform, motion, basis and geometry requests;
+//!   [`quadrics`]: the quadrics as Bezier patches); `convert`: the [`Scene`] it makes.
 
 pub mod basis;
 mod convert;
@@ -22,6 +23,7 @@ pub mod interp;
 pub mod lexer;
 mod options;
 pub mod parser;
+pub mod quadrics;
 pub mod state;
 
 use std::path::{Path, PathBuf};
@@ -99,7 +101,8 @@ pub struct RibScene {
     pub scene: Scene,
     /// One model per object.
     pub models: Vec<Model>,
-    /// The first `Display` file name.
+    /// The first `Display` file name (before `WorldBegin`, not `+name`):
+    /// `reyes render` writes the image there unless `-o` is given.
     pub display: Option<String>,
     /// What was ignored or approximated.
     pub warnings: Vec<Warning>,
@@ -141,6 +144,16 @@ impl RibScene {
         let mut interp = interp::Interp::new(crate::input::InputKind::Scene.limit());
         interp.run_file(path)?;
         convert::build(interp, path)
+    }
+
+    /// The first `Display` file name of the RIB file at `path` (not a
+    /// `+name`), reading only up to `WorldBegin` (and the archives read
+    /// before it): what [`RibScene::load`] gives as [`RibScene::display`].
+    pub fn display_of(path: impl AsRef<Path>) -> Result<Option<String>, RibError> {
+        let mut interp = interp::Interp::new(crate::input::InputKind::Scene.limit());
+        interp.options_only = true;
+        interp.run_file(path.as_ref())?;
+        Ok(interp.opts.display)
     }
 
     /// Interprets RIB `text` as if read from the file `name` (which names

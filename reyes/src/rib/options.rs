@@ -76,7 +76,13 @@ impl Interp {
             "Display" => {
                 let (args, _, _) = state::split_params(v, 3, &self.declared)?;
                 let name = state::arg_str(&args, 0, "the file name")?;
-                if self.opts.display.is_none() && !name.starts_with('+') {
+                if world {
+                    self.warn(
+                        file,
+                        line,
+                        "Display inside the world block is ignored (it is an option)".into(),
+                    );
+                } else if self.opts.display.is_none() && !name.starts_with('+') {
                     self.opts.display = Some(name.to_owned());
                 }
             }
