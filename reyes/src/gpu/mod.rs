@@ -5,6 +5,8 @@
 //! * [`buffers`]: the frame uniform, scene buffers, framebuffer and statistics;
 //! * [`objects`]: the per-object table (albedo, displacement) and the
 //!   height-map texels' layout;
+//! * [`loop_limit`]: [`LoopLimitError`], the advice when llvmpipe's loop
+//!   limit cut loops short;
 //! * [`resolve`]: the clear and resolve passes (a plain compute shader);
 //! * [`renderer`]: [`GpuRenderer`], which runs a frame and returns the image
 //!   and [`crate::stats::RenderStats`].
@@ -23,10 +25,12 @@
 
 pub mod buffers;
 pub mod graph;
+pub mod loop_limit;
 pub mod objects;
 pub mod renderer;
 pub mod resolve;
 
+pub use loop_limit::{LoopLimitContext, LoopLimitError, LoopLimitHint};
 pub use renderer::{DEFAULT_RENDER_TIMEOUT, GpuOptions, GpuRendered, GpuRenderer, RenderError};
 
 /// Creates a device with the features the renderer needs

@@ -12,6 +12,7 @@ use scheduler::{
 
 use super::buffers::{FrameBuffers, GpuCounters, texel_buffer_bytes};
 use super::graph::{self, BOUND, DICE, PatchItem, REQUIRED_FEATURES, SPLIT_U, SPLIT_V};
+use super::loop_limit::{LoopLimitContext, LoopLimitError};
 use super::resolve::{ResolveTarget, Resolver};
 use crate::prepare::PreparedScene;
 use crate::stats::RenderStats;
@@ -75,6 +76,12 @@ pub const CPU_RETRY_ITERATION_BUDGET: u32 = 1;
 const MAX_LOOP_RETRIES: u32 = 2;
 /// The split and dice queues are never shrunk below this to fit a device.
 const MIN_WORK_CAPACITY: u32 = 1 << 12;
+/// The work queues are shrunk (down to [`MIN_WORK_CAPACITY`]) to fit the
+/// device only while batches of input patches would be smaller than this:
+/// more runs cost less than overflowing work queues.
+const MIN_BATCH_PATCHES: u32 = 1 << 12;
+/// Bytes of one input patch in the height-map buffer (48 floats).
+const PATCH_BYTES: u64 = 4 * 48;
 
 /// Why a frame could not be rendered.
 #[derive(Debug, thiserror::Error)]
@@ -145,21 +152,40 @@ pub enum RenderError {
     #[error("the Reyes megakernel failed: {0}")]
     Run(#[from] RunError),
     /// llvmpipe's loop limit still cut loops short after the retries with
-    /// one batch per dispatch, so samples would be missing: some item's own
-    /// loops need more iterations than the driver allows one invocation.
-    /// Rasterization loops count their own completion; the scheduler finds
-    /// cut queue waits, which an item's long loops starve of the budget
-    /// they share.
+    /// smaller iteration budgets, so samples would be missing. The error
+    /// gives the facts (workgroups, iteration budget, attempts) and advice
+    /// that follows from the frame's configuration ([`LoopLimitError`]).
+    #[error(transparent)]
+    LoopLimit(Box<LoopLimitError>),
+    /// Not even one input patch fits the Bound queue next to the smallest
+    /// work queues in one device buffer.
     #[error(
-        "llvmpipe's loop limit (65,535 iterations per invocation) cut {rasterization} rasterization loop(s) and {waits} queue wait(s) short in the last of {runs} runs, the retries with one batch per dispatch; the image would be incomplete. A micropolygon's loops are too long for the driver (in the bounding-box and INTERVAL modes: its box in pixels times the samples per pixel). Use fewer samples per pixel, less blur, Interleave or Simple UVT sampling, or a smaller dice threshold"
+        "the scheduler's queues need {needed} bytes for one input patch next to the split and dice queues at their smallest ({work_capacity} items each), but the device allows at most {limit} bytes per buffer: 0 of the {patches} patches fit per batch"
     )]
-    LoopsCut {
-        /// Rasterization loops cut in the last run.
-        rasterization: u32,
-        /// Queue waits cut in the last run.
-        waits: u32,
-        /// Runs of the frame, the retries included.
-        runs: u32,
+    NoBatchFits {
+        /// Input patches of the scene.
+        patches: usize,
+        /// Capacity of each work queue, in items.
+        work_capacity: u32,
+        /// Bytes of the queues for one input patch.
+        needed: u64,
+        /// Bytes allowed per buffer.
+        limit: u64,
+    },
+    /// The input patches (which the megakernel reads from one device buffer
+    /// whatever the batches) do not fit the device next to the height maps.
+    #[error(
+        "the scene's {patches} input patches need {needed} bytes next to the height maps and time/lens tables, but the device allows at most {limit} bytes per buffer: {fit} patches fit; use a model with fewer patches"
+    )]
+    TooManyPatches {
+        /// Input patches of the scene.
+        patches: usize,
+        /// Patches that would fit.
+        fit: u64,
+        /// Bytes needed.
+        needed: u64,
+        /// Bytes allowed.
+        limit: u64,
     },
 }
 
@@ -191,6 +217,12 @@ pub struct GpuOptions {
     /// allow). A frame with more samples is rendered in tiles (see
     /// [`plan_tiles`]); a small cap forces tiling on small frames.
     pub max_tile_samples: Option<u64>,
+    /// Most input patches seeded into one run of the megakernel (`None`: as
+    /// many as the Bound queue holds next to the work queues in one device
+    /// buffer). A scene with more patches is rendered in batches, each run
+    /// into the same framebuffer and statistics, which compose (see
+    /// [`GpuRenderer::render`]); a small value forces batches on small scenes.
+    pub max_batch_patches: Option<u32>,
 }
 
 /// Default host-side limit of one megakernel run. It includes the driver's
@@ -209,6 +241,7 @@ impl Default for GpuOptions {
             strategy: Strategy::Megakernel,
             policy: Policy::Priority,
             max_tile_samples: None,
+            max_batch_patches: None,
         }
     }
 }
@@ -251,6 +284,11 @@ pub struct GpuRendered {
     /// framebuffer exceeds the device's limits or
     /// [`GpuOptions::max_tile_samples`]).
     pub tiles: u32,
+    /// Runs of the megakernel, one per batch of input patches, of the
+    /// successful attempt, summed over the tiles (1 per tile unless the
+    /// patches exceed the Bound queue or [`GpuOptions::max_batch_patches`];
+    /// 0 for a scene without patches).
+    pub batches: u32,
 }
 
 /// A screen tile: the pixels `[x0, x0 + width) x [y0, y0 + height)` of a frame.
@@ -489,6 +527,20 @@ impl<'a> GpuRenderer<'a> {
         // The shaders index texels with u32.
         let texel_limit = limit.min(4 * u64::from(u32::MAX));
         if needed > texel_limit {
+            // The megakernel reads every input patch from this buffer
+            // whatever the batches: say how many patches would fit.
+            let without_patches = texel_buffer_bytes(&PreparedScene {
+                patches: Vec::new(),
+                ..scene.clone()
+            });
+            if without_patches <= texel_limit {
+                return Err(RenderError::TooManyPatches {
+                    patches: scene.patches.len(),
+                    fit: (texel_limit - without_patches) / PATCH_BYTES,
+                    needed,
+                    limit: texel_limit,
+                });
+            }
             return Err(RenderError::HeightMapsTooLarge {
                 needed,
                 limit: texel_limit,
@@ -514,27 +566,48 @@ impl<'a> GpuRenderer<'a> {
         })
     }
 
-    /// Queue capacities for `patches` input patches: every seed fits into
-    /// Bound; the work queues get `work` items, halved while the queues would
-    /// not fit into one device buffer (`memory_plan`).
-    fn capacities(&self, patches: usize, work: u32) -> Capacities {
+    /// Queue capacities, and the input patches per batch, for a scene of
+    /// `patches` input patches: the Bound queue holds one batch of seeds,
+    /// the work queues get `work` items. The batch is every patch (or
+    /// [`GpuOptions::max_batch_patches`]) unless the queues would then not
+    /// fit into one device buffer (`memory_plan`); then it is the largest
+    /// power of two that fits next to `work`, and `work` is halved (down to
+    /// [`MIN_WORK_CAPACITY`]) only while a batch would be smaller than
+    /// [`MIN_BATCH_PATCHES`].
+    fn capacities(&self, patches: usize, work: u32) -> Result<(Capacities, u32), RenderError> {
         let limit = self.buffer_limit();
-        let bound = u32::try_from(patches.max(1)).unwrap_or(u32::MAX);
-        let mut work = work.max(MIN_WORK_CAPACITY);
-        loop {
-            let capacities = DICE.into_iter().fold(
+        let all = u32::try_from(patches.max(1))
+            .unwrap_or(u32::MAX)
+            .min(1 << 31);
+        let wanted = self
+            .options
+            .max_batch_patches
+            .map_or(all, |cap| all.min(cap.max(1)));
+        let with = |bound: u32, work: u32| {
+            DICE.into_iter().fold(
                 Capacities::uniform(work)
                     .with(BOUND, bound)
                     .with(SPLIT_U, work)
                     .with(SPLIT_V, work),
                 |capacities, dice| capacities.with(dice, work),
-            );
-            let config = self.config(capacities.clone(), None);
-            if self.compiled.memory_plan(&config).queue_bytes <= limit || work <= MIN_WORK_CAPACITY
-            {
-                return capacities;
-            }
-            work /= 2;
+            )
+        };
+        let queue_bytes = |capacities: &Capacities| {
+            let plan = self
+                .compiled
+                .memory_plan(&self.config(capacities.clone(), None));
+            plan.queue_bytes.max(plan.control_bytes)
+        };
+        match plan_batch(wanted, work, limit, |bound, work| {
+            queue_bytes(&with(bound, work))
+        }) {
+            Ok(plan) => Ok((with(plan.bound, plan.work), plan.batch)),
+            Err(needed) => Err(RenderError::NoBatchFits {
+                patches,
+                work_capacity: MIN_WORK_CAPACITY,
+                needed,
+                limit,
+            }),
         }
     }
 
@@ -639,6 +712,13 @@ impl<'a> GpuRenderer<'a> {
     /// into the frame and their counters added up. A frame that fits is one
     /// tile and is rendered exactly as without tiling.
     ///
+    /// Within a tile, input patches beyond what the Bound queue holds next
+    /// to the work queues in one device buffer (or beyond
+    /// [`GpuOptions::max_batch_patches`]) are seeded in batches, one run of
+    /// the megakernel each, into the same framebuffer and statistics; the
+    /// image and the counters are those of one run of all patches (see
+    /// [`GpuRendered::batches`]).
+    ///
     /// Within a tile, a queue overflow is retried once from scratch (cleared
     /// framebuffer and statistics) with the work queues' capacities doubled,
     /// and a run whose loops llvmpipe cut short is retried once with
@@ -675,7 +755,7 @@ impl<'a> GpuRenderer<'a> {
             input_patches: scene.patches.len() as u64,
             ..RenderStats::default()
         };
-        let (mut report, mut overflow_retries, mut loop_retries) = (None, 0, 0);
+        let (mut report, mut overflow_retries, mut loop_retries, mut batches) = (None, 0, 0, 0);
         let mut megakernel_gpu_ms = Some(0.0);
         let mut megakernel_wall_ms = 0.0;
         for (index, tile) in tiles.iter().enumerate() {
@@ -711,6 +791,7 @@ impl<'a> GpuRenderer<'a> {
             megakernel_wall_ms += rendered.timings.megakernel_wall_ms;
             overflow_retries += rendered.overflow_retries;
             loop_retries += rendered.loop_retries;
+            batches += rendered.batches;
             report = rendered.report.or(report);
         }
         // The tiles' frame times plus the pasting.
@@ -730,60 +811,54 @@ impl<'a> GpuRenderer<'a> {
                 total_wall_ms,
             },
             tiles: tiles.len() as u32,
+            batches,
         })
     }
 
-    /// Renders `scene`, whose buffers fit the device, in one piece.
+    /// Renders `scene`, whose buffers fit the device, in one piece: one run
+    /// of the megakernel per batch of input patches (see
+    /// [`Self::capacities`]), all into the same framebuffer and statistics.
+    /// The framebuffer keeps the nearest sample (a depth-tested atomicMin)
+    /// and the counters are sums and maxima, so the batches compose into the
+    /// frame one run of every patch would give. A retry starts the whole
+    /// attempt again from a cleared frame.
     fn render_tile(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
         let start = Instant::now();
         self.frame_buffers(scene);
-        let seeds: Vec<PatchItem> = scene
-            .patches
-            .iter()
-            .enumerate()
-            .map(|(index, patch)| PatchItem::input(patch, index as u32))
-            .collect();
         let mut work = self.options.work_capacity;
         let mut budget = self.iteration_budget();
         let mut overflow_retries = 0;
         let mut loop_retries = 0;
-        let mut report = None;
-        let mut megakernel_wall = Duration::ZERO;
+        let mut attempt;
         let counters = loop {
             self.clear_frame();
-            if seeds.is_empty() {
+            if scene.patches.is_empty() {
+                attempt = Attempt::default();
                 break self.read_counters()?;
             }
-            let capacities = self.capacities(seeds.len(), work);
-            let run_start = Instant::now();
-            // The executor borrows `self` mutably; take the buffers out meanwhile.
-            let frame = self.frame.take().expect("prepared above");
-            let strategy = self.options.strategy;
-            let result = self.executor(&capacities, budget).and_then(|executor| {
-                executor
-                    .run_with(
-                        strategy,
-                        &Seeds::new().add_untyped(&scheduler::ProcedureId::named(BOUND), &seeds),
-                        &frame.0.bindings(),
-                    )
-                    .map_err(RenderError::Run)
-            });
-            self.frame = Some(frame);
-            megakernel_wall = run_start.elapsed();
-            match result {
-                Ok(r) => {
-                    report = Some(r);
-                    let counters = self.read_counters()?;
-                    if counters.loops_cut() > 0 && loop_retries < MAX_LOOP_RETRIES {
-                        log::warn!(
-                            "llvmpipe cut {} rasterization loop(s); rendering again with a smaller iteration budget",
-                            counters.loops_cut()
-                        );
-                        loop_retries += 1;
-                        budget = Some(CPU_RETRY_ITERATION_BUDGET);
-                        continue;
-                    }
-                    break counters;
+            let (capacities, batch) = self.capacities(scene.patches.len(), work)?;
+            let (outcome, done) = self.run_batches(scene, &capacities, budget, batch);
+            attempt = done;
+            match outcome {
+                Ok(counters) if counters.loops_cut() == 0 => break counters,
+                Ok(counters) if loop_retries < MAX_LOOP_RETRIES => {
+                    log::warn!(
+                        "llvmpipe cut {} rasterization loop(s); rendering again with a smaller iteration budget",
+                        counters.loops_cut()
+                    );
+                    loop_retries += 1;
+                    budget = Some(CPU_RETRY_ITERATION_BUDGET);
+                }
+                Ok(counters) => {
+                    return Err(self.loop_limit_error(
+                        scene,
+                        &counters,
+                        0,
+                        loop_retries + 1,
+                        &capacities,
+                        budget,
+                        attempt.batch_of(scene.patches.len(), batch),
+                    ));
                 }
                 Err(RenderError::Run(RunError::QueueOverflow {
                     procedure,
@@ -808,22 +883,20 @@ impl<'a> GpuRenderer<'a> {
                 Err(RenderError::Run(RunError::LoopLimit { waits })) => {
                     // The scheduler's own advice (retry with a smaller
                     // budget) is spent: say what is too long instead.
-                    return Err(RenderError::LoopsCut {
-                        rasterization: self.read_counters()?.loops_cut(),
+                    let counters = self.read_counters()?;
+                    return Err(self.loop_limit_error(
+                        scene,
+                        &counters,
                         waits,
-                        runs: loop_retries + 1,
-                    });
+                        loop_retries + 1,
+                        &capacities,
+                        budget,
+                        attempt.batch_of(scene.patches.len(), batch),
+                    ));
                 }
                 Err(e) => return Err(e),
             }
         };
-        if counters.loops_cut() > 0 {
-            return Err(RenderError::LoopsCut {
-                rasterization: counters.loops_cut(),
-                waits: 0,
-                runs: loop_retries + 1,
-            });
-        }
         let (buffers, target) = self.frame.as_ref().expect("prepared above");
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
         let resolved = self.resolver.resolve(
@@ -839,26 +912,124 @@ impl<'a> GpuRenderer<'a> {
         let mut stats = counters.to_stats();
         // Bound counts the patches it ran; a scene without patches runs nothing.
         stats.input_patches = scene.patches.len() as u64;
-        let megakernel_gpu_ms = report
-            .as_ref()
-            .and_then(|r: &RunReport| r.gpu_time)
-            .map(|d| d.as_secs_f64() * 1e3);
+        let megakernel_gpu_ms = attempt.gpu_time.map(|d| d.as_secs_f64() * 1e3);
         stats.frame_time_ms = Some(megakernel_gpu_ms.unwrap_or(total_wall.as_secs_f64() * 1e3));
         Ok(GpuRendered {
             image,
             coverage: resolved.coverage,
             covered_samples: resolved.covered_samples,
             stats,
-            report,
+            report: attempt.report,
             overflow_retries,
             loop_retries,
             timings: FrameTimings {
                 megakernel_gpu_ms,
-                megakernel_wall_ms: megakernel_wall.as_secs_f64() * 1e3,
+                megakernel_wall_ms: attempt.wall.as_secs_f64() * 1e3,
                 total_wall_ms: total_wall.as_secs_f64() * 1e3,
             },
             tiles: 1,
+            batches: attempt.batches,
         })
+    }
+
+    /// Runs the megakernel once per batch of `batch` input patches of
+    /// `scene` into the cleared frame. Stops at the first failed run, or at
+    /// the first run after which llvmpipe had cut rasterization loops (the
+    /// frame is then rendered again anyway); otherwise returns the counters
+    /// of all batches together.
+    fn run_batches(
+        &mut self,
+        scene: &PreparedScene,
+        capacities: &Capacities,
+        budget: Option<u32>,
+        batch: u32,
+    ) -> (Result<GpuCounters, RenderError>, Attempt) {
+        let mut attempt = Attempt {
+            gpu_time: Some(Duration::ZERO),
+            ..Attempt::default()
+        };
+        let ranges = batch_ranges(scene.patches.len(), batch);
+        let count = ranges.len();
+        for (index, range) in ranges.into_iter().enumerate() {
+            // Seeds keep the scene's patch indices: every run reads its
+            // patches from the same scene buffers.
+            let seeds: Vec<PatchItem> = scene.patches[range.clone()]
+                .iter()
+                .zip(range.start..)
+                .map(|(patch, index)| PatchItem::input(patch, index as u32))
+                .collect();
+            let run_start = Instant::now();
+            // The executor borrows `self` mutably; take the buffers out meanwhile.
+            let frame = self.frame.take().expect("prepared above");
+            let strategy = self.options.strategy;
+            let result = self.executor(capacities, budget).and_then(|executor| {
+                executor
+                    .run_with(
+                        strategy,
+                        &Seeds::new().add_untyped(&scheduler::ProcedureId::named(BOUND), &seeds),
+                        &frame.0.bindings(),
+                    )
+                    .map_err(RenderError::Run)
+            });
+            self.frame = Some(frame);
+            attempt.wall += run_start.elapsed();
+            attempt.batches += 1;
+            match result {
+                Ok(report) => {
+                    attempt.gpu_time = attempt.gpu_time.zip(report.gpu_time).map(|(a, b)| a + b);
+                    attempt.report = Some(report);
+                }
+                Err(e) => return (Err(e), attempt),
+            }
+            if count > 1 && index + 1 < count {
+                match self.read_counters() {
+                    Ok(counters) if counters.loops_cut() > 0 => return (Ok(counters), attempt),
+                    Ok(_) => {}
+                    Err(e) => return (Err(e), attempt),
+                }
+                log::info!(
+                    "batch {}/{count} of input patches ({}..{}) done",
+                    index + 1,
+                    range.start,
+                    range.end
+                );
+            }
+        }
+        (self.read_counters(), attempt)
+    }
+
+    /// The error after the last retry still cut loops: the facts of the
+    /// last run and advice from the scene's configuration.
+    #[allow(clippy::too_many_arguments)]
+    fn loop_limit_error(
+        &self,
+        scene: &PreparedScene,
+        counters: &GpuCounters,
+        waits: u32,
+        runs: u32,
+        capacities: &Capacities,
+        budget: Option<u32>,
+        batch: (u32, u32),
+    ) -> RenderError {
+        let stats = counters.to_stats();
+        let context = LoopLimitContext::new(
+            scene,
+            stats.depth_guard_drops,
+            stats.largest_micropolygon_px,
+        );
+        let workgroups = self
+            .config(capacities.clone(), budget)
+            .workgroups
+            .unwrap_or(DEFAULT_WORKGROUPS);
+        RenderError::LoopLimit(Box::new(LoopLimitError::new(
+            counters.loops_cut(),
+            waits,
+            runs,
+            workgroups,
+            budget,
+            batch,
+            context,
+        )))
     }
 
     fn read_counters(&self) -> Result<GpuCounters, RenderError> {
@@ -884,6 +1055,84 @@ impl<'a> GpuRenderer<'a> {
             buffers.samples,
         );
     }
+}
+
+/// Queue capacities of one run and the input patches it seeds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct BatchPlan {
+    /// Capacity of the Bound queue (a power of two).
+    bound: u32,
+    /// Capacity of each work queue.
+    work: u32,
+    /// Input patches per run (at most `bound`).
+    batch: u32,
+}
+
+/// Plans batches of at most `wanted` input patches with work queues of
+/// `work` items, where `queue_bytes(bound, work)` is what the queues then
+/// need and `limit` what one device buffer holds: the largest power-of-two
+/// Bound queue up to `wanted` that fits next to `work`; `work` is halved
+/// (not below [`MIN_WORK_CAPACITY`]) only while the batch would be smaller
+/// than [`MIN_BATCH_PATCHES`] (and than `wanted`). `Err`: the bytes one
+/// patch needs next to the smallest work queues, when that exceeds `limit`.
+fn plan_batch(
+    wanted: u32,
+    work: u32,
+    limit: u64,
+    queue_bytes: impl Fn(u32, u32) -> u64,
+) -> Result<BatchPlan, u64> {
+    let wanted = wanted.clamp(1, 1 << 31);
+    let mut work = work.max(MIN_WORK_CAPACITY);
+    loop {
+        let mut bound = wanted.next_power_of_two();
+        while bound > 1 && queue_bytes(bound, work) > limit {
+            bound /= 2;
+        }
+        let fits = queue_bytes(bound, work) <= limit;
+        if fits && (bound >= wanted || bound >= MIN_BATCH_PATCHES || work <= MIN_WORK_CAPACITY) {
+            return Ok(BatchPlan {
+                bound,
+                work,
+                batch: wanted.min(bound),
+            });
+        }
+        if work <= MIN_WORK_CAPACITY {
+            return Err(queue_bytes(1, work));
+        }
+        work /= 2;
+    }
+}
+
+/// The runs of one attempt at a tile.
+#[derive(Debug, Default)]
+struct Attempt {
+    /// The report of the last run.
+    report: Option<RunReport>,
+    /// GPU time of the runs, when every run measured it.
+    gpu_time: Option<Duration>,
+    /// Host wall time of the runs.
+    wall: Duration,
+    /// Runs made (batches started).
+    batches: u32,
+}
+
+impl Attempt {
+    /// The batch the attempt stopped in (1-based) and the batches of the
+    /// attempt, for `patches` patches in batches of `batch`.
+    fn batch_of(&self, patches: usize, batch: u32) -> (u32, u32) {
+        let count = patches.div_ceil(batch.max(1) as usize) as u32;
+        (self.batches.max(1), count.max(1))
+    }
+}
+
+/// The input patches `0..patches` in consecutive batches of at most `batch`
+/// (at least one patch each); none for no patches.
+fn batch_ranges(patches: usize, batch: u32) -> Vec<std::ops::Range<usize>> {
+    let batch = batch.max(1) as usize;
+    (0..patches)
+        .step_by(batch)
+        .map(|start| start..(start + batch).min(patches))
+        .collect()
 }
 
 /// Whether `gpu` is a CPU adapter (llvmpipe behind lavapipe).
@@ -932,6 +1181,90 @@ mod tests {
             covered.iter().all(|&c| c == 1),
             "{width}x{height}, {max_pixels}: {tiles:?}"
         );
+    }
+
+    /// Six queues of 240-byte slots, as the Reyes graph has (Bound, SplitU,
+    /// SplitV and three dice queues).
+    fn six_queues(bound: u32, work: u32) -> u64 {
+        240 * (u64::from(bound.next_power_of_two()) + 5 * u64::from(work.next_power_of_two()))
+    }
+
+    #[test]
+    fn patches_beyond_the_queue_are_planned_in_batches() {
+        // About 540k patches on lavapipe's 128 MiB: 2^17 per run next to
+        // the full work queues (2^18 would need 141 MB), so five runs (D17).
+        let plan = plan_batch(540_000, DEFAULT_WORK_CAPACITY, 1 << 27, six_queues).unwrap();
+        assert_eq!(
+            plan,
+            BatchPlan {
+                bound: 1 << 17,
+                work: DEFAULT_WORK_CAPACITY,
+                batch: 1 << 17
+            }
+        );
+        assert_eq!(batch_ranges(540_000, plan.batch).len(), 5);
+        // What fits is one run, with the batch limit if there is one.
+        let plan = plan_batch(32, DEFAULT_WORK_CAPACITY, 1 << 27, six_queues).unwrap();
+        assert_eq!((plan.bound, plan.batch), (32, 32));
+        let plan = plan_batch(7, DEFAULT_WORK_CAPACITY, 1 << 27, six_queues).unwrap();
+        assert_eq!((plan.bound, plan.batch), (8, 7));
+    }
+
+    #[test]
+    fn work_queues_shrink_only_for_batches_below_the_minimum() {
+        // Room for the work queues at 2^14 and a Bound queue of 2^12.
+        let limit = six_queues(1 << 12, 1 << 14);
+        let plan = plan_batch(100_000, 1 << 16, limit, six_queues).unwrap();
+        assert_eq!(
+            (plan.work, plan.bound, plan.batch),
+            (1 << 14, 1 << 12, 1 << 12)
+        );
+        // A small scene keeps its one run with smaller work queues.
+        let plan = plan_batch(100, 1 << 16, limit, six_queues).unwrap();
+        assert_eq!((plan.bound, plan.batch), (128, 100));
+        assert!(six_queues(128, plan.work) <= limit && plan.work >= 1 << 14);
+        // At the smallest work queues any batch that fits is taken.
+        let limit = six_queues(16, MIN_WORK_CAPACITY);
+        let plan = plan_batch(1000, 1 << 16, limit, six_queues).unwrap();
+        assert_eq!((plan.work, plan.batch), (MIN_WORK_CAPACITY, 16));
+    }
+
+    #[test]
+    fn a_device_too_small_for_one_patch_says_what_it_needs() {
+        let needed = six_queues(1, MIN_WORK_CAPACITY);
+        assert_eq!(plan_batch(10, 1 << 16, needed - 1, six_queues), Err(needed));
+        assert!(plan_batch(10, 1 << 16, needed, six_queues).is_ok());
+        let message = RenderError::NoBatchFits {
+            patches: 10,
+            work_capacity: MIN_WORK_CAPACITY,
+            needed,
+            limit: needed - 1,
+        }
+        .to_string();
+        assert!(message.contains("0 of the 10 patches fit"), "{message}");
+        let message = RenderError::TooManyPatches {
+            patches: 800_000,
+            fit: 699_050,
+            needed: 153_600_000,
+            limit: 1 << 27,
+        }
+        .to_string();
+        assert!(message.contains("699050 patches fit"), "{message}");
+    }
+
+    #[test]
+    fn batches_cover_the_patches_in_order() {
+        assert!(batch_ranges(0, 5).is_empty());
+        assert_eq!(batch_ranges(3, 5), Vec::from_iter(std::iter::once(0..3)));
+        assert_eq!(batch_ranges(10, 5), [0..5, 5..10]);
+        assert_eq!(batch_ranges(11, 4), [0..4, 4..8, 8..11]);
+        assert_eq!(batch_ranges(2, 0), [0..1, 1..2]);
+        let attempt = Attempt {
+            batches: 2,
+            ..Attempt::default()
+        };
+        assert_eq!(attempt.batch_of(11, 4), (2, 3));
+        assert_eq!(Attempt::default().batch_of(3, 8), (1, 1));
     }
 
     #[test]

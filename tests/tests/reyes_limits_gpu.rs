@@ -1,0 +1,250 @@
+//! Issue 19, D17 and D10: input patches beyond one run's queue are rendered
+//! in batches that compose into the unbatched frame, and the loop-limit
+//! error gives advice that follows from the frame's configuration.
+
+use glam::Vec3;
+use reyes::gpu::{GpuOptions, GpuRendered, LoopLimitHint, RenderError};
+use reyes::model::{Model, Patch};
+use reyes::prepare::PreparedScene;
+use reyes::reference;
+use reyes::scene::{Dicing, Sampling, Scene, SceneObject, Transform};
+use reyes::stats::RenderStats;
+use tests::reyes_support::{agreement, camera_down_z, gpu_turn, renderer};
+use tests::shapes::bezier_sphere;
+
+/// Three overlapping spheres (72 patches) at different depths, the far one
+/// first so that later batches hold the nearer patches and the depth test
+/// has to compose runs both ways (the middle sphere is nearer than the
+/// first and farther than the last).
+fn spheres(width: u32, height: u32) -> (Scene, Vec<Model>) {
+    let mut scene = Scene::default();
+    scene.resolution.width = width;
+    scene.resolution.height = height;
+    scene.spp = 1;
+    scene.camera = Some(camera_down_z());
+    let mut models = Vec::new();
+    for (centre, color) in [
+        (Vec3::new(-0.4, 0.1, -6.0), Vec3::new(0.9, 0.3, 0.2)),
+        (Vec3::new(0.5, -0.2, -4.5), Vec3::new(0.8, 0.8, 0.8)),
+        (Vec3::new(0.0, 0.0, -5.0), Vec3::new(0.2, 0.5, 0.9)),
+    ] {
+        scene.objects.push(SceneObject {
+            model: "sphere".into(),
+            transform: Transform {
+                translate: centre,
+                ..Transform::default()
+            },
+            color,
+            displacement: None,
+            transform_close: None,
+            sides: 2,
+            reverse_orientation: false,
+        });
+        models.push(bezier_sphere());
+    }
+    (scene, models)
+}
+
+/// The counters without the frame time, which differs between runs.
+fn counts(frame: &GpuRendered) -> RenderStats {
+    RenderStats {
+        frame_time_ms: None,
+        ..frame.stats.clone()
+    }
+}
+
+/// Renders `prepared` unbatched and in batches of `batch` patches (with
+/// the same tiling) and checks the batched frame is the unbatched one.
+fn assert_batches_compose(
+    gpu: &scheduler::Gpu,
+    prepared: &PreparedScene,
+    batch: u32,
+    max_tile_samples: Option<u64>,
+) -> (GpuRendered, GpuRendered) {
+    let options = GpuOptions {
+        max_tile_samples,
+        ..GpuOptions::default()
+    };
+    let whole = renderer(gpu, options.clone())
+        .render(prepared)
+        .expect("unbatched render");
+    let batched = renderer(
+        gpu,
+        GpuOptions {
+            max_batch_patches: Some(batch),
+            ..options
+        },
+    )
+    .render(prepared)
+    .expect("batched render");
+    let per_tile = prepared.patches.len().div_ceil(batch as usize) as u32;
+    assert_eq!(whole.batches, whole.tiles, "one run per tile unbatched");
+    assert_eq!(batched.tiles, whole.tiles);
+    assert_eq!(batched.batches, per_tile * batched.tiles);
+    assert!(batched.batches > batched.tiles, "the test needs batches");
+    assert_eq!(counts(&batched), counts(&whole), "counters add up");
+    assert_eq!(batched.stats.input_patches, prepared.patches.len() as u64);
+    assert_eq!(batched.coverage, whole.coverage);
+    assert_eq!(batched.covered_samples, whole.covered_samples);
+    assert!(
+        batched.image.as_raw() == whole.image.as_raw(),
+        "batched and unbatched images differ"
+    );
+    (whole, batched)
+}
+
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn patches_beyond_the_batch_limit_render_the_unbatched_frame() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let (scene, models) = spheres(64, 48);
+    let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+    assert_eq!(prepared.patches.len(), 72);
+    // 72 patches in batches of 10 (a Bound queue of 16): 8 runs.
+    let (whole, batched) = assert_batches_compose(gpu, &prepared, 10, None);
+    eprintln!(
+        "{} batches: {} grids, {} micropolygons, {} samples hit",
+        batched.batches,
+        batched.stats.grids_diced,
+        batched.stats.micropolygons,
+        batched.stats.samples_hit
+    );
+    assert!(whole.stats.micropolygons > 0 && whole.stats.samples_hit > 0);
+    // One patch per run works too.
+    let single = renderer(
+        gpu,
+        GpuOptions {
+            max_batch_patches: Some(1),
+            ..GpuOptions::default()
+        },
+    )
+    .render(&prepared)
+    .expect("one patch per batch");
+    assert_eq!(single.batches, 72);
+    assert_eq!(counts(&single), counts(&whole));
+    assert!(single.image.as_raw() == whole.image.as_raw());
+    // The CPU reference is an independent check of the composed frame.
+    let cpu = reference::render(&prepared);
+    agreement(&batched, &cpu).assert_at_least("batched", 0.99, 0.98);
+}
+
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn batches_compose_within_screen_tiles() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let (scene, models) = spheres(128, 96);
+    let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+    // 64 x 64 samples per tile: 2 x 2 tiles of the 128 x 96 frame.
+    let (whole, batched) = assert_batches_compose(gpu, &prepared, 25, Some(64 * 64));
+    assert!(whole.tiles > 1, "the test needs tiles");
+    assert_eq!(batched.batches, 3 * batched.tiles);
+    let cpu = reference::render(&prepared);
+    agreement(&batched, &cpu).assert_at_least("tiled batches", 0.99, 0.98);
+}
+
+/// A card at depth 5 with the focus at depth 1 and a lens of radius 1: a
+/// circle of confusion of about 33 pixels at 64 x 48, so each micropolygon's
+/// bounding box holds thousands of pixels, each tested at 64 samples: more
+/// loop iterations than llvmpipe allows one invocation.
+fn defocused_card(dicing: Dicing, dice_threshold: f32) -> PreparedScene {
+    let mut scene = Scene::default();
+    scene.resolution.width = 64;
+    scene.resolution.height = 48;
+    scene.spp = 64;
+    scene.sampling = Sampling::Bbox;
+    scene.dicing = dicing;
+    scene.dice_threshold = dice_threshold;
+    scene.camera = Some(camera_down_z());
+    scene.lens.aperture = 1.0;
+    scene.lens.focus_distance = Some(1.0);
+    scene.objects.push(SceneObject {
+        model: "card".into(),
+        transform: Transform::default(),
+        color: Vec3::ONE,
+        displacement: None,
+        transform_close: None,
+        sides: 2,
+        reverse_orientation: false,
+    });
+    let (centre, half) = (Vec3::new(0.0, 0.0, -5.0), 0.5);
+    let points = std::array::from_fn(|k| {
+        let (u, v) = ((k % 4) as f32 / 3.0, (k / 4) as f32 / 3.0);
+        centre + Vec3::new(-half + 2.0 * half * u, half - 2.0 * half * v, 0.0)
+    });
+    let model = Model {
+        patches: vec![Patch { points }],
+    };
+    PreparedScene::new(&scene, &[model]).expect("scene prepares")
+}
+
+/// Renders `prepared`; on llvmpipe expects the loop-limit error and returns
+/// it, elsewhere expects an image and returns `None`.
+fn loop_limit(
+    gpu: &scheduler::Gpu,
+    prepared: &PreparedScene,
+) -> Option<reyes::gpu::LoopLimitError> {
+    let on_llvmpipe = gpu.adapter.get_info().device_type == scheduler::wgpu::DeviceType::Cpu;
+    match renderer(gpu, GpuOptions::default()).render(prepared) {
+        Err(RenderError::LoopLimit(error)) if on_llvmpipe => {
+            eprintln!("{error}");
+            assert!(error.rasterization + error.waits > 0);
+            assert_eq!(error.runs, 3, "the first run and both retries");
+            assert!(error.workgroups > 0);
+            assert_eq!(error.iteration_budget, Some(1), "the retries' budget");
+            assert_eq!(error.batch, (1, 1));
+            assert!(!error.context.user_displacement);
+            let message = error.to_string();
+            for fact in ["workgroups", "iteration budget", "3 attempt(s)"] {
+                assert!(message.contains(fact), "{fact:?} missing: {message}");
+            }
+            assert!(!message.contains("displacement_user"), "{message}");
+            Some(*error)
+        }
+        Err(e) => panic!("expected the loop-limit error on llvmpipe, or an image elsewhere: {e}"),
+        Ok(_) if on_llvmpipe => panic!("llvmpipe rendered loops longer than its limit"),
+        Ok(_) => None,
+    }
+}
+
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn long_sample_loops_advise_fewer_samples() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let prepared = defocused_card(Dicing::Rate, 16.0);
+    let Some(error) = loop_limit(gpu, &prepared) else {
+        return;
+    };
+    assert!(error.context.blurred && error.context.spp == 64);
+    assert!(
+        matches!(error.hints[..], [LoopLimitHint::LongRasterization { .. }]),
+        "{:?}",
+        error.hints
+    );
+    let message = error.to_string();
+    assert!(message.contains("samples per pixel") && message.contains("Interleave"));
+    assert!(!message.contains("LARGER"), "{message}");
+}
+
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn a_small_dice_threshold_is_not_told_to_shrink() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let prepared = defocused_card(Dicing::Fixed, 0.5);
+    let Some(error) = loop_limit(gpu, &prepared) else {
+        return;
+    };
+    assert_eq!(
+        error.hints[0],
+        LoopLimitHint::LargerDiceThreshold {
+            threshold: 0.5,
+            default: reyes::params::DEFAULT_DICE_THRESHOLD
+        }
+    );
+    let message = error.to_string();
+    assert!(message.contains("LARGER dice threshold"), "{message}");
+    assert!(!message.contains("smaller dice threshold"), "{message}");
+}
