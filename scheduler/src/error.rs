@@ -204,8 +204,12 @@ pub enum RunError {
     },
     /// A queue was too small. The dropped items never ran and their descendants
     /// never existed, so `dropped` is a lower bound on the items that did not fit.
+    /// An overflow is reported before anything else that went wrong in the
+    /// same run (a loop limit, a fan-out excess), which `also` lists: it is
+    /// the likelier cause of the rest.
     #[error(
-        "queue `{procedure}` overflowed: capacity {capacity}, at least {dropped} items did not fit (a capacity of at least {needed_at_least} would have held the largest burst)"
+        "queue `{procedure}` overflowed: capacity {capacity}, at least {dropped} items did not fit (a capacity of at least {needed_at_least} would have held the largest burst){}",
+        also_note(also)
     )]
     QueueOverflow {
         /// The procedure whose queue overflowed.
@@ -216,8 +220,22 @@ pub enum RunError {
         dropped: u64,
         /// A lower bound on the capacity this run needed.
         needed_at_least: u64,
+        /// What else went wrong in the run, in words.
+        also: Vec<String>,
         /// The full report of the run.
         report: Box<RunReport>,
+    },
+    /// More seeds than a queue holds; nothing ran.
+    /// [`Executor::run_with_retry`](crate::Executor::run_with_retry) grows
+    /// the queue to fit them.
+    #[error("{seeds} seeds for `{procedure}` exceed its queue capacity {capacity}")]
+    TooManySeeds {
+        /// The procedure seeded.
+        procedure: String,
+        /// Seeds given.
+        seeds: u64,
+        /// Its queue's capacity.
+        capacity: u32,
     },
     /// Items of one workgroup batch enqueued more into a queue than the declared
     /// fan-outs allow; the excess was counted, not silently dropped.
@@ -232,14 +250,20 @@ pub enum RunError {
         /// The full report of the run.
         report: Box<RunReport>,
     },
-    /// A spin-wait of the queue protocol ran out of iterations on a driver
-    /// that caps loops (llvmpipe), so the run's results cannot be trusted.
+    /// A loop of the megakernel or of a body ran out of the driver's loop
+    /// budget (llvmpipe caps every invocation's loops), so the run's results
+    /// cannot be trusted. `advice` fits the strategy and configuration the
+    /// run used.
     #[error(
-        "the driver's loop limit cut {waits} loop(s) short (llvmpipe); the results are not trustworthy. Run again (`Executor::run_with_retry` does), with fewer workgroups or a smaller iteration budget"
+        "the driver's loop limit cut {waits} loop(s) short (llvmpipe); the results are not trustworthy. {advice}"
     )]
     LoopLimit {
         /// Spin-waits and invocations that found a loop cut.
         waits: u32,
+        /// What to change, for this run's strategy and configuration.
+        advice: String,
+        /// The report of the run up to the submission that found the cut.
+        report: Box<RunReport>,
     },
     /// The host-side timeout elapsed before the GPU finished.
     #[error("the run did not finish within {0:?}; the device may need to be recreated")]
@@ -286,4 +310,13 @@ pub enum DeviceError {
     /// The adapter refused the device request.
     #[error("could not create a device: {0}")]
     RequestDevice(String),
+}
+
+/// The tail of an overflow's message naming what else went wrong.
+fn also_note(also: &[String]) -> String {
+    if also.is_empty() {
+        String::new()
+    } else {
+        format!("; also: {}", also.join("; "))
+    }
 }

@@ -81,7 +81,7 @@ fn run(
     let start = Instant::now();
     loop {
         match executor.run_with(strategy, &graph.run_seeds(), &[]) {
-            Err(RunError::LoopLimit { waits }) if attempt < LOOP_ATTEMPTS => {
+            Err(RunError::LoopLimit { waits, .. }) if attempt < LOOP_ATTEMPTS => {
                 eprintln!(
                     "{what}: llvmpipe cut {waits} loop(s) (attempt {attempt}); running again"
                 );
@@ -298,6 +298,7 @@ fn tiny_queues_give_the_cpu_counts_or_a_full_account_of_the_overflow() {
                     dropped,
                     needed_at_least,
                     report,
+                    ..
                 }) => {
                     overflows += 1;
                     let mut problems = overflow_problems(&graph, &expected, &report);

@@ -259,9 +259,11 @@ fn overflow_is_a_typed_error_and_the_run_still_ends() {
                 capacity,
                 dropped,
                 needed_at_least,
+                also,
                 report,
             }) => {
                 assert_eq!(procedure, "Grow");
+                assert!(also.is_empty(), "{also:?}");
                 assert_eq!(capacity, 64);
                 assert!(dropped > 0);
                 assert!(needed_at_least > 64);
@@ -334,9 +336,14 @@ fn seeding_and_binding_errors_are_typed() {
     assert!(
         matches!(executor.run(&Seeds::new().add_untyped(&ping.untyped(), &[0u32; 3]), &[]), Err(RunError::Seed { reason, .. }) if reason.contains("bytes"))
     );
-    assert!(
-        matches!(executor.run(&Seeds::new().add(ping, &[Node::default(); 17]), &[]), Err(RunError::Seed { reason, .. }) if reason.contains("capacity"))
-    );
+    assert!(matches!(
+        executor.run(&Seeds::new().add(ping, &[Node::default(); 17]), &[]),
+        Err(RunError::TooManySeeds {
+            seeds: 17,
+            capacity: 16,
+            ..
+        })
+    ));
 
     let sum = scratch_sum();
     let compiled = sum.compile(&CompileOptions::default()).unwrap();

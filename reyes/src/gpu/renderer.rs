@@ -871,7 +871,7 @@ impl<'a> GpuRenderer<'a> {
                     overflow_retries += 1;
                     work = work.saturating_mul(2);
                 }
-                Err(RenderError::Run(RunError::LoopLimit { waits }))
+                Err(RenderError::Run(RunError::LoopLimit { waits, .. }))
                     if loop_retries < MAX_LOOP_RETRIES =>
                 {
                     log::warn!(
@@ -880,7 +880,7 @@ impl<'a> GpuRenderer<'a> {
                     loop_retries += 1;
                     budget = Some(CPU_RETRY_ITERATION_BUDGET);
                 }
-                Err(RenderError::Run(RunError::LoopLimit { waits })) => {
+                Err(RenderError::Run(RunError::LoopLimit { waits, .. })) => {
                     // The scheduler's own advice (retry with a smaller
                     // budget) is spent: say what is too long instead.
                     let counters = self.read_counters()?;

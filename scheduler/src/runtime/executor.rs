@@ -53,15 +53,24 @@ struct RoundPipelines {
 /// Restores the user's resources before a retry.
 pub type ResetFn<'a> = Box<dyn FnMut(&wgpu::Device, &wgpu::Queue) + 'a>;
 
-/// Opt-in automatic retry after a queue overflow, or after the driver cut a
-/// loop short ([`RunError::LoopLimit`], llvmpipe under CPU contention).
+/// Opt-in automatic retry after a queue overflow, too many seeds, or a loop
+/// the driver cut short ([`RunError::LoopLimit`], llvmpipe).
 ///
-/// After an overflow, each retry grows every overflowing queue to at least its reported lower
-/// bound (and at least doubles it), reallocates the scheduler's buffers, calls
-/// `reset` so the user can restore their own resources (clear a framebuffer,
-/// zero counters), and runs again from the seeds. A run that succeeds after
-/// retries therefore gives the same results as one with large enough queues
-/// from the start. The grown capacities stay for later runs.
+/// - After an overflow, each overflowing queue grows to at least its
+///   reported lower bound (and at least doubles).
+/// - After [`RunError::TooManySeeds`], the seeded queue grows to hold the
+///   seeds.
+/// - After a loop limit under the megakernel, the iteration budget halves
+///   (down to 1), so workgroups leave sooner; this changes the dispatches,
+///   never the results. At a budget of 1, and under Rounds, the same
+///   configuration runs again.
+///
+/// Each retry reallocates the scheduler's buffers, calls `reset` so the
+/// user can restore their own resources (clear a framebuffer, zero
+/// counters), and runs again from the seeds. A run that succeeds after
+/// retries therefore gives the same results as one configured right from
+/// the start. The grown capacities and the lowered budget stay for later
+/// runs.
 pub struct Retry<'a> {
     /// Attempts in all, the first included (at least 1).
     pub max_attempts: u32,
@@ -319,27 +328,92 @@ impl Executor {
                     log::info!(
                         "attempt {attempt} overflowed; retrying with capacities {capacities:?}"
                     );
-                    self.state = QueueState::new(
-                        &self.device,
-                        &self.queue,
-                        &self.compiled,
-                        &self.layouts,
-                        capacities,
-                        self.tuning,
-                    )?;
+                    self.rebuild_state(capacities, self.tuning)?;
                     (retry.reset)(&self.device, &self.queue);
                     attempt += 1;
                 }
-                Err(RunError::LoopLimit { waits }) if attempt < retry.max_attempts => {
-                    // The driver cut a loop (llvmpipe, usually under CPU
-                    // contention): nothing is wrong with the graph, so run
-                    // the same configuration again from a clean state.
-                    log::info!("attempt {attempt}: {waits} loop(s) cut by the driver; retrying");
+                Err(RunError::TooManySeeds {
+                    procedure, seeds, ..
+                }) if attempt < retry.max_attempts => {
+                    let mut capacities = self.state.capacities.clone();
+                    if let Some(q) = self
+                        .compiled
+                        .plan
+                        .queues
+                        .iter()
+                        .position(|q| q.name == procedure)
+                    {
+                        capacities[q] = (seeds.min(1 << 31) as u32).next_power_of_two();
+                    }
+                    log::info!(
+                        "attempt {attempt}: {seeds} seeds for `{procedure}`; retrying with capacities {capacities:?}"
+                    );
+                    self.rebuild_state(capacities, self.tuning)?;
+                    attempt += 1;
+                }
+                Err(RunError::LoopLimit { waits, .. }) if attempt < retry.max_attempts => {
+                    // The driver cut a loop (llvmpipe): the megakernel's
+                    // workgroups leave sooner with a smaller iteration budget,
+                    // which changes the dispatches, never the results. At a
+                    // budget of 1 (and under Rounds) the same configuration
+                    // runs again: a cut under CPU contention may not recur.
+                    let mut tuning = self.tuning;
+                    if strategy == Strategy::Megakernel && tuning.iteration_budget > 1 {
+                        tuning.iteration_budget = if tuning.iteration_budget == u32::MAX {
+                            CPU_ITERATION_BUDGET
+                        } else {
+                            tuning.iteration_budget / 2
+                        };
+                    }
+                    log::info!(
+                        "attempt {attempt}: {waits} loop(s) cut by the driver; retrying with an iteration budget of {}",
+                        tuning.iteration_budget
+                    );
+                    self.rebuild_state(self.state.capacities.clone(), tuning)?;
                     (retry.reset)(&self.device, &self.queue);
                     attempt += 1;
                 }
                 Err(error) => return Err(error),
             }
+        }
+    }
+
+    /// Reallocates the queues with `capacities` and `tuning`, which later
+    /// runs keep.
+    fn rebuild_state(&mut self, capacities: Vec<u32>, tuning: Tuning) -> Result<(), RunError> {
+        self.state = QueueState::new(
+            &self.device,
+            &self.queue,
+            &self.compiled,
+            &self.layouts,
+            capacities,
+            tuning,
+        )?;
+        self.tuning = tuning;
+        Ok(())
+    }
+
+    /// What to change after a loop limit, for the strategy and configuration
+    /// that were used.
+    fn loop_limit_advice(&self, strategy: Strategy) -> String {
+        let chunks = self.compiled.plan.chunks_per_batch;
+        let budget = self.tuning.iteration_budget;
+        let shorten = format!(
+            "the bodies' own loops are too long for the driver: shorten them, or compile with fewer chunks per batch (now {chunks})"
+        );
+        match strategy {
+            Strategy::Rounds { .. } => {
+                format!("Under Rounds each workgroup runs one batch per dispatch, so {shorten}.")
+            }
+            Strategy::Megakernel if budget == u32::MAX => format!(
+                "The megakernel ran without an iteration budget: `Executor::run_with_retry` sets one, or set `ExecutorConfig::iteration_budget` (e.g. {CPU_ITERATION_BUDGET})."
+            ),
+            Strategy::Megakernel if budget > 1 => format!(
+                "`Executor::run_with_retry` runs again with half the iteration budget (now {budget}); by hand, set `ExecutorConfig::iteration_budget` below {budget}."
+            ),
+            Strategy::Megakernel => format!(
+                "Every workgroup already leaves after one batch (iteration budget 1), so {shorten}."
+            ),
         }
     }
 
@@ -415,12 +489,10 @@ impl Executor {
                 let ticks = stamps[1].saturating_sub(stamps[0]) as f64;
                 *total += Duration::from_nanos((ticks * t.period_ns) as u64);
             }
-            if counters[control::LOOPS_CUT as usize] > 0 {
-                return Err(RunError::LoopLimit {
-                    waits: counters[control::LOOPS_CUT as usize],
-                });
-            }
-            if counters[control::PENDING as usize] == 0 {
+            // A cut loop ends the run: its counters are still read into the
+            // report, and an overflow among them is named first.
+            if counters[control::LOOPS_CUT as usize] > 0 || counters[control::PENDING as usize] == 0
+            {
                 break counters;
             }
             // Work remains: the megakernel's workgroups spent their iteration
@@ -464,12 +536,44 @@ impl Executor {
             wall_time: start.elapsed(),
             gpu_time,
         };
+        let loops_cut = counters[control::LOOPS_CUT as usize];
         if let Some(p) = report.procedures.iter().find(|p| p.dropped > 0) {
+            let mut also: Vec<String> = report
+                .procedures
+                .iter()
+                .filter(|q| q.dropped > 0 && q.name != p.name)
+                .map(|q| format!("queue `{}` dropped {} items", q.name, q.dropped))
+                .collect();
+            if loops_cut > 0 {
+                also.push(format!(
+                    "the driver's loop limit cut {loops_cut} loop(s) short, likely because the full queue kept workgroups waiting"
+                ));
+            }
+            also.extend(
+                report
+                    .procedures
+                    .iter()
+                    .filter(|q| q.fan_out_overflow > 0)
+                    .map(|q| {
+                        format!(
+                            "{} enqueues into `{}` exceeded the declared fan-out",
+                            q.fan_out_overflow, q.name
+                        )
+                    }),
+            );
             return Err(RunError::QueueOverflow {
                 procedure: p.name.clone(),
                 capacity: p.capacity,
                 dropped: p.dropped,
                 needed_at_least: p.needed_at_least.max(u64::from(p.capacity) + 1),
+                also,
+                report: Box::new(report),
+            });
+        }
+        if loops_cut > 0 {
+            return Err(RunError::LoopLimit {
+                waits: loops_cut,
+                advice: self.loop_limit_advice(strategy),
                 report: Box::new(report),
             });
         }

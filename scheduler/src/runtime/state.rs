@@ -261,12 +261,10 @@ impl QueueState {
         }
         for (q, &count) in counts.iter().enumerate() {
             if count > u64::from(self.capacities[q]) {
-                return Err(RunError::Seed {
+                return Err(RunError::TooManySeeds {
                     procedure: plan.queues[q].name.clone(),
-                    reason: format!(
-                        "{count} seeds exceed the queue capacity {}",
-                        self.capacities[q]
-                    ),
+                    seeds: count,
+                    capacity: self.capacities[q],
                 });
             }
         }
