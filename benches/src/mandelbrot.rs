@@ -26,8 +26,7 @@ use crate::timing::{TimeSource, Timings};
 mod example;
 
 pub use example::{
-    ESCAPE_WGSL, Mandelbrot, Subdivision, UNWRITTEN, View, cpu_brute_force, cpu_iteration_budget,
-    cpu_mariani_silver,
+    ESCAPE_WGSL, Mandelbrot, Subdivision, UNWRITTEN, View, cpu_brute_force, cpu_mariani_silver,
 };
 
 /// Threads per workgroup of the flat kernel (8 × 8 pixels).
@@ -194,11 +193,9 @@ fn measure_scheduled(
         chunks_per_batch: chunks,
         ..CompileOptions::with_features(scheduler::recommended_features(&gpu.device))
     };
-    let cpu_adapter = gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
     let executor_config = ExecutorConfig {
         workgroups: Some(workgroups),
-        iteration_budget: cpu_adapter.then(|| cpu_iteration_budget(&view, chunks)),
-        ..example::config(gpu, &view)
+        ..example::config(gpu, &view, chunks)
     };
     let mut mandelbrot = Mandelbrot::new(gpu, view, &options, &executor_config).map_err(boxed)?;
     let verify = |mandelbrot: &Mandelbrot, report: &scheduler::RunReport| {

@@ -106,9 +106,9 @@ pub fn budget_label(budget: Option<u32>) -> String {
 }
 
 /// Iteration budget the bench passes to the executor: none, so the scheduler
-/// applies its own default ([`scheduler::CPU_ITERATION_BUDGET`] on CPU
-/// adapters such as llvmpipe, whose loop limiter would otherwise cut long
-/// runs short; see docs/scheduler.md, "Loop limits").
+/// applies its own default (on drivers that cap loops, such as llvmpipe,
+/// [`scheduler::Quirks::default_iteration_budget`], since the loop limiter
+/// would otherwise cut long runs short; see docs/scheduler.md, "Loop limits").
 pub fn recommended_iteration_budget(_adapter: &str) -> Option<u32> {
     None
 }

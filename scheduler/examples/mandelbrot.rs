@@ -34,7 +34,7 @@ use std::fmt::Write as _;
 
 use scheduler::{
     Capacities, CompileOptions, CompiledGraph, ConstantValue, Executor, ExecutorConfig, Gpu, Graph,
-    Procedure, ProcedureId, Resource, RunError, RunReport, Seeds, Strategy, wgpu,
+    LoopBudget, Procedure, ProcedureId, Quirks, Resource, RunError, RunReport, Seeds, Strategy,
 };
 
 /// Side of the root tiles the host seeds.
@@ -309,22 +309,25 @@ pub fn loop_iterations_per_chunk(view: &View) -> u32 {
     tile.max(view.max_iter + 1)
 }
 
-/// The iteration budget for CPU adapters: llvmpipe ends every loop of an
-/// invocation once they ran 65,535 iterations together (docs/scheduler.md,
-/// "Loop limits"), so a workgroup leaves after as many batches as keep the
-/// bodies' loops within 40,000 iterations.
-pub fn cpu_iteration_budget(view: &View, chunks_per_batch: u32) -> u32 {
-    (40_000 / (loop_iterations_per_chunk(view) * chunks_per_batch.max(1)))
-        .clamp(1, scheduler::CPU_ITERATION_BUDGET)
+/// The iteration budget on a driver that caps loops (`budget`, llvmpipe:
+/// every loop of an invocation ends once they ran 65,535 iterations
+/// together, docs/scheduler.md "Loop limits"): a workgroup leaves after as
+/// many batches as keep the bodies' loops within 60% of the driver's
+/// budget, and never later than the scheduler's default would.
+pub fn loop_safe_iteration_budget(view: &View, chunks_per_batch: u32, budget: &LoopBudget) -> u32 {
+    (budget.driver_iterations / 5 * 3 / (loop_iterations_per_chunk(view) * chunks_per_batch.max(1)))
+        .clamp(1, budget.batches)
 }
 
-/// The executor configuration for one chunk per batch: [`capacities`], and
-/// on CPU adapters [`cpu_iteration_budget`].
-pub fn config(gpu: &Gpu, view: &View) -> ExecutorConfig {
-    let cpu = gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
+/// The executor configuration for `chunks_per_batch`: [`capacities`], and
+/// on drivers that cap loops [`loop_safe_iteration_budget`].
+pub fn config(gpu: &Gpu, view: &View, chunks_per_batch: u32) -> ExecutorConfig {
+    let quirks = Quirks::of(&gpu.adapter.get_info());
     ExecutorConfig {
         capacities: capacities(view),
-        iteration_budget: cpu.then(|| cpu_iteration_budget(view, 1)),
+        iteration_budget: quirks
+            .loop_budget
+            .map(|budget| loop_safe_iteration_budget(view, chunks_per_batch, &budget)),
         ..ExecutorConfig::default()
     }
 }
@@ -663,7 +666,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let gpu = Gpu::new(&Default::default())?;
     println!("device: {}", gpu.describe());
     let view = View::whole_set(size, max_iter);
-    let checked = run(&gpu, &view, &config(&gpu, &view))?;
+    let checked = run(&gpu, &view, &config(&gpu, &view, 1))?;
     println!("{}", checked.report);
     print!("{}", checked.summary);
     print!("{}", ascii_preview(&view, &checked.counts, 72));

@@ -122,6 +122,7 @@ mod graph;
 mod handle;
 mod item;
 mod options;
+mod quirks;
 pub mod readback;
 mod resource;
 mod runtime;
@@ -135,10 +136,10 @@ pub use graph::{Connection, DEFAULT_PRIORITY, Graph, Procedure};
 pub use handle::{ProcedureId, Untyped};
 pub use item::{Item, ItemType, WgslStructs, WgslType, layout as wgsl_layout};
 pub use options::{CompileOptions, MAX_CHUNKS_PER_BATCH, Policy, recommended_features};
+pub use quirks::{LoopBudget, Quirks};
 pub use resource::{Access, Atomic, BufferContents, BufferShape, Resource, ResourceKind};
 pub use runtime::config::{
-    CPU_CHUNK_BUDGET, CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, Capacities, DEFAULT_CAPACITY,
-    DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
+    Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
 };
 pub use runtime::executor::{Binding, Executor, ResetFn, Retry};
 pub use runtime::report::{ProcedureStats, RunReport};

@@ -190,7 +190,7 @@ fn mandelbrot_at(name: &str, workgroups: u32, strategy: scheduler::Strategy) {
     let view = mandelbrot::View::whole_set(MANDELBROT_SIZE, MANDELBROT_MAX_ITER);
     let config = ExecutorConfig {
         workgroups: Some(workgroups),
-        ..mandelbrot::config(gpu, &view)
+        ..mandelbrot::config(gpu, &view, 1)
     };
     let options =
         scheduler::CompileOptions::with_features(scheduler::recommended_features(&gpu.device));
@@ -247,7 +247,7 @@ fn mandelbrot_rounds() {
 fn mandelbrot_example_run() {
     let gpu = tests::gpu();
     let view = mandelbrot::View::whole_set(MANDELBROT_SIZE, MANDELBROT_MAX_ITER);
-    let checked = mandelbrot::run(gpu, &view, &mandelbrot::config(gpu, &view)).unwrap();
+    let checked = mandelbrot::run(gpu, &view, &mandelbrot::config(gpu, &view, 1)).unwrap();
     eprintln!("{}\n{}", checked.report, checked.summary);
     assert!(
         checked.mismatches.is_empty(),

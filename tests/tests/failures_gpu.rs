@@ -13,7 +13,7 @@ use tests::graphs::{Node, binary_tree};
 /// Whether the adapter caps loops (llvmpipe): only there can a loop limit
 /// happen.
 fn caps_loops(gpu: &scheduler::Gpu) -> bool {
-    gpu.adapter.get_info().driver.contains("llvmpipe")
+    scheduler::Quirks::of(&gpu.adapter.get_info()).caps_loops()
 }
 
 /// `Spawn` enqueues four `Spin`s per item; every `Spin` loops 70,000 times,

@@ -416,7 +416,7 @@ fn a_sample_loop_too_long_for_llvmpipe_is_a_typed_error_not_a_partial_image() {
         "premise: {box_tests} tests per micropolygon"
     );
     let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
-    let on_llvmpipe = gpu.adapter.get_info().device_type == scheduler::wgpu::DeviceType::Cpu;
+    let on_llvmpipe = scheduler::Quirks::of(&gpu.adapter.get_info()).caps_loops();
     match renderer.render(&prepared) {
         Err(reyes::gpu::RenderError::LoopLimit(error)) if on_llvmpipe => {
             eprintln!("{error}");

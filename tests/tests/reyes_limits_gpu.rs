@@ -185,7 +185,7 @@ fn loop_limit(
     gpu: &scheduler::Gpu,
     prepared: &PreparedScene,
 ) -> Option<reyes::gpu::LoopLimitError> {
-    let on_llvmpipe = gpu.adapter.get_info().device_type == scheduler::wgpu::DeviceType::Cpu;
+    let on_llvmpipe = scheduler::Quirks::of(&gpu.adapter.get_info()).caps_loops();
     match renderer(gpu, GpuOptions::default()).render(prepared) {
         Err(RenderError::LoopLimit(error)) if on_llvmpipe => {
             eprintln!("{error}");

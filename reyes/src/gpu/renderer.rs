@@ -1135,9 +1135,10 @@ fn batch_ranges(patches: usize, batch: u32) -> Vec<std::ops::Range<usize>> {
         .collect()
 }
 
-/// Whether `gpu` is a CPU adapter (llvmpipe behind lavapipe).
+/// Whether `gpu`'s driver caps the loops of an invocation (llvmpipe behind
+/// lavapipe), as the scheduler's [`scheduler::Quirks`] decide.
 fn is_cpu(gpu: &Gpu) -> bool {
-    gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+    scheduler::Quirks::of(&gpu.adapter.get_info()).caps_loops()
 }
 
 /// The chunks per batch `options` ask for on `gpu`, for a frame that samples

@@ -17,31 +17,6 @@ pub const DEFAULT_CAPACITY: u32 = 1 << 16;
 /// leave the GPU partly idle. Tune it with [`ExecutorConfig::workgroups`].
 pub const DEFAULT_WORKGROUPS: u32 = 256;
 
-/// Iteration budget used when [`ExecutorConfig::iteration_budget`] is `None`
-/// and the adapter is a CPU (llvmpipe, behind lavapipe). llvmpipe counts the
-/// iterations of all loops nested in the persistent loop together and, once
-/// that count passes 65535, ends them all (the scheduler then reports
-/// [`RunError::LoopLimit`](crate::RunError::LoopLimit)). Leaving the
-/// persistent loop after 64 batches starts fresh invocations often enough for
-/// bodies whose loops run up to ~800 iterations per batch; with several
-/// chunks per batch, [`CPU_CHUNK_BUDGET`] lowers it further.
-/// docs/scheduler.md ("Loop limits") has details.
-pub const CPU_ITERATION_BUDGET: u32 = 64;
-
-/// On CPU adapters the default iteration budget also stops at this many
-/// chunks (batches times [`CompileOptions::chunks_per_batch`](crate::CompileOptions::chunks_per_batch)),
-/// because each chunk runs the bodies' loops once more: 64 batches of up to
-/// 4 chunks, 16 batches of 16 chunks, 4 of 64. Bodies then get ~200 loop
-/// iterations per chunk beyond 4 chunks.
-pub const CPU_CHUNK_BUDGET: u32 = 256;
-
-/// Spin-wait iterations after which a workgroup leaves at its next batch
-/// boundary on CPU adapters (llvmpipe), for the same reason as
-/// [`CPU_ITERATION_BUDGET`]. Each iteration makes 64 checks. Together they
-/// leave each invocation roughly 50,000 loop iterations for procedure bodies:
-/// about 800 per batch.
-pub const CPU_SPIN_LIMIT: u32 = 8192;
-
 /// Default host-side timeout of one run.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(60);
 
@@ -98,8 +73,8 @@ pub struct ExecutorConfig {
     pub workgroups: Option<u32>,
     /// Batches after which each workgroup leaves; the host then dispatches
     /// again until the work is done. `None`: no budget (one dispatch), except
-    /// on CPU adapters, which get [`CPU_ITERATION_BUDGET`] batches or
-    /// [`CPU_CHUNK_BUDGET`] chunks, whichever is fewer.
+    /// on drivers that cap loops, which get their default budget
+    /// ([`Quirks::default_iteration_budget`](crate::Quirks::default_iteration_budget)).
     pub iteration_budget: Option<u32>,
     /// Host-side limit on one run.
     pub timeout: Duration,

@@ -7,12 +7,10 @@ use crate::codegen::bindings::{RESOURCE_GROUP, SCHEDULER_GROUP, resource_binding
 use crate::codegen::generate::{PREPARE_ENTRY_POINT, round_entry_point};
 use crate::compile::plan::control;
 use crate::readback::{LONGEST_WAIT, map_read};
-use crate::runtime::config::{
-    CPU_CHUNK_BUDGET, CPU_ITERATION_BUDGET, CPU_SPIN_LIMIT, DEFAULT_WORKGROUPS, ExecutorConfig,
-};
+use crate::runtime::config::{DEFAULT_WORKGROUPS, ExecutorConfig};
 use crate::runtime::resources::OwnedBuffers;
 use crate::runtime::state::{Layouts, QueueState, Tuning};
-use crate::{CompiledGraph, ProcedureStats, RunError, RunReport, Seeds, Strategy};
+use crate::{CompiledGraph, ProcedureStats, Quirks, RunError, RunReport, Seeds, Strategy};
 
 /// A user resource bound for a run, by its declared name.
 #[derive(Clone, Debug)]
@@ -154,19 +152,17 @@ impl Executor {
             .iter()
             .map(|q| config.capacities.of(&q.name))
             .collect();
-        let cpu = device.adapter_info().device_type == wgpu::DeviceType::Cpu;
+        let quirks = Quirks::of_device(device);
         let iteration_budget = match config.iteration_budget {
             Some(budget) => budget.max(1),
-            // Each chunk runs the bodies' loops once more: cap the chunks too.
-            None if cpu => CPU_ITERATION_BUDGET
-                .min(CPU_CHUNK_BUDGET / plan.chunks_per_batch)
-                .max(1),
-            None => u32::MAX,
+            None => quirks
+                .default_iteration_budget(plan.chunks_per_batch)
+                .unwrap_or(u32::MAX),
         };
         let tuning = Tuning {
             workgroups,
             iteration_budget,
-            spin_limit: if cpu { CPU_SPIN_LIMIT } else { u32::MAX },
+            spin_limit: quirks.spin_limit(),
         };
         let layouts = Layouts::new(device);
         let state = QueueState::new(device, queue, compiled, &layouts, capacities, tuning)?;
@@ -360,7 +356,9 @@ impl Executor {
                     let mut tuning = self.tuning;
                     if strategy == Strategy::Megakernel && tuning.iteration_budget > 1 {
                         tuning.iteration_budget = if tuning.iteration_budget == u32::MAX {
-                            CPU_ITERATION_BUDGET
+                            Quirks::of_device(&self.device)
+                                .default_iteration_budget(self.compiled.plan.chunks_per_batch)
+                                .unwrap_or(64)
                         } else {
                             tuning.iteration_budget / 2
                         };
@@ -405,9 +403,9 @@ impl Executor {
             Strategy::Rounds { .. } => {
                 format!("Under Rounds each workgroup runs one batch per dispatch, so {shorten}.")
             }
-            Strategy::Megakernel if budget == u32::MAX => format!(
-                "The megakernel ran without an iteration budget: `Executor::run_with_retry` sets one, or set `ExecutorConfig::iteration_budget` (e.g. {CPU_ITERATION_BUDGET})."
-            ),
+            Strategy::Megakernel if budget == u32::MAX => {
+                "The megakernel ran without an iteration budget: `Executor::run_with_retry` sets one, or set `ExecutorConfig::iteration_budget` (e.g. 64).".to_owned()
+            }
             Strategy::Megakernel if budget > 1 => format!(
                 "`Executor::run_with_retry` runs again with half the iteration budget (now {budget}); by hand, set `ExecutorConfig::iteration_budget` below {budget}."
             ),
