@@ -941,7 +941,13 @@ impl Scene {
                     reason: reason.to_string(),
                 });
             }
-            if let Some(close) = &self.camera_close {
+            // Non-finite fields of the pose at close are named below, each
+            // by its own field; this checks what finite fields derive.
+            if let Some(close) = self
+                .camera_close
+                .as_ref()
+                .filter(|c| c.eye.is_finite() && c.target.is_finite())
+            {
                 let up = close.up.unwrap_or(camera.up);
                 if let Some(reason) = built.looking(close.eye, close.target, up).matrix_problem() {
                     return Err(invalid("camera_close", reason));
