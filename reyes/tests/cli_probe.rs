@@ -366,6 +366,100 @@ fn cases() -> Vec<Case> {
             written: &["out.png"],
             ..BASE
         },
+        // D4, D12: user WGSL that reaches the renderer's buffers, a
+        // function named only in a comment, a barrier; refused on the
+        // function's own source, at its own line, before any device is opened.
+        Case {
+            name: "D4 user WGSL writing the framebuffer",
+            setup: user_wgsl,
+            args: &[
+                "render",
+                "--displace",
+                "framebuffer.wgsl",
+                "--displace-scale",
+                "0.1",
+                "--displace-bound",
+                "0.1",
+                "-o",
+                "out.png",
+            ],
+            words: &["framebuffer", "line 3", "never the renderer's buffers"],
+            not_written: &["out.png"],
+            ..BASE
+        },
+        Case {
+            name: "D4 user WGSL writing the statistics",
+            setup: user_wgsl,
+            args: &[
+                "render",
+                "--displace",
+                "stats.wgsl",
+                "--displace-scale",
+                "0.1",
+                "--displace-bound",
+                "0.1",
+                "-o",
+                "out.png",
+            ],
+            words: &["`stats`", "line 2"],
+            not_written: &["out.png"],
+            ..BASE
+        },
+        Case {
+            name: "D12 user function named only in a comment",
+            setup: user_wgsl,
+            args: &[
+                "render",
+                "--displace",
+                "comment.wgsl",
+                "--displace-scale",
+                "0.1",
+                "--displace-bound",
+                "0.1",
+                "-o",
+                "out.png",
+            ],
+            words: &["does not define `fn displacement_user"],
+            not_written: &["out.png"],
+            ..BASE
+        },
+        Case {
+            name: "D12 syntax error at the user's line",
+            setup: user_wgsl,
+            args: &[
+                "render",
+                "--displace",
+                "syntax.wgsl",
+                "--displace-scale",
+                "0.1",
+                "--displace-bound",
+                "0.1",
+                "-o",
+                "out.png",
+            ],
+            words: &["line 4"],
+            absent: &["graph library"],
+            not_written: &["out.png"],
+            ..BASE
+        },
+        Case {
+            name: "D12 barrier in a user function",
+            setup: user_wgsl,
+            args: &[
+                "render",
+                "--displace",
+                "barrier.wgsl",
+                "--displace-scale",
+                "0.1",
+                "--displace-bound",
+                "0.1",
+                "-o",
+                "out.png",
+            ],
+            words: &["barrier", "line 3"],
+            not_written: &["out.png"],
+            ..BASE
+        },
         // RIB: a syntax error gives file:line:column.
         Case {
             name: "RIB malformed array",
@@ -378,12 +472,6 @@ fn cases() -> Vec<Case> {
     ]
 }
 
-/// The cases whose current behaviour is wrong: they assert the right
-/// behaviour and run in [`known_failures`] (ignored). Empty at present.
-fn known_failing_cases() -> Vec<Case> {
-    Vec::new()
-}
-
 #[test]
 fn cli_probe() {
     let failures = run_cases(&cases());
@@ -393,13 +481,6 @@ fn cli_probe() {
         failures.len(),
         failures.join("\n")
     );
-}
-
-#[test]
-#[ignore = "cases whose current behaviour is wrong (none at present); see known_failing_cases"]
-fn known_failures() {
-    let failures = run_cases(&known_failing_cases());
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 /// The harness itself: a child past its bound is killed (under `time`, its
@@ -839,6 +920,41 @@ fn bom_bpt(dir: &Path) -> Result<(), String> {
         dir,
         "bom.bpt",
         &format!("\u{feff}{}", bpt::write(&Model::teapot())),
+    )
+}
+
+fn user_wgsl(dir: &Path) -> Result<(), String> {
+    let head = "fn displacement_user(u: f32, v: f32) -> f32 {\n";
+    write(
+        dir,
+        "framebuffer.wgsl",
+        &format!(
+            "{head}    let i = u32(u * 100.0);\n    atomicMin(&framebuffer[i], 0u);\n    return u;\n}}\n"
+        ),
+    )?;
+    write(
+        dir,
+        "stats.wgsl",
+        &format!("{head}    atomicStore(&stats[4], 7777u);\n    return u;\n}}\n"),
+    )?;
+    write(
+        dir,
+        "comment.wgsl",
+        "// fn displacement_user(u: f32, v: f32) -> f32\nfn height(u: f32, v: f32) -> f32 { return u; }\n",
+    )?;
+    write(
+        dir,
+        "syntax.wgsl",
+        &format!(
+            "// A helper.\nfn twice(x: f32) -> f32 {{ return 2.0 * x; }}\n{head}    return twice(u) + ;\n}}\n"
+        ),
+    )?;
+    write(
+        dir,
+        "barrier.wgsl",
+        &format!(
+            "{head}    if (u > 0.5) {{\n        workgroupBarrier();\n    }}\n    return u;\n}}\n"
+        ),
     )
 }
 

@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use glam::Vec3;
+use reyes::displacement::user_wgsl::UserWgslError;
 use reyes::displacement::{CpuHeight, DisplacementDesc, DisplacementError, HeightSource};
 use reyes::gpu::{GpuRendered, GpuRenderer, RenderError};
 use reyes::model::{Model, Patch};
@@ -292,9 +293,11 @@ fn user_wgsl_displacement() {
     {
         user.wgsl = "fn displacement_user(u: f32, v: f32) -> f32 { return u + ; }".into();
     }
+    // Refused on its own source, at its own line, before the megakernel
+    // is compiled.
     match renderer.render(&broken) {
-        Err(RenderError::UserDisplacement(_)) => {}
-        other => panic!("expected RenderError::UserDisplacement, got {other:?}"),
+        Err(RenderError::UserFunction(UserWgslError::Invalid { line: 1, .. })) => {}
+        other => panic!("expected RenderError::UserFunction at line 1, got {other:?}"),
     }
     // The renderer recovers with a valid function.
     assert!(renderer.render(&prepared).is_ok());

@@ -147,12 +147,10 @@ impl DisplacementDesc {
                 "source = \"wgsl\" needs the function in `wgsl`",
             )),
             (SourceKind::Wgsl, Some(wgsl)) => {
-                if !wgsl.contains(USER_FUNCTION_NAME) {
-                    return Err(DescProblem::invalid(
-                        "wgsl",
-                        format!("must define `fn {USER_FUNCTION_NAME}(u: f32, v: f32) -> f32`"),
-                    ));
-                }
+                // On naga's IR of the function alone: its own line numbers,
+                // the function found by name, nothing of the renderer's.
+                super::user_wgsl::check(wgsl)
+                    .map_err(|e| DescProblem::invalid("wgsl", e.to_string()))?;
                 if self.bound.is_none() {
                     return Err(DescProblem::invalid(
                         "bound",

@@ -4,7 +4,8 @@
 //! * [`desc`]: the `[objects.displacement]` table of a scene and its checks;
 //! * [`height_map`]: grey PNG height maps and their bilinear wrap-around lookup;
 //! * [`sines`]: the built-in procedural source;
-//! * [`error`]: why a source cannot be prepared ([`DisplacementError`]).
+//! * [`error`]: why a source cannot be prepared ([`DisplacementError`]);
+//! * [`user_wgsl`]: the checks on a user WGSL function, on its own IR.
 //!
 //! `(u, v)` are the parameters of the *input* patch: every split carries
 //! its piece's rectangle of them (`WorkItem::uv` on the CPU, `PatchItem::uv`
@@ -17,6 +18,7 @@ pub mod desc;
 pub mod error;
 pub mod height_map;
 pub mod sines;
+pub mod user_wgsl;
 
 use std::fmt;
 use std::sync::Arc;

@@ -136,6 +136,11 @@ pub enum RenderError {
         "the user displacement function (WGSL defining `fn displacement_user(u: f32, v: f32) -> f32`) does not compile into the megakernel: {0}"
     )]
     UserDisplacement(#[source] CompileError),
+    /// The scene's user displacement function fails the checks made on its
+    /// own source (syntax, a name of the renderer's, module variables,
+    /// barriers), at its own line.
+    #[error("the user displacement function is refused: {0}")]
+    UserFunction(#[from] crate::displacement::user_wgsl::UserWgslError),
     /// Objects use different user displacement functions; the megakernel
     /// holds one.
     #[error(
@@ -478,6 +483,9 @@ impl<'a> GpuRenderer<'a> {
         let chunks = chunks_per_batch(self.gpu, &self.options, scene.samples_time_and_lens());
         if user == self.compiled_user.as_deref() && chunks == self.compiled_chunks {
             return Ok(());
+        }
+        if let Some(wgsl) = user {
+            crate::displacement::user_wgsl::check(wgsl)?;
         }
         let features = scheduler::recommended_features(&self.gpu.device);
         let compiled = graph::compile_for(features, user, self.options.policy, chunks).map_err(

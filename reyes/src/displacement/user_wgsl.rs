@@ -1,0 +1,272 @@
+//! Checks on a scene's user displacement function, made on naga's IR of the
+//! user's source alone, before it joins the megakernel: errors carry the
+//! line in the user's own text, the function is found by name in the IR (not
+//! by a substring, which a comment would satisfy), and the function cannot
+//! reach anything of the renderer's. A user function sees its arguments, its
+//! own helpers and constants and WGSL's built-ins; the megakernel's buffers
+//! (`framebuffer`, `stats`, ...) and the scheduler's `sched_*` state are not
+//! in scope in its source, so naming one is an error that names it.
+
+use naga::{Block, Statement};
+
+use super::desc::USER_FUNCTION_NAME;
+
+/// Why a user displacement function is refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum UserWgslError {
+    /// naga cannot parse or validate the source.
+    #[error("line {line}, column {column} of the function's source: {message}")]
+    Invalid {
+        /// 1-based line in the user's source.
+        line: u32,
+        /// 1-based column.
+        column: u32,
+        /// naga's message.
+        message: String,
+    },
+    /// The source names something it does not define: most likely one of
+    /// the renderer's globals or functions, which a user function may not
+    /// touch.
+    #[error(
+        "line {line}, column {column} of the function's source: `{name}` is not defined there; a user function may use only its arguments, its own helpers and constants, and WGSL's built-ins, never the renderer's buffers or functions"
+    )]
+    OutsideName {
+        /// The name.
+        name: String,
+        /// 1-based line in the user's source.
+        line: u32,
+        /// 1-based column.
+        column: u32,
+    },
+    /// No function of the expected name and signature.
+    #[error("the source does not define `fn {USER_FUNCTION_NAME}(u: f32, v: f32) -> f32`{found}")]
+    Missing {
+        /// What was found under the name instead, if anything.
+        found: String,
+    },
+    /// The source declares a module-scope variable: its binding or state
+    /// would be shared with the renderer's.
+    #[error(
+        "line {line} of the function's source: `var {name}` at module scope is not allowed in a user function (use a `let` or `var` inside the function, or a `const`)"
+    )]
+    Global {
+        /// The variable.
+        name: String,
+        /// 1-based line.
+        line: u32,
+    },
+    /// A barrier: the renderer calls the function from divergent control
+    /// flow, where barriers are undefined behaviour on real GPUs.
+    #[error(
+        "line {line} of the function's source: `{function}` calls a barrier; the renderer calls user functions from divergent control flow, where barriers are undefined"
+    )]
+    Barrier {
+        /// The function with the barrier.
+        function: String,
+        /// 1-based line.
+        line: u32,
+    },
+}
+
+/// Checks `wgsl`, the source of a user displacement function and its
+/// helpers, on its own.
+pub fn check(wgsl: &str) -> Result<(), UserWgslError> {
+    let module = naga::front::wgsl::parse_str(wgsl).map_err(|error| {
+        let (line, column) = error
+            .location(wgsl)
+            .map_or((0, 0), |l| (l.line_number, l.line_position));
+        let undefined = error
+            .message()
+            .starts_with("no definition in scope for identifier");
+        let name = error
+            .labels()
+            .next()
+            .and_then(|(span, _)| wgsl.get(span.to_range()?))
+            .filter(|name| undefined && !name.is_empty());
+        match name {
+            Some(name) => UserWgslError::OutsideName {
+                name: name.to_owned(),
+                line,
+                column,
+            },
+            None => UserWgslError::Invalid {
+                line,
+                column,
+                message: error.message().to_owned(),
+            },
+        }
+    })?;
+    let line_of = |span: naga::Span| span.location(wgsl).line_number;
+    if let Some((handle, global)) = module.global_variables.iter().next() {
+        return Err(UserWgslError::Global {
+            name: global.name.clone().unwrap_or_default(),
+            line: line_of(module.global_variables.get_span(handle)),
+        });
+    }
+    let user = module
+        .functions
+        .iter()
+        .find(|(_, f)| f.name.as_deref() == Some(USER_FUNCTION_NAME));
+    let Some((_, function)) = user else {
+        return Err(UserWgslError::Missing {
+            found: String::new(),
+        });
+    };
+    let f32_type = |ty: naga::Handle<naga::Type>| {
+        matches!(
+            module.types[ty].inner,
+            naga::TypeInner::Scalar(naga::Scalar::F32)
+        )
+    };
+    let signature_ok = function.arguments.len() == 2
+        && function.arguments.iter().all(|a| f32_type(a.ty))
+        && function.result.as_ref().is_some_and(|r| f32_type(r.ty));
+    if !signature_ok {
+        return Err(UserWgslError::Missing {
+            found: " with that signature (it takes two f32 and returns an f32)".to_owned(),
+        });
+    }
+    for (_, function) in module.functions.iter() {
+        if let Some(span) = first_barrier(&function.body) {
+            return Err(UserWgslError::Barrier {
+                function: function.name.clone().unwrap_or_default(),
+                line: line_of(span),
+            });
+        }
+    }
+    let capabilities = naga::valid::Capabilities::all();
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
+        .validate(&module)
+        .map_err(|error| {
+            // The innermost labelled span (naga also labels the enclosing
+            // function), else the error's own location.
+            let location = error
+                .spans()
+                .map(|(span, _)| *span)
+                .max_by_key(|span| span.to_range().map_or(0, |r| r.start))
+                .map(|span| span.location(wgsl))
+                .or_else(|| error.location(wgsl));
+            let (line, column) = location.map_or((0, 0), |l| (l.line_number, l.line_position));
+            UserWgslError::Invalid {
+                line,
+                column,
+                message: error.as_inner().to_string(),
+            }
+        })?;
+    Ok(())
+}
+
+/// The span of the first barrier in `block`, nested blocks included.
+fn first_barrier(block: &Block) -> Option<naga::Span> {
+    for (statement, span) in block.span_iter() {
+        let nested: Vec<&Block> = match statement {
+            Statement::ControlBarrier(_)
+            | Statement::MemoryBarrier(_)
+            | Statement::WorkGroupUniformLoad { .. } => return Some(*span),
+            Statement::Block(inner) => vec![inner],
+            Statement::If { accept, reject, .. } => vec![accept, reject],
+            Statement::Switch { cases, .. } => cases.iter().map(|c| &c.body).collect(),
+            Statement::Loop {
+                body, continuing, ..
+            } => vec![body, continuing],
+            _ => Vec::new(),
+        };
+        if let Some(span) = nested.into_iter().find_map(first_barrier) {
+            return Some(span);
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_self_contained_function_with_helpers_passes() {
+        let wgsl = "const K: f32 = 3.0;
+fn wave(x: f32) -> f32 { return sin(K * x); }
+fn displacement_user(u: f32, v: f32) -> f32 {
+    var h = 0.0;
+    for (var i = 0; i < 4; i += 1) { h += wave(u + f32(i)) * v; }
+    return h;
+}";
+        assert_eq!(check(wgsl), Ok(()));
+    }
+
+    #[test]
+    fn the_renderers_buffers_are_out_of_reach_and_named() {
+        for (wgsl, name, line) in [
+            (
+                "fn displacement_user(u: f32, v: f32) -> f32 {\n    atomicMin(&framebuffer[0], 0u);\n    return u;\n}",
+                "framebuffer",
+                2,
+            ),
+            (
+                "fn displacement_user(u: f32, v: f32) -> f32 {\n    let s = 1.0;\n    atomicStore(&stats[4], 7777u);\n    return u;\n}",
+                "stats",
+                3,
+            ),
+            (
+                "fn displacement_user(u: f32, v: f32) -> f32 {\n    atomicStore(&sched_control[0], 0u);\n    return u;\n}",
+                "sched_control",
+                2,
+            ),
+        ] {
+            match check(wgsl) {
+                Err(UserWgslError::OutsideName {
+                    name: found,
+                    line: at,
+                    ..
+                }) => assert_eq!((found.as_str(), at), (name, line), "{wgsl}"),
+                other => panic!("expected {name} to be refused, got {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn errors_are_at_the_users_own_lines() {
+        let wgsl =
+            "// a comment\nfn displacement_user(u: f32, v: f32) -> f32 {\n    return u + ;\n}";
+        match check(wgsl) {
+            Err(UserWgslError::Invalid { line, .. }) => assert_eq!(line, 3),
+            other => panic!("{other:?}"),
+        }
+        let wrong_type = "fn displacement_user(u: f32, v: f32) -> f32 {\n    return 1u;\n}";
+        match check(wrong_type) {
+            Err(UserWgslError::Invalid { line, .. }) => assert_eq!(line, 2),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn the_function_is_found_by_name_and_signature_not_by_substring() {
+        let in_a_comment = "// fn displacement_user(u: f32, v: f32) -> f32\nfn height(u: f32, v: f32) -> f32 { return u; }";
+        assert!(matches!(
+            check(in_a_comment),
+            Err(UserWgslError::Missing { .. })
+        ));
+        let wrong_signature = "fn displacement_user(u: u32, v: f32) -> f32 { return v; }";
+        match check(wrong_signature) {
+            Err(UserWgslError::Missing { found }) => assert!(found.contains("signature")),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn module_variables_and_barriers_are_refused() {
+        let global =
+            "var<private> seed: u32;\nfn displacement_user(u: f32, v: f32) -> f32 { return u; }";
+        assert!(matches!(
+            check(global),
+            Err(UserWgslError::Global { line: 1, .. })
+        ));
+        let barrier = "fn displacement_user(u: f32, v: f32) -> f32 {\n    if (u > 0.5) {\n        workgroupBarrier();\n    }\n    return u;\n}";
+        match check(barrier) {
+            Err(UserWgslError::Barrier { function, line }) => {
+                assert_eq!((function.as_str(), line), ("displacement_user", 3));
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}
