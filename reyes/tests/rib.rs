@@ -679,3 +679,21 @@ fn camera_motion_maps_to_camera_close() {
         rib.warnings
     );
 }
+
+/// The gallery scene of docs/rib.md reads with no warning but the one that
+/// matte and plastic surfaces share one specular term.
+#[test]
+fn the_gallery_scene_reads_with_only_the_specular_warning() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/scenes/gallery.rib");
+    let rib = reyes::rib::RibScene::load(&path).unwrap();
+    assert!(
+        rib.warnings
+            .iter()
+            .all(|w| w.message.contains("one specular term")),
+        "{:?}",
+        rib.warnings
+    );
+    // One object per attribute block: the cone and its disk share one.
+    assert_eq!(rib.scene.objects.len(), 8);
+    assert_eq!(rib.display.as_deref(), Some("rib-gallery.png"));
+}
