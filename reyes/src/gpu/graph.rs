@@ -19,8 +19,8 @@
 //! drift apart.
 
 use scheduler::{
-    Atomic, CompileError, CompileOptions, CompiledGraph, Graph, Policy, Procedure, Resource,
-    item_type,
+    Atomic, CompileError, CompileOptions, CompiledGraph, ConstantValue, Graph, Policy, Procedure,
+    Resource, item_type,
 };
 
 use crate::aov::Aov;
@@ -240,15 +240,21 @@ impl PatchItem {
     }
 }
 
-/// WGSL constants shared with the CPU side, generated from [`crate::params`].
-fn constants_wgsl(workgroup_size: u32) -> String {
+/// Bits of a point's clip-plane flags (WGSL only: they never leave the GPU).
+const PLANE_BITS: u32 = 0x3f;
+/// The flag of a point behind the near plane.
+const UNPROJECTABLE: u32 = 0x100;
+
+/// The WGSL constants shared with the CPU side ([`crate::params`] and this
+/// module), each name stated next to its value so that no list of
+/// positional arguments can pair them wrongly, in declaration order.
+fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, ConstantValue)> {
     let [mx, my, ms, mc] = HASH_MULTIPLIERS;
     let [m0, m1] = HASH_MIX;
     // The same f32 value the reference multiplies with in
     // PreparedDisplacement::exceeds_bound.
     let bound_slack = 1.0f32 + DISPLACEMENT_BOUND_TOLERANCE;
     let tau = std::f32::consts::TAU;
-    let grid_colors = grid_colors_wgsl();
     let fixed = GridSize::FIXED.nu;
     let [small, medium, large] = GridClass::ALL.map(|c| c.index());
     let (small_threads, small_points) = (GridClass::Small.threads(), GridClass::Small.max_points());
@@ -258,117 +264,171 @@ fn constants_wgsl(workgroup_size: u32) -> String {
     let [aov_shaded, aov_grids, aov_depth, aov_normal] =
         [Aov::Shaded, Aov::Grids, Aov::Depth, Aov::Normal].map(Aov::code);
     let extent_words = 2 * slots;
-    format!(
-        "// Generated from reyes::params and reyes::gpu::graph.
-const NEAR_EPS: f32 = {NEAR_EPS:e};
-const MAX_GRID_QUADS: u32 = {MAX_GRID_QUADS}u;
-const FIXED_GRID_QUADS: u32 = {fixed}u;
-const RATE_ROUNDING: f32 = {RATE_ROUNDING:?};
-const EDGE_V0: u32 = {EDGE_V0}u;
-const EDGE_V1: u32 = {EDGE_V1}u;
-const EDGE_U0: u32 = {EDGE_U0}u;
-const EDGE_U1: u32 = {EDGE_U1}u;
-const DICING_FIXED: u32 = {}u;
-const DICING_RATE: u32 = {}u;
-const GRID_CLASS_SMALL: u32 = {small}u;
-const GRID_CLASS_MEDIUM: u32 = {medium}u;
-const GRID_CLASS_LARGE: u32 = {large}u;
-const GRID_CLASS_SMALL_THREADS: u32 = {small_threads}u;
-const GRID_CLASS_SMALL_POINTS: u32 = {small_points}u;
-const GRID_CLASS_MEDIUM_THREADS: u32 = {medium_threads}u;
-const GRID_CLASS_MEDIUM_POINTS: u32 = {medium_points}u;
-const POINT_WORDS: u32 = {POINT_WORDS}u;
-const DICE_SLOTS: u32 = {slots}u;
-const GRID_EXTENT_WORDS: u32 = {extent_words}u;
-const DEGENERATE_NORMAL_REL_EPS: f32 = {DEGENERATE_NORMAL_REL_EPS:e};
-const DEGENERATE_PARAM_MIN: f32 = {DEGENERATE_PARAM_MIN:?};
-const DEGENERATE_PARAM_MAX: f32 = {DEGENERATE_PARAM_MAX:?};
-const HASH_MUL_X: u32 = {mx:#x}u;
-const HASH_MUL_Y: u32 = {my:#x}u;
-const HASH_MUL_S: u32 = {ms:#x}u;
-const HASH_MUL_C: u32 = {mc:#x}u;
-const HASH_MIX_0: u32 = {m0:#x}u;
-const HASH_MIX_1: u32 = {m1:#x}u;
-const PLANE_BITS: u32 = 0x3fu;
-const UNPROJECTABLE: u32 = 0x100u;
-const FLAGS_IDENTITY: u32 = PLANE_BITS;
-const DECIDE_CULL: u32 = {}u;
-const DECIDE_DICE: u32 = {}u;
-const DECIDE_SPLIT_U: u32 = {}u;
-const DECIDE_SPLIT_V: u32 = {}u;
-const DECIDE_DROP: u32 = {}u;
-const SAMPLING_BBOX: u32 = {}u;
-const SAMPLING_NEAREST: u32 = {}u;
-const SAMPLING_SIMPLE: u32 = {}u;
-const SAMPLING_INTERLEAVE: u32 = {}u;
-const SAMPLING_INTERVAL: u32 = {}u;
-const SAMPLING_ADAPTIVE: u32 = {}u;
-const INTERLEAVE_TILE: u32 = {INTERLEAVE_TILE}u;
-const INTERLEAVE_PERMUTATIONS: u32 = {INTERLEAVE_PERMUTATIONS}u;
-const PERMUTATION_CHANNEL: u32 = {PERMUTATION_CHANNEL}u;
-const TABLE_SIDE: u32 = {TABLE_SIDE}u;
-const ADAPTIVE_INTERLEAVE_BIAS: f32 = {ADAPTIVE_INTERLEAVE_BIAS:?};
-const AOV_SHADED: u32 = {aov_shaded}u;
-const AOV_GRIDS: u32 = {aov_grids}u;
-const AOV_DEPTH: u32 = {aov_depth}u;
-const AOV_NORMAL: u32 = {aov_normal}u;
-const STAT_INPUT_PATCHES: u32 = {}u;
-const STAT_SPLITS: u32 = {}u;
-const STAT_CULLED: u32 = {}u;
-const STAT_DEPTH_GUARD_DROPS: u32 = {}u;
-const STAT_GRIDS_DICED: u32 = {}u;
-const STAT_MICROPOLYGONS: u32 = {}u;
-const STAT_SAMPLES_TESTED: u32 = {}u;
-const STAT_SAMPLES_HIT: u32 = {}u;
-const STAT_LARGEST_MICROPOLYGON: u32 = {}u;
-const STAT_LOOPS_CUT: u32 = {}u;
-const STAT_DISPLACEMENT_BOUND_EXCEEDED: u32 = {}u;
-const STAT_INTERLEAVE_GRIDS: u32 = {}u;
-const STAT_GRIDS_BY_CLASS: u32 = {}u;
-const STAT_DICE_THREADS: u32 = {}u;
-const DISPLACE_NONE: u32 = {}u;
-const DISPLACE_IMAGE: u32 = {}u;
-const DISPLACE_SINES: u32 = {}u;
-const DISPLACE_USER: u32 = {}u;
-const DISPLACED_DICE_FRACTION: f32 = {DISPLACED_DICE_FRACTION:?};
-const DISPLACEMENT_BOUND_SLACK: f32 = {bound_slack:?};
-const TAU: f32 = {tau:?};
-const SINES_OCTAVE_2_FREQUENCY: f32 = {SINES_OCTAVE_2_FREQUENCY:?};
-const SINES_OCTAVE_2_WEIGHT: f32 = {SINES_OCTAVE_2_WEIGHT:?};
-const SINES_NORMALIZATION: f32 = {SINES_NORMALIZATION:?};
-{grid_colors}",
-        dicing::FIXED,
-        dicing::RATE,
-        decide::CULL,
-        decide::DICE,
-        decide::SPLIT_U,
-        decide::SPLIT_V,
-        decide::DROP,
-        sampling::BBOX,
-        sampling::NEAREST,
-        sampling::SIMPLE,
-        sampling::INTERLEAVE,
-        sampling::INTERVAL,
-        sampling::ADAPTIVE,
-        stat::INPUT_PATCHES,
-        stat::SPLITS,
-        stat::CULLED,
-        stat::DEPTH_GUARD_DROPS,
-        stat::GRIDS_DICED,
-        stat::MICROPOLYGONS,
-        stat::SAMPLES_TESTED,
-        stat::SAMPLES_HIT,
-        stat::LARGEST_MICROPOLYGON,
-        stat::LOOPS_CUT,
-        stat::DISPLACEMENT_BOUND_EXCEEDED,
-        stat::INTERLEAVE_GRIDS,
-        stat::GRIDS_BY_CLASS,
-        stat::DICE_THREADS,
-        displace::NONE,
-        displace::IMAGE,
-        displace::SINES,
-        displace::USER,
-    )
+    vec![
+        ("NEAR_EPS", ConstantValue::F32(NEAR_EPS)),
+        ("MAX_GRID_QUADS", ConstantValue::U32(MAX_GRID_QUADS)),
+        ("FIXED_GRID_QUADS", ConstantValue::U32(fixed)),
+        ("RATE_ROUNDING", ConstantValue::F32(RATE_ROUNDING)),
+        ("EDGE_V0", index(EDGE_V0)),
+        ("EDGE_V1", index(EDGE_V1)),
+        ("EDGE_U0", index(EDGE_U0)),
+        ("EDGE_U1", index(EDGE_U1)),
+        ("DICING_FIXED", ConstantValue::U32(dicing::FIXED)),
+        ("DICING_RATE", ConstantValue::U32(dicing::RATE)),
+        ("GRID_CLASS_SMALL", index(small)),
+        ("GRID_CLASS_MEDIUM", index(medium)),
+        ("GRID_CLASS_LARGE", index(large)),
+        (
+            "GRID_CLASS_SMALL_THREADS",
+            ConstantValue::U32(small_threads),
+        ),
+        ("GRID_CLASS_SMALL_POINTS", ConstantValue::U32(small_points)),
+        (
+            "GRID_CLASS_MEDIUM_THREADS",
+            ConstantValue::U32(medium_threads),
+        ),
+        (
+            "GRID_CLASS_MEDIUM_POINTS",
+            ConstantValue::U32(medium_points),
+        ),
+        ("POINT_WORDS", ConstantValue::U32(POINT_WORDS)),
+        ("DICE_SLOTS", ConstantValue::U32(slots)),
+        ("GRID_EXTENT_WORDS", ConstantValue::U32(extent_words)),
+        (
+            "DEGENERATE_NORMAL_REL_EPS",
+            ConstantValue::F32(DEGENERATE_NORMAL_REL_EPS),
+        ),
+        (
+            "DEGENERATE_PARAM_MIN",
+            ConstantValue::F32(DEGENERATE_PARAM_MIN),
+        ),
+        (
+            "DEGENERATE_PARAM_MAX",
+            ConstantValue::F32(DEGENERATE_PARAM_MAX),
+        ),
+        ("HASH_MUL_X", ConstantValue::U32(mx)),
+        ("HASH_MUL_Y", ConstantValue::U32(my)),
+        ("HASH_MUL_S", ConstantValue::U32(ms)),
+        ("HASH_MUL_C", ConstantValue::U32(mc)),
+        ("HASH_MIX_0", ConstantValue::U32(m0)),
+        ("HASH_MIX_1", ConstantValue::U32(m1)),
+        ("PLANE_BITS", ConstantValue::U32(PLANE_BITS)),
+        ("UNPROJECTABLE", ConstantValue::U32(UNPROJECTABLE)),
+        ("FLAGS_IDENTITY", ConstantValue::U32(PLANE_BITS)),
+        ("DECIDE_CULL", ConstantValue::U32(decide::CULL)),
+        ("DECIDE_DICE", ConstantValue::U32(decide::DICE)),
+        ("DECIDE_SPLIT_U", ConstantValue::U32(decide::SPLIT_U)),
+        ("DECIDE_SPLIT_V", ConstantValue::U32(decide::SPLIT_V)),
+        ("DECIDE_DROP", ConstantValue::U32(decide::DROP)),
+        ("SAMPLING_BBOX", ConstantValue::U32(sampling::BBOX)),
+        ("SAMPLING_NEAREST", ConstantValue::U32(sampling::NEAREST)),
+        ("SAMPLING_SIMPLE", ConstantValue::U32(sampling::SIMPLE)),
+        (
+            "SAMPLING_INTERLEAVE",
+            ConstantValue::U32(sampling::INTERLEAVE),
+        ),
+        ("SAMPLING_INTERVAL", ConstantValue::U32(sampling::INTERVAL)),
+        ("SAMPLING_ADAPTIVE", ConstantValue::U32(sampling::ADAPTIVE)),
+        ("INTERLEAVE_TILE", ConstantValue::U32(INTERLEAVE_TILE)),
+        (
+            "INTERLEAVE_PERMUTATIONS",
+            ConstantValue::U32(INTERLEAVE_PERMUTATIONS),
+        ),
+        (
+            "PERMUTATION_CHANNEL",
+            ConstantValue::U32(PERMUTATION_CHANNEL),
+        ),
+        ("TABLE_SIDE", ConstantValue::U32(TABLE_SIDE)),
+        (
+            "ADAPTIVE_INTERLEAVE_BIAS",
+            ConstantValue::F32(ADAPTIVE_INTERLEAVE_BIAS),
+        ),
+        ("AOV_SHADED", ConstantValue::U32(aov_shaded)),
+        ("AOV_GRIDS", ConstantValue::U32(aov_grids)),
+        ("AOV_DEPTH", ConstantValue::U32(aov_depth)),
+        ("AOV_NORMAL", ConstantValue::U32(aov_normal)),
+        (
+            "STAT_INPUT_PATCHES",
+            ConstantValue::U32(stat::INPUT_PATCHES),
+        ),
+        ("STAT_SPLITS", ConstantValue::U32(stat::SPLITS)),
+        ("STAT_CULLED", ConstantValue::U32(stat::CULLED)),
+        (
+            "STAT_DEPTH_GUARD_DROPS",
+            ConstantValue::U32(stat::DEPTH_GUARD_DROPS),
+        ),
+        ("STAT_GRIDS_DICED", ConstantValue::U32(stat::GRIDS_DICED)),
+        (
+            "STAT_MICROPOLYGONS",
+            ConstantValue::U32(stat::MICROPOLYGONS),
+        ),
+        (
+            "STAT_SAMPLES_TESTED",
+            ConstantValue::U32(stat::SAMPLES_TESTED),
+        ),
+        ("STAT_SAMPLES_HIT", ConstantValue::U32(stat::SAMPLES_HIT)),
+        (
+            "STAT_LARGEST_MICROPOLYGON",
+            ConstantValue::U32(stat::LARGEST_MICROPOLYGON),
+        ),
+        ("STAT_LOOPS_CUT", ConstantValue::U32(stat::LOOPS_CUT)),
+        (
+            "STAT_DISPLACEMENT_BOUND_EXCEEDED",
+            ConstantValue::U32(stat::DISPLACEMENT_BOUND_EXCEEDED),
+        ),
+        (
+            "STAT_INTERLEAVE_GRIDS",
+            ConstantValue::U32(stat::INTERLEAVE_GRIDS),
+        ),
+        (
+            "STAT_GRIDS_BY_CLASS",
+            ConstantValue::U32(stat::GRIDS_BY_CLASS),
+        ),
+        ("STAT_DICE_THREADS", ConstantValue::U32(stat::DICE_THREADS)),
+        ("DISPLACE_NONE", ConstantValue::U32(displace::NONE)),
+        ("DISPLACE_IMAGE", ConstantValue::U32(displace::IMAGE)),
+        ("DISPLACE_SINES", ConstantValue::U32(displace::SINES)),
+        ("DISPLACE_USER", ConstantValue::U32(displace::USER)),
+        (
+            "DISPLACED_DICE_FRACTION",
+            ConstantValue::F32(DISPLACED_DICE_FRACTION),
+        ),
+        ("DISPLACEMENT_BOUND_SLACK", ConstantValue::F32(bound_slack)),
+        ("TAU", ConstantValue::F32(tau)),
+        (
+            "SINES_OCTAVE_2_FREQUENCY",
+            ConstantValue::F32(SINES_OCTAVE_2_FREQUENCY),
+        ),
+        (
+            "SINES_OCTAVE_2_WEIGHT",
+            ConstantValue::F32(SINES_OCTAVE_2_WEIGHT),
+        ),
+        (
+            "SINES_NORMALIZATION",
+            ConstantValue::F32(SINES_NORMALIZATION),
+        ),
+    ]
+}
+
+/// A `usize` index (an edge, a grid class) as a WGSL `u32` constant.
+fn index(i: usize) -> ConstantValue {
+    ConstantValue::U32(u32::try_from(i).expect("indices are small"))
+}
+
+/// The WGSL declarations of [`shared_constants`] (written as
+/// [`ConstantValue`] writes graph constants) and the grid colours.
+fn constants_wgsl(workgroup_size: u32) -> String {
+    let mut text = String::from("// Generated from reyes::params and reyes::gpu::graph.\n");
+    for (name, value) in shared_constants(workgroup_size) {
+        let literal = value
+            .wgsl_literal()
+            .expect("the shared constants are finite");
+        text.push_str(&format!(
+            "const {name}: {} = {literal};\n",
+            value.wgsl_type()
+        ));
+    }
+    text + &grid_colors_wgsl()
 }
 
 /// The WGSL `grid_color(quads, i, j)`: [`crate::aov::grid_color`], its
