@@ -1,12 +1,13 @@
-//! The Rust twins of the Reyes megakernel's resource structs agree with the
-//! WGSL ones, member by member: naga lays out the generated module, and
-//! every WGSL member must sit at the offset of the Rust field of its name.
+//! The Rust twins of the Reyes megakernel's resource structs (`Frame`,
+//! `Object`, `Light`) agree with the WGSL ones, member by member: naga lays
+//! out the generated module, and every WGSL member must sit at the offset of
+//! the Rust field of its name.
 //! (A Rust `pad: [u32; 3]` where WGSL had `aov` and `depth_range` once
 //! passed every size check and silently left the AOV at 0.)
 
 use std::mem::{offset_of, size_of};
 
-use reyes::gpu::buffers::FrameUniform;
+use reyes::gpu::buffers::{FrameUniform, LightData};
 use reyes::gpu::objects::ObjectData;
 
 /// The members of WGSL struct `name` in `module`: names and byte offsets,
@@ -81,4 +82,7 @@ fn the_resource_structs_match_their_rust_twins() {
         albedo, displace_kind, map_offset, map_width, map_height, displace_scale,
         displace_bound, tiling, front, motion, moving, motion_stretch, pad1, pad2);
     assert_twins(&module, "Object", size_of::<ObjectData>(), &object);
+
+    let light = same_names!(LightData: to_light, radiance);
+    assert_twins(&module, "Light", size_of::<LightData>(), &light);
 }

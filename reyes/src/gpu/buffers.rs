@@ -167,12 +167,15 @@ pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
         .max(1)
 }
 
-/// Twin of the WGSL `Light` struct.
+/// Twin of the WGSL `Light` struct (`shaders/reyes/library.wgsl`), checked
+/// member by member by `tests/tests/reyes_layouts.rs`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-struct LightData {
-    to_light: [f32; 4],
-    radiance: [f32; 4],
+pub struct LightData {
+    /// Unit vector towards the light (w unused).
+    pub to_light: [f32; 4],
+    /// Intensity times colour (w unused).
+    pub radiance: [f32; 4],
 }
 
 /// The buffers the megakernel binds (see the resources in
