@@ -179,7 +179,10 @@ pub enum SceneError {
     },
     /// An object's displacement could not be prepared (its height map could
     /// not be read, or its bound is too small for its source).
-    #[error("object {index} (displacement source {displacement:?}): {source}")]
+    #[error(
+        "object {index} (displacement source {:?}): {source}",
+        crate::input::excerpt(displacement)
+    )]
     Displacement {
         /// Index of the object in `objects`.
         index: usize,

@@ -2,7 +2,13 @@
 
 use std::path::PathBuf;
 
-use crate::input::InputError;
+use crate::input::{InputError, excerpt};
+
+/// A path for an error message, cut to a bounded length (a scene may name
+/// any string as its source).
+fn shown(path: &std::path::Path) -> String {
+    excerpt(&path.display().to_string())
+}
 
 /// Errors found while preparing an object's displacement (reading its height
 /// map, checking its bound). Scene-level value errors (NaN, negative bound,
@@ -10,7 +16,7 @@ use crate::input::InputError;
 #[derive(Debug, thiserror::Error)]
 pub enum DisplacementError {
     /// The height-map file could not be opened or read (missing, no permission, ...).
-    #[error("cannot read height map {}: {source}", path.display())]
+    #[error("cannot read height map {}: {source}", shown(path))]
     Io {
         /// The PNG file.
         path: PathBuf,
@@ -24,7 +30,7 @@ pub enum DisplacementError {
     #[error(transparent)]
     Input(InputError),
     /// The file is not a PNG the `image` crate can decode.
-    #[error("height map {} is not a valid PNG: {source}", path.display())]
+    #[error("height map {} is not a valid PNG: {source}", shown(path))]
     Decode {
         /// The PNG file.
         path: PathBuf,
@@ -35,7 +41,7 @@ pub enum DisplacementError {
     /// The image has colour (or alpha) channels: a height map has one grey channel.
     #[error(
         "height map {} is a {color} image; height maps must be 8- or 16-bit greyscale PNGs without alpha",
-        path.display()
+        shown(path)
     )]
     NotGrey {
         /// The PNG file.
@@ -47,7 +53,7 @@ pub enum DisplacementError {
     /// side (found from the PNG header, before anything is decoded).
     #[error(
         "height map {} is {width}x{height}; at most {max}x{max} texels are supported",
-        path.display()
+        shown(path)
     )]
     TooLarge {
         /// The PNG file.

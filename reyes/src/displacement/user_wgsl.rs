@@ -10,6 +10,7 @@
 use naga::{Block, Statement};
 
 use super::desc::USER_FUNCTION_NAME;
+use crate::input::excerpt;
 
 /// Why a user displacement function is refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -85,14 +86,15 @@ pub fn check(wgsl: &str) -> Result<(), UserWgslError> {
             .filter(|name| undefined && !name.is_empty());
         match name {
             Some(name) => UserWgslError::OutsideName {
-                name: name.to_owned(),
+                name: excerpt(name),
                 line,
                 column,
             },
+            // naga quotes the offending token whole, however long.
             None => UserWgslError::Invalid {
                 line,
                 column,
-                message: error.message().to_owned(),
+                message: excerpt(error.message()),
             },
         }
     })?;
@@ -150,7 +152,7 @@ pub fn check(wgsl: &str) -> Result<(), UserWgslError> {
             UserWgslError::Invalid {
                 line,
                 column,
-                message: error.as_inner().to_string(),
+                message: excerpt(&error.as_inner().to_string()),
             }
         })?;
     Ok(())
