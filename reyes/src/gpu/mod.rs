@@ -9,7 +9,9 @@
 //!   limit cut loops short;
 //! * [`resolve`]: the clear and resolve passes (a plain compute shader);
 //! * [`renderer`]: [`GpuRenderer`], which runs a frame and returns the image
-//!   and [`crate::stats::RenderStats`].
+//!   and [`crate::stats::RenderStats`]; its options and results, its error,
+//!   the screen tiles, the batches of input patches and the defaults for CPU
+//!   adapters are private modules beside it, re-exported from [`renderer`].
 //!
 //! ```no_run
 //! use reyes::gpu::{GpuRenderer, GpuOptions};
@@ -29,6 +31,12 @@ pub mod loop_limit;
 pub mod objects;
 pub mod renderer;
 pub mod resolve;
+
+mod batches;
+mod cpu_tuning;
+mod options;
+mod render_error;
+mod tiles;
 
 pub use loop_limit::{LoopLimitContext, LoopLimitError, LoopLimitHint};
 pub use renderer::{DEFAULT_RENDER_TIMEOUT, GpuOptions, GpuRendered, GpuRenderer, RenderError};

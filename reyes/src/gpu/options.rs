@@ -1,0 +1,123 @@
+//! How the renderer runs the megakernel ([`GpuOptions`]) and what a frame
+//! gives back ([`GpuRendered`], [`FrameTimings`]).
+
+use std::time::Duration;
+
+use image::RgbaImage;
+use scheduler::{Policy, RunReport, Strategy};
+
+use crate::stats::RenderStats;
+
+/// Default capacity (items) of the split and dice queues. With the
+/// depth-first priorities the queues hold roughly one wave of pieces per
+/// running workgroup; 2^16 items (14 MiB per queue) leaves ample room for
+/// the teapot and the Killeroo, and an overflow is retried with double the
+/// capacity, never ignored.
+pub const DEFAULT_WORK_CAPACITY: u32 = 1 << 16;
+
+/// How the renderer runs the megakernel.
+#[derive(Clone, Debug)]
+pub struct GpuOptions {
+    /// Persistent workgroups (`None`:
+    /// [`cpu_workgroups`](super::renderer::cpu_workgroups) on CPU adapters,
+    /// else the scheduler's default).
+    pub workgroups: Option<u32>,
+    /// Iteration budget per dispatch (`None`:
+    /// [`CPU_ITERATION_BUDGET`](super::renderer::CPU_ITERATION_BUDGET) on
+    /// CPU adapters, else the scheduler's default).
+    pub iteration_budget: Option<u32>,
+    /// Chunks per batch the megakernel is compiled with (`None`:
+    /// [`CPU_CHUNKS_PER_BATCH`](super::renderer::CPU_CHUNKS_PER_BATCH) on
+    /// CPU adapters for frames without motion blur or depth of field, else
+    /// 1). The image is the same for any value.
+    pub chunks_per_batch: Option<u32>,
+    /// Capacity of the split and dice queues in items.
+    pub work_capacity: u32,
+    /// Host-side limit of one run.
+    pub timeout: Duration,
+    /// How the scheduler runs the graph: the persistent megakernel (default)
+    /// or kernel-by-kernel rounds. The image is the same either way.
+    pub strategy: Strategy,
+    /// Queue policy the graph is compiled for (default: priority, which
+    /// works the patches depth-first).
+    pub policy: Policy,
+    /// Most samples the framebuffer of one screen tile may hold (`None`: as
+    /// many as the device's buffers and the shaders' u32 sample index
+    /// allow). A frame with more samples is rendered in tiles (see
+    /// [`plan_tiles`](super::renderer::plan_tiles)); a small cap forces
+    /// tiling on small frames.
+    pub max_tile_samples: Option<u64>,
+    /// Most input patches seeded into one run of the megakernel (`None`: as
+    /// many as the Bound queue holds next to the work queues in one device
+    /// buffer). A scene with more patches is rendered in batches, each run
+    /// into the same framebuffer and statistics, which compose (see
+    /// [`GpuRenderer::render`](super::renderer::GpuRenderer::render)); a
+    /// small value forces batches on small scenes.
+    pub max_batch_patches: Option<u32>,
+}
+
+/// Default host-side limit of one megakernel run. It includes the driver's
+/// compilation of the pipeline on its first dispatch, which lavapipe does
+/// lazily: over a minute for the Reyes megakernel on a cold shader cache.
+pub const DEFAULT_RENDER_TIMEOUT: Duration = Duration::from_secs(600);
+
+impl Default for GpuOptions {
+    fn default() -> Self {
+        Self {
+            workgroups: None,
+            iteration_budget: None,
+            chunks_per_batch: None,
+            work_capacity: DEFAULT_WORK_CAPACITY,
+            timeout: DEFAULT_RENDER_TIMEOUT,
+            strategy: Strategy::Megakernel,
+            policy: Policy::Priority,
+            max_tile_samples: None,
+            max_batch_patches: None,
+        }
+    }
+}
+
+/// Where the time of a frame went.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct FrameTimings {
+    /// GPU time of the megakernel (timestamp queries), when the device has them.
+    pub megakernel_gpu_ms: Option<f64>,
+    /// Host wall time of the megakernel run (seeding to counter read-back).
+    pub megakernel_wall_ms: f64,
+    /// Host wall time of the whole frame: clear, megakernel, resolve, read-back.
+    pub total_wall_ms: f64,
+}
+
+/// A frame rendered on the GPU.
+#[derive(Debug, Clone)]
+pub struct GpuRendered {
+    /// The resolved image, 8-bit sRGB, alpha 255.
+    pub image: RgbaImage,
+    /// Per pixel (row-major): whether any sample was covered.
+    pub coverage: Vec<bool>,
+    /// Per pixel (row-major): how many of its samples were covered.
+    pub covered_samples: Vec<u8>,
+    /// The frame's counters. `frame_time_ms` is the megakernel's GPU time
+    /// when the device has timestamp queries, else the frame's wall time.
+    pub stats: RenderStats,
+    /// The scheduler's report of the (last) megakernel run; `None` for a
+    /// scene without patches, where nothing runs.
+    pub report: Option<RunReport>,
+    /// Runs repeated because a queue overflowed (0 or 1 per tile, summed
+    /// over the tiles).
+    pub overflow_retries: u32,
+    /// Runs repeated because llvmpipe cut loops short (0 to 2 per tile,
+    /// summed over the tiles).
+    pub loop_retries: u32,
+    /// Timings of the frame (summed over the tiles).
+    pub timings: FrameTimings,
+    /// Screen tiles the frame was rendered in (1 unless its sample
+    /// framebuffer exceeds the device's limits or
+    /// [`GpuOptions::max_tile_samples`]).
+    pub tiles: u32,
+    /// Runs of the megakernel, one per batch of input patches, of the
+    /// successful attempt, summed over the tiles (1 per tile unless the
+    /// patches exceed the Bound queue or [`GpuOptions::max_batch_patches`];
+    /// 0 for a scene without patches).
+    pub batches: u32,
+}
