@@ -443,3 +443,43 @@ fn a_typed_resource_whose_wgsl_stride_differs_from_rust_is_refused() {
         other => panic!("expected a resource error, got {other}"),
     }
 }
+
+/// A body or library function that names the scheduler's own state (here
+/// its control words) is refused at the line in the user's source, naming
+/// the global; the generated helpers that use that state are not.
+#[test]
+fn user_code_may_not_name_the_schedulers_state() {
+    let mut g = Graph::new("meddling body");
+    g.procedure(
+        Procedure::of::<Node>("A")
+            .initial(true)
+            .body("let x = item.id;\natomicStore(&sched_control[0], x);"),
+    );
+    match compile(&g).unwrap_err() {
+        CompileError::Wgsl {
+            origin: SourceOrigin::Body(procedure),
+            line,
+            message,
+            ..
+        } => {
+            assert_eq!((procedure.as_str(), line), ("A", 2));
+            assert!(message.contains("sched_control"), "{message}");
+        }
+        other => panic!("expected a located error, got {other}"),
+    }
+    let mut g = Graph::new("meddling library");
+    g.library("fn reset() {\n    atomicStore(&sched_control[1], 0u);\n}");
+    g.procedure(Procedure::of::<Node>("A").initial(true).body("reset();"));
+    match compile(&g).unwrap_err() {
+        CompileError::Wgsl {
+            origin: SourceOrigin::Library,
+            line,
+            message,
+            ..
+        } => {
+            assert_eq!(line, 2);
+            assert!(message.contains("sched_control"), "{message}");
+        }
+        other => panic!("expected a located error, got {other}"),
+    }
+}

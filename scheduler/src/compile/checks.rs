@@ -1,11 +1,13 @@
-//! Checks on the parsed module: reserved names, the enqueue call graph, and
-//! the layout of typed resources.
+//! Checks on the parsed module: reserved names, the scheduler's state out of
+//! reach of user code, the enqueue call graph, and the layout of typed
+//! resources.
 
 use std::collections::{BTreeSet, HashMap};
 
 use naga::{Block, Function, Handle, Module, Statement};
 
 use crate::codegen::generate::{body_name, enqueue_name};
+use crate::codegen::module::Rendered;
 use crate::compile::plan::Plan;
 use crate::{CompileError, Resource};
 
@@ -148,6 +150,55 @@ pub(crate) fn resource_layouts(
                 resource.wgsl_type(),
                 shape.element_bytes
             )));
+        }
+    }
+    Ok(())
+}
+
+/// Rejects user code (bodies and the library's functions) that names a
+/// global of the scheduler (`sched_*`: queues, control words, staging): a
+/// body that writes `sched_control` corrupts the run, and on a GPU could
+/// hang it. User code reaches scheduler state only through the generated
+/// functions (`enqueue_*`, the item-wide and scratch helpers). The one
+/// exception is a procedure's own typed scratch, which its body's
+/// generated prologue points `scratch` at. The error names the global and
+/// the line in the user's source.
+pub(crate) fn scheduler_state_private(
+    module: &Module,
+    rendered: &Rendered,
+    generated: &BTreeSet<String>,
+) -> Result<(), CompileError> {
+    for (_, function) in module.functions.iter() {
+        let name = function.name.as_deref().unwrap_or_default();
+        let body_of = name.strip_prefix("sched_proc_");
+        if generated.contains(name) && body_of.is_none() {
+            continue;
+        }
+        let own_scratch = body_of.map(|procedure| format!("sched_scratch_{procedure}"));
+        for (handle, expression) in function.expressions.iter() {
+            let naga::Expression::GlobalVariable(global) = expression else {
+                continue;
+            };
+            let Some(global_name) = module.global_variables[*global].name.as_deref() else {
+                continue;
+            };
+            if !global_name.starts_with("sched_") || Some(global_name) == own_scratch.as_deref() {
+                continue;
+            }
+            let location = function
+                .expressions
+                .get_span(handle)
+                .location(&rendered.text);
+            let (origin, line, column) =
+                rendered.locate(location.line_number, location.line_position);
+            return Err(CompileError::Wgsl {
+                origin,
+                line,
+                column,
+                message: format!(
+                    "`{global_name}` is the scheduler's own state: bodies and library code may not name it (use `enqueue_*` and the helpers)"
+                ),
+            });
         }
     }
     Ok(())

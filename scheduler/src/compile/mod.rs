@@ -238,7 +238,9 @@ impl Graph {
             .extend(crate::constant::declarations(&self.constants));
         let rendered = kernel.render();
         let (module, _info) = diagnostics::parse_and_validate(&rendered, options.features)?;
-        checks::reserved_names(&module, &generated_names(&kernel))?;
+        let generated = generated_names(&kernel);
+        checks::reserved_names(&module, &generated)?;
+        checks::scheduler_state_private(&module, &rendered, &generated)?;
         checks::enqueue_call_graph(&module, &plan)?;
         checks::resource_layouts(&module, &plan.resources)?;
         let workgroup_bytes = workgroup::check(
