@@ -79,6 +79,14 @@ macro_rules! cpu_tiny {
     };
 }
 
+/// A CPU frame large enough that `fine.toml` (fixed dicing at threshold
+/// 0.5) takes minutes even in a release build: it must be stopped.
+macro_rules! cpu_slow {
+    ($($arg:expr),* $(,)?) => {
+        &[$($arg,)* "--cpu", "--width", "640", "--height", "480"]
+    };
+}
+
 /// Words every message naming a non-regular input carries.
 const NOT_REGULAR: &str = "not a regular file";
 
@@ -257,7 +265,7 @@ fn cases() -> Vec<Case> {
         Case {
             name: "D8 dice_threshold 0.5 --timeout 2",
             setup: fine_scene,
-            args: cpu_tiny!["render", "fine.toml", "--timeout", "2", "-o", "out.png"],
+            args: cpu_slow!["render", "fine.toml", "--timeout", "2", "-o", "out.png"],
             words: &["timed out", "--timeout"],
             not_written: &["out.png"],
             ..BASE
@@ -491,7 +499,7 @@ fn the_time_bound_kills_a_slow_child() {
     let case = Case {
         name: "harness: a slow frame past a 1 s bound",
         setup: fine_scene,
-        args: cpu_tiny!["render", "fine.toml", "--timeout", "120", "-o", "out.png"],
+        args: cpu_slow!["render", "fine.toml", "--timeout", "120", "-o", "out.png"],
         max_ms: 1000,
         ..BASE
     };
