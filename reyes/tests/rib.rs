@@ -697,3 +697,245 @@ fn the_gallery_scene_reads_with_only_the_specular_warning() {
     assert_eq!(rib.scene.objects.len(), 8);
     assert_eq!(rib.display.as_deref(), Some("rib-gallery.png"));
 }
+
+/// The patches of the only object of `text`, read as `name`.
+fn patches_of(text: &str, name: &str) -> Vec<[Vec3; 16]> {
+    let rib = RibScene::from_text(text, name).unwrap();
+    rib.models
+        .iter()
+        .flat_map(|m| m.patches.iter().map(|p| p.points))
+        .collect()
+}
+
+fn assert_same_patches(a: &[[Vec3; 16]], b: &[[Vec3; 16]], what: &str) {
+    assert_eq!(a.len(), b.len(), "{what}");
+    for (pa, pb) in a.iter().zip(b) {
+        for (x, y) in pa.iter().zip(pb) {
+            assert!((*x - *y).length() < 1e-5, "{what}: {x} != {y}");
+        }
+    }
+}
+
+#[test]
+fn points_polygons_cube_lies_on_the_cube() {
+    let corners: Vec<DVec3> = (0..8)
+        .map(|i| {
+            DVec3::new(
+                if i & 1 == 0 { -1.0 } else { 1.0 },
+                if i & 2 == 0 { -1.0 } else { 1.0 },
+                if i & 4 == 0 { -1.0 } else { 1.0 },
+            )
+        })
+        .collect();
+    let faces: [[usize; 4]; 6] = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let ids = fmt_nums(faces.iter().flatten().map(|&i| i as f64));
+    let points = fmt_nums(corners.iter().flat_map(|c| [c.x, c.y, c.z]));
+    let text = format!(
+        "Projection \"perspective\"\nWorldBegin\nTranslate 0 0 10\n\
+         PointsPolygons [4 4 4 4 4 4] [{ids}] \"P\" [{points}]\nWorldEnd\n"
+    );
+    let patches = patches_of(&text, "cube.rib");
+    assert_eq!(patches.len(), 6);
+    // The renderer's world is camera space with x mirrored.
+    let world = |p: DVec3| Vec3::new(-p.x as f32, p.y as f32, p.z as f32 + 10.0);
+    let mut rng = fresh_rng("points_polygons_cube_lies_on_the_cube");
+    for (face, patch) in faces.iter().zip(&patches) {
+        let [a, b, c, d] = face.map(|i| corners[i]);
+        // The fan's quad (a, b, c, d): u from a to b, v from a to d.
+        let exact = |u: f64, v: f64| {
+            world(a * (1.0 - u) * (1.0 - v) + b * u * (1.0 - v) + d * (1.0 - u) * v + c * u * v)
+        };
+        let mut uvs = vec![(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
+        uvs.extend((0..50).map(|_| (rng.random::<f64>(), rng.random::<f64>())));
+        // The face's constant axis.
+        let axis = (0..3)
+            .find(|&k| a[k] == b[k] && b[k] == c[k] && c[k] == d[k])
+            .unwrap();
+        for (u, v) in uvs {
+            let got = reyes::bezier::position(patch, u as f32, v as f32);
+            let want = exact(u, v);
+            assert!(
+                (got - want).length() < 1e-5,
+                "{face:?} ({u}, {v}): {got} != {want}"
+            );
+            let local = DVec3::new(-got.x as f64, got.y as f64, got.z as f64 - 10.0);
+            assert!((local[axis].abs() - 1.0).abs() < 1e-5, "{local}");
+            assert!(local.abs().max_element() < 1.0 + 1e-5, "{local}");
+        }
+    }
+}
+
+#[test]
+fn points_polygons_and_general_polygon_counts_are_checked() {
+    let base = "Projection \"perspective\"\nWorldBegin\n";
+    let p4 = "\"P\" [0 0 5 0 1 5 1 1 5 1 0 5]";
+    let cases = [
+        (format!("PointsPolygons [4] [0 1 2 4] {p4}"), "out of range"),
+        (
+            format!("PointsPolygons [4] [0 1 -2 3] {p4}"),
+            "not a non-negative integer",
+        ),
+        (
+            format!("PointsPolygons [4 3] [0 1 2 3] {p4}"),
+            "add up to 7",
+        ),
+        (format!("PointsPolygons [2] [0 1] {p4}"), "at least 3"),
+        (format!("GeneralPolygon [3] {p4}"), "\"P\" has 4 points"),
+        (format!("GeneralPolygon [] {p4}"), "no loops"),
+    ];
+    for (request, message) in cases {
+        let error = parse_error(&format!("{base}\n{request}\n"));
+        let shown = error.to_string();
+        assert_eq!(error.position(), Some((4, 1)), "{shown}");
+        assert!(shown.contains(message), "{request}: {shown}");
+    }
+    // One loop is a Polygon; so is each polygon of PointsPolygons.
+    let polygon = patches_of(&format!("{base}Polygon {p4}\n"), "p.rib");
+    let general = patches_of(&format!("{base}GeneralPolygon [4] {p4}\n"), "g.rib");
+    assert_same_patches(&polygon, &general, "GeneralPolygon");
+    let indexed = patches_of(&format!("{base}PointsPolygons [3] [3 2 1] {p4}\n"), "i.rib");
+    let triangle = patches_of(
+        &format!("{base}Polygon \"P\" [1 0 5 1 1 5 0 1 5]\n"),
+        "t.rib",
+    );
+    assert_same_patches(&indexed, &triangle, "PointsPolygons");
+}
+
+#[test]
+fn general_polygon_with_holes_warns_and_the_rest_renders() {
+    let text = std::fs::read_to_string(data("quadrant.rib")).unwrap().replace(
+        "Color [1 1 1]",
+        "Color [1 1 1]\n  GeneralPolygon [4 3] \"P\" [-2 -2 5 -2 -1 5 -1 -1 5 -1 -2 5  -1.8 -1.8 5 -1.5 -1.2 5 -1.2 -1.8 5]",
+    );
+    let rib = RibScene::from_text(&text, "h.rib").unwrap();
+    let all: Vec<String> = rib.warnings.iter().map(ToString::to_string).collect();
+    let all = all.join("\n");
+    assert!(
+        all.contains("h.rib:11: GeneralPolygon with more than one loop: holes are not supported"),
+        "{all}"
+    );
+    assert_eq!(quadrants(&rib), [0, 81, 0, 0]);
+}
+
+#[test]
+fn skew_matches_the_hand_derived_matrix() {
+    let scene = |transform: &str| {
+        format!(
+            "Projection \"perspective\"\nWorldBegin\nTranslate 0 0 10\n{transform}\n\
+             Patch \"bilinear\" \"P\" [0 0 0  1 0 0  0 1 0  1 1 1]\nWorldEnd\n"
+        )
+    };
+    // Skew 45 with d1 = y, d2 = x: y turns 45 degrees towards x, so x' =
+    // x + y (RenderMan's row-vector matrix has row 1 = (1 1 0 0)).
+    let skewed = patches_of(&scene("Skew 45 0 1 0 1 0 0"), "s.rib");
+    let matrix = patches_of(
+        &scene("ConcatTransform [1 0 0 0  1 1 0 0  0 0 1 0  0 0 0 1]"),
+        "m.rib",
+    );
+    assert_same_patches(&skewed, &matrix, "Skew 45");
+    // (0 1 0) -> (1 1 0), x mirrored in the world.
+    assert!((skewed[0][12] - Vec3::new(-1.0, 1.0, 10.0)).length() < 1e-6);
+    // 30 degrees: y goes to (tan 30, 1, 0), 30 degrees from y.
+    let thirty = patches_of(&scene("Skew 30 0 2 0 3 0 0"), "t.rib");
+    let y = thirty[0][12] - Vec3::new(0.0, 0.0, 10.0);
+    assert!(
+        (-y.x - 30f32.to_radians().tan()).abs() < 1e-6 && (y.y - 1.0).abs() < 1e-6,
+        "{y}"
+    );
+    // The angle must be less than the angle between the axes (90 here).
+    for bad in [
+        "Skew 90 0 1 0 1 0 0",
+        "Skew -90 0 1 0 1 0 0",
+        "Skew 10 1 0 0 2 0 0",
+    ] {
+        let error = parse_error(&scene(bad));
+        assert_eq!(error.position(), Some((4, 1)), "{bad}: {error}");
+    }
+}
+
+#[test]
+fn coordinate_systems_are_saved_and_restored() {
+    let scene = |body: &str| {
+        format!(
+            "Projection \"perspective\"\nTranslate 0 0 10\nWorldBegin\n{body}\n\
+             Patch \"bilinear\" \"P\" [0 0 0  1 0 0  0 1 0  1 1 1]\nWorldEnd\n"
+        )
+    };
+    let placed = patches_of(
+        &scene(
+            "TransformBegin\nTranslate 2 0 0\nRotate 90 0 0 1\nCoordinateSystem \"mine\"\nTransformEnd\n\
+             Translate 5 5 5\nCoordSysTransform \"mine\"",
+        ),
+        "c.rib",
+    );
+    let direct = patches_of(&scene("Translate 2 0 0\nRotate 90 0 0 1"), "d.rib");
+    assert_same_patches(&placed, &direct, "CoordSysTransform");
+    // The corner (1 0 0) turns to (0 1 0), moves to (2 1 0), then 10 away
+    // from the camera, x mirrored.
+    assert!(
+        (placed[0][3] - Vec3::new(-2.0, 1.0, 10.0)).length() < 1e-6,
+        "{}",
+        placed[0][3]
+    );
+    // "world" is the space at WorldBegin; "camera" the camera's.
+    let world = patches_of(
+        &scene("Translate 3 0 0\nCoordSysTransform \"world\""),
+        "w.rib",
+    );
+    assert_same_patches(&world, &patches_of(&scene(""), "e.rib"), "world");
+    let camera = patches_of(
+        &scene("Translate 3 0 0\nCoordSysTransform \"camera\""),
+        "k.rib",
+    );
+    assert!(
+        (camera[0][3] - Vec3::new(-1.0, 0.0, 0.0)).length() < 1e-6,
+        "{}",
+        camera[0][3]
+    );
+    let error = parse_error(&scene("CoordSysTransform \"nowhere\""));
+    assert_eq!(error.position(), Some((4, 1)), "{error}");
+    assert!(
+        error
+            .to_string()
+            .contains("unknown coordinate system \"nowhere\""),
+        "{error}"
+    );
+}
+
+#[test]
+fn points_general_polygons_skip_only_the_polygons_with_holes() {
+    let base = "Projection \"perspective\"\nWorldBegin\n";
+    let p = "\"P\" [0 0 5 0 1 5 1 1 5 1 0 5  2 0 5 2 1 5 3 1 5]";
+    let text = format!("{base}PointsGeneralPolygons [1 2] [4 4 3] [0 1 2 3  0 1 2 3  4 5 6] {p}\n");
+    let rib = RibScene::from_text(&text, "pg.rib").unwrap();
+    assert!(
+        rib.warnings.iter().any(|w| w
+            .to_string()
+            .contains("pg.rib:3: PointsGeneralPolygons: 1 polygon(s) with more than one loop")),
+        "{:?}",
+        rib.warnings
+    );
+    let got = patches_of(&text, "pg.rib");
+    let quad = patches_of(
+        &format!("{base}Polygon \"P\" [0 0 5 0 1 5 1 1 5 1 0 5]\n"),
+        "q.rib",
+    );
+    assert_same_patches(&got, &quad, "PointsGeneralPolygons");
+    for (request, message) in [
+        ("[1] [4] [0 1 2 7]", "out of range"),
+        ("[2] [4] [0 1 2 3]", "nloops do not add up"),
+        ("[1] [4] [0 1 2]", "nverts do not add up"),
+        ("[0 1] [4] [0 1 2 3]", "no loops"),
+    ] {
+        let error = parse_error(&format!("{base}PointsGeneralPolygons {request} {p}\n"));
+        assert_eq!(error.position(), Some((3, 1)), "{error}");
+        assert!(error.to_string().contains(message), "{request}: {error}");
+    }
+}

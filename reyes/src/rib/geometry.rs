@@ -50,8 +50,15 @@ impl Interp {
         file: &Path,
         line: usize,
     ) -> Result<(), String> {
-        let supported = matches!(name, "Patch" | "PatchMesh" | "Polygon")
-            || super::quadrics::arity(name).is_some();
+        let supported = matches!(
+            name,
+            "Patch"
+                | "PatchMesh"
+                | "Polygon"
+                | "PointsPolygons"
+                | "GeneralPolygon"
+                | "PointsGeneralPolygons"
+        ) || super::quadrics::arity(name).is_some();
         if !supported {
             self.warn(file, line, format!("{name} is not supported yet; skipped"));
             return Ok(());
@@ -171,6 +178,14 @@ impl Interp {
                 let n = state::all_nums(v, 3)?;
                 Some(DMat4::from_scale(DVec3::new(n[0], n[1], n[2])))
             }
+            "Skew" => {
+                let n = state::all_nums(v, 7)?;
+                Some(super::spaces::skew(
+                    n[0],
+                    DVec3::new(n[1], n[2], n[3]),
+                    DVec3::new(n[4], n[5], n[6]),
+                )?)
+            }
             _ => unreachable!("only transform requests"),
         };
         if m.is_some_and(|m| !m.is_finite()) {
@@ -208,6 +223,9 @@ impl Interp {
         let positional = match name {
             "Patch" => 1,
             "PatchMesh" => 5,
+            "PointsPolygons" => 2,
+            "GeneralPolygon" => 1,
+            "PointsGeneralPolygons" => 3,
             _ => 0,
         };
         let (args, params, unknown) = state::split_params(v, positional, &self.declared)?;
@@ -283,6 +301,41 @@ impl Interp {
                     basis: self.attrs.vbasis,
                 };
                 basis::patch_mesh(bicubic, u, vd, &p)?
+            }
+            "PointsPolygons" | "GeneralPolygon" | "PointsGeneralPolygons" => {
+                let made = if name == "PointsPolygons" {
+                    super::polygons::points_polygons(&args, &p)?
+                } else if name == "PointsGeneralPolygons" {
+                    let (made, holes) = super::polygons::points_general_polygons(&args, &p)?;
+                    if holes > 0 {
+                        self.warn(
+                            file,
+                            line,
+                            format!("{name}: {holes} polygon(s) with more than one loop: holes are not supported; those polygons are skipped"),
+                        );
+                    }
+                    made
+                } else {
+                    let Some(made) = super::polygons::general_polygon(&args, &p)? else {
+                        self.warn(
+                            file,
+                            line,
+                            format!(
+                                "{name} with more than one loop: holes are not supported; skipped"
+                            ),
+                        );
+                        return Ok(());
+                    };
+                    made
+                };
+                if made.1 > 0 {
+                    self.warn(
+                        file,
+                        line,
+                        format!("{name}: {} polygon(s) not convex (or not planar): their fans of patches cover a different area", made.1),
+                    );
+                }
+                made.0
             }
             _ => {
                 if p.len() < 3 {

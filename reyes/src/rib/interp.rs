@@ -87,6 +87,7 @@ pub struct Interp {
     pub(super) attrs: Attributes,
     pub(super) xf: Xform,
     pub(super) stack: Vec<(Option<Attributes>, Xform)>,
+    pub(super) coordsys: HashMap<String, Xform>,
     /// The world-to-camera transform, from `WorldBegin` on.
     pub camera: Option<DMat4>,
     /// The world-to-camera transform at shutter close, if the camera
@@ -128,6 +129,7 @@ impl Interp {
             attrs: Attributes::default(),
             xf: Xform::default(),
             stack: Vec::new(),
+            coordsys: HashMap::new(),
             camera: None,
             camera_close: None,
             world_done: false,
@@ -388,9 +390,9 @@ impl Interp {
             }
             "ReverseOrientation" => self.attrs.orientation_lh = !self.attrs.orientation_lh,
             "Basis" => self.basis(v)?,
-            "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale" => {
-                self.transform(name, v)?
-            }
+            "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale"
+            | "Skew" => self.transform(name, v)?,
+            "CoordinateSystem" | "CoordSysTransform" => self.coordinate_system(name, v)?,
             name if super::geometry::is_geometry(name) => {
                 self.geometry_request(name, v, file, line)?
             }
@@ -421,6 +423,6 @@ impl Interp {
 pub(super) fn is_transform(name: &str) -> bool {
     matches!(
         name,
-        "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale"
+        "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale" | "Skew"
     )
 }

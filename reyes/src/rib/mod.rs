@@ -14,7 +14,9 @@
 //!   [`basis`]: spline bases and the change of basis to Bezier;
 //!   [`interp`]: the interpreter (`options`: its option requests;
 //!   `geometry`: its transform, motion, basis and geometry requests;
-//!   [`quadrics`]: the quadrics as Bezier patches); `convert`: the [`Scene`] it makes.
+//!   [`quadrics`]: the quadrics as Bezier patches; `polygons`:
+//!   `PointsPolygons` and `GeneralPolygon`; `spaces`: coordinate systems
+//!   and `Skew`); `convert`: the [`Scene`] it makes.
 
 pub mod basis;
 mod convert;
@@ -23,7 +25,9 @@ pub mod interp;
 pub mod lexer;
 mod options;
 pub mod parser;
+mod polygons;
 pub mod quadrics;
+mod spaces;
 pub mod state;
 
 use std::path::{Path, PathBuf};

@@ -1,0 +1,145 @@
+//! `PointsPolygons` and `GeneralPolygon`: convex polygons by vertex index,
+//! each converted as a `Polygon` (see [`super::basis::polygon`]).
+
+use glam::DVec3;
+
+use super::basis;
+use super::parser::Value;
+use super::state;
+
+/// Patches of some polygons plus how many of them are not convex.
+pub(super) type Polygons = (Vec<[DVec3; 16]>, usize);
+
+/// The non-negative integers of positional value `i` of `args`.
+fn counts(args: &[Value], i: usize, what: &str) -> Result<Vec<usize>, String> {
+    state::arg_nums(args, i, what)?
+        .into_iter()
+        .map(|n| {
+            if n < 0.0 || n.fract() != 0.0 || n > u32::MAX as f64 {
+                Err(format!("{what}: {n} is not a non-negative integer"))
+            } else {
+                Ok(n as usize)
+            }
+        })
+        .collect()
+}
+
+/// Converts one convex polygon, counting it if it is not convex.
+fn convert(poly: &[DVec3], out: &mut Polygons) {
+    if !basis::convex(poly) {
+        out.1 += 1;
+    }
+    out.0.extend(basis::polygon(poly));
+}
+
+/// `PointsPolygons nverts vertids`: polygon `i` has `nverts[i]` (at least
+/// 3) vertices, the next ids of `vertids`, each an index into `p`.
+pub(super) fn points_polygons(args: &[Value], p: &[DVec3]) -> Result<Polygons, String> {
+    let nverts = counts(args, 0, "nverts")?;
+    let ids = counts(args, 1, "vertids")?;
+    let total = nverts.iter().try_fold(0usize, |a, &n| a.checked_add(n));
+    if total != Some(ids.len()) {
+        return Err(format!(
+            "the nverts add up to {}, but there are {} vertids",
+            total.map_or("more than usize".into(), |t| t.to_string()),
+            ids.len()
+        ));
+    }
+    if let Some((i, &n)) = nverts.iter().enumerate().find(|(_, n)| **n < 3) {
+        return Err(format!("polygon {i} has {n} vertices (at least 3 needed)"));
+    }
+    if let Some((i, &id)) = ids.iter().enumerate().find(|(_, id)| **id >= p.len()) {
+        return Err(format!(
+            "vertid {i} is {id}, out of range: \"P\" has {} points",
+            p.len()
+        ));
+    }
+    let mut out = (Vec::new(), 0);
+    let mut start = 0;
+    for &n in &nverts {
+        let poly: Vec<DVec3> = ids[start..start + n].iter().map(|&id| p[id]).collect();
+        convert(&poly, &mut out);
+        start += n;
+    }
+    Ok(out)
+}
+
+/// `GeneralPolygon nverts`: loop `i` has `nverts[i]` (at least 3) of the
+/// points of `p`, in order, which must be all of them. `None` when there is
+/// more than one loop (holes, not supported).
+pub(super) fn general_polygon(args: &[Value], p: &[DVec3]) -> Result<Option<Polygons>, String> {
+    let nverts = counts(args, 0, "nverts")?;
+    if nverts.is_empty() {
+        return Err("nverts is empty (no loops)".into());
+    }
+    let total = nverts.iter().try_fold(0usize, |a, &n| a.checked_add(n));
+    if total != Some(p.len()) {
+        return Err(format!(
+            "the nverts add up to {}, but \"P\" has {} points",
+            total.map_or("more than usize".into(), |t| t.to_string()),
+            p.len()
+        ));
+    }
+    if let Some((i, &n)) = nverts.iter().enumerate().find(|(_, n)| **n < 3) {
+        return Err(format!("loop {i} has {n} vertices (at least 3 needed)"));
+    }
+    if nverts.len() > 1 {
+        return Ok(None);
+    }
+    let mut out = (Vec::new(), 0);
+    convert(p, &mut out);
+    Ok(Some(out))
+}
+
+/// `PointsGeneralPolygons nloops nverts vertids`: polygon `i` has
+/// `nloops[i]` loops, each of the next `nverts` (at least 3) ids of
+/// `vertids`. The polygons with one loop are converted; those with holes
+/// are counted (the second value) and skipped.
+pub(super) fn points_general_polygons(
+    args: &[Value],
+    p: &[DVec3],
+) -> Result<(Polygons, usize), String> {
+    let nloops = counts(args, 0, "nloops")?;
+    let nverts = counts(args, 1, "nverts")?;
+    let ids = counts(args, 2, "vertids")?;
+    let sum = |n: &[usize]| n.iter().try_fold(0usize, |a, &n| a.checked_add(n));
+    if sum(&nloops) != Some(nverts.len()) {
+        return Err(format!(
+            "the nloops do not add up to the {} nverts",
+            nverts.len()
+        ));
+    }
+    if sum(&nverts) != Some(ids.len()) {
+        return Err(format!(
+            "the nverts do not add up to the {} vertids",
+            ids.len()
+        ));
+    }
+    if let Some(i) = nloops.iter().position(|&n| n == 0) {
+        return Err(format!("polygon {i} has no loops"));
+    }
+    if let Some((i, &n)) = nverts.iter().enumerate().find(|(_, n)| **n < 3) {
+        return Err(format!("loop {i} has {n} vertices (at least 3 needed)"));
+    }
+    if let Some((i, &id)) = ids.iter().enumerate().find(|(_, id)| **id >= p.len()) {
+        return Err(format!(
+            "vertid {i} is {id}, out of range: \"P\" has {} points",
+            p.len()
+        ));
+    }
+    let mut out = (Vec::new(), 0);
+    let mut holes = 0;
+    let (mut loop_at, mut id_at) = (0, 0);
+    for &nl in &nloops {
+        let len: usize = nverts[loop_at..loop_at + nl].iter().sum();
+        if nl > 1 {
+            holes += 1;
+        } else {
+            let poly: Vec<DVec3> = ids[id_at..id_at + len].iter().map(|&id| p[id]).collect();
+            convert(&poly, &mut out);
+        }
+        loop_at += nl;
+        id_at += len;
+    }
+    Ok((out, holes))
+}
