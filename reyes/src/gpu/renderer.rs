@@ -72,6 +72,13 @@ impl<'a> GpuRenderer<'a> {
             options.policy,
             chunks,
         )?;
+        if options.chunks_per_batch.is_some() {
+            // A chosen chunk count is likely a module the driver has not
+            // cached (see `prepare_megakernel`).
+            log::info!(
+                "megakernel with {chunks} chunk(s) per batch: the driver compiles it at the first dispatch, which takes minutes on lavapipe when its shader cache lacks it"
+            );
+        }
         Ok(Self {
             gpu,
             options,
@@ -121,6 +128,17 @@ impl<'a> GpuRenderer<'a> {
                 None => RenderError::Compile(e),
             },
         )?;
+        // The driver compiles the new module at its first dispatch: long
+        // enough on lavapipe (minutes for a module its shader cache lacks)
+        // that a silent wait looks like a hang.
+        log::info!(
+            "new megakernel ({chunks} chunk(s) per batch{}): the driver compiles it at the first dispatch, which takes minutes on lavapipe when its shader cache lacks it",
+            if user.is_some() {
+                ", with the scene's displacement function"
+            } else {
+                ""
+            }
+        );
         self.executor = None;
         self.compiled = compiled;
         self.compiled_user = user.map(str::to_owned);
