@@ -248,3 +248,23 @@ fn a_small_dice_threshold_is_not_told_to_shrink() {
     assert!(message.contains("LARGER dice threshold"), "{message}");
     assert!(!message.contains("smaller dice threshold"), "{message}");
 }
+
+/// Issue 19, D6: a chunk count whose megakernel llvmpipe would compile for
+/// minutes (2 chunks: 96 s on a cold shader cache; 8: 324 s) is refused before any
+/// compile, with the most it accepts; other drivers take any count.
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn chunk_counts_llvmpipe_compiles_too_slowly_are_refused() {
+    let gpu = tests::gpu();
+    let options = GpuOptions {
+        chunks_per_batch: Some(reyes::gpu::renderer::CPU_MAX_CHUNKS_PER_BATCH + 4),
+        ..GpuOptions::default()
+    };
+    let on_llvmpipe = scheduler::Quirks::of(&gpu.adapter.get_info()).caps_loops();
+    match reyes::gpu::GpuRenderer::new(gpu, options) {
+        Err(RenderError::TooManyChunks { chunks: 8, max: 4 }) if on_llvmpipe => {}
+        Ok(_) if !on_llvmpipe => {}
+        Err(e) => panic!("unexpected error: {e}"),
+        Ok(_) => panic!("llvmpipe accepted 8 chunks per batch"),
+    }
+}

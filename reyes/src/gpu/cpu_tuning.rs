@@ -40,6 +40,15 @@ pub const CPU_CHUNKS_PER_BATCH: u32 = 4;
 /// competes for the CPU; fewer batches per dispatch leave more headroom.
 pub const CPU_RETRY_ITERATION_BUDGET: u32 = 1;
 
+/// The most chunks per batch the renderer compiles for on llvmpipe. The
+/// megakernel's workgroup staging grows with the chunk count, and so does
+/// llvmpipe's compile of it (measured on the 2-core VM, shader cache cold,
+/// `reyes render --chunks N --width 64 --height 48`): 96 s at 2 chunks,
+/// 324 s at 8, and the 64 chunks the scheduler allows ran past 400 s
+/// at 4.2 GB. Above this, [`super::GpuRenderer::new`] refuses with
+/// [`super::RenderError::TooManyChunks`] instead of appearing to hang.
+pub const CPU_MAX_CHUNKS_PER_BATCH: u32 = 4;
+
 /// Whether `gpu`'s driver caps the loops of an invocation (llvmpipe behind
 /// lavapipe), as the scheduler's [`scheduler::Quirks`] decide.
 pub(super) fn is_cpu(gpu: &Gpu) -> bool {

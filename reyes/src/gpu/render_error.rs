@@ -20,6 +20,17 @@ pub enum RenderError {
         /// The features that are missing.
         missing: wgpu::Features,
     },
+    /// More chunks per batch than llvmpipe compiles in reasonable time
+    /// ([`super::renderer::CPU_MAX_CHUNKS_PER_BATCH`]).
+    #[error(
+        "{chunks} chunks per batch: llvmpipe would compile that megakernel for many minutes (its compile grows with the chunk count); at most {max} are accepted on this driver"
+    )]
+    TooManyChunks {
+        /// Chunks per batch asked for.
+        chunks: u32,
+        /// The most accepted on this driver.
+        max: u32,
+    },
     /// The image is too large for the device's buffers.
     #[error(
         "{width}x{height} at {spp} spp needs a {needed}-byte {what} but the device allows at most {limit} bytes per buffer; lower the resolution or spp"

@@ -18,14 +18,15 @@ use scheduler::{Capacities, CompiledGraph, DEFAULT_WORKGROUPS, Executor, Gpu, Ru
 
 use super::batches::Attempt;
 use super::buffers::{FrameBuffers, GpuCounters};
-use super::cpu_tuning::chunks_per_batch;
+use super::cpu_tuning::{chunks_per_batch, is_cpu};
 use super::graph::{self, REQUIRED_FEATURES};
 use super::loop_limit::{LoopLimitContext, LoopLimitError};
 use super::resolve::{ResolveTarget, Resolver};
 use crate::prepare::PreparedScene;
 
 pub use super::cpu_tuning::{
-    CPU_CHUNKS_PER_BATCH, CPU_ITERATION_BUDGET, CPU_RETRY_ITERATION_BUDGET, cpu_workgroups,
+    CPU_CHUNKS_PER_BATCH, CPU_ITERATION_BUDGET, CPU_MAX_CHUNKS_PER_BATCH,
+    CPU_RETRY_ITERATION_BUDGET, cpu_workgroups,
 };
 pub use super::options::{
     DEFAULT_RENDER_TIMEOUT, DEFAULT_WORK_CAPACITY, FrameTimings, GpuOptions, GpuRendered,
@@ -66,6 +67,12 @@ impl<'a> GpuRenderer<'a> {
             return Err(RenderError::MissingFeatures { missing });
         }
         let chunks = chunks_per_batch(gpu, &options, false);
+        if is_cpu(gpu) && chunks > CPU_MAX_CHUNKS_PER_BATCH {
+            return Err(RenderError::TooManyChunks {
+                chunks,
+                max: CPU_MAX_CHUNKS_PER_BATCH,
+            });
+        }
         let compiled = graph::compile_for(
             scheduler::recommended_features(&gpu.device),
             None,
