@@ -109,36 +109,9 @@ pub fn crc32(bytes: &[u8]) -> u32 {
 /// (and empty) while it runs, killing it if it runs longer than
 /// [`READ_BOUND`]. Returns (success, stderr).
 pub fn run_cli(args: &[&str]) -> (bool, String) {
-    use std::io::Read;
-    use std::process::{Command, Stdio};
-    let mut child = Command::new(env!("CARGO_BIN_EXE_reyes"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the reyes binary starts");
-    // Drained on its own thread, so a chatty child cannot fill the pipe and stall.
-    let mut stderr_pipe = child.stderr.take().unwrap();
-    let stderr_reader = std::thread::spawn(move || {
-        let mut text = String::new();
-        let _ = stderr_pipe.read_to_string(&mut text);
-        text
-    });
-    let start = std::time::Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if start.elapsed() > READ_BOUND {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("reyes {args:?} did not finish within {READ_BOUND:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    drop(child);
-    (status.success(), stderr_reader.join().unwrap())
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_reyes"));
+    command.args(args);
+    run_command(command)
 }
 
 #[test]
