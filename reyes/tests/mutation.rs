@@ -13,8 +13,6 @@
 //! * `MUTATION_ITERATION=<n>`: with the seed, run only iteration `n` (a
 //!   failure prints both) and print its input (escaped, up to 64 K characters);
 //! * `MUTATION_SECONDS=<f64>`: run longer (or shorter);
-//! * `MUTATION_STRICT=1`: fail on known long error messages too
-//!   ([`known_long_message`]; none at present).
 
 mod common;
 
@@ -405,8 +403,6 @@ thread_local! {
     /// Whether this thread is inside a check (its panics are recorded, not printed).
     static CAPTURING: Cell<bool> = const { Cell::new(false) };
     static LAST_PANIC: RefCell<Option<String>> = const { RefCell::new(None) };
-    /// Whether known long messages fail too (`MUTATION_STRICT=1`).
-    static KEEP_KNOWN: Cell<bool> = const { Cell::new(false) };
 }
 
 /// A panic hook that records the message and location of panics inside a
@@ -447,50 +443,31 @@ fn guarded(check: fn(&str) -> Verdict, text: &str) -> Result<Verdict, String> {
 /// What one input did, as the runner counts it.
 struct Outcome {
     accepted: bool,
-    /// Rejected with a long message of a known kind ([`known_long_message`]).
-    known_long: bool,
     /// What is wrong, if anything.
     problem: Option<String>,
 }
 
-/// A long message of a kind already reported and not yet fixed, which the
-/// runs count instead of failing on (unless `MUTATION_STRICT=1`). None at
-/// present: the two found so far (user WGSL quoting a long token whole, a
-/// long height-map path quoted twice) are fixed, and
-/// `user_wgsl_error_quotes_long_tokens_whole` and
-/// `long_displacement_source_is_quoted_whole` guard them.
-fn known_long_message(_message: &str) -> bool {
-    false
-}
-
 /// Runs `check` on `text` and judges the outcome.
 fn outcome(check: fn(&str) -> Verdict, text: &str) -> Outcome {
-    let (accepted, known_long, problem) = match guarded(check, text) {
-        Err(panic) => (false, false, Some(format!("panicked: {panic}"))),
-        Ok(Verdict::Broken(why)) => (false, false, Some(why)),
-        Ok(Verdict::Rejected(messages)) => match messages
-            .iter()
-            .find(|m| m.len() >= MAX_MESSAGE_BYTES)
-        {
-            None => (false, false, None),
-            Some(m) if known_long_message(m) && !KEEP_KNOWN.with(Cell::get) => (false, true, None),
-            Some(m) => (
-                false,
-                false,
-                Some(format!(
-                    "error message of {} bytes (limit {MAX_MESSAGE_BYTES}): {}",
-                    m.len(),
-                    excerpt(m, 0, 300)
-                )),
-            ),
-        },
-        Ok(Verdict::Accepted) => (true, false, None),
+    let (accepted, problem) = match guarded(check, text) {
+        Err(panic) => (false, Some(format!("panicked: {panic}"))),
+        Ok(Verdict::Broken(why)) => (false, Some(why)),
+        Ok(Verdict::Rejected(messages)) => {
+            match messages.iter().find(|m| m.len() >= MAX_MESSAGE_BYTES) {
+                None => (false, None),
+                Some(m) => (
+                    false,
+                    Some(format!(
+                        "error message of {} bytes (limit {MAX_MESSAGE_BYTES}): {}",
+                        m.len(),
+                        excerpt(m, 0, 300)
+                    )),
+                ),
+            }
+        }
+        Ok(Verdict::Accepted) => (true, None),
     };
-    Outcome {
-        accepted,
-        known_long,
-        problem,
-    }
+    Outcome { accepted, problem }
 }
 
 /// At most `max` characters of `text` around byte `at`, escaped.
@@ -589,7 +566,6 @@ fn fuzz(target: &Target) {
     }
     let seed = env_parse::<u64>("MUTATION_SEED").unwrap_or_else(rand::random);
     let only = env_parse::<u64>("MUTATION_ITERATION");
-    KEEP_KNOWN.with(|k| k.set(env_parse::<u8>("MUTATION_STRICT").is_some_and(|v| v != 0)));
     let seconds = env_parse::<f64>("MUTATION_SECONDS").unwrap_or(DEFAULT_SECONDS);
     println!(
         "{}: MUTATION_SEED={seed} MUTATION_SECONDS={seconds}",
@@ -597,7 +573,7 @@ fn fuzz(target: &Target) {
     );
     let start = Instant::now();
     let deadline = start + Duration::from_secs_f64(seconds.max(0.0));
-    let (mut executions, mut accepted, mut known) = (0u64, 0u64, 0u64);
+    let (mut executions, mut accepted) = (0u64, 0u64);
     let mut slowest = (Duration::ZERO, 0u64);
     let mut failures = Vec::new();
     let mut iteration = only.unwrap_or(0);
@@ -619,10 +595,8 @@ fn fuzz(target: &Target) {
         let began = Instant::now();
         let Outcome {
             accepted: ok,
-            known_long,
             problem: found,
         } = outcome(target.check, &mutant.text);
-        known += u64::from(known_long);
         let took = began.elapsed();
         if took > slowest.0 {
             slowest = (took, iteration);
@@ -653,7 +627,7 @@ fn fuzz(target: &Target) {
     }
     let secs = start.elapsed().as_secs_f64();
     println!(
-        "{}: {executions} executions in {secs:.1} s ({:.0}/s), {accepted} accepted, {known} known long messages; \
+        "{}: {executions} executions in {secs:.1} s ({:.0}/s), {accepted} accepted; \
          slowest {:.1} ms (iteration {})",
         target.name,
         executions as f64 / secs.max(1e-9),
