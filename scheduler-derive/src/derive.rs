@@ -19,11 +19,13 @@ struct Field<'a> {
     ident: &'a Ident,
     name: String,
     ty: &'a Type,
+    /// The field's `///` documentation, emitted as WGSL comments.
+    doc: String,
 }
 
 pub(crate) fn expand(input: &DeriveInput) -> syn::Result<TokenStream> {
     let name = &input.ident;
-    let wgsl_name = name.unraw().to_string();
+    let wgsl_name = wgsl_name(input)?.unwrap_or_else(|| name.unraw().to_string());
     require_repr_c(input)?;
     if !input.generics.params.is_empty() {
         return Err(syn::Error::new(
@@ -39,6 +41,7 @@ pub(crate) fn expand(input: &DeriveInput) -> syn::Result<TokenStream> {
     let tys: Vec<&Type> = fields.iter().map(|f| f.ty).collect();
     let idents: Vec<&Ident> = fields.iter().map(|f| f.ident).collect();
     let names: Vec<&str> = fields.iter().map(|f| f.name.as_str()).collect();
+    let docs: Vec<&str> = fields.iter().map(|f| f.doc.as_str()).collect();
 
     let assertions = fields.iter().enumerate().map(|(index, field)| {
         let (ident, ty) = (field.ident, field.ty);
@@ -88,9 +91,9 @@ pub(crate) fn expand(input: &DeriveInput) -> syn::Result<TokenStream> {
             const WGSL_NAME: &'static str = #wgsl_name;
 
             fn wgsl_struct() -> ::std::string::String {
-                #layout::struct_declaration(
+                #layout::documented_struct_declaration(
                     #wgsl_name,
-                    &[#((#names, <#tys as #wgsl_type>::wgsl_type())),*],
+                    &[#((#names, <#tys as #wgsl_type>::wgsl_type(), #docs)),*],
                 )
             }
 
@@ -159,6 +162,7 @@ fn fields(input: &DeriveInput) -> syn::Result<Vec<Field<'_>>> {
                 ident,
                 name,
                 ty: &field.ty,
+                doc: doc_text(&field.attrs),
             }),
             // Report every bad field at once.
             Err(error) => match &mut errors {
@@ -171,6 +175,50 @@ fn fields(input: &DeriveInput) -> syn::Result<Vec<Field<'_>>> {
         Some(errors) => Err(errors),
         None => Ok(fields),
     }
+}
+
+/// The text of `///` comments (`#[doc = "..."]` attributes), one line each,
+/// without the space rustdoc strips.
+fn doc_text(attributes: &[syn::Attribute]) -> String {
+    let mut lines = Vec::new();
+    for attribute in attributes.iter().filter(|a| a.path().is_ident("doc")) {
+        if let syn::Meta::NameValue(pair) = &attribute.meta
+            && let syn::Expr::Lit(syn::ExprLit {
+                lit: syn::Lit::Str(text),
+                ..
+            }) = &pair.value
+        {
+            lines.extend(text.value().lines().map(|l| l.trim().to_owned()));
+        }
+    }
+    lines.join("\n")
+}
+
+/// The WGSL name given by `#[wgsl(name = "Frame")]`, for a Rust struct
+/// whose own name would clash or read badly in WGSL.
+fn wgsl_name(input: &DeriveInput) -> syn::Result<Option<String>> {
+    let mut name = None;
+    for attribute in input.attrs.iter().filter(|a| a.path().is_ident("wgsl")) {
+        attribute.parse_nested_meta(|meta| {
+            if meta.path.is_ident("name") {
+                let text: syn::LitStr = meta.value()?.parse()?;
+                let value = text.value();
+                let valid = value.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+                    && value.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+                if !valid {
+                    return Err(syn::Error::new(
+                        text.span(),
+                        "#[wgsl(name = ...)]: a WGSL struct name is a letter followed by letters, digits or `_`",
+                    ));
+                }
+                name = Some(value);
+                Ok(())
+            } else {
+                Err(meta.error("#[wgsl(...)] takes `name = \"WgslName\"` only"))
+            }
+        })?;
+    }
+    Ok(name)
 }
 
 /// Rust's default layout may reorder fields; only `repr(C)` fixes the order

@@ -13,7 +13,9 @@ use syn::{DeriveInput, parse_macro_input};
 /// struct with named fields, generating its WGSL struct and asserting at
 /// compile time that Rust and WGSL lay it out identically. The type must also
 /// be `bytemuck::Pod`; `#[scheduler::item]` derives that too.
-#[proc_macro_derive(Item)]
+/// `#[wgsl(name = "Name")]` on the struct sets a WGSL name other than the
+/// Rust one.
+#[proc_macro_derive(Item, attributes(wgsl))]
 pub fn derive_item(input: TokenStream) -> TokenStream {
     let input = parse_macro_input!(input as DeriveInput);
     derive::expand(&input)

@@ -35,8 +35,8 @@ fn advice(ident: &str) -> Option<&'static str> {
         "bool" => {
             "#[derive(Item)]: `bool` is not host-shareable in WGSL (its size is unspecified); use `u32` holding 0 or 1"
         }
-        "Vec3" | "Vec3A" | "UVec3" | "IVec3" => {
-            "#[derive(Item)]: WGSL's `vec3` is 12 bytes aligned to 16, a layout no glam 3-vector shares; use a 4-vector (`Vec4`, `UVec4`, `IVec4`) or `[f32; 3]` (WGSL `array<f32, 3>`)"
+        "Vec3A" => {
+            "#[derive(Item)]: `Vec3A` is 16 bytes, WGSL's `vec3<f32>` 12 (aligned to 16); use `Vec3` followed by a 4-byte field, or `Vec4`"
         }
         "Mat3" | "Mat3A" => {
             "#[derive(Item)]: WGSL's `mat3x3<f32>` pads each column to 16 bytes; use `Mat4` or `[Vec4; 3]`"

@@ -61,13 +61,34 @@ const ONE_LINE: usize = 96;
 /// The WGSL declaration of struct `name` with `(field, type)` members:
 /// `struct Node { depth: u32, id: u32 }`, or one field per line when long.
 pub fn struct_declaration(name: &str, fields: &[(&str, String)]) -> String {
-    let members: Vec<String> = fields.iter().map(|(f, ty)| format!("{f}: {ty}")).collect();
+    let documented: Vec<(&str, String, &str)> =
+        fields.iter().map(|(f, ty)| (*f, ty.clone(), "")).collect();
+    documented_struct_declaration(name, &documented)
+}
+
+/// [`struct_declaration`] with a comment per field: `(field, type, doc)`.
+/// A declaration that fits on one line stays on one line without its
+/// comments; a longer one puts each field on its own line, under its doc
+/// (each line of it a `//` comment), so that the generated module explains a
+/// large shared struct the way its Rust twin's documentation does.
+pub fn documented_struct_declaration(name: &str, fields: &[(&str, String, &str)]) -> String {
+    let members: Vec<String> = fields
+        .iter()
+        .map(|(f, ty, _)| format!("{f}: {ty}"))
+        .collect();
     let line = format!("struct {name} {{ {} }}", members.join(", "));
     if line.len() <= ONE_LINE {
         return line;
     }
     let mut text = format!("struct {name} {{\n");
-    for member in members {
+    for (member, (_, _, doc)) in members.iter().zip(fields) {
+        for doc_line in doc.lines().map(str::trim_end) {
+            if doc_line.trim().is_empty() {
+                text.push_str("    //\n");
+            } else {
+                text.push_str(&format!("    // {}\n", doc_line.trim()));
+            }
+        }
         text.push_str(&format!("    {member},\n"));
     }
     text.push('}');
@@ -100,5 +121,29 @@ mod tests {
         let long = struct_declaration("B", &many);
         assert!(long.starts_with("struct B {\n    alpha: array<vec4<f32>, 4>,\n"));
         assert!(long.ends_with("zeta: array<vec4<f32>, 4>,\n}"));
+    }
+
+    #[test]
+    fn long_declarations_carry_their_field_docs() {
+        let fields: Vec<(&str, String, &str)> = vec![
+            (
+                "view_proj",
+                "mat4x4<f32>".into(),
+                "World to clip.\n\nColumn-major.",
+            ),
+            ("eye", "vec3<f32>".into(), ""),
+            (
+                "a_long_field_name_to_force_lines",
+                "array<vec4<f32>, 4>".into(),
+                "Why.",
+            ),
+        ];
+        let text = documented_struct_declaration("Frame", &fields);
+        assert_eq!(
+            text,
+            "struct Frame {\n    // World to clip.\n    //\n    // Column-major.\n    view_proj: mat4x4<f32>,\n    eye: vec3<f32>,\n    // Why.\n    a_long_field_name_to_force_lines: array<vec4<f32>, 4>,\n}"
+        );
+        let short = documented_struct_declaration("A", &[("x", "u32".into(), "Dropped.")]);
+        assert_eq!(short, "struct A { x: u32 }");
     }
 }

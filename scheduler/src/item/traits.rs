@@ -43,7 +43,8 @@ use super::WgslType;
 /// # Field types and layout
 ///
 /// Fields are `u32`, `i32`, `f32`, fixed arrays `[T; N]`, glam's `Vec2`,
-/// `Vec4`, `UVec2`, `UVec4`, `IVec2`, `IVec4`, `Mat2` and `Mat4`, and other
+/// `Vec3`, `Vec4`, `UVec2`, `UVec3`, `UVec4`, `IVec2`, `IVec3`, `IVec4`,
+/// `Mat2` and `Mat4`, and other
 /// structs that derive `Item` (declared once in the generated module, before
 /// the structs that use them). Every [`WgslType`] is accepted.
 ///
@@ -75,9 +76,14 @@ use super::WgslType;
 /// }
 /// ```
 ///
-/// `bool` (not host-shareable), glam's 3-vectors and 3x3 matrices (WGSL pads
-/// `vec3` to 16-byte alignment), 64-bit and 8/16-bit types are rejected with
-/// a message saying what to use instead:
+/// A glam 3-vector is 12 bytes in both, but WGSL aligns `vec3` to 16 bytes:
+/// it is accepted where WGSL would place it too (at a multiple of 16, as in
+/// `eye: Vec3, threshold: f32`), and an array of them is rejected (WGSL
+/// strides `vec3` by 16 bytes).
+///
+/// `bool` (not host-shareable), `Vec3A` and the 3x3 matrices (16-byte
+/// columns in WGSL), 64-bit and 8/16-bit types are rejected with a message
+/// saying what to use instead:
 ///
 /// ```compile_fail
 /// #[scheduler::item]
@@ -87,8 +93,33 @@ use super::WgslType;
 /// ```
 ///
 /// The struct must be `#[repr(C)]`, not generic, and have named fields;
-/// its WGSL name is its Rust name. When a graph compiles, naga's layouter
-/// checks the generated struct against the Rust layout once more.
+/// its WGSL name is its Rust name unless `#[wgsl(name = "Other")]` says
+/// otherwise. A long struct is declared one field per line, each under its
+/// `///` documentation as WGSL comments. When a graph compiles, naga's
+/// layouter checks the generated struct against the Rust layout once more.
+///
+/// ```
+/// #[scheduler::item]
+/// #[wgsl(name = "Camera")]
+/// struct CameraUniform {
+///     eye: scheduler::glam::Vec3,
+///     near: f32,
+/// }
+///
+/// use scheduler::Item;
+/// assert_eq!(CameraUniform::wgsl_struct(), "struct Camera { eye: vec3<f32>, near: f32 }");
+/// ```
+///
+/// A 3-vector where WGSL would move it is rejected like any other field:
+///
+/// ```compile_fail,E0080
+/// #[scheduler::item]
+/// struct Shifted {
+///     near: f32,
+///     // WGSL puts this at byte 16, Rust at byte 4.
+///     eye: scheduler::glam::Vec3,
+/// }
+/// ```
 ///
 /// The derive lays structs out by the storage rules; a struct used as a
 /// `var<uniform>` must also meet the uniform rules (array strides of 16

@@ -6,8 +6,8 @@ use crate::wgsl_layout::round_up;
 /// A Rust type with a WGSL twin, and that twin's layout.
 ///
 /// Implemented for `u32`, `i32`, `f32`, fixed arrays `[T; N]` of such types,
-/// glam's `Vec2`, `Vec4`, `UVec2`, `UVec4`, `IVec2`, `IVec4`, `Mat2` and
-/// `Mat4` (feature `glam`, on by default), and every type that derives
+/// glam's `Vec2`, `Vec3`, `Vec4`, `UVec2`, `UVec3`, `UVec4`, `IVec2`,
+/// `IVec3`, `IVec4`, `Mat2` and `Mat4` (feature `glam`, on by default), and every type that derives
 /// [`Item`](crate::Item). The alignment and size are consts so that the
 /// derive can compare them with Rust's layout at compile time; a wrong
 /// manual implementation is caught again by the naga layout check when a
@@ -15,7 +15,7 @@ use crate::wgsl_layout::round_up;
 #[diagnostic::on_unimplemented(
     message = "`{Self}` has no WGSL twin that `#[derive(Item)]` knows",
     label = "not a WGSL-shareable field type",
-    note = "fields may be u32, i32, f32, [T; N] of those, glam Vec2/Vec4/UVec2/UVec4/IVec2/IVec4/Mat2/Mat4, or structs that derive `Item`"
+    note = "fields may be u32, i32, f32, [T; N] of those, glam Vec2/Vec3/Vec4 (and their U/I forms), Mat2/Mat4, or structs that derive `Item`"
 )]
 pub trait WgslType {
     /// Alignment of the WGSL type in bytes (WGSL's `AlignOf`).
