@@ -12,6 +12,11 @@
 /// meaningless pixel positions.
 pub const NEAR_EPS: f32 = 1e-5;
 
+/// Smallest squared distance a point light's falloff divides by: a surface
+/// point (nearly) at the light gets the finite radiance `radiance / this`
+/// instead of an infinity that a zero `n.L` would turn into NaN.
+pub const POINT_LIGHT_MIN_DISTANCE_SQUARED: f32 = 1e-12;
+
 /// Number of grid points along each side of a diced grid (16 x 16 points).
 pub const GRID_POINTS: usize = 16;
 

@@ -79,13 +79,32 @@ impl PreparedObject {
     }
 }
 
-/// A directional light ready for shading.
+/// A light ready for shading.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PreparedLight {
-    /// Unit vector from the surface towards the light: `L = normalize(-direction)`.
+    /// A distant light: the unit vector from the surface towards it,
+    /// `L = normalize(-direction)`. A point light: its position.
     pub to_light: Vec3,
+    /// Whether this is a point light (`to_light` is its position).
+    pub point: bool,
     /// `intensity * color`.
     pub radiance: Vec3,
+}
+
+impl PreparedLight {
+    /// The unit vector from `position` towards the light, and the factor its
+    /// radiance is scaled by there: 1 for a distant light, the inverse square
+    /// distance (at most [`crate::params::POINT_LIGHT_MIN_DISTANCE_SQUARED`]'s
+    /// inverse) for a point light. The WGSL `light_at` mirrors it.
+    pub fn at(&self, position: Vec3) -> (Vec3, f32) {
+        if !self.point {
+            return (self.to_light, 1.0);
+        }
+        let toward = self.to_light - position;
+        let distance_squared = toward.dot(toward);
+        let falloff = 1.0 / distance_squared.max(crate::params::POINT_LIGHT_MIN_DISTANCE_SQUARED);
+        (toward.normalize_or_zero(), falloff)
+    }
 }
 
 /// Everything a renderer needs for one frame, in world space.
@@ -286,7 +305,8 @@ impl PreparedScene {
                 .lights
                 .iter()
                 .map(|l| PreparedLight {
-                    to_light: (-l.direction).normalize(),
+                    to_light: l.position.unwrap_or_else(|| (-l.direction).normalize()),
+                    point: l.position.is_some(),
                     radiance: l.color * l.intensity,
                 })
                 .collect(),

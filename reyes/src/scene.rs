@@ -80,6 +80,10 @@
 //! direction = [0.4, 0.8, -1.0]       # the direction the light travels
 //! color = [1.0, 1.0, 1.0]
 //! intensity = 1.0
+//!
+//! [[lights]]                         # a point light: `position` instead of `direction`
+//! position = [0.0, 3.0, 4.0]         # falls off as intensity / distance^2
+//! intensity = 20.0
 //! ```
 //!
 //! Parse with [`Scene::from_toml_str`] or [`Scene::load`]; both validate the
@@ -514,28 +518,88 @@ pub struct SceneObject {
     pub reverse_orientation: bool,
 }
 
-/// A directional light (`[[lights]]`).
+/// A light (`[[lights]]`): a distant light shining along `direction`, or,
+/// when `position` is given, a point light (RenderMan's `pointlight`) whose
+/// intensity falls off with the square of the distance.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "LightToml", into = "LightToml")]
 pub struct Light {
-    /// The direction the light travels (from the light towards the scene);
-    /// must be non-zero. Default `[0.4, 0.8, -1.0]`.
-    #[serde(default = "default_light_direction")]
+    /// The direction a distant light travels (from the light towards the
+    /// scene); must be non-zero. Default `[0.4, 0.8, -1.0]`. Unused by a
+    /// point light.
     pub direction: Vec3,
+    /// A point light's position in world space; `None` for a distant light.
+    pub position: Option<Vec3>,
     /// Linear RGB colour (default white).
-    #[serde(default = "default_white")]
     pub color: Vec3,
-    /// Intensity multiplier (default 1).
-    #[serde(default = "default_one")]
+    /// Intensity multiplier (default 1). A point light at distance `d`
+    /// contributes `intensity * color / d^2`, as RenderMan's `pointlight`.
     pub intensity: f32,
+}
+
+impl Light {
+    /// A point light at `position`.
+    pub fn point(position: Vec3, color: Vec3, intensity: f32) -> Self {
+        Light {
+            direction: default_light_direction(),
+            position: Some(position),
+            color,
+            intensity,
+        }
+    }
 }
 
 impl Default for Light {
     fn default() -> Self {
         Light {
             direction: default_light_direction(),
+            position: None,
             color: default_white(),
             intensity: 1.0,
+        }
+    }
+}
+
+/// `[[lights]]` as written: `direction` and `position` exclude each other.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightToml {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    direction: Option<Vec3>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    position: Option<Vec3>,
+    #[serde(default = "default_white")]
+    color: Vec3,
+    #[serde(default = "default_one")]
+    intensity: f32,
+}
+
+impl TryFrom<LightToml> for Light {
+    type Error = String;
+
+    fn try_from(light: LightToml) -> Result<Self, String> {
+        if light.direction.is_some() && light.position.is_some() {
+            return Err(
+                "a light has `direction` (a distant light) or `position` (a point light), not both"
+                    .into(),
+            );
+        }
+        Ok(Light {
+            direction: light.direction.unwrap_or_else(default_light_direction),
+            position: light.position,
+            color: light.color,
+            intensity: light.intensity,
+        })
+    }
+}
+
+impl From<Light> for LightToml {
+    fn from(light: Light) -> Self {
+        LightToml {
+            direction: light.position.is_none().then_some(light.direction),
+            position: light.position,
+            color: light.color,
+            intensity: light.intensity,
         }
     }
 }
@@ -1037,12 +1101,16 @@ impl Scene {
             }
         }
         for (i, light) in self.lights.iter().enumerate() {
+            finite(&format!("lights[{i}].color"), light.color.to_array())?;
+            finite(&format!("lights[{i}].intensity"), [light.intensity])?;
+            if let Some(position) = light.position {
+                finite(&format!("lights[{i}].position"), position.to_array())?;
+                continue;
+            }
             finite(
                 &format!("lights[{i}].direction"),
                 light.direction.to_array(),
             )?;
-            finite(&format!("lights[{i}].color"), light.color.to_array())?;
-            finite(&format!("lights[{i}].intensity"), [light.intensity])?;
             if light.direction.length_squared() == 0.0 {
                 return Err(invalid(
                     &format!("lights[{i}].direction"),
@@ -1366,7 +1434,13 @@ mod tests {
             .join("\n");
         let scene = Scene::from_toml_str(&text).unwrap();
         assert_eq!(scene.objects.len(), 2);
-        assert_eq!(scene.lights, vec![Light::default()]);
+        assert_eq!(
+            scene.lights,
+            vec![
+                Light::default(),
+                Light::point(Vec3::new(0.0, 3.0, 4.0), Vec3::ONE, 20.0)
+            ]
+        );
         assert_eq!(scene.specular, Specular::default());
     }
 

@@ -390,3 +390,37 @@ fn dicing_aov_and_sides_keys() {
         SceneError::Parse { .. }
     ));
 }
+
+#[test]
+fn point_lights_have_a_position_instead_of_a_direction() {
+    let scene = Scene::from_toml_str(
+        "[[lights]]\nposition = [1, 2, 3]\nintensity = 20\n\n[[lights]]\ndirection = [0, 0, -1]\n",
+    )
+    .unwrap();
+    assert_eq!(scene.lights[0].position, Some(Vec3::new(1.0, 2.0, 3.0)));
+    assert_eq!(scene.lights[0].intensity, 20.0);
+    assert_eq!(scene.lights[1].position, None);
+    assert_eq!(scene.lights[1].direction, Vec3::new(0.0, 0.0, -1.0));
+    // Written back, each light keeps its kind.
+    let text = scene.to_toml_string();
+    let again = Scene::from_toml_str(&text).unwrap();
+    assert_eq!(again.lights, scene.lights, "{text}");
+    assert!(!text.contains("direction = [0.4"), "{text}");
+
+    let both = Scene::from_toml_str("[[lights]]\nposition = [1, 2, 3]\ndirection = [0, 0, -1]\n")
+        .unwrap_err()
+        .to_string();
+    assert!(both.contains("not both"), "{both}");
+    let nan = Scene::from_toml_str("[[lights]]\nposition = [1, nan, 3]\n").unwrap_err();
+    assert!(
+        matches!(&nan, SceneError::NonFinite { field } if field == "lights[0].position"),
+        "{nan:?}"
+    );
+    // A point light's (default) direction is not validated.
+    let mut scene = Scene::default_teapot();
+    scene.lights = vec![reyes::scene::Light {
+        direction: Vec3::ZERO,
+        ..reyes::scene::Light::point(Vec3::ONE, Vec3::ONE, 1.0)
+    }];
+    scene.validate().unwrap();
+}

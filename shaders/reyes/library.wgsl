@@ -8,93 +8,10 @@
 // (up to the GPU's float contraction) the same values. The constants (NEAR_EPS, STAT_*, DECIDE_*,
 // ...) are generated from the Rust side and prepended to this file.
 
-struct Frame {
-    view_proj: mat4x4<f32>,
-    eye: vec3<f32>,
-    dice_threshold: f32,
-    width: u32,
-    height: u32,
-    spp: u32,
-    // Samples per pixel side: spp = k * k.
-    k: u32,
-    max_split_depth: u32,
-    sampling: u32,
-    jitter: u32,
-    light_count: u32,
-    ambient: f32,
-    specular_strength: f32,
-    shininess: f32,
-    // DICING_FIXED or DICING_RATE.
-    dicing: u32,
-    // How far each clip coordinate moves per world unit (reyes::camera::
-    // Camera::clip_pad): a ball of radius b lies within c +- b * clip_pad.
-    clip_pad: vec4<f32>,
-    // The thin lens (reyes::motion::PreparedLens): radius, view depth in
-    // focus, pixels per unit of x / w.
-    aperture: f32,
-    focus: f32,
-    pixel_scale: f32,
-    // 1 when samples carry a time and a lens position (the 5D path).
-    time_lens: u32,
-    // Float offsets in height_texels of the time/lens tables
-    // (reyes::uvt::UvtTables): simple, interleave, per-pixel, inverses.
-    uvt_simple: u32,
-    uvt_interleave: u32,
-    uvt_pixel: u32,
-    uvt_inverse: u32,
-    interleave_tuples: u32,
-    // This image's pixel (0, 0) in the full frame (a screen tile's origin):
-    // sampling hashes absolute pixel coordinates.
-    origin_x: u32,
-    origin_y: u32,
-    // sqrt(shading_rate): a micropolygon's side in pixels (rate dicing).
-    micropolygon_side: f32,
-    // Float offset in height_texels of the input patches (48 floats each).
-    patch_floats: u32,
-    // AOV_SHADED, AOV_GRIDS, AOV_DEPTH or AOV_NORMAL (reyes::aov).
-    aov: u32,
-    // reyes::aov::depth_range.
-    depth_range: f32,
-    // 1: a sample blends its triangle's corner colours
-    // (reyes::scene::ShadingInterpolation::Smooth); 0: one per micropolygon.
-    smooth_shading: u32,
-}
-
-// One object (reyes::gpu::objects::ObjectData).
-struct Object {
-    // Linear RGB albedo (w unused).
-    albedo: vec4<f32>,
-    // DISPLACE_NONE, DISPLACE_IMAGE, DISPLACE_SINES or DISPLACE_USER.
-    displace_kind: u32,
-    // First texel of the height map in `height_texels` and its size.
-    map_offset: u32,
-    map_width: u32,
-    map_height: u32,
-    // World units per unit of height, along dP/du x dP/dv.
-    displace_scale: f32,
-    // The displacement bound in world units (0 without displacement).
-    displace_bound: f32,
-    // Repetitions of the source per input patch.
-    tiling: f32,
-    // One-sided objects: the sign s of the front's dP/du x dP/dv
-    // (reyes::prepare::PreparedObject::front); 0 when two-sided.
-    front: f32,
-    // Open to close world positions (reyes::motion::ObjectMotion), and
-    // whether the object moves at all.
-    motion: mat4x4<f32>,
-    moving: u32,
-    // How much the motion may stretch a length (>= 1).
-    motion_stretch: f32,
-    pad1: u32,
-    pad2: u32,
-}
-
-struct Light {
-    // Unit vector towards the light (w unused).
-    to_light: vec4<f32>,
-    // intensity * colour (w unused).
-    radiance: vec4<f32>,
-}
+// The structs of the resources (Frame, Object, Light) and of the work item
+// (PatchItem) are generated from their Rust definitions
+// (reyes::gpu::buffers, reyes::gpu::objects, reyes::gpu::graph) and declared
+// before this library.
 
 // ---------------------------------------------------------------- statistics
 
@@ -547,10 +464,18 @@ fn shade(position: vec3<f32>, normal: vec3<f32>, albedo: vec3<f32>) -> vec3<f32>
     var specular = vec3<f32>(0.0);
     for (var l = 0u; l < frame.light_count; l += 1u) {
         let light = lights[l];
-        let to_light = light.to_light.xyz;
-        diffuse += light.radiance.xyz * max(dot3(normal, to_light), 0.0);
+        // reyes::prepare::PreparedLight::at: w = 1 marks a point light,
+        // whose xyz is its position.
+        var to_light = light.to_light.xyz;
+        var falloff = 1.0;
+        if (light.to_light.w != 0.0) {
+            let toward = light.to_light.xyz - position;
+            falloff = 1.0 / max(dot3(toward, toward), POINT_LIGHT_MIN_DISTANCE_SQUARED);
+            to_light = normalize_or_zero(toward);
+        }
+        diffuse += light.radiance.xyz * (max(dot3(normal, to_light), 0.0) * falloff);
         let half_vector = normalize_or_zero(to_light + view);
-        specular += light.radiance.xyz * pow_nonneg(max(dot3(normal, half_vector), 0.0), frame.shininess);
+        specular += light.radiance.xyz * (pow_nonneg(max(dot3(normal, half_vector), 0.0), frame.shininess) * falloff);
     }
     let color = albedo * (vec3<f32>(frame.ambient) + diffuse) + specular * frame.specular_strength;
     return clamp(color, vec3<f32>(0.0), vec3<f32>(1.0));

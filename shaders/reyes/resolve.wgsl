@@ -4,14 +4,8 @@
 // words (little-endian: x = low word = colour, y = high word = depth), so
 // neither entry point needs 64-bit atomics.
 
-struct ResolveParams {
-    width: u32,
-    height: u32,
-    spp: u32,
-    pad0: u32,
-    // Linear RGB background (w unused).
-    background: vec4<f32>,
-}
+// `ResolveParams` and `CLEAR_WORKGROUP` are declared before this file from
+// their Rust definitions (reyes::gpu::resolve).
 
 @group(0) @binding(0) var<uniform> params: ResolveParams;
 @group(0) @binding(1) var<storage, read_write> keys: array<vec2<u32>>;
@@ -21,7 +15,6 @@ struct ResolveParams {
 @group(0) @binding(3) var<storage, read_write> coverage: array<u32>;
 
 const CLEAR_WORD: u32 = 0xffffffffu;
-const CLEAR_WORKGROUP: u32 = 256u;
 
 // Index of a 1D element from a 2D dispatch (large buffers need more
 // workgroups than one dimension allows).

@@ -148,6 +148,53 @@ fn eye_inside_the_bounding_box() {
     );
 }
 
+/// A point light near the teapot (its falloff varies several times over
+/// the surface) beside a distant one: the GPU shades as the reference does.
+/// A GPU that took the point light for a distant one (or lost its falloff)
+/// would disagree on most pixels.
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn point_lights_match_the_reference() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let mut scene = teapot(256, 1);
+    let camera = scene.camera.expect("framed");
+    let to_target = camera.target - camera.eye;
+    // Beside the eye, a third of the way to the teapot: the near side is
+    // lit about four times as brightly as the far side.
+    let position = camera.eye + to_target / 3.0 + camera.up.normalize() * to_target.length() * 0.2;
+    let distance = (camera.target - position).length();
+    scene.lights = vec![
+        reyes::scene::Light::point(
+            position,
+            Vec3::new(1.0, 0.9, 0.8),
+            0.8 * distance * distance,
+        ),
+        reyes::scene::Light {
+            intensity: 0.3,
+            ..reyes::scene::Light::default()
+        },
+    ];
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let (_, c, a) = compare(&mut renderer, &scene);
+    a.assert_at_least("point light", 0.995, 0.99);
+    // The point light matters: without it the reference is another picture.
+    let mut distant_only = scene.clone();
+    distant_only.lights.remove(0);
+    let without = reference::render(&PreparedScene::load(&distant_only).expect("prepares"));
+    let changed = c
+        .image
+        .iter()
+        .zip(without.image.iter())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        changed * 20 > c.image.len(),
+        "the point light changed only {changed} of {} channels",
+        c.image.len()
+    );
+}
+
 #[test]
 #[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn nearest_mode_runs_and_matches() {

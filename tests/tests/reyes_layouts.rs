@@ -1,15 +1,18 @@
-//! The Rust twins of the Reyes megakernel's resource structs (`Frame`,
-//! `Object`, `Light`) agree with the WGSL ones, member by member: naga lays
-//! out the generated module, and every WGSL member must sit at the offset of
-//! the Rust field of its name.
+//! The Rust structs the Reyes megakernel shares with WGSL (`Frame`,
+//! `Object`, `Light`, `PatchItem`) agree with the module's, member by member:
+//! naga lays out the generated module, and every WGSL member must sit at the
+//! offset of the Rust field of its name. The structs are generated from the
+//! Rust ones by `#[scheduler::item]`, which checks the layout when the crate
+//! compiles; this is the independent check by naga's layouter.
 //! (A Rust `pad: [u32; 3]` where WGSL had `aov` and `depth_range` once
 //! passed every size check and silently left the AOV at 0.)
 
-use std::mem::{offset_of, size_of};
+use std::mem::size_of;
 
 use reyes::gpu::buffers::{FrameUniform, LightData};
+use reyes::gpu::graph::PatchItem;
 use reyes::gpu::objects::ObjectData;
-
+use scheduler::Item;
 /// The members of WGSL struct `name` in `module`: names and byte offsets,
 /// and the struct's size.
 fn wgsl_struct(module: &naga::Module, name: &str) -> (Vec<(String, u32)>, u32) {
@@ -48,41 +51,44 @@ fn assert_twins(module: &naga::Module, name: &str, rust_size: usize, twins: &[(&
     }
 }
 
+/// The WGSL struct of `T` in `module` has `T`'s fields at `T`'s offsets.
+fn assert_item<T: Item>(module: &naga::Module) {
+    let fields = T::rust_fields();
+    let twins: Vec<(&str, usize)> = fields.iter().map(|(n, o)| (*n, *o)).collect();
+    assert_twins(module, T::WGSL_NAME, size_of::<T>(), &twins);
+}
+
 #[test]
-fn the_resource_structs_match_their_rust_twins() {
+fn the_shared_structs_match_their_rust_definitions() {
     let compiled = reyes::gpu::graph::compile(scheduler::wgpu::Features::empty())
         .expect("the Reyes graph compiles");
     let module = naga::front::wgsl::parse_str(compiled.wgsl()).expect("the megakernel parses");
+    assert_item::<FrameUniform>(&module);
+    assert_item::<ObjectData>(&module);
+    assert_item::<LightData>(&module);
+    assert_item::<PatchItem>(&module);
+    // The names the shaders use.
+    let names = [
+        FrameUniform::WGSL_NAME,
+        ObjectData::WGSL_NAME,
+        LightData::WGSL_NAME,
+        PatchItem::WGSL_NAME,
+    ];
+    assert_eq!(names, ["Frame", "Object", "Light", "PatchItem"]);
+}
 
-    macro_rules! same_names {
-        ($rust:ty: $($field:ident),* $(,)?) => {
-            [$((stringify!($field), offset_of!($rust, $field))),*]
-        };
-    }
-    let uvt = offset_of!(FrameUniform, uvt);
-    let origin = offset_of!(FrameUniform, origin);
-    let frame: Vec<(&str, usize)> = same_names!(FrameUniform:
-        view_proj, eye, dice_threshold, width, height, spp, k, max_split_depth, sampling,
-        jitter, light_count, ambient, specular_strength, shininess, dicing, clip_pad,
-        aperture, focus, pixel_scale, time_lens)
-    .into_iter()
-    .chain([
-        ("uvt_simple", uvt),
-        ("uvt_interleave", uvt + 4),
-        ("uvt_pixel", uvt + 8),
-        ("uvt_inverse", uvt + 12),
-    ])
-    .chain(same_names!(FrameUniform: interleave_tuples))
-    .chain([("origin_x", origin), ("origin_y", origin + 4)])
-    .chain(same_names!(FrameUniform: micropolygon_side, patch_floats, aov, depth_range, smooth_shading))
-    .collect();
-    assert_twins(&module, "Frame", size_of::<FrameUniform>(), &frame);
-
-    let object = same_names!(ObjectData:
-        albedo, displace_kind, map_offset, map_width, map_height, displace_scale,
-        displace_bound, tiling, front, motion, moving, motion_stretch, pad1, pad2);
-    assert_twins(&module, "Object", size_of::<ObjectData>(), &object);
-
-    let light = same_names!(LightData: to_light, radiance);
-    assert_twins(&module, "Light", size_of::<LightData>(), &light);
+/// The resolve shader validates, and its uniform matches the Rust struct.
+#[test]
+fn the_resolve_shader_validates_and_its_uniform_matches() {
+    let source = reyes::gpu::resolve::resolve_wgsl();
+    assert!(source.starts_with("// "), "a header comment first");
+    let module = naga::front::wgsl::parse_str(&source)
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::empty(),
+    )
+    .validate(&module)
+    .expect("the resolve shader validates");
+    assert_item::<reyes::gpu::resolve::ResolveParams>(&module);
 }

@@ -2,6 +2,8 @@
 //! displacement), the lights, the height-map texels, the sample framebuffer
 //! and the statistics, plus their read-back.
 
+use glam::{Mat4, Vec3, Vec4};
+
 use super::graph::{sampling, stat};
 use super::objects::{ObjectData, ObjectTables};
 use crate::prepare::PreparedScene;
@@ -9,14 +11,16 @@ use crate::sampling::grid_size;
 use crate::stats::RenderStats;
 use crate::uvt::{INTERLEAVE_TILE, UvtLayout, UvtTables};
 
-/// Twin of the WGSL `Frame` struct (`shaders/reyes/library.wgsl`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+/// The frame uniform, WGSL struct `Frame` (declared from this struct in the
+/// generated module, its layout checked when this crate compiles).
+#[scheduler::item]
+#[wgsl(name = "Frame")]
+#[derive(Debug)]
 pub struct FrameUniform {
-    /// World-to-clip matrix, column-major.
-    pub view_proj: [f32; 16],
+    /// World-to-clip matrix.
+    pub view_proj: Mat4,
     /// Eye position.
-    pub eye: [f32; 3],
+    pub eye: Vec3,
     /// Dice threshold in pixels.
     pub dice_threshold: f32,
     /// Image width.
@@ -25,11 +29,11 @@ pub struct FrameUniform {
     pub height: u32,
     /// Samples per pixel.
     pub spp: u32,
-    /// `sqrt(spp)`.
+    /// Samples per pixel side: spp = k * k.
     pub k: u32,
     /// Split-depth guard.
     pub max_split_depth: u32,
-    /// [`sampling::BBOX`] or [`sampling::NEAREST`].
+    /// SAMPLING_BBOX, ... ([`sampling`]).
     pub sampling: u32,
     /// 1 when samples are jittered.
     pub jitter: u32,
@@ -41,35 +45,46 @@ pub struct FrameUniform {
     pub specular_strength: f32,
     /// Blinn-Phong exponent.
     pub shininess: f32,
-    /// [`super::graph::dicing::FIXED`] or [`super::graph::dicing::RATE`].
+    /// DICING_FIXED or DICING_RATE.
     pub dicing: u32,
-    /// [`crate::camera::Camera::clip_pad`].
-    pub clip_pad: [f32; 4],
-    /// Lens radius ([`crate::motion::PreparedLens`]).
+    /// How far each clip coordinate moves per world unit
+    /// (reyes::camera::Camera::clip_pad): a ball of radius b lies within
+    /// c +- b * clip_pad.
+    pub clip_pad: Vec4,
+    /// The thin lens (reyes::motion::PreparedLens): its radius.
     pub aperture: f32,
     /// View depth in focus.
     pub focus: f32,
-    /// Pixels per unit of `x / w`.
+    /// Pixels per unit of x / w.
     pub pixel_scale: f32,
-    /// 1 when samples carry time and lens ([`PreparedScene::samples_time_and_lens`]).
+    /// 1 when samples carry a time and a lens position (the 5D path).
     pub time_lens: u32,
-    /// Offsets (floats) into `height_texels` of the [`UvtTables`]: simple
-    /// tuples, interleave tuples, per-pixel table, interleave inverses.
-    pub uvt: [u32; 4],
+    /// Float offset in height_texels of the time/lens tables
+    /// (reyes::uvt::UvtTables): the simple tuples.
+    pub uvt_simple: u32,
+    /// The interleave tuples.
+    pub uvt_interleave: u32,
+    /// The per-pixel table.
+    pub uvt_pixel: u32,
+    /// The interleave inverses.
+    pub uvt_inverse: u32,
     /// Interleave UVT tuples per tile.
     pub interleave_tuples: u32,
-    /// The image's pixel (0, 0) in the full frame ([`crate::camera::Camera::origin`]).
-    pub origin: [u32; 2],
-    /// A micropolygon's side at the shading rate, in pixels.
+    /// This image's pixel (0, 0) in the full frame (a screen tile's
+    /// origin): sampling hashes absolute pixel coordinates.
+    pub origin_x: u32,
+    /// Its y.
+    pub origin_y: u32,
+    /// sqrt(shading_rate): a micropolygon's side in pixels (rate dicing).
     pub micropolygon_side: f32,
-    /// Float offset in `height_texels` of the input patches.
+    /// Float offset in height_texels of the input patches (48 floats each).
     pub patch_floats: u32,
-    /// [`crate::aov::Aov::code`].
+    /// AOV_SHADED, AOV_GRIDS, AOV_DEPTH or AOV_NORMAL (reyes::aov).
     pub aov: u32,
-    /// [`crate::aov::depth_range`] of the camera.
+    /// reyes::aov::depth_range of the camera.
     pub depth_range: f32,
-    /// 1 when samples blend their triangle's corner colours
-    /// ([`crate::scene::ShadingInterpolation::Smooth`]).
+    /// 1: a sample blends its triangle's corner colours
+    /// (reyes::scene::ShadingInterpolation::Smooth); 0: one per micropolygon.
     pub smooth_shading: u32,
 }
 
@@ -79,8 +94,8 @@ impl FrameUniform {
         let camera = &scene.camera;
         Self {
             // The same f32 matrix the reference multiplies with.
-            view_proj: camera.view_proj().to_cols_array(),
-            eye: camera.eye.to_array(),
+            view_proj: camera.view_proj(),
+            eye: camera.eye,
             dice_threshold: scene.dice_threshold,
             width: camera.width,
             height: camera.height,
@@ -94,14 +109,18 @@ impl FrameUniform {
             specular_strength: scene.specular_strength,
             shininess: scene.shininess,
             dicing: super::graph::dicing::code(scene.dicing),
-            clip_pad: camera.clip_pad().to_array(),
+            clip_pad: camera.clip_pad(),
             aperture: scene.lens.aperture,
             focus: scene.lens.focus,
             pixel_scale: scene.lens.pixel_scale,
             time_lens: u32::from(scene.samples_time_and_lens()),
-            uvt: [0; 4],
+            uvt_simple: 0,
+            uvt_interleave: 0,
+            uvt_pixel: 0,
+            uvt_inverse: 0,
             interleave_tuples: 0,
-            origin: camera.origin,
+            origin_x: camera.origin[0],
+            origin_y: camera.origin[1],
             micropolygon_side: scene.micropolygon_side,
             patch_floats: 0,
             aov: scene.aov.code(),
@@ -116,12 +135,10 @@ impl FrameUniform {
     /// `height_texels`.
     fn with_uvt(mut self, base: u32, spp: u32) -> Self {
         let layout = UvtLayout::for_spp(spp);
-        self.uvt = [
-            base + layout.simple,
-            base + layout.interleave,
-            base + layout.pixel,
-            base + layout.inverse,
-        ];
+        self.uvt_simple = base + layout.simple;
+        self.uvt_interleave = base + layout.interleave;
+        self.uvt_pixel = base + layout.pixel;
+        self.uvt_inverse = base + layout.inverse;
         self.interleave_tuples = spp * INTERLEAVE_TILE * INTERLEAVE_TILE;
         self
     }
@@ -167,15 +184,16 @@ pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
         .max(1)
 }
 
-/// Twin of the WGSL `Light` struct (`shaders/reyes/library.wgsl`), checked
-/// member by member by `tests/tests/reyes_layouts.rs`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+/// One light, WGSL struct `Light`.
+#[scheduler::item]
+#[wgsl(name = "Light")]
+#[derive(Debug)]
 pub struct LightData {
-    /// Unit vector towards the light (w unused).
-    pub to_light: [f32; 4],
+    /// w = 0: a distant light, xyz the unit vector towards it. w = 1: a
+    /// point light, xyz its position (reyes::prepare::PreparedLight).
+    pub to_light: Vec4,
     /// Intensity times colour (w unused).
-    pub radiance: [f32; 4],
+    pub radiance: Vec4,
 }
 
 /// The buffers the megakernel binds (see the resources in
@@ -277,8 +295,8 @@ impl FrameBuffers {
             .lights
             .iter()
             .map(|l| LightData {
-                to_light: l.to_light.extend(0.0).to_array(),
-                radiance: l.radiance.extend(0.0).to_array(),
+                to_light: l.to_light.extend(if l.point { 1.0 } else { 0.0 }),
+                radiance: l.radiance.extend(0.0),
             })
             .collect();
         let mut frame = FrameUniform::new(scene);

@@ -20,9 +20,11 @@
 
 use scheduler::{
     Atomic, CompileError, CompileOptions, CompiledGraph, ConstantValue, Graph, Policy, Procedure,
-    Resource, item_type,
+    Resource,
 };
 
+use super::buffers::{FrameUniform, LightData};
+use super::objects::ObjectData;
 use crate::aov::Aov;
 use crate::dicing::{
     EDGE_U0, EDGE_U1, EDGE_V0, EDGE_V1, GridClass, GridSize, RATE_ROUNDING, pack_edges,
@@ -30,13 +32,12 @@ use crate::dicing::{
 use crate::params::{
     ADAPTIVE_INTERLEAVE_BIAS, DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX,
     DEGENERATE_PARAM_MIN, DISPLACED_DICE_FRACTION, DISPLACEMENT_BOUND_TOLERANCE, HASH_MIX,
-    HASH_MULTIPLIERS, MAX_GRID_QUADS, NEAR_EPS, SINES_NORMALIZATION, SINES_OCTAVE_2_FREQUENCY,
-    SINES_OCTAVE_2_WEIGHT,
+    HASH_MULTIPLIERS, MAX_GRID_QUADS, NEAR_EPS, POINT_LIGHT_MIN_DISTANCE_SQUARED,
+    SINES_NORMALIZATION, SINES_OCTAVE_2_FREQUENCY, SINES_OCTAVE_2_WEIGHT,
 };
 use crate::prepare::WorldPatch;
 use crate::uvt::{INTERLEAVE_PERMUTATIONS, INTERLEAVE_TILE, PERMUTATION_CHANNEL, TABLE_SIDE};
 
-const PATCH_ITEM_WGSL: &str = include_str!("../../../shaders/reyes/patch_item.wgsl");
 const LIBRARY_WGSL: &str = include_str!("../../../shaders/reyes/library.wgsl");
 const BOUND_WGSL: &str = include_str!("../../../shaders/reyes/bound.wgsl");
 const SPLIT_WGSL: &str = include_str!("../../../shaders/reyes/split.wgsl");
@@ -191,25 +192,29 @@ pub mod sampling {
     }
 }
 
-/// The work item of every procedure; twin of `shaders/reyes/patch_item.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+/// The work item of Bound, SplitU, SplitV and DiceShadeSample: one (piece
+/// of a) bicubic Bezier patch, WGSL struct `PatchItem`.
+#[scheduler::item]
+#[derive(Debug, PartialEq)]
 pub struct PatchItem {
-    /// Control points in world space, `p[3 * (v * 4 + u) ..][..3]`.
+    /// The 16 world-space control points, point `v * 4 + u` at words
+    /// `3 * (v * 4 + u) .. + 3`. Flat f32 words rather than vec3 because a
+    /// vec3 array would pad every point to 16 bytes.
     pub p: [f32; 48],
-    /// `(u0, v0, u1, v1)` within the input patch's parameter square.
-    pub uv: [f32; 4],
-    /// Object index.
+    /// The piece's rectangle (u0, v0, u1, v1) in the input patch's parameters.
+    pub uv: glam::Vec4,
+    /// Index into `objects`.
     pub object: u32,
-    /// Splits from the input patch.
+    /// Splits from the input patch to this piece (the depth guard's input).
     pub split_depth: u32,
-    /// Index of the input patch (rate dicing evaluates its points).
+    /// Index of the input patch, whose control points rate dicing evaluates.
     pub input_patch: u32,
-    /// The spacings of the piece's edges ([`crate::dicing::pack_edges`]).
+    /// The spacings of the piece's four edges (dicing.wgsl,
+    /// reyes::dicing::pack_edges), 8 bits each.
     pub edges: u32,
-    /// The grid Bound or Split chose, `nu | nv << 8`.
+    /// The grid Bound or Split chose: nu | nv << 8.
     pub grid: u32,
-    /// Padding to the WGSL struct's 16-byte alignment.
+    /// Padding to the struct's 16-byte alignment.
     pub pad0: u32,
     /// Padding.
     pub pad1: u32,
@@ -227,7 +232,7 @@ impl PatchItem {
         }
         Self {
             p,
-            uv: [0.0, 0.0, 1.0, 1.0],
+            uv: glam::Vec4::new(0.0, 0.0, 1.0, 1.0),
             object: patch.object,
             split_depth: 0,
             input_patch: index,
@@ -266,6 +271,10 @@ fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, ConstantValue)> {
     let extent_words = 2 * slots;
     vec![
         ("NEAR_EPS", ConstantValue::F32(NEAR_EPS)),
+        (
+            "POINT_LIGHT_MIN_DISTANCE_SQUARED",
+            ConstantValue::F32(POINT_LIGHT_MIN_DISTANCE_SQUARED),
+        ),
         ("MAX_GRID_QUADS", ConstantValue::U32(MAX_GRID_QUADS)),
         ("FIXED_GRID_QUADS", ConstantValue::U32(fixed)),
         ("RATE_ROUNDING", ConstantValue::F32(RATE_ROUNDING)),
@@ -465,22 +474,6 @@ pub fn reyes_graph() -> Graph {
 /// Fan-outs: Bound routes its one patch to exactly one target; a split
 /// routes each of its two halves to one target, so at most 2 per target.
 pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
-    let patch = item_type!(
-        PatchItem,
-        PATCH_ITEM_WGSL,
-        [
-            p,
-            uv,
-            object,
-            split_depth,
-            input_patch,
-            edges,
-            grid,
-            pad0,
-            pad1,
-            pad2
-        ]
-    );
     // The renderer compiles with the default workgroup size
     // ([`compile_options`]); the dice slots follow from it.
     let workgroup_size = CompileOptions::default().workgroup_size;
@@ -492,14 +485,14 @@ pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
     graph.library(DISPLACEMENT_WGSL);
     graph.library(user_displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));
     // Declaration order = binding order in group 1 (see `buffers.rs`).
-    graph.resource(Resource::uniform_wgsl("frame", "Frame"));
-    graph.resource(Resource::storage_read_wgsl("objects", "array<Object>"));
-    graph.resource(Resource::storage_read_wgsl("lights", "array<Light>"));
+    graph.resource(Resource::uniform::<FrameUniform>("frame"));
+    graph.resource(Resource::storage_read::<[ObjectData]>("objects"));
+    graph.resource(Resource::storage_read::<[LightData]>("lights"));
     graph.resource(Resource::storage_wgsl("framebuffer", "array<atomic<u64>>"));
     graph.resource(Resource::storage::<[Atomic<u32>]>("stats"));
     graph.resource(Resource::storage_read::<[f32]>("height_texels"));
     let bound = graph.procedure(
-        Procedure::new(BOUND, patch.clone())
+        Procedure::of::<PatchItem>(BOUND)
             .initial(true)
             .threads_per_item(16)
             .scratch_bytes(4 * BOUND_SCRATCH_WORDS)
@@ -507,14 +500,14 @@ pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
             .body(BOUND_WGSL),
     );
     let split_u = graph.procedure(
-        Procedure::new(SPLIT_U, patch.clone())
+        Procedure::of::<PatchItem>(SPLIT_U)
             .threads_per_item(4)
             .scratch_bytes(4 * SPLIT_SCRATCH_WORDS)
             .priority(1)
             .body(split_body(true)),
     );
     let split_v = graph.procedure(
-        Procedure::new(SPLIT_V, patch.clone())
+        Procedure::of::<PatchItem>(SPLIT_V)
             .threads_per_item(4)
             .scratch_bytes(4 * SPLIT_SCRATCH_WORDS)
             .priority(1)
@@ -524,7 +517,7 @@ pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
     for class in GridClass::ALL {
         targets.push(
             graph.procedure(
-                Procedure::new(dice_procedure(class), patch.clone())
+                Procedure::of::<PatchItem>(dice_procedure(class))
                     .threads_per_item(class.threads())
                     .scratch_bytes(4 * POINT_WORDS * class.max_points())
                     .priority(2)

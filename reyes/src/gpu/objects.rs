@@ -8,13 +8,15 @@ use super::graph::displace;
 use crate::displacement::{HeightMap, HeightSource};
 use crate::prepare::PreparedScene;
 
-/// Twin of the WGSL `Object` struct (`shaders/reyes/library.wgsl`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+/// One object, WGSL struct `Object`.
+#[scheduler::item]
+#[wgsl(name = "Object")]
+#[derive(Debug, PartialEq)]
 pub struct ObjectData {
     /// Linear RGB albedo (w unused).
-    pub albedo: [f32; 4],
-    /// One of [`displace`]'s constants.
+    pub albedo: glam::Vec4,
+    /// DISPLACE_NONE, DISPLACE_IMAGE, DISPLACE_SINES or DISPLACE_USER
+    /// ([`displace`]).
     pub displace_kind: u32,
     /// First texel of the object's height map in the texel buffer.
     pub map_offset: u32,
@@ -31,9 +33,9 @@ pub struct ObjectData {
     /// [`crate::prepare::PreparedObject::front`]: the sign of the front's
     /// `dP/du x dP/dv` for a one-sided object, 0 for a two-sided one.
     pub front: f32,
-    /// Open to close world positions ([`crate::motion::ObjectMotion::matrix`]),
-    /// column-major; identity when the object does not move.
-    pub motion: [f32; 16],
+    /// Open to close world positions ([`crate::motion::ObjectMotion::matrix`]);
+    /// identity when the object does not move.
+    pub motion: glam::Mat4,
     /// 1 when the object moves.
     pub moving: u32,
     /// [`crate::motion::ObjectMotion::stretch`] (1 when not moving).
@@ -67,7 +69,7 @@ impl ObjectTables {
             .iter()
             .map(|object| {
                 let mut data = ObjectData {
-                    albedo: object.albedo.extend(0.0).to_array(),
+                    albedo: object.albedo.extend(0.0),
                     displace_kind: displace::NONE,
                     map_offset: 0,
                     map_width: 0,
@@ -76,14 +78,14 @@ impl ObjectTables {
                     displace_bound: 0.0,
                     tiling: 1.0,
                     front: object.front.unwrap_or(0.0),
-                    motion: glam::Mat4::IDENTITY.to_cols_array(),
+                    motion: glam::Mat4::IDENTITY,
                     moving: 0,
                     motion_stretch: 1.0,
                     pad1: 0,
                     pad2: 0,
                 };
                 if let Some(motion) = &object.motion {
-                    data.motion = motion.matrix.to_cols_array();
+                    data.motion = motion.matrix;
                     data.moving = 1;
                     data.motion_stretch = motion.stretch;
                 }

@@ -7,19 +7,37 @@ use scheduler::RunError;
 use scheduler::readback::read_buffer;
 use scheduler::wgpu::util::DeviceExt as _;
 
+use scheduler::Item as _;
+
 const RESOLVE_WGSL: &str = include_str!("../../../shaders/reyes/resolve.wgsl");
-/// Threads per workgroup of the clear entry point (`CLEAR_WORKGROUP` in WGSL).
+/// Threads per workgroup of the clear entry point (`CLEAR_WORKGROUP`, which
+/// [`resolve_wgsl`] declares from it).
 const CLEAR_WORKGROUP: u64 = 256;
 
-/// Twin of the WGSL `ResolveParams`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-struct ResolveParams {
-    width: u32,
-    height: u32,
-    spp: u32,
-    pad0: u32,
-    background: [f32; 4],
+/// The resolve passes' uniform, WGSL struct `ResolveParams`.
+#[scheduler::item]
+#[derive(Debug)]
+pub struct ResolveParams {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Padding.
+    pub pad0: u32,
+    /// Linear RGB background (w unused).
+    pub background: glam::Vec4,
+}
+
+/// The clear and resolve shader: `shaders/reyes/resolve.wgsl` after the
+/// declarations it shares with this module ([`ResolveParams`] and
+/// `CLEAR_WORKGROUP`).
+pub fn resolve_wgsl() -> String {
+    format!(
+        "// The clear and resolve passes of the Reyes renderer (reyes::gpu::resolve).\n\n{}\n\nconst CLEAR_WORKGROUP: u32 = {CLEAR_WORKGROUP}u;\n\n{RESOLVE_WGSL}",
+        ResolveParams::wgsl_struct()
+    )
 }
 
 /// The clear and resolve pipelines (created once per renderer).
@@ -59,7 +77,7 @@ impl Resolver {
     pub fn new(device: &wgpu::Device) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("reyes resolve"),
-            source: wgpu::ShaderSource::Wgsl(RESOLVE_WGSL.into()),
+            source: wgpu::ShaderSource::Wgsl(resolve_wgsl().into()),
         });
         let storage = wgpu::BufferBindingType::Storage { read_only: false };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -199,7 +217,7 @@ impl ResolveTarget {
             height: self.height,
             spp,
             pad0: 0,
-            background: background.extend(0.0).to_array(),
+            background: background.extend(0.0),
         };
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
     }
@@ -219,7 +237,7 @@ impl ResolveTarget {
             height,
             spp,
             pad0: 0,
-            background: background.extend(0.0).to_array(),
+            background: background.extend(0.0),
         };
         let buffer = |label: &str| {
             device.create_buffer(&wgpu::BufferDescriptor {

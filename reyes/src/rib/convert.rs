@@ -18,8 +18,9 @@ use crate::scene::{
 const DEFAULT_FORMAT: (u32, u32) = (640, 480);
 
 /// Builds the scene of a finished interpreter run of `file`.
-pub fn build(interp: Interp, file: &Path) -> Result<RibScene, RibError> {
-    let mut warnings = interp.warnings;
+pub fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
+    let lights = interp.scene_lights();
+    let mut warnings = std::mem::take(&mut interp.warnings);
     if interp.more_warnings > 0 {
         warnings.push(Warning {
             file: file.to_path_buf(),
@@ -167,11 +168,20 @@ pub fn build(interp: Interp, file: &Path) -> Result<RibScene, RibError> {
     };
 
     // Lights.
-    for light in &interp.lights {
-        scene.lights.push(Light {
-            direction: light.direction.as_vec3(),
-            color: light.color.as_vec3(),
-            intensity: light.intensity as f32,
+    let no_lights = lights.is_empty();
+    for light in lights {
+        scene.lights.push(match light.position {
+            Some(position) => Light::point(
+                position.as_vec3(),
+                light.color.as_vec3(),
+                light.intensity as f32,
+            ),
+            None => Light {
+                direction: light.direction.as_vec3(),
+                color: light.color.as_vec3(),
+                intensity: light.intensity as f32,
+                ..Light::default()
+            },
         });
     }
     let ambient = interp.ambient;
@@ -179,7 +189,7 @@ pub fn build(interp: Interp, file: &Path) -> Result<RibScene, RibError> {
         warn("ambientlight colour: the renderer's ambient term is grey; using the mean".into());
     }
     scene.ambient = ((ambient.x + ambient.y + ambient.z) / 3.0) as f32;
-    if interp.lights.is_empty() && ambient == glam::DVec3::ZERO {
+    if no_lights && ambient == glam::DVec3::ZERO {
         warn("no light sources: the image is black (add LightSource \"distantlight\")".into());
     }
 

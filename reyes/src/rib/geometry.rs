@@ -382,6 +382,7 @@ impl Interp {
             out.push(pts);
         }
         self.patch_count += out.len();
+        self.lights_for_primitive();
         let moving = (self.xf.open != self.xf.close).then(|| close * open.inverse());
         self.prims.push(Prim {
             patches: out,

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{DMat4, DVec3, Vec3};
 
+use super::lights::RibLight;
 use super::parser::Call;
 use super::state::{self, Attributes, Decl, Surface, Xform};
 use super::{RibError, Warning};
@@ -57,17 +58,6 @@ pub struct Prim {
     pub close: Option<DMat4>,
 }
 
-/// A `distantlight`, in world space.
-#[derive(Debug, Clone, Copy)]
-pub struct DistantLight {
-    /// The direction the light travels.
-    pub direction: DVec3,
-    /// `lightcolor`.
-    pub color: DVec3,
-    /// `intensity`.
-    pub intensity: f64,
-}
-
 #[derive(Debug)]
 pub(super) struct Motion {
     pub(super) base: Xform,
@@ -98,8 +88,8 @@ pub struct Interp {
     /// The primitives.
     pub prims: Vec<Prim>,
     pub(super) patch_count: usize,
-    /// The distant lights.
-    pub lights: Vec<DistantLight>,
+    /// The distant and point lights, in declaration order.
+    pub lights: Vec<RibLight>,
     /// Sum of `ambientlight` intensity times colour.
     pub ambient: DVec3,
     pub(super) includes: Vec<PathBuf>,
@@ -340,40 +330,8 @@ impl Interp {
                     }
                 };
             }
-            "LightSource" => {
-                // The light handle (a number or a string) is optional.
-                let positional = if v.len().is_multiple_of(2) { 2 } else { 1 };
-                let (args, params, _) = state::split_params(v, positional, &self.declared)?;
-                let m = camera_to_world() * self.camera.unwrap_or(DMat4::IDENTITY) * self.xf.open;
-                let intensity = state::param_f(&params, "intensity", 1.0)?;
-                let color = state::param_v3(&params, "lightcolor", DVec3::ONE)?;
-                match state::arg_str(&args, 0, "the shader")? {
-                    "distantlight" => {
-                        let from = state::param_v3(&params, "from", DVec3::ZERO)?;
-                        let to = state::param_v3(&params, "to", DVec3::Z)?;
-                        let direction = m.transform_point3(to) - m.transform_point3(from);
-                        if direction.length_squared() > 0.0 && direction.is_finite() {
-                            self.lights.push(DistantLight {
-                                direction,
-                                color,
-                                intensity,
-                            });
-                        } else {
-                            self.warn(
-                                file,
-                                line,
-                                "distantlight with no direction (from = to); ignored".into(),
-                            );
-                        }
-                    }
-                    "ambientlight" => self.ambient += color * intensity,
-                    other => self.warn(
-                        file,
-                        line,
-                        format!("LightSource {other:?} is not supported; ignored"),
-                    ),
-                }
-            }
+            "LightSource" => self.light_source(v, file, line)?,
+            "Illuminate" => self.illuminate(v, file, line)?,
             "Sides" => {
                 let n = state::all_nums(v, 1)?[0];
                 self.attrs.sides = if n == 1.0 { 1 } else { 2 };

@@ -23,6 +23,7 @@ mod convert;
 mod geometry;
 pub mod interp;
 pub mod lexer;
+pub mod lights;
 mod options;
 pub mod parser;
 mod polygons;

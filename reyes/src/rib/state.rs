@@ -42,6 +42,9 @@ pub struct Attributes {
     pub ubasis: Basis,
     /// `Basis` in v.
     pub vbasis: Basis,
+    /// Bit `i`: light `i` is on (`LightSource` turns it on, `Illuminate`
+    /// switches it, `AttributeEnd` restores the enclosing block's set).
+    pub lights_on: u64,
 }
 
 impl Default for Attributes {
@@ -53,6 +56,7 @@ impl Default for Attributes {
             orientation_lh: true,
             ubasis: basis::BEZIER,
             vbasis: basis::BEZIER,
+            lights_on: 0,
         }
     }
 }

@@ -100,6 +100,10 @@ impl GpuRenderer<'_> {
         };
         let ranges = batch_ranges(scene.patches.len(), batch);
         let count = ranges.len();
+        let bound = self
+            .compiled()
+            .procedure_id::<PatchItem>(BOUND)
+            .expect("the Reyes graph's Bound consumes PatchItems");
         for (index, range) in ranges.into_iter().enumerate() {
             // Seeds keep the scene's patch indices: every run reads its
             // patches from the same scene buffers.
@@ -116,7 +120,7 @@ impl GpuRenderer<'_> {
                 executor
                     .run_with(
                         strategy,
-                        &Seeds::new().add_untyped(&scheduler::ProcedureId::named(BOUND), &seeds),
+                        &Seeds::new().add(&bound, &seeds),
                         &frame.0.bindings(),
                     )
                     .map_err(RenderError::Run)

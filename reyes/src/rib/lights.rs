@@ -1,0 +1,221 @@
+//! `LightSource` and `Illuminate`: RenderMan's light list, mapped onto the
+//! renderer's scene-wide lights.
+//!
+//! In RenderMan the set of lights that are on is an attribute: a light
+//! defined inside `AttributeBegin`/`AttributeEnd` is off after the block, and
+//! `Illuminate handle 0|1` switches a light for the geometry that follows.
+//! The renderer lights every object with every light, so a light is kept
+//! when it is on for at least one primitive (with a warning when it is off
+//! for others) and dropped, with a warning, when it lights none.
+
+use std::path::{Path, PathBuf};
+
+use glam::{DMat4, DVec3};
+
+use super::interp::{Interp, camera_to_world};
+use super::parser::Value;
+use super::state;
+
+/// Lights whose on/off state follows the attribute stack: the bits of
+/// [`state::Attributes::lights_on`]. Later ones are on from their
+/// definition to the end of the world block, with a warning.
+pub const SWITCHABLE_LIGHTS: usize = 64;
+
+/// A `distantlight` or `pointlight`, in world space.
+#[derive(Debug, Clone)]
+pub struct RibLight {
+    /// The direction a distant light travels (unused by a point light).
+    pub direction: DVec3,
+    /// A point light's position (`from`).
+    pub position: Option<DVec3>,
+    /// `lightcolor`.
+    pub color: DVec3,
+    /// `intensity`.
+    pub intensity: f64,
+    /// The handle it was declared with (a number or a string), if any.
+    pub handle: Option<String>,
+    /// Whether it is on for at least one primitive.
+    pub lights_something: bool,
+    /// Whether it is off for at least one primitive declared after it.
+    pub dark_somewhere: bool,
+    /// Where it was declared, for warnings.
+    pub file: PathBuf,
+    /// Its line.
+    pub line: usize,
+}
+
+/// The handle argument of `LightSource` or `Illuminate`, as text.
+fn handle_text(value: &Value) -> Option<String> {
+    match value {
+        Value::Num(n) => Some(format!("{n}")),
+        other => other.str().map(str::to_owned),
+    }
+}
+
+impl Interp {
+    /// `LightSource name [handle] params...`.
+    pub(super) fn light_source(
+        &mut self,
+        v: &[Value],
+        file: &Path,
+        line: usize,
+    ) -> Result<(), String> {
+        // The light handle (a number or a string) is optional; parameters
+        // come in pairs.
+        let positional = if v.len().is_multiple_of(2) { 2 } else { 1 };
+        let (args, params, _) = state::split_params(v, positional, &self.declared)?;
+        let handle = args.get(1).and_then(handle_text);
+        let m = camera_to_world() * self.camera.unwrap_or(DMat4::IDENTITY) * self.xf.open;
+        let intensity = state::param_f(&params, "intensity", 1.0)?;
+        let color = state::param_v3(&params, "lightcolor", DVec3::ONE)?;
+        let light = |direction: DVec3, position: Option<DVec3>| RibLight {
+            direction,
+            position,
+            color,
+            intensity,
+            handle: handle.clone(),
+            lights_something: false,
+            dark_somewhere: false,
+            file: file.to_path_buf(),
+            line,
+        };
+        match state::arg_str(&args, 0, "the shader")? {
+            "distantlight" => {
+                let from = state::param_v3(&params, "from", DVec3::ZERO)?;
+                let to = state::param_v3(&params, "to", DVec3::Z)?;
+                let direction = m.transform_point3(to) - m.transform_point3(from);
+                if direction.length_squared() > 0.0 && direction.is_finite() {
+                    self.add_light(light(direction, None), file, line);
+                } else {
+                    self.warn(
+                        file,
+                        line,
+                        "distantlight with no direction (from = to); ignored".into(),
+                    );
+                }
+            }
+            "pointlight" => {
+                let from = state::param_v3(&params, "from", DVec3::ZERO)?;
+                let position = m.transform_point3(from);
+                if position.as_vec3().is_finite() {
+                    self.add_light(light(DVec3::Z, Some(position)), file, line);
+                } else {
+                    self.warn(
+                        file,
+                        line,
+                        "pointlight whose position is not finite (beyond f32); ignored".into(),
+                    );
+                }
+            }
+            "ambientlight" => self.ambient += color * intensity,
+            other => self.warn(
+                file,
+                line,
+                format!("LightSource {other:?} is not supported; ignored"),
+            ),
+        }
+        Ok(())
+    }
+
+    /// Adds `light` and turns it on in the current attribute block.
+    fn add_light(&mut self, light: RibLight, file: &Path, line: usize) {
+        let index = self.lights.len();
+        self.lights.push(light);
+        if index < SWITCHABLE_LIGHTS {
+            self.attrs.lights_on |= 1 << index;
+        } else {
+            self.warn_once(
+                "switchable lights",
+                file,
+                line,
+                format!(
+                    "more than {SWITCHABLE_LIGHTS} lights: the later ones stay on to the end of the world block (AttributeEnd and Illuminate do not switch them)"
+                ),
+            );
+        }
+    }
+
+    /// `Illuminate handle onoff`.
+    pub(super) fn illuminate(
+        &mut self,
+        v: &[Value],
+        file: &Path,
+        line: usize,
+    ) -> Result<(), String> {
+        if v.len() != 2 {
+            return Err("Illuminate takes a light handle and 0 or 1".into());
+        }
+        let handle =
+            handle_text(&v[0]).ok_or("Illuminate: the light handle is a number or a string")?;
+        let on = state::arg_f(v, 1, "the on/off flag")? != 0.0;
+        let Some(index) = self
+            .lights
+            .iter()
+            .rposition(|l| l.handle.as_deref() == Some(handle.as_str()))
+        else {
+            self.warn(
+                file,
+                line,
+                format!(
+                    "Illuminate {handle:?}: no distantlight or pointlight has this handle; ignored"
+                ),
+            );
+            return Ok(());
+        };
+        if index >= SWITCHABLE_LIGHTS {
+            return Ok(()); // Warned when it was added.
+        }
+        if on {
+            self.attrs.lights_on |= 1 << index;
+        } else {
+            self.attrs.lights_on &= !(1 << index);
+        }
+        Ok(())
+    }
+
+    /// Records which lights are on for a primitive being emitted.
+    pub(super) fn lights_for_primitive(&mut self) {
+        let on = self.attrs.lights_on;
+        for (index, light) in self.lights.iter_mut().enumerate() {
+            if index >= SWITCHABLE_LIGHTS || on & (1 << index) != 0 {
+                light.lights_something = true;
+            } else {
+                light.dark_somewhere = true;
+            }
+        }
+    }
+
+    /// The lights the scene keeps: those that light at least one primitive
+    /// (all of them when there is no geometry), with warnings for the ones
+    /// dropped or lighting more than RenderMan would.
+    pub(super) fn scene_lights(&mut self) -> Vec<RibLight> {
+        let any_geometry = !self.prims.is_empty();
+        let lights = std::mem::take(&mut self.lights);
+        let mut kept = Vec::new();
+        for light in lights {
+            let name = light
+                .handle
+                .as_deref()
+                .map_or_else(|| "a light".to_owned(), |h| format!("light {h:?}"));
+            if any_geometry && !light.lights_something {
+                self.warn(
+                    &light.file,
+                    light.line,
+                    format!(
+                        "{name} is off (AttributeEnd or Illuminate) for every primitive; ignored"
+                    ),
+                );
+                continue;
+            }
+            if light.dark_somewhere {
+                self.warn(
+                    &light.file,
+                    light.line,
+                    format!("{name} is off for some primitives, but the renderer's lights are scene-wide: it lights them all"),
+                );
+            }
+            kept.push(light);
+        }
+        kept
+    }
+}
