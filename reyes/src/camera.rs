@@ -1,16 +1,53 @@
-//! The pinhole camera and the coordinate conventions of the renderer.
+//! The pinhole (or orthographic) camera and the coordinate conventions of
+//! the renderer.
 //!
 //! * World space is right-handed; the bundled models are z-up.
 //! * View: [`Mat4::look_at_rh`]`(eye, target, up)`: the camera looks down its -z axis.
 //! * Projection: [`Mat4::perspective_rh`]`(fov_y, width / height, near, far)`,
 //!   which maps depth to NDC z in `[0, 1]` (the wgpu/D3D/Vulkan convention):
-//!   z = 0 on the near plane, z = 1 on the far plane.
+//!   z = 0 on the near plane, z = 1 on the far plane. An orthographic camera
+//!   uses [`Mat4::orthographic_rh`] (the same depth range, clip `w = 1`)
+//!   over a view `ortho_height` world units high.
 //! * Pixels: `px = (ndc.x * 0.5 + 0.5) * width`, `py = (0.5 - ndc.y * 0.5) * height`.
 //!   Pixel `(0, 0)` is the top-left pixel, x grows right, y grows *down*;
 //!   pixel `(x, y)` covers `[x, x + 1) x [y, y + 1)`, so its centre is at
 //!   `(x + 0.5, y + 0.5)`.
 
 use glam::{Mat4, Vec3, Vec4};
+use serde::{Deserialize, Serialize};
+
+/// How a camera projects (`[camera] projection`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Projection {
+    /// A pinhole: the field of view `fov_y`.
+    #[default]
+    Perspective,
+    /// Parallel rays along the view direction, over `ortho_height` world
+    /// units of view height (RenderMan's `Projection "orthographic"`).
+    Orthographic,
+}
+
+impl Projection {
+    /// Whether this is the default, perspective.
+    pub fn is_perspective(&self) -> bool {
+        *self == Projection::Perspective
+    }
+}
+
+/// The part of the eye that shading and culling use, in homogeneous form:
+/// `(eye, 1)` for a perspective camera, `(d, 0)` for an orthographic one,
+/// `d` the unit direction towards the viewer. [`towards_eye`] is the
+/// direction from a point towards the viewer in both cases.
+pub type HomogeneousEye = Vec4;
+
+/// The (unnormalized) direction from `position` towards the viewer
+/// `eye` ([`Camera::homogeneous_eye`]): `eye.xyz - position * eye.w`, which
+/// is exactly `eye - position` for a perspective camera. The WGSL
+/// `towards_eye` mirrors it.
+pub fn towards_eye(eye: HomogeneousEye, position: Vec3) -> Vec3 {
+    eye.truncate() - position * eye.w
+}
 
 /// Why an eye, target and up direction (all finite) cannot make a view in
 /// `f32` ([`pose_problem`]).
@@ -102,9 +139,15 @@ pub fn pose_problem(eye: Vec3, target: Vec3, up: Vec3) -> Option<PoseProblem> {
     None
 }
 
-/// A perspective camera for an image of `width x height` pixels.
+/// A perspective or orthographic camera for an image of `width x height`
+/// pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
+    /// How it projects; [`Camera::new`] makes a perspective camera and
+    /// [`Camera::orthographic`] turns it into an orthographic one.
+    pub projection: Projection,
+    /// The view's height in world units (orthographic cameras only).
+    pub ortho_height: f32,
     /// Eye position (world space).
     pub eye: Vec3,
     /// Point looked at (world space).
@@ -160,6 +203,8 @@ impl Camera {
             unit(up)
         };
         Camera {
+            projection: Projection::Perspective,
+            ortho_height: 0.0,
             eye,
             target,
             up,
@@ -177,7 +222,7 @@ impl Camera {
     /// The same camera (lens, image, crop) placed at another pose: looking
     /// from `eye` at `target` with `up`.
     pub fn looking(&self, eye: Vec3, target: Vec3, up: Vec3) -> Camera {
-        Camera {
+        let placed = Camera {
             origin: self.origin,
             ..Camera::new(
                 eye,
@@ -189,7 +234,39 @@ impl Camera {
                 self.near,
                 self.far,
             )
+        };
+        match self.projection {
+            Projection::Perspective => placed,
+            Projection::Orthographic => placed.orthographic(self.ortho_height),
         }
+    }
+
+    /// The same camera with an orthographic projection over a view
+    /// `height` world units high (and `height * width / height_px` wide),
+    /// between the same near and far planes.
+    pub fn orthographic(&self, height: f32) -> Camera {
+        let half_h = 0.5 * height;
+        let half_w = half_h * self.width as f32 / self.height as f32;
+        Camera {
+            projection: Projection::Orthographic,
+            ortho_height: height,
+            proj: Mat4::orthographic_rh(-half_w, half_w, -half_h, half_h, self.near, self.far),
+            ..*self
+        }
+    }
+
+    /// The eye in the homogeneous form shading and culling use
+    /// ([`HomogeneousEye`]).
+    pub fn homogeneous_eye(&self) -> HomogeneousEye {
+        match self.projection {
+            Projection::Perspective => self.eye.extend(1.0),
+            Projection::Orthographic => (self.eye - self.target).normalize().extend(0.0),
+        }
+    }
+
+    /// The direction from `position` towards the viewer ([`towards_eye`]).
+    pub fn towards_eye(&self, position: Vec3) -> Vec3 {
+        towards_eye(self.homogeneous_eye(), position)
     }
 
     /// What makes this camera's matrices unusable, if anything: the view,
@@ -304,6 +381,42 @@ pub(crate) mod tests {
             1.0,
             100.0,
         )
+    }
+
+    /// Orthographic: a point's pixel depends on its offset across the view
+    /// only, by the worked formula `px = W/2 + x * W / width_world`, and
+    /// not on its depth; depth still runs from 0 (near) to 1 (far).
+    #[test]
+    fn an_orthographic_camera_projects_parallel_to_the_view() {
+        // Looking down -y from y = -10 at the origin, z up; 200 x 100
+        // pixels over a view 4 units high (8 wide).
+        let ortho = camera().orthographic(4.0);
+        for depth in [-5.0, 0.0, 20.0] {
+            let p = Vec3::new(1.0, depth, 0.5);
+            let px = ortho.to_pixel(ortho.to_clip(p));
+            // x right is +x (the eye looks along +y with z up).
+            assert!((px.x - (100.0 + 1.0 * 200.0 / 8.0)).abs() < 1e-3, "{px}");
+            assert!((px.y - (50.0 - 0.5 * 100.0 / 4.0)).abs() < 1e-3, "{px}");
+        }
+        let near = ortho.to_pixel(ortho.to_clip(Vec3::new(0.0, -9.0, 0.0)));
+        let far = ortho.to_pixel(ortho.to_clip(Vec3::new(0.0, 90.0, 0.0)));
+        assert!(
+            near.z.abs() < 1e-5 && (far.z - 1.0).abs() < 1e-5,
+            "{near} {far}"
+        );
+        // The viewer is a direction: towards -y from everywhere.
+        assert_eq!(ortho.homogeneous_eye(), Vec4::new(0.0, -1.0, 0.0, 0.0));
+        assert_eq!(
+            ortho.towards_eye(Vec3::new(3.0, 7.0, -2.0)),
+            Vec3::new(0.0, -1.0, 0.0)
+        );
+        // Perspective: exactly eye - p.
+        let p = Vec3::new(0.3, 1.7, -2.9);
+        assert_eq!(camera().towards_eye(p), camera().eye - p);
+        // A moved orthographic camera stays orthographic.
+        let moved = ortho.looking(Vec3::new(0.0, -20.0, 0.0), Vec3::ZERO, Vec3::Z);
+        assert_eq!(moved.projection, Projection::Orthographic);
+        assert_eq!(moved.proj, ortho.proj);
     }
 
     #[test]

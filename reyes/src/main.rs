@@ -529,6 +529,9 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
                     fov_y_degrees: framed.fov_y_radians.to_degrees(),
                     near: framed.near,
                     far: framed.far,
+                    projection: framed.projection,
+                    ortho_height: (!framed.projection.is_perspective())
+                        .then_some(framed.ortho_height),
                 }
             }
         };

@@ -95,6 +95,7 @@ use glam::{Mat4, Quat, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::aov::Aov;
+pub use crate::camera::Projection;
 use crate::camera::{Camera, PoseProblem, pose_problem};
 use crate::displacement::{DisplacementDesc, DisplacementError, desc::SourceKind};
 use crate::input::{self, InputError, InputKind};
@@ -375,6 +376,16 @@ pub struct CameraDesc {
     /// Far plane distance, > near (default 1000).
     #[serde(default = "default_far")]
     pub far: f32,
+    /// `"perspective"` (default, with `fov_y_degrees`) or `"orthographic"`
+    /// (with `ortho_height`).
+    #[serde(default, skip_serializing_if = "Projection::is_perspective")]
+    pub projection: Projection,
+    /// An orthographic view's height in world units, > 0. Default: the
+    /// height the perspective field of view shows at the target,
+    /// `2 |target - eye| tan(fov_y / 2)`, so that switching the projection
+    /// keeps the target's plane framed the same.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ortho_height: Option<f32>,
 }
 
 /// The camera's pose at shutter close (`[camera_close]`): camera motion.
@@ -962,6 +973,16 @@ impl Scene {
                 "must be >= 0 (a lens radius in world units)",
             ));
         }
+        if self.lens.aperture > 0.0
+            && self
+                .camera
+                .is_some_and(|c| c.projection == Projection::Orthographic)
+        {
+            return Err(invalid(
+                "lens.aperture",
+                "must be 0 with an orthographic camera (the thin lens needs a perspective one)",
+            ));
+        }
         if let Some(focus) = self.lens.focus_distance {
             finite("lens.focus_distance", [focus])?;
             if focus <= 0.0 {
@@ -1210,6 +1231,9 @@ impl CameraDesc {
         finite("camera.fov_y_degrees", [self.fov_y_degrees])?;
         finite("camera.near", [self.near])?;
         finite("camera.far", [self.far])?;
+        if let Some(height) = self.ortho_height {
+            finite("camera.ortho_height", [height])?;
+        }
         // All values are finite here (checked above), so plain comparisons suffice.
         let reason = if self.near <= 0.0 {
             "near must be > 0".to_string()
@@ -1220,6 +1244,19 @@ impl CameraDesc {
         } else if let Some(problem) = pose_problem(self.eye, self.target, self.up) {
             // Derived: the view direction must be computable in f32.
             problem.reason("camera")
+        } else if self.projection == Projection::Orthographic
+            && !(self.view_height() > 0.0 && self.view_height().is_finite())
+        {
+            // Derived when not given: from the distance and the fov.
+            format!(
+                "the orthographic view height {} must be finite and > 0{}",
+                self.view_height(),
+                if self.ortho_height.is_some() {
+                    ""
+                } else {
+                    " (from the eye-target distance and fov_y_degrees: set ortho_height)"
+                }
+            )
         } else {
             return Ok(());
         };
@@ -1228,7 +1265,7 @@ impl CameraDesc {
 
     /// The camera this description makes for an image of `width x height`.
     pub fn camera(&self, width: u32, height: u32) -> Camera {
-        Camera::new(
+        let camera = Camera::new(
             self.eye,
             self.target,
             self.up,
@@ -1237,7 +1274,19 @@ impl CameraDesc {
             height,
             self.near,
             self.far,
-        )
+        );
+        match self.projection {
+            Projection::Perspective => camera,
+            Projection::Orthographic => camera.orthographic(self.view_height()),
+        }
+    }
+
+    /// The orthographic view height: `ortho_height`, or its default (the
+    /// field of view's height at the target).
+    pub fn view_height(&self) -> f32 {
+        self.ortho_height.unwrap_or_else(|| {
+            2.0 * self.eye.distance(self.target) * (0.5 * self.fov_y_degrees.to_radians()).tan()
+        })
     }
 
     /// This camera's pose at shutter close after it moves by `by` and pans
@@ -1393,6 +1442,8 @@ impl CameraDesc {
                 fov_y_degrees,
                 near,
                 far,
+                projection: Projection::Perspective,
+                ortho_height: None,
             },
             lo,
             hi,
@@ -1467,6 +1518,8 @@ mod tests {
                 fov_y_degrees: 50.0,
                 near: 0.1,
                 far: 100.0,
+                projection: Projection::Perspective,
+                ortho_height: None,
             };
             let pan = rng.random_range(1.0f32..40.0);
             let close = camera.moved(by, pan);

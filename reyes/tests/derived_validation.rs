@@ -287,6 +287,8 @@ fn a_patch_of_16_identical_points_renders_nothing() {
         fov_y_degrees: 40.0,
         near: 0.1,
         far: 100.0,
+        projection: reyes::scene::Projection::Perspective,
+        ortho_height: None,
     });
     scene.resolution.width = 64;
     scene.resolution.height = 48;

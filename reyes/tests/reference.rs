@@ -23,7 +23,7 @@ fn exact_normals_match_finite_differences_on_a_smooth_patch() {
             0.3 * (u - 1.5) * (u - 1.5) - 0.2 * (v - 1.5) * (v - 1.2) + 0.1 * u * v,
         )
     });
-    let eye = Vec3::new(1.5, 1.5, 10.0);
+    let eye = Vec3::new(1.5, 1.5, 10.0).extend(1.0);
     let h = 1e-3f32;
     for j in 0..16 {
         for i in 0..16 {
@@ -50,7 +50,7 @@ fn exact_normals_match_finite_differences_on_a_smooth_patch() {
 #[test]
 fn teapot_grids_have_no_nan_normals() {
     let teapot = Model::teapot();
-    let eye = Vec3::new(3.0, -12.0, 7.0);
+    let eye = Vec3::new(3.0, -12.0, 7.0).extend(1.0);
     let mut degenerate_patches = 0;
     for patch in &teapot.patches {
         let whole = Vec4::new(0.0, 0.0, 1.0, 1.0);
@@ -60,7 +60,10 @@ fn teapot_grids_have_no_nan_normals() {
         for (k, (p, n)) in grid.positions.iter().zip(&grid.normals).enumerate() {
             assert!(p.is_finite() && n.is_finite(), "NaN at grid point {k}");
             assert!((n.length() - 1.0).abs() < 1e-4, "normal not unit: {n}");
-            assert!(n.dot(eye - *p) >= 0.0, "normal not facing the eye");
+            assert!(
+                n.dot(eye.truncate() - *p) >= 0.0,
+                "normal not facing the eye"
+            );
             let (s, t) = ((k % 16) as f32 / 15.0, (k / 16) as f32 / 15.0);
             let e = bezier::evaluate(&patch.points, s, t);
             had_vanishing_tangent |= e.d_ds.cross(e.d_dt).length_squared() < 1e-12;
@@ -182,6 +185,8 @@ fn camera_inside_the_model_uses_the_depth_guard_or_culls() {
         fov_y_degrees: 90.0,
         near: 0.05,
         far: 100.0,
+        projection: reyes::scene::Projection::Perspective,
+        ortho_height: None,
     });
     let rendered = reference::render(&PreparedScene::load(&scene).unwrap());
     let s = &rendered.stats;

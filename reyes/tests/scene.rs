@@ -424,3 +424,41 @@ fn point_lights_have_a_position_instead_of_a_direction() {
     }];
     scene.validate().unwrap();
 }
+
+#[test]
+fn orthographic_cameras_parse_and_validate() {
+    let base = "[camera]\neye = [0, -10, 0]\ntarget = [0, 0, 0]\nprojection = \"orthographic\"\n";
+    let scene = Scene::from_toml_str(&format!("{base}ortho_height = 3.0\n")).unwrap();
+    let camera = scene.camera.unwrap();
+    assert_eq!(camera.projection, reyes::scene::Projection::Orthographic);
+    assert_eq!(camera.view_height(), 3.0);
+    let text = scene.to_toml_string();
+    assert!(
+        text.contains("projection = \"orthographic\"") && text.contains("ortho_height = 3.0"),
+        "{text}"
+    );
+    // The default height is the field of view's at the target.
+    let scene = Scene::from_toml_str(base).unwrap();
+    let expected = 2.0 * 10.0 * 20f32.to_radians().tan();
+    assert!((scene.camera.unwrap().view_height() - expected).abs() < 1e-4);
+    // A perspective camera writes no projection keys.
+    assert!(
+        !Scene::default_teapot()
+            .to_toml_string()
+            .contains("projection")
+    );
+    let err = |text: &str| Scene::from_toml_str(text).unwrap_err().to_string();
+    let zero = err(&format!("{base}ortho_height = 0.0\n"));
+    assert!(zero.contains("orthographic view height 0"), "{zero}");
+    let lens = err(&format!("{base}[lens]\naperture = 0.1\n"));
+    assert!(
+        lens.contains("lens.aperture") && lens.contains("orthographic"),
+        "{lens}"
+    );
+    let unknown =
+        err("[camera]\neye = [0, -10, 0]\ntarget = [0, 0, 0]\nprojection = \"fisheye\"\n");
+    assert!(
+        unknown.contains("fisheye") || unknown.contains("unknown variant"),
+        "{unknown}"
+    );
+}

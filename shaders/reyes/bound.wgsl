@@ -26,7 +26,7 @@ if (valid) {
     scratch_store_f32(slot, w + 3u, pixel_growth(clip, bound, radius));
     var back = false;
     if (may_cull_back) {
-        back = back_facing_at(&p, thread, frame.eye, object.front);
+        back = back_facing_at(&p, thread, object.front);
     }
     scratch_store_u32(slot, w + 4u, select(0u, 1u, back));
 }

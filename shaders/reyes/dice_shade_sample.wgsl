@@ -46,13 +46,13 @@ if (valid) {
         var normal = vec3<f32>(0.0);
         if (object.displace_kind != DISPLACE_NONE) {
             normal = displaced_grid_normal(&q, object, item.uv, nu, nv, i, j);
-            if (dot3(normal, frame.eye - moved) < 0.0) {
+            if (dot3(normal, towards_eye(moved)) < 0.0) {
                 normal = -normal;
             }
         }
         if (all(normal == vec3<f32>(0.0))) {
             // Undisplaced, or degenerate (a collapsed patch edge): the exact normal.
-            normal = surface_normal(&q, u, v, tensor(&q, bernstein(u), bernstein(v)), frame.eye);
+            normal = surface_normal(&q, u, v, tensor(&q, bernstein(u), bernstein(v)));
         }
         if (frame.dicing == DICING_RATE) {
             let chord = border_chord(nu, nv, item.edges, i, j, u, v);

@@ -54,6 +54,12 @@ fn cross3(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
 }
 
+// reyes::camera::towards_eye: the direction from `position` towards the
+// viewer, exactly eye - position for a perspective camera (w = 1).
+fn towards_eye(position: vec3<f32>) -> vec3<f32> {
+    return frame.eye.xyz - position * frame.eye.w;
+}
+
 // glam's normalize_or_zero: v * (1 / |v|) when that reciprocal is finite and > 0.
 fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
     let rcp = 1.0 / sqrt(dot3(v, v));
@@ -350,8 +356,9 @@ fn route(decision: u32, piece: PatchItem) {
 // reyes::reference::bound::back_facing, the share of control point `k`:
 // front * ((p_k - eye) x a) . b >= 0 for the 12 differences a along u and
 // the 12 differences b along v.
-fn back_facing_at(p: ptr<function, array<f32, 48>>, k: u32, eye: vec3<f32>, front: f32) -> bool {
-    let r = patch_point(p, k) - eye;
+fn back_facing_at(p: ptr<function, array<f32, 48>>, k: u32, front: f32) -> bool {
+    // patch_point(p, k) - eye for a perspective camera, exactly.
+    let r = -towards_eye(patch_point(p, k));
     for (var ka = 0u; ka < 12u; ka += 1u) {
         let row = ka / 3u;
         let column = ka % 3u;
@@ -424,7 +431,8 @@ fn tangent_normal(p: ptr<function, array<f32, 48>>, s: f32, t: f32) -> vec3<f32>
 // reyes::reference::dice::surface_point: the unit normal facing `eye` at
 // (s, t), with the degenerate-edge fallback (tangents re-evaluated at the
 // clamped parameters, then the direction to the eye, then +z).
-fn surface_normal(p: ptr<function, array<f32, 48>>, s: f32, t: f32, position: vec3<f32>, eye: vec3<f32>) -> vec3<f32> {
+fn surface_normal(p: ptr<function, array<f32, 48>>, s: f32, t: f32, position: vec3<f32>) -> vec3<f32> {
+    let to_eye = towards_eye(position);
     var n = tangent_normal(p, s, t);
     if (all(n == vec3<f32>(0.0))) {
         n = tangent_normal(
@@ -433,14 +441,14 @@ fn surface_normal(p: ptr<function, array<f32, 48>>, s: f32, t: f32, position: ve
             clamp(t, DEGENERATE_PARAM_MIN, DEGENERATE_PARAM_MAX),
         );
         if (all(n == vec3<f32>(0.0))) {
-            n = eye - position;
+            n = to_eye;
         }
     }
     n = normalize_or_zero(n);
     if (all(n == vec3<f32>(0.0))) {
         n = vec3<f32>(0.0, 0.0, 1.0);
     }
-    if (dot3(n, eye - position) < 0.0) {
+    if (dot3(n, to_eye) < 0.0) {
         n = -n;
     }
     return n;
@@ -459,7 +467,7 @@ fn pow_nonneg(x: f32, y: f32) -> f32 {
 // reyes::reference::shade::shade_with: Lambert + two-sided Blinn-Phong
 // (the normal already faces the eye), clamped to [0, 1].
 fn shade(position: vec3<f32>, normal: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
-    let view = normalize_or_zero(frame.eye - position);
+    let view = normalize_or_zero(towards_eye(position));
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
     for (var l = 0u; l < frame.light_count; l += 1u) {

@@ -127,6 +127,8 @@ pub fn camera_down_z() -> CameraDesc {
         fov_y_degrees: 60.0,
         near: 0.1,
         far: 100.0,
+        projection: reyes::scene::Projection::Perspective,
+        ortho_height: None,
     }
 }
 

@@ -124,6 +124,8 @@ fn eye_inside_the_bounding_box() {
         fov_y_degrees: 70.0,
         near: 1.5,
         far: 100.0,
+        projection: reyes::scene::Projection::Perspective,
+        ortho_height: None,
     });
     // A lower guard keeps this run short; it is the bound the test states.
     scene.max_split_depth = 16;
@@ -192,6 +194,37 @@ fn point_lights_match_the_reference() {
         changed * 20 > c.image.len(),
         "the point light changed only {changed} of {} channels",
         c.image.len()
+    );
+}
+
+/// An orthographic camera: culling, normals and shading use the view
+/// direction instead of the eye point on both sides. The picture must
+/// differ from the perspective one (the projection is applied), and the GPU
+/// must draw what the reference draws.
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn orthographic_camera_matches_the_reference() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let mut scene = teapot(256, 1);
+    let perspective = scene.clone();
+    let camera = scene.camera.as_mut().expect("framed");
+    camera.projection = reyes::scene::Projection::Orthographic;
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let (g, c, a) = compare(&mut renderer, &scene);
+    a.assert_at_least("orthographic", 0.995, 0.99);
+    assert_eq!(g.stats.input_patches, c.stats.input_patches);
+    assert_counts_close("grids diced", g.stats.grids_diced, c.stats.grids_diced);
+    let flat = reference::render(&PreparedScene::load(&perspective).expect("prepares"));
+    let differ = c
+        .coverage
+        .iter()
+        .zip(&flat.coverage)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        differ > 200,
+        "only {differ} pixels changed coverage with the projection"
     );
 }
 

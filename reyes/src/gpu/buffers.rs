@@ -2,7 +2,7 @@
 //! displacement), the lights, the height-map texels, the sample framebuffer
 //! and the statistics, plus their read-back.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec4};
 
 use super::graph::{sampling, stat};
 use super::objects::{ObjectData, ObjectTables};
@@ -19,10 +19,10 @@ use crate::uvt::{INTERLEAVE_TILE, UvtLayout, UvtTables};
 pub struct FrameUniform {
     /// World-to-clip matrix.
     pub view_proj: Mat4,
-    /// Eye position.
-    pub eye: Vec3,
-    /// Dice threshold in pixels.
-    pub dice_threshold: f32,
+    /// The eye for shading and culling (reyes::camera::HomogeneousEye):
+    /// (position, 1) for a perspective camera, (unit direction towards
+    /// the viewer, 0) for an orthographic one.
+    pub eye: Vec4,
     /// Image width.
     pub width: u32,
     /// Image height.
@@ -86,6 +86,14 @@ pub struct FrameUniform {
     /// 1: a sample blends its triangle's corner colours
     /// (reyes::scene::ShadingInterpolation::Smooth); 0: one per micropolygon.
     pub smooth_shading: u32,
+    /// Dice threshold in pixels.
+    pub dice_threshold: f32,
+    /// Padding to the struct's 16-byte alignment.
+    pub pad0: u32,
+    /// Padding.
+    pub pad1: u32,
+    /// Padding.
+    pub pad2: u32,
 }
 
 impl FrameUniform {
@@ -95,7 +103,7 @@ impl FrameUniform {
         Self {
             // The same f32 matrix the reference multiplies with.
             view_proj: camera.view_proj(),
-            eye: camera.eye,
+            eye: camera.homogeneous_eye(),
             dice_threshold: scene.dice_threshold,
             width: camera.width,
             height: camera.height,
@@ -128,6 +136,9 @@ impl FrameUniform {
             smooth_shading: u32::from(
                 scene.shading_interpolation == crate::scene::ShadingInterpolation::Smooth,
             ),
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
         }
     }
 

@@ -6,7 +6,7 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::bezier::{SplitDirection, split_direction_2d, split_direction_3d};
-use crate::camera::Camera;
+use crate::camera::{Camera, HomogeneousEye, towards_eye};
 use crate::dicing::{
     EDGE_U0, EDGE_U1, EDGE_V0, EDGE_V1, GridSize, PieceEdges, edge_indices, fresh_spacing,
     halved_spacing, level, polygon_length, rate_for,
@@ -274,14 +274,15 @@ pub fn rate_grid(
 /// dP/dv` a positive combination of the `a x b`, the patch is back-facing
 /// (or edge-on) everywhere when `front * ((p - eye) x a) . b >= 0` for all
 /// 2,304 triples.
-pub fn back_facing(points: &[Vec3; 16], eye: Vec3, front: f32) -> bool {
+pub fn back_facing(points: &[Vec3; 16], eye: HomogeneousEye, front: f32) -> bool {
     let along_u: [Vec3; 12] = std::array::from_fn(|k| {
         let (v, u) = (k / 3, k % 3);
         points[v * 4 + u + 1] - points[v * 4 + u]
     });
     let along_v: [Vec3; 12] = std::array::from_fn(|k| points[k + 4] - points[k]);
     points.iter().all(|&p| {
-        let r = p - eye;
+        // p - eye for a perspective camera, exactly.
+        let r = -towards_eye(eye, p);
         along_u.iter().all(|&a| {
             let c = r.cross(a);
             along_v.iter().all(|&b| front * c.dot(b) >= 0.0)

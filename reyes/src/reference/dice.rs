@@ -6,6 +6,7 @@ use glam::{Vec3, Vec4};
 
 use super::displace::{displaced_point, grid_normal};
 use crate::bezier;
+use crate::camera::{HomogeneousEye, towards_eye};
 use crate::dicing::{BorderPoint, GridSize, PieceEdges, border_point, chord_point, grid_param};
 use crate::displacement::PreparedDisplacement;
 use crate::params::{DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX, DEGENERATE_PARAM_MIN};
@@ -52,7 +53,7 @@ pub fn dice(
     uv: Vec4,
     size: GridSize,
     edges: Option<&PieceEdges>,
-    eye: Vec3,
+    eye: HomogeneousEye,
     displacement: Option<&PreparedDisplacement>,
 ) -> Option<Grid> {
     let (columns, rows) = (size.nu + 1, size.nv + 1);
@@ -83,7 +84,13 @@ pub fn dice(
             let position = grid.positions[k];
             let displaced = displacement
                 .and_then(|_| grid_normal(&grid.positions, size, i, j))
-                .map(|n| if n.dot(eye - position) < 0.0 { -n } else { n });
+                .map(|n| {
+                    if n.dot(towards_eye(eye, position)) < 0.0 {
+                        -n
+                    } else {
+                        n
+                    }
+                });
             let normal = displaced
                 .unwrap_or_else(|| surface_normal(patch, u, v, bezier::position(patch, u, v), eye));
             grid.normals.push(normal);
@@ -145,14 +152,21 @@ pub fn displacement_normal(patch: &[Vec3; 16], u: f32, v: f32) -> Vec3 {
 /// The unit shading normal at `(u, v)` of the point at `position`, facing
 /// `eye`; never NaN: the exact normal `dP/du x dP/dv` (re-evaluated at the
 /// clamped parameters where degenerate, as for [`displacement_normal`]),
-/// else `eye - P` (and +z if even that is zero), flipped if
-/// `dot(n, eye - P) < 0`.
-pub fn surface_normal(patch: &[Vec3; 16], u: f32, v: f32, position: Vec3, eye: Vec3) -> Vec3 {
-    let n = tangent_normal(patch, u, v).unwrap_or(eye - position);
+/// else the direction towards the eye ([`towards_eye`]; +z if even that
+/// is zero), flipped if it faces away from the eye.
+pub fn surface_normal(
+    patch: &[Vec3; 16],
+    u: f32,
+    v: f32,
+    position: Vec3,
+    eye: HomogeneousEye,
+) -> Vec3 {
+    let to_eye = towards_eye(eye, position);
+    let n = tangent_normal(patch, u, v).unwrap_or(to_eye);
     let mut n = n.normalize_or_zero();
     if n == Vec3::ZERO {
         // Only reachable when the eye lies on the surface point itself.
         n = Vec3::Z;
     }
-    if n.dot(eye - position) < 0.0 { -n } else { n }
+    if n.dot(to_eye) < 0.0 { -n } else { n }
 }

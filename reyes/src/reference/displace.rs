@@ -81,7 +81,7 @@ mod tests {
     #[test]
     fn points_move_along_the_normal_by_height_times_scale() {
         let d = sines(0.5);
-        let eye = Vec3::new(0.5, 0.5, 5.0);
+        let eye = Vec3::new(0.5, 0.5, 5.0).extend(1.0);
         let size = GridSize::FIXED;
         let out = dice(&square(), WHOLE, size, None, eye, Some(&d)).unwrap();
         for j in 0..=size.nv {
@@ -104,7 +104,7 @@ mod tests {
     #[test]
     fn a_piece_uses_its_rectangle_of_the_patch_parameters() {
         let d = sines(1.0);
-        let eye = Vec3::new(0.5, 0.5, 5.0);
+        let eye = Vec3::new(0.5, 0.5, 5.0).extend(1.0);
         let uv = Vec4::new(0.5, 0.25, 0.75, 0.5);
         let size = GridSize { nu: 4, nv: 8 };
         let out = dice(&square(), uv, size, None, eye, Some(&d)).unwrap();
@@ -118,7 +118,7 @@ mod tests {
     fn a_small_bound_is_counted() {
         let mut d = sines(1.0);
         d.bound = 0.5;
-        let eye = Vec3::new(0.5, 0.5, 5.0);
+        let eye = Vec3::new(0.5, 0.5, 5.0).extend(1.0);
         let out = dice(&square(), WHOLE, GridSize::FIXED, None, eye, Some(&d)).unwrap();
         assert!(out.bound_exceeded > 0);
     }

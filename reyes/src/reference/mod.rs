@@ -294,7 +294,8 @@ pub fn try_render_samples(
                 && scene.lens.aperture == 0.0
                 && object.displacement.is_none()
         });
-        if cull_back.is_some_and(|front| back_facing(&item.points, camera.eye, front)) {
+        if cull_back.is_some_and(|front| back_facing(&item.points, camera.homogeneous_eye(), front))
+        {
             stats.culled_patches += 1;
             continue;
         }
@@ -381,7 +382,7 @@ fn dice_shade_sample(
     stats.grids_by_class[class.index()] += 1;
     stats.dice_threads += u64::from(class.threads());
     let object = &scene.objects[item.object as usize];
-    let eye = scene.camera.eye;
+    let eye = scene.camera.homogeneous_eye();
     let patch = &scene.patches[item.patch as usize].points;
     let edges = (scene.dicing == Dicing::Rate).then_some(&item.edges);
     let displacement = object.displacement.as_ref();

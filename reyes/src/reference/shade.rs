@@ -3,6 +3,7 @@
 
 use glam::Vec3;
 
+use crate::camera::{HomogeneousEye, towards_eye};
 use crate::prepare::{PreparedLight, PreparedScene};
 
 /// Linear RGB colour of a grid point, each channel clamped to `[0, 1]`:
@@ -18,7 +19,7 @@ pub fn shade(position: Vec3, normal: Vec3, albedo: Vec3, scene: &PreparedScene) 
         position,
         normal,
         albedo,
-        scene.camera.eye,
+        scene.camera.homogeneous_eye(),
         &scene.lights,
         scene.ambient,
         scene.specular_strength,
@@ -35,13 +36,13 @@ pub fn shade_with(
     position: Vec3,
     normal: Vec3,
     albedo: Vec3,
-    eye: Vec3,
+    eye: HomogeneousEye,
     lights: &[PreparedLight],
     ambient: f32,
     specular_strength: f32,
     shininess: f32,
 ) -> Vec3 {
-    let view = (eye - position).normalize_or_zero();
+    let view = towards_eye(eye, position).normalize_or_zero();
     let mut diffuse = Vec3::ZERO;
     let mut specular = Vec3::ZERO;
     for light in lights {
@@ -76,7 +77,7 @@ mod tests {
             surface,
             Vec3::Z,
             Vec3::ONE,
-            surface + Vec3::Z,
+            (surface + Vec3::Z).extend(1.0),
             &[light],
             0.0,
             0.0,
@@ -89,7 +90,7 @@ mod tests {
             side,
             Vec3::Z,
             Vec3::ONE,
-            side + Vec3::Z,
+            (side + Vec3::Z).extend(1.0),
             &[light],
             0.0,
             0.0,
@@ -118,7 +119,7 @@ mod tests {
             Vec3::ONE,
             Vec3::Z,
             Vec3::ONE,
-            Vec3::ZERO,
+            Vec3::ZERO.extend(1.0),
             &[light],
             0.1,
             0.5,

@@ -10,7 +10,7 @@ use super::{RibError, RibScene, Warning};
 use crate::model::{Model, Patch};
 use crate::params::{MAX_SHADING_RATE, NEAR_EPS};
 use crate::scene::{
-    CameraDesc, CameraPose, Lens, Light, Resolution, Scale, Scene, SceneObject,
+    CameraDesc, CameraPose, Lens, Light, Projection, Resolution, Scale, Scene, SceneObject,
     ShadingInterpolation, Specular, Transform,
 };
 
@@ -75,23 +75,55 @@ pub fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
     }
 
     // Camera: the origin of camera space looking down +z (RenderMan), which
-    // the x mirror makes a right-handed look_at towards +z.
-    if !opts.perspective {
-        warn("no Projection \"perspective\": RenderMan's default orthographic projection is not supported; using perspective with fov 90".into());
-    }
-    let fov = opts.fov.unwrap_or(90.0);
-    if !(fov > 0.0 && fov < 180.0) {
-        return Err(scene_error(
-            file,
-            format!("Projection fov {fov} is not in (0, 180)"),
+    // the x mirror makes a right-handed look_at towards +z. The screen
+    // window (RenderMan's default: the shorter side spans [-1, 1]) sets the
+    // view's height: for a perspective camera in units of tan(fov / 2), for
+    // an orthographic one in camera-space units.
+    let image_aspect = f64::from(width) / f64::from(height);
+    if let Some(aspect) = opts.frame_aspect
+        && (aspect - image_aspect).abs() > 1e-6 * image_aspect
+    {
+        warn(format!(
+            "FrameAspectRatio {aspect} differs from the image's {image_aspect} (Format): the renderer's pixels are square; using {image_aspect}"
         ));
     }
-    // The fov spans the shorter side of the image.
-    let half = (fov.to_radians() / 2.0).tan();
-    let fov_y = if width >= height {
-        fov
+    let [l, r, b, t] = opts.screen_window.unwrap_or(if image_aspect >= 1.0 {
+        [-image_aspect, image_aspect, -1.0, 1.0]
     } else {
-        (2.0 * (half * f64::from(height) / f64::from(width)).atan()).to_degrees()
+        [-1.0, 1.0, -1.0 / image_aspect, 1.0 / image_aspect]
+    });
+    let window_aspect = (r - l) / (t - b);
+    if (window_aspect - image_aspect).abs() > 1e-6 * image_aspect {
+        warn(format!(
+            "ScreenWindow {l} {r} {b} {t} has the aspect {window_aspect}, the image {image_aspect}: RenderMan would stretch the image; the renderer keeps the window's height"
+        ));
+    }
+    let half_height = (t - b) / 2.0;
+    let (projection, fov_y, ortho_height) = if opts.perspective {
+        let fov = opts.fov.unwrap_or(90.0);
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(scene_error(
+                file,
+                format!("Projection fov {fov} is not in (0, 180)"),
+            ));
+        }
+        let fov_y = (2.0 * ((fov.to_radians() / 2.0).tan() * half_height).atan()).to_degrees();
+        if !(fov_y > 0.0 && fov_y < 180.0) {
+            return Err(scene_error(
+                file,
+                format!(
+                    "Projection fov {fov} with ScreenWindow {l} {r} {b} {t} gives a vertical field of view of {fov_y} degrees, not in (0, 180)"
+                ),
+            ));
+        }
+        (Projection::Perspective, fov_y, None)
+    } else {
+        // The fov is unused; the default keeps the description valid.
+        (
+            Projection::Orthographic,
+            40.0,
+            Some((2.0 * half_height) as f32),
+        )
     };
     let far_geometry = interp
         .prims
@@ -110,6 +142,8 @@ pub fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
         fov_y_degrees: fov_y as f32,
         near,
         far,
+        projection,
+        ortho_height,
     });
 
     let mut camera_warning = None;
@@ -139,7 +173,9 @@ pub fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
         }
     }
 
-    if let Some((fstop, focal_length, focal_distance)) = opts.dof {
+    if opts.dof.is_some() && !opts.perspective {
+        warn("DepthOfField needs a perspective camera (the thin lens of an orthographic one is not supported): a pinhole camera is used".into());
+    } else if let Some((fstop, focal_length, focal_distance)) = opts.dof {
         if fstop > 0.0 && focal_length > 0.0 && focal_distance > 0.0 && fstop.is_finite() {
             scene.lens = Lens {
                 aperture: (focal_length / (2.0 * fstop)) as f32,

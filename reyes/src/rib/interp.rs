@@ -31,8 +31,13 @@ pub struct Options {
     pub shading_rate: Option<f64>,
     /// `Projection "perspective"` field of view in degrees (of the shorter side).
     pub fov: Option<f64>,
-    /// Whether a perspective projection was requested.
+    /// Whether a perspective projection was requested (RenderMan's default
+    /// is orthographic).
     pub perspective: bool,
+    /// `ScreenWindow` left, right, bottom, top.
+    pub screen_window: Option<[f64; 4]>,
+    /// `FrameAspectRatio`.
+    pub frame_aspect: Option<f64>,
     /// `Clipping` near, far.
     pub clipping: Option<(f64, f64)>,
     /// `Shutter` open, close.
@@ -267,6 +272,8 @@ impl Interp {
             | "PixelSamples"
             | "ShadingRate"
             | "Projection"
+            | "ScreenWindow"
+            | "FrameAspectRatio"
             | "Clipping"
             | "Shutter"
             | "DepthOfField"

@@ -52,14 +52,38 @@ impl Interp {
                         self.opts.perspective = true;
                         self.opts.fov = Some(state::param_f(&params, "fov", 90.0)?);
                     }
+                    "orthographic" => self.opts.perspective = false,
                     other => {
                         self.warn(
                             file,
                             line,
-                            format!("Projection {other:?} is not supported; using \"perspective\""),
+                            format!("Projection {other:?} is not supported; using \"orthographic\" (RenderMan's default)"),
                         );
+                        self.opts.perspective = false;
                     }
                 }
+            }
+            "ScreenWindow" => {
+                let n = state::all_nums(v, 4)?;
+                let [l, r, b, t] = [n[0], n[1], n[2], n[3]];
+                if !(l < r && b < t && [l, r, b, t].iter().all(|x| x.is_finite())) {
+                    return Err(format!(
+                        "ScreenWindow {l} {r} {b} {t}: needs left < right and bottom < top"
+                    ));
+                }
+                let centre_x = (l + r) / 2.0;
+                let centre_y = (b + t) / 2.0;
+                if centre_x.abs() > 1e-9 * (r - l) || centre_y.abs() > 1e-9 * (t - b) {
+                    self.warn(file, line, format!("ScreenWindow {l} {r} {b} {t} is off-centre, which the renderer's camera cannot show; centring it (same size)"));
+                }
+                self.opts.screen_window = Some([l, r, b, t]);
+            }
+            "FrameAspectRatio" => {
+                let a = state::all_nums(v, 1)?[0];
+                if !(a.is_finite() && a > 0.0) {
+                    return Err(format!("FrameAspectRatio {a} must be > 0"));
+                }
+                self.opts.frame_aspect = Some(a);
             }
             "Clipping" => {
                 let n = state::all_nums(v, 2)?;
