@@ -14,9 +14,6 @@ use crate::scene::{
     ShadingInterpolation, Specular, Transform,
 };
 
-/// RenderMan's default `Format`.
-const DEFAULT_FORMAT: (u32, u32) = (640, 480);
-
 /// Builds the scene of a finished interpreter run of `file`.
 pub fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
     let lights = interp.scene_lights();
@@ -42,7 +39,7 @@ pub fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
         objects: Vec::new(),
         ..Scene::default()
     };
-    let (width, height) = opts.format.map_or(DEFAULT_FORMAT, |(w, h, _)| (w, h));
+    let (width, height) = opts.image_size();
     scene.resolution = Resolution { width, height };
 
     // PixelSamples: the renderer takes k x k samples.
@@ -87,11 +84,7 @@ pub fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
             "FrameAspectRatio {aspect} differs from the image's {image_aspect} (Format): the renderer's pixels are square; using {image_aspect}"
         ));
     }
-    let [l, r, b, t] = opts.screen_window.unwrap_or(if image_aspect >= 1.0 {
-        [-image_aspect, image_aspect, -1.0, 1.0]
-    } else {
-        [-1.0, 1.0, -1.0 / image_aspect, 1.0 / image_aspect]
-    });
+    let [l, r, b, t] = opts.screen_window_or_default();
     let window_aspect = (r - l) / (t - b);
     if (window_aspect - image_aspect).abs() > 1e-6 * image_aspect {
         warn(format!(

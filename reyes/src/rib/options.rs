@@ -3,9 +3,31 @@
 
 use std::path::Path;
 
-use super::interp::Interp;
+use super::interp::{Interp, Options};
 use super::parser::Value;
 use super::state;
+
+/// RenderMan's default `Format`.
+pub(super) const DEFAULT_FORMAT: (u32, u32) = (640, 480);
+
+impl Options {
+    /// The image size (`Format`, else RenderMan's default).
+    pub fn image_size(&self) -> (u32, u32) {
+        self.format.map_or(DEFAULT_FORMAT, |(w, h, _)| (w, h))
+    }
+
+    /// `ScreenWindow` left, right, bottom, top, or RenderMan's default for
+    /// the image: the shorter side spans [-1, 1].
+    pub fn screen_window_or_default(&self) -> [f64; 4] {
+        let (width, height) = self.image_size();
+        let aspect = f64::from(width) / f64::from(height);
+        self.screen_window.unwrap_or(if aspect >= 1.0 {
+            [-aspect, aspect, -1.0, 1.0]
+        } else {
+            [-1.0, 1.0, -1.0 / aspect, 1.0 / aspect]
+        })
+    }
+}
 
 impl Interp {
     /// Runs option request `name` (one of those matched by the caller).

@@ -334,17 +334,22 @@ impl Interp {
             return None;
         }
         let depth = (center.z - radius).max(near);
-        let (w, h) = self
-            .opts
-            .format
-            .map_or((640.0, 480.0), |(w, h, _)| (f64::from(w), f64::from(h)));
-        let fov = self.opts.fov.filter(|f| *f > 0.0 && *f < 180.0);
-        let tan = (fov.unwrap_or(90.0).to_radians() / 2.0).tan();
-        // A step d at depth z moves the projection (x/z, y/z) by at most
-        // |d| sqrt(1 + tx^2 + ty^2) / z, tx, ty the image's half extents.
-        let (tx, ty) = (tan * w / w.min(h), tan * h / w.min(h));
-        let slope = (1.0 + tx * tx + ty * ty).sqrt();
-        let camera_px = depth * 2.0 * tan / (w.min(h) * slope);
+        let (w, h) = self.opts.image_size();
+        let (w, h) = (f64::from(w), f64::from(h));
+        let [_, _, bottom, top] = self.opts.screen_window_or_default();
+        let camera_px = if self.opts.perspective {
+            let fov = self.opts.fov.filter(|f| *f > 0.0 && *f < 180.0);
+            // tan of half the vertical field of view.
+            let tan_y = (fov.unwrap_or(90.0).to_radians() / 2.0).tan() * (top - bottom) / 2.0;
+            // A step d at depth z moves the projection (x/z, y/z) by at most
+            // |d| sqrt(1 + tx^2 + ty^2) / z, tx, ty the image's half extents.
+            let (tx, ty) = (tan_y * w / h, tan_y);
+            let slope = (1.0 + tx * tx + ty * ty).sqrt();
+            depth * 2.0 * tan_y / (h * slope)
+        } else {
+            // Orthographic: a pixel is the same size at every depth.
+            (top - bottom) / h
+        };
         // Object space to camera space stretches by at most the Frobenius
         // norm of the linear part.
         let m = glam::DMat3::from_mat4(to_camera);
