@@ -354,6 +354,9 @@ impl Interp {
                 };
             }
             "ReverseOrientation" => self.attrs.orientation_lh = !self.attrs.orientation_lh,
+            "Attribute" => self.attribute(v, file, line)?,
+            "Displacement" => self.displacement(v, file, line)?,
+            "Opacity" => self.opacity(v, file, line)?,
             "Basis" => self.basis(v)?,
             "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale"
             | "Skew" => self.transform(name, v)?,

@@ -18,6 +18,7 @@
 //!   `PointsPolygons` and `GeneralPolygon`; `spaces`: coordinate systems
 //!   and `Skew`); `convert`: the [`Scene`] it makes.
 
+mod attributes;
 pub mod basis;
 mod convert;
 mod geometry;
