@@ -1,11 +1,13 @@
 //! Mutation tests: real inputs (the embedded teapot as `.bpt`, the shared
-//! `teapot.bez`, and scene TOML texts with motion, a lens and displacement
-//! tables) are mutated at random — byte flips, inserted and deleted runs,
-//! duplicated, swapped and deleted lines, numbers replaced by extreme
-//! values, truncation — and fed to the `.bpt` loader, the `.bez` loader and
-//! the TOML scene parser (with [`Scene::validate`] and
-//! [`PreparedScene::new`] on what parses). Nothing may panic, and every
-//! error message must stay short.
+//! `teapot.bez`, scene TOML texts with motion, a lens and displacement
+//! tables, and the RIB scenes of the tests and the documentation) are
+//! mutated at random — byte flips, inserted and deleted runs, duplicated,
+//! swapped and deleted lines, numbers replaced by extreme values,
+//! truncation — and fed to the `.bpt` loader, the `.bez` loader, the TOML
+//! scene parser (with [`Scene::validate`] and [`PreparedScene::new`] on
+//! what parses) and the RIB tokenizer, parser and interpreter (with
+//! [`RibScene::prepare`] on what reads). Nothing may panic, and every error
+//! message must stay short.
 //!
 //! Each test runs for about 2 s. Environment variables:
 //!
@@ -13,6 +15,8 @@
 //! * `MUTATION_ITERATION=<n>`: with the seed, run only iteration `n` (a
 //!   failure prints both) and print its input (escaped, up to 64 K characters);
 //! * `MUTATION_SECONDS=<f64>`: run longer (or shorter);
+//! * `MUTATION_EXECUTIONS=<n>`: run exactly `n` executions instead (for a
+//!   recorded count, whatever the machine's speed).
 
 mod common;
 
@@ -27,7 +31,9 @@ use rand::{Rng, SeedableRng};
 use reyes::load::{bez, bpt};
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
+use reyes::rib::RibScene;
 use reyes::scene::Scene;
+use std::path::PathBuf;
 
 /// The longest error message (per level of its source chain) allowed.
 const MAX_MESSAGE_BYTES: usize = 4096;
@@ -182,6 +188,54 @@ fn check_scene(text: &str) -> Verdict {
     }
     let models = vec![Model::teapot(); scene.objects.len()];
     match PreparedScene::new(&scene, &models) {
+        Ok(_) => Verdict::Accepted,
+        Err(e) => Verdict::Rejected(messages(&e)),
+    }
+}
+
+/// Warnings the scene builder may add after the interpreter's capped list
+/// (one per option it adjusts, and the count of those not kept).
+const MAX_BUILD_WARNINGS: usize = 16;
+
+/// The name a mutated RIB is read under: its `ReadArchive "parts/..."`
+/// requests resolve against the archive test scene's directory, so the
+/// archive seed reads its real parts.
+fn rib_name() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/rib/archive/mutated.rib")
+}
+
+fn check_rib(text: &str) -> Verdict {
+    let rib = match RibScene::from_text(text, rib_name()) {
+        Ok(rib) => rib,
+        Err(e) => return Verdict::Rejected(messages(&e)),
+    };
+    if rib.models.len() != rib.scene.objects.len() {
+        return Verdict::Broken(format!(
+            "{} models for {} objects",
+            rib.models.len(),
+            rib.scene.objects.len()
+        ));
+    }
+    // At most the kept warnings plus the one that counts the rest.
+    if rib.warnings.len() > reyes::rib::interp::MAX_WARNINGS + MAX_BUILD_WARNINGS {
+        return Verdict::Broken(format!("{} warnings kept", rib.warnings.len()));
+    }
+    if let Some(long) = rib
+        .warnings
+        .iter()
+        .map(ToString::to_string)
+        .find(|w| w.len() >= MAX_MESSAGE_BYTES)
+    {
+        return Verdict::Broken(format!(
+            "warning of {} bytes: {}",
+            long.len(),
+            excerpt(&long, 0, 300)
+        ));
+    }
+    if rib.scene.objects.len() > MAX_PREPARED_OBJECTS {
+        return Verdict::Accepted;
+    }
+    match rib.prepare() {
         Ok(_) => Verdict::Accepted,
         Err(e) => Verdict::Rejected(messages(&e)),
     }
@@ -567,10 +621,17 @@ fn fuzz(target: &Target) {
     let seed = env_parse::<u64>("MUTATION_SEED").unwrap_or_else(rand::random);
     let only = env_parse::<u64>("MUTATION_ITERATION");
     let seconds = env_parse::<f64>("MUTATION_SECONDS").unwrap_or(DEFAULT_SECONDS);
-    println!(
-        "{}: MUTATION_SEED={seed} MUTATION_SECONDS={seconds}",
-        target.name
-    );
+    let count = env_parse::<u64>("MUTATION_EXECUTIONS");
+    match count {
+        Some(n) => println!(
+            "{}: MUTATION_SEED={seed} MUTATION_EXECUTIONS={n}",
+            target.name
+        ),
+        None => println!(
+            "{}: MUTATION_SEED={seed} MUTATION_SECONDS={seconds}",
+            target.name
+        ),
+    }
     let start = Instant::now();
     let deadline = start + Duration::from_secs_f64(seconds.max(0.0));
     let (mut executions, mut accepted) = (0u64, 0u64);
@@ -578,7 +639,12 @@ fn fuzz(target: &Target) {
     let mut failures = Vec::new();
     let mut iteration = only.unwrap_or(0);
     loop {
-        if only.is_some_and(|n| iteration > n) || (only.is_none() && Instant::now() >= deadline) {
+        let done = match (only, count) {
+            (Some(n), _) => iteration > n,
+            (None, Some(n)) => executions >= n,
+            (None, None) => Instant::now() >= deadline,
+        };
+        if done {
             break;
         }
         let mut rng = StdRng::seed_from_u64(iteration_seed(seed, iteration));
@@ -821,6 +887,85 @@ fn scene_seeds() -> Vec<String> {
     ]
 }
 
+const RIB_BYTES: &[u8] = b"[]\"#-+.eE0123456789 \n\t\\PWorldBeginEndAttribute";
+const RIB_FRAGMENTS: &[&str] = &[
+    "WorldBegin\n",
+    "WorldEnd\n",
+    "AttributeBegin\n",
+    "AttributeEnd\n",
+    "TransformBegin\n",
+    "TransformEnd\n",
+    "MotionBegin [0 1]\n",
+    "MotionEnd\n",
+    "Translate 0 0 5\n",
+    "Scale -1 1 1\n",
+    "Scale 0 0 0\n",
+    "Rotate 90 0 0 1\n",
+    "Skew 45 0 1 0 1 0 0\n",
+    "Transform [1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 0]\n",
+    "Sphere 1 -1 1 360\n",
+    "Torus 1 0.25 0 360 360\n",
+    "Hyperboloid 1 0 0 0 1 1 360\n",
+    "Polygon \"P\" [0 0 5 0 1 5 1 1 5]\n",
+    "PointsPolygons [3] [0 1 2] \"P\" [0 0 5 0 1 5 1 1 5]\n",
+    "GeneralPolygon [3] \"P\" [0 0 5 0 1 5 1 1 5]\n",
+    "Patch \"bilinear\" \"P\" [0 0 5 0 1 5 1 0 5 1 1 5]\n",
+    "PatchMesh \"bicubic\" 4 \"periodic\" 4 \"periodic\" \"P\" [",
+    "Basis \"catmull-rom\" 1 \"b-spline\" 1\n",
+    "Basis [1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1] 3 \"power\" 4\n",
+    "Surface \"plastic\" \"Ks\" [0.5] \"roughness\" [0]\n",
+    "Surface \"metal\" \"uniform float Ks\" 1\n",
+    "Surface \"constant\"\n",
+    "LightSource \"distantlight\" 1 \"from\" [0 0 0] \"to\" [0 0 0]\n",
+    "LightSource \"pointlight\" 2 \"intensity\" [1e39]\n",
+    "LightSource \"ambientlight\" 3 \"lightcolor\" [1 0 0]\n",
+    "Illuminate 1 0\n",
+    "Declare \"x\" \"varying float[4]\"\n",
+    "CoordinateSystem \"a\"\nCoordSysTransform \"a\"\n",
+    "ReadArchive \"parts/square.rib\"\n",
+    "ReadArchive \"mutated.rib\"\n",
+    "ObjectBegin 1\n",
+    "Projection \"perspective\" \"fov\" [179.9]\n",
+    "Format 1 100000 1\n",
+    "PixelSamples 100 0\n",
+    "Shutter 1 0\n",
+    "DepthOfField 0 0 0\n",
+    "Clipping 1e30 1e-30\n",
+    "Display \"out.tif\" \"file\" \"rgb\"\n",
+    "\"",
+    "[",
+    "]",
+    "#",
+    "\\\n",
+];
+
+/// The RIB scenes of the tests and the documentation.
+fn rib_seeds() -> Vec<String> {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let mut paths = vec![
+        root.join("tests/rib/scene.rib"),
+        root.join("tests/rib/quadrant.rib"),
+        root.join("tests/rib/archive/main.rib"),
+        root.join("../docs/scenes/gallery.rib"),
+    ];
+    if let Ok(dir) = std::fs::read_dir(root.join("tests/data/rib_golden")) {
+        let mut golden: Vec<PathBuf> = dir
+            .map(|e| e.expect("directory entry").path())
+            .filter(|p| p.extension().is_some_and(|e| e == "rib"))
+            .collect();
+        // The archive scenes' relative names resolve against another
+        // directory under the mutated name (see `rib_name`).
+        golden
+            .retain(|p| std::fs::read_to_string(p).is_ok_and(|text| !text.contains("ReadArchive")));
+        golden.sort();
+        paths.extend(golden);
+    }
+    paths
+        .iter()
+        .map(|p| std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display())))
+        .collect()
+}
+
 // ----------------------------------------------------------------- tests
 
 #[test]
@@ -898,6 +1043,17 @@ fn mutated_scene_toml_never_panics() {
     });
 }
 
+#[test]
+fn mutated_rib_never_panics() {
+    fuzz(&Target {
+        name: "mutated_rib_never_panics",
+        seeds: rib_seeds(),
+        bytes: RIB_BYTES,
+        fragments: RIB_FRAGMENTS,
+        check: check_rib,
+    });
+}
+
 /// Minimised from `mutated_scene_toml_never_panics`: a user WGSL function
 /// with a long token gives an error message that quotes the token whole
 /// (naga's message, passed on by `displacement::user_wgsl::check`), so a
@@ -954,4 +1110,56 @@ fn long_displacement_source_is_quoted_whole() {
         message.len(),
         excerpt(&message, 0, 300)
     );
+}
+
+/// Found by `mutated_rib_never_panics`: names from the input were quoted
+/// whole in warnings (an unknown request, a light shader) and in request
+/// errors (an unknown basis or wrap mode, a `ReadArchive` name that cannot
+/// be read), so a message grew with the scene's text.
+#[test]
+fn long_rib_names_are_quoted_cut() {
+    let long = |c: &str| c.repeat(5000);
+    let warned = [
+        format!("WorldBegin\n{}\nWorldEnd\n", long("W")),
+        format!("WorldBegin\nLightSource \"{}\" 1\nWorldEnd\n", long("A")),
+        format!("WorldBegin\nSurface \"{}\"\nWorldEnd\n", long("s")),
+    ];
+    for text in &warned {
+        let rib = RibScene::from_text(text, rib_name()).expect("only warnings");
+        assert!(!rib.warnings.is_empty());
+        for w in &rib.warnings {
+            let shown = w.to_string();
+            assert!(
+                shown.len() < 1024,
+                "{} bytes: {}",
+                shown.len(),
+                excerpt(&shown, 0, 200)
+            );
+        }
+    }
+    let refused = [
+        format!(
+            "WorldBegin\nReadArchive \"parts/{}\"\nWorldEnd\n",
+            long("-")
+        ),
+        format!(
+            "WorldBegin\nBasis \"b-spl{}\" 1 \"bezier\" 3\nWorldEnd\n",
+            long("4")
+        ),
+        format!(
+            "WorldBegin\nPatchMesh \"bicubic\" 4 \"non{}\" 4 \"nonperiodic\" \"P\" [0 0 0]\nWorldEnd\n",
+            long("9")
+        ),
+    ];
+    for text in &refused {
+        let error = RibScene::from_text(text, rib_name())
+            .expect_err("invalid")
+            .to_string();
+        assert!(
+            error.len() < 1024,
+            "{} bytes: {}",
+            error.len(),
+            excerpt(&error, 0, 200)
+        );
+    }
 }

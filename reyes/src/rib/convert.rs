@@ -5,13 +5,12 @@ use std::path::Path;
 use glam::{DMat4, EulerRot, Vec3};
 
 use super::interp::{Interp, Prim};
-use super::state::Surface;
 use super::{RibError, RibScene, Warning};
 use crate::model::{Model, Patch};
 use crate::params::{MAX_SHADING_RATE, NEAR_EPS};
 use crate::scene::{
     CameraDesc, CameraPose, Lens, Light, Projection, Resolution, Scale, Scene, SceneObject,
-    ShadingInterpolation, Specular, Transform,
+    ShadingInterpolation, Transform,
 };
 
 /// Builds the scene of a finished interpreter run of `file`.
@@ -217,30 +216,19 @@ pub fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
     if (ambient.x - ambient.y).abs() > 1e-6 || (ambient.y - ambient.z).abs() > 1e-6 {
         warn("ambientlight colour: the renderer's ambient term is grey; using the mean".into());
     }
-    scene.ambient = ((ambient.x + ambient.y + ambient.z) / 3.0) as f32;
+    let ambient_mean = (ambient.x + ambient.y + ambient.z) / 3.0;
     if no_lights && ambient == glam::DVec3::ZERO {
         warn("no light sources: the image is black (add LightSource \"distantlight\")".into());
     }
 
-    // Specular: scene-wide in the renderer, from the last plastic surface.
-    let mut specular = Specular {
-        strength: 0.0,
-        shininess: 10.0,
-    };
-    let mut surfaces = std::collections::HashSet::new();
-    for prim in &interp.prims {
-        if let Surface::Plastic { ks, roughness, .. } = prim.attrs.surface {
-            specular = Specular {
-                strength: ks as f32,
-                shininess: (1.0 / roughness.max(1e-3)) as f32,
-            };
-        }
-        surfaces.insert(format!("{:?}", prim.attrs.surface));
+    // Surfaces: the ambient scale and the specular term are scene-wide in
+    // the renderer.
+    let shading = super::surfaces::scene_shading(&interp.prims);
+    scene.ambient = (ambient_mean * shading.ambient_scale) as f32;
+    scene.specular = shading.specular;
+    for w in shading.warnings {
+        warn(w);
     }
-    if surfaces.len() > 1 {
-        warn("the renderer has one specular term for the whole scene: it is taken from the last \"plastic\" surface".into());
-    }
-    scene.specular = specular;
 
     // Objects: consecutive primitives with the same look and motion share one.
     let mut models: Vec<Model> = Vec::new();
@@ -293,14 +281,11 @@ pub fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
 
 /// Colour, sides, reverse orientation and motion of a primitive.
 fn object_key(prim: &Prim) -> (Vec3, u8, bool, Option<DMat4>) {
-    let kd = match prim.attrs.surface {
-        Surface::Matte { kd } | Surface::Plastic { kd, .. } => kd,
-    };
     // The baked points are in a mirrored (right-handed) frame, which turns
     // RenderMan's front (dP/du x dP/dv with a left-handed orientation) into
     // the renderer's back.
     (
-        (prim.attrs.color * kd).as_vec3(),
+        super::surfaces::object_color(prim),
         prim.attrs.sides,
         prim.attrs.orientation_lh,
         prim.close,

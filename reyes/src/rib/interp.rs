@@ -9,7 +9,7 @@ use glam::{DMat4, DVec3, Vec3};
 
 use super::lights::RibLight;
 use super::parser::Call;
-use super::state::{self, Attributes, Decl, Surface, Xform};
+use super::state::{self, Attributes, Decl, Xform};
 use super::{RibError, Warning};
 use crate::input::{self, InputKind};
 
@@ -17,6 +17,13 @@ use crate::input::{self, InputKind};
 const MAX_INCLUDE_DEPTH: usize = 64;
 /// Most warnings kept (the rest are counted).
 pub const MAX_WARNINGS: usize = 100;
+/// Longest warning or request error, in characters: messages quote names
+/// from the input (a request, a shader, a basis, a light handle), which may
+/// be arbitrarily long; the rest is cut (with `…`).
+const MAX_MESSAGE_CHARS: usize = 512;
+/// Longest `ReadArchive` name, in bytes: far beyond any real archive name,
+/// and short enough for the messages that quote it.
+const MAX_ARCHIVE_NAME_BYTES: usize = 1024;
 /// Most Bezier patches one scene may produce (bounds memory: 16 points each).
 pub(super) const MAX_PATCHES: usize = 1 << 24;
 
@@ -149,7 +156,7 @@ impl Interp {
         self.warnings.push(Warning {
             file: file.to_path_buf(),
             line,
-            message,
+            message: bounded(message),
         });
     }
 
@@ -201,11 +208,20 @@ impl Interp {
             file: file.to_path_buf(),
             line: call.line,
             col: call.col,
-            message: format!("{}: {message}", call.name),
+            message: bounded(format!("{}: {message}", input::excerpt(&call.name))),
         };
         if call.name == "ReadArchive" && self.object_depth == 0 && !self.world_done {
             let (args, _, _) = state::split_params(&call.values, 1, &self.declared).map_err(at)?;
             let name = state::arg_str(&args, 0, "the archive name").map_err(at)?;
+            // The messages below quote the path: keep them short (no file
+            // system takes a longer path anyway).
+            if name.len() > MAX_ARCHIVE_NAME_BYTES {
+                return Err(at(format!(
+                    "the archive name {:?} is {} bytes long (at most {MAX_ARCHIVE_NAME_BYTES})",
+                    input::excerpt(name),
+                    name.len()
+                )));
+            }
             let dir = file.parent().unwrap_or(Path::new(""));
             let path = dir.join(name);
             if self.includes.len() >= MAX_INCLUDE_DEPTH {
@@ -232,6 +248,8 @@ impl Interp {
         let v = &call.values;
         let line = call.line;
         let name = call.name.as_str();
+        // For messages: a request name from the input may be of any length.
+        let shown = input::excerpt(name);
         if self.object_depth > 0 {
             match name {
                 "ObjectBegin" => self.object_depth += 1,
@@ -256,7 +274,7 @@ impl Interp {
                 file,
                 line,
                 format!(
-                    "{name} inside MotionBegin: only transforms can move; the first sample is used"
+                    "{shown} inside MotionBegin: only transforms can move; the first sample is used"
                 ),
             );
         }
@@ -318,24 +336,8 @@ impl Interp {
             }
             "Surface" => {
                 let (args, params, _) = state::split_params(v, 1, &self.declared)?;
-                self.attrs.surface = match state::arg_str(&args, 0, "the shader")? {
-                    "matte" => Surface::Matte {
-                        kd: state::param_f(&params, "Kd", 1.0)?,
-                    },
-                    "plastic" => Surface::Plastic {
-                        kd: state::param_f(&params, "Kd", 0.5)?,
-                        ks: state::param_f(&params, "Ks", 0.5)?,
-                        roughness: state::param_f(&params, "roughness", 0.1)?,
-                    },
-                    other => {
-                        self.warn(
-                            file,
-                            line,
-                            format!("Surface {other:?} is not supported; shading as \"matte\""),
-                        );
-                        Surface::Matte { kd: 1.0 }
-                    }
-                };
+                let shader = state::arg_str(&args, 0, "the shader")?;
+                self.attrs.surface = self.surface(shader, &params, file, line)?;
             }
             "LightSource" => self.light_source(v, file, line)?,
             "Illuminate" => self.illuminate(v, file, line)?,
@@ -373,7 +375,7 @@ impl Interp {
                     name,
                     file,
                     line,
-                    format!("{name} is not supported; ignored"),
+                    format!("{shown} is not supported; ignored"),
                 );
             }
         }
@@ -384,6 +386,15 @@ impl Interp {
     fn handedness_lh(&self) -> bool {
         let m = self.camera.unwrap_or(DMat4::IDENTITY) * self.xf.open;
         m.determinant() >= 0.0
+    }
+}
+
+/// `message` cut to [`MAX_MESSAGE_CHARS`].
+fn bounded(message: String) -> String {
+    if message.len() > MAX_MESSAGE_CHARS {
+        input::excerpt_to(&message, MAX_MESSAGE_CHARS)
+    } else {
+        message
     }
 }
 

@@ -31,6 +31,7 @@ mod polygons;
 pub mod quadrics;
 mod spaces;
 pub mod state;
+mod surfaces;
 
 use std::path::{Path, PathBuf};
 

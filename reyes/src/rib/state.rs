@@ -8,22 +8,41 @@ use glam::{DMat4, DVec3};
 use super::basis::{self, Basis};
 use super::parser::Value;
 
-/// A surface shader as far as the renderer can follow it.
+/// A surface shader as far as the renderer can follow it (see
+/// `super::surfaces` for the mapping).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Surface {
-    /// `"matte"` (and the fallback for other shaders): diffuse only.
+    /// `"constant"`: unlit in RenderMan; shaded as matte with `Ka = Kd = 1`.
+    Constant,
+    /// `"matte"` (and the fallback for unknown shaders): diffuse only.
     Matte {
+        /// Ambient weight (`Ka`, default 1).
+        ka: f64,
         /// Diffuse weight (`Kd`, default 1).
         kd: f64,
     },
-    /// `"plastic"`: diffuse plus a specular highlight.
+    /// `"metal"`: a highlight tinted by the colour, no diffuse.
+    Metal {
+        /// Ambient weight (`Ka`, default 1).
+        ka: f64,
+        /// Specular weight (`Ks`, default 1).
+        ks: f64,
+        /// `roughness` (default 0.1).
+        roughness: f64,
+    },
+    /// `"plastic"` (and `"paintedplastic"` without its texture): diffuse
+    /// plus a highlight of `specularcolor`.
     Plastic {
+        /// Ambient weight (`Ka`, default 1).
+        ka: f64,
         /// Diffuse weight (`Kd`, default 0.5).
         kd: f64,
         /// Specular weight (`Ks`, default 0.5).
         ks: f64,
         /// `roughness` (default 0.1).
         roughness: f64,
+        /// `specularcolor` (default white).
+        specular_color: DVec3,
     },
 }
 
@@ -51,7 +70,7 @@ impl Default for Attributes {
     fn default() -> Self {
         Attributes {
             color: DVec3::ONE,
-            surface: Surface::Matte { kd: 1.0 },
+            surface: Surface::Matte { ka: 1.0, kd: 1.0 },
             sides: 2,
             orientation_lh: true,
             ubasis: basis::BEZIER,
