@@ -15,7 +15,8 @@
 //!   conventions and building blocks that every implementation of the
 //!   pipeline shares;
 //! * [`reference`](mod@reference): the CPU reference renderer;
-//! * [`stats`]: render statistics; [`output`]: PNG output.
+//! * [`stats`]: render statistics; [`output`]: PNG output;
+//! * `view` (feature `viewer`, on by default): the interactive viewer.
 //!
 //! The pipeline and its conventions are described in `docs/reyes.md`, the
 //! scene format in `docs/reyes-scene.md`.
@@ -39,6 +40,8 @@ pub mod sampling;
 pub mod scene;
 pub mod stats;
 pub mod uvt;
+#[cfg(feature = "viewer")]
+pub mod view;
 
 #[cfg(test)]
 mod test_random;

@@ -12,6 +12,7 @@
 //!              [--chunks N] [--dicing rate|fixed] [--shading-rate R] [--shading-interpolation smooth|constant]
 //!              [--aov shaded|grids|depth|normal] [--sides 1|2] [--reverse-orientation]
 //!              [--max-input-bytes BYTES]
+//! reyes view [SCENE] [the options of render] [--frames N --screenshot PNG] [--hide-overlay]
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -52,6 +53,127 @@ enum Command {
     /// Convert a RenderMan RIB scene to a TOML scene plus `.bpt` models
     /// (written beside the TOML as `<stem>-<i>.bpt`).
     Convert(ConvertArgs),
+    /// Open a window on a scene (the inputs and options of `render`), orbit
+    /// it with the mouse and re-render as the view changes. `-o` names the
+    /// PNG that `P` saves (default `reyes-view.png`).
+    #[cfg(feature = "viewer")]
+    View(ViewArgs),
+}
+
+#[cfg(feature = "viewer")]
+#[derive(Debug, clap::Args)]
+struct ViewArgs {
+    #[command(flatten)]
+    render: RenderArgs,
+    /// Close after N frames have been presented and the view is refined
+    /// (for headless use under `xvfb-run`).
+    #[arg(long, value_name = "N")]
+    frames: Option<u64>,
+    /// With --frames: save the last presented image as this PNG.
+    #[arg(long, value_name = "PNG", requires = "frames")]
+    screenshot: Option<PathBuf>,
+    /// Start with the overlay hidden (`H` shows it).
+    #[arg(long)]
+    hide_overlay: bool,
+    /// Scripted input steps (see `reyes::view::script`), for tests.
+    #[arg(long, value_name = "STEPS", hide = true)]
+    script: Option<String>,
+    /// Write what was rendered (cameras, frame times) as JSON, for tests.
+    #[arg(long, value_name = "FILE", hide = true)]
+    log_json: Option<PathBuf>,
+}
+
+/// `reyes view`: the viewer on the scene `render` would draw.
+#[cfg(feature = "viewer")]
+fn view(args: &ViewArgs) -> Result<(), BoxError> {
+    let render = &args.render;
+    if render.cpu {
+        return Err("reyes view renders on the GPU: --cpu does not apply".into());
+    }
+    if render.stats || render.stats_json.is_some() {
+        return Err(
+            "reyes view shows the statistics in its overlay: --stats and --stats-json do not apply"
+                .into(),
+        );
+    }
+    if let Some(bytes) = render.max_input_bytes {
+        reyes::input::set_limits(Limits::all(bytes));
+    }
+    let script = match &args.script {
+        Some(text) => reyes::view::script::parse(text)?,
+        None => Vec::new(),
+    };
+    let scene = prepare(render)?;
+    let mut gpu_options = GpuOptions::default();
+    if let Some(seconds) = render.timeout {
+        gpu_options.timeout = std::time::Duration::from_secs(seconds.max(1));
+    }
+    gpu_options.chunks_per_batch = render.chunks;
+    let command = reyes::view::save::CommandBase {
+        prefix: render_prefix(std::env::args().collect()),
+        shutter: render.shutter,
+        dice_threshold: scene.dice_threshold,
+    };
+    let config = reyes::view::ViewConfig {
+        frames: args.frames,
+        screenshot: args.screenshot.clone(),
+        script,
+        overlay: !args.hide_overlay,
+        save_path: render
+            .output
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("reyes-view.png")),
+        command,
+        gpu_options,
+        ..Default::default()
+    };
+    let log = reyes::view::run(scene, config)?;
+    if let Some(path) = &args.log_json {
+        std::fs::write(path, serde_json::to_string_pretty(&log)?)
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// `reyes render` and the `reyes view` arguments it shares, without those
+/// the viewer sets itself (the camera, the resolution, the settings it can
+/// change, the output) or that only the viewer has.
+#[cfg(feature = "viewer")]
+fn render_prefix(argv: Vec<String>) -> Vec<String> {
+    // Options followed by a value.
+    const SET_BY_VIEW: [&str; 16] = [
+        "--width",
+        "--height",
+        "--eye",
+        "--target",
+        "--up",
+        "--fov",
+        "--spp",
+        "--sampling",
+        "--shading-rate",
+        "--aov",
+        "--aperture",
+        "--focus",
+        "--shutter",
+        "-o",
+        "--output",
+        "--frames",
+    ];
+    const VIEW_ONLY: [&str; 3] = ["--screenshot", "--script", "--log-json"];
+    let mut prefix = vec!["reyes".to_owned(), "render".to_owned()];
+    let mut args = argv.into_iter().skip_while(|a| a != "view").skip(1);
+    while let Some(arg) = args.next() {
+        let name = arg.split_once('=').map_or(arg.as_str(), |(n, _)| n);
+        let takes_value = SET_BY_VIEW.contains(&name) || VIEW_ONLY.contains(&name);
+        if takes_value {
+            if !arg.contains('=') {
+                args.next();
+            }
+        } else if arg != "--hide-overlay" {
+            prefix.push(arg);
+        }
+    }
+    prefix
 }
 
 #[derive(Debug, clap::Args)]
@@ -722,6 +844,8 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Render(args) => render(args),
         Command::Convert(args) => convert(args),
+        #[cfg(feature = "viewer")]
+        Command::View(args) => view(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -746,6 +870,25 @@ fn main() -> ExitCode {
 #[cfg(test)]
 mod tests {
     use super::parse_bytes;
+
+    #[cfg(feature = "viewer")]
+    #[test]
+    fn the_printed_render_command_drops_what_the_viewer_sets() {
+        let argv = "reyes view scene.toml --eye 1,2,3 --spp=16 --chunks 2 --frames 3 --screenshot a.png --hide-overlay -o x.png --spin 10";
+        let prefix = super::render_prefix(argv.split(' ').map(str::to_owned).collect());
+        assert_eq!(
+            prefix,
+            [
+                "reyes",
+                "render",
+                "scene.toml",
+                "--chunks",
+                "2",
+                "--spin",
+                "10"
+            ]
+        );
+    }
 
     #[test]
     fn byte_counts_parse_with_binary_suffixes() {

@@ -1,0 +1,251 @@
+//! The render worker: a thread that owns the [`GpuRenderer`] and renders
+//! the latest requested view, so the event loop never waits on a frame.
+//!
+//! Requests queue in a channel; the worker drains it and renders only the
+//! newest one (older views are already stale). Every finished frame, and
+//! any error, goes back through a callback that wakes the event loop.
+
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, Sender, channel};
+use std::thread::JoinHandle;
+
+use image::RgbaImage;
+
+use crate::camera::Camera;
+use crate::gpu::{GpuOptions, GpuRenderer};
+use crate::motion::PreparedLens;
+use crate::params::MAX_GRID_QUADS;
+use crate::prepare::PreparedScene;
+use crate::scene::Dicing;
+use crate::stats::RenderStats;
+
+use super::controls::Settings;
+
+/// How finely a frame is rendered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quality {
+    /// While the camera moves: 1 spp at a reduced resolution.
+    Preview,
+    /// When it stops: the settings' spp at the window's resolution.
+    Full,
+}
+
+/// One frame to render.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameSpec {
+    /// Increases with every change of the view; a frame answers the
+    /// request with the same number.
+    pub generation: u64,
+    /// Preview or full.
+    pub quality: Quality,
+    /// The camera, at the resolution to render.
+    pub camera: Camera,
+    /// The render settings.
+    pub settings: Settings,
+}
+
+/// A rendered frame.
+#[derive(Debug)]
+pub struct Frame {
+    /// The request it answers.
+    pub spec: FrameSpec,
+    /// The image (8-bit sRGB RGBA, straight from the renderer).
+    pub image: RgbaImage,
+    /// The renderer's counters.
+    pub stats: RenderStats,
+    /// Megakernel time measured on the GPU, when the adapter has timestamps.
+    pub gpu_ms: Option<f64>,
+    /// Wall-clock time of the whole frame in the worker.
+    pub wall_ms: f64,
+}
+
+/// What the worker reports.
+#[derive(Debug)]
+pub enum WorkerEvent {
+    /// A frame is ready.
+    Frame(Box<Frame>),
+    /// The renderer could not be created or a frame failed; the message is
+    /// the error's, with its causes.
+    Failed(String),
+}
+
+/// The worker thread and its request channel.
+#[derive(Debug)]
+pub struct RenderWorker {
+    requests: Option<Sender<FrameSpec>>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl RenderWorker {
+    /// Starts the worker on `gpu` for `scene`; `report` is called on the
+    /// worker thread for every frame or error.
+    pub fn start(
+        gpu: scheduler::Gpu,
+        options: GpuOptions,
+        scene: Arc<PreparedScene>,
+        report: impl Fn(WorkerEvent) + Send + 'static,
+    ) -> std::io::Result<RenderWorker> {
+        let (requests, receiver) = channel();
+        let thread = std::thread::Builder::new()
+            .name("reyes-view-render".into())
+            .spawn(move || run(&gpu, options, &scene, &receiver, &report))?;
+        Ok(RenderWorker {
+            requests: Some(requests),
+            thread: Some(thread),
+        })
+    }
+
+    /// Asks for a frame; false when the worker has stopped.
+    pub fn request(&self, spec: FrameSpec) -> bool {
+        self.requests.as_ref().is_some_and(|r| r.send(spec).is_ok())
+    }
+
+    /// Whether the worker thread has ended (after an error).
+    pub fn finished(&self) -> bool {
+        self.thread.as_ref().is_none_or(JoinHandle::is_finished)
+    }
+}
+
+impl Drop for RenderWorker {
+    fn drop(&mut self) {
+        // Closing the channel ends the worker after its current frame. It is
+        // not joined: a frame on a CPU adapter can take seconds, and closing
+        // the window must not wait for it (the process exit ends it).
+        self.requests = None;
+        if let Some(thread) = self.thread.take()
+            && thread.is_finished()
+        {
+            let _ = thread.join();
+        }
+    }
+}
+
+fn run(
+    gpu: &scheduler::Gpu,
+    options: GpuOptions,
+    scene: &PreparedScene,
+    requests: &Receiver<FrameSpec>,
+    report: &dyn Fn(WorkerEvent),
+) {
+    let mut renderer = match GpuRenderer::new(gpu, options) {
+        Ok(renderer) => renderer,
+        Err(error) => return report(WorkerEvent::Failed(describe(&error))),
+    };
+    while let Ok(mut spec) = requests.recv() {
+        // Only the newest view matters.
+        while let Ok(newer) = requests.try_recv() {
+            spec = newer;
+        }
+        let frame_scene = scene_for(scene, &spec);
+        let start = std::time::Instant::now();
+        match renderer.render(&frame_scene) {
+            Ok(rendered) => report(WorkerEvent::Frame(Box::new(Frame {
+                spec,
+                image: rendered.image,
+                stats: rendered.stats,
+                gpu_ms: rendered.timings.megakernel_gpu_ms,
+                wall_ms: start.elapsed().as_secs_f64() * 1e3,
+            }))),
+            Err(error) => {
+                report(WorkerEvent::Failed(describe(&error)));
+                return;
+            }
+        }
+    }
+}
+
+/// An error's message followed by the causes it does not already include.
+pub fn describe(error: &dyn std::error::Error) -> String {
+    let mut text = error.to_string();
+    let mut source = error.source();
+    while let Some(cause) = source {
+        let cause_text = cause.to_string();
+        if !text.contains(&cause_text) {
+            text.push_str(": ");
+            text.push_str(&cause_text);
+        }
+        source = cause.source();
+    }
+    text
+}
+
+/// `base` with the view's camera and settings: the frame the worker
+/// renders for `spec`. A preview uses 1 spp; everything else is the same,
+/// so a preview differs from the refined frame only in sampling.
+pub fn scene_for(base: &PreparedScene, spec: &FrameSpec) -> PreparedScene {
+    let s = &spec.settings;
+    let mut scene = base.clone();
+    scene.camera = spec.camera;
+    // The lens scale follows the resolution; the focus follows the orbit
+    // (the scene's own focus distance when the orbit has not moved it).
+    let focus = if base.camera.eye == spec.camera.eye && base.camera.target == spec.camera.target {
+        base.lens.focus
+    } else {
+        spec.camera.eye.distance(spec.camera.target)
+    };
+    scene.lens = PreparedLens::new(&spec.camera, s.aperture, Some(focus));
+    scene.spp = match spec.quality {
+        Quality::Preview => 1,
+        Quality::Full => s.spp,
+    };
+    scene.sampling = s.sampling;
+    scene.aov = s.aov;
+    match s.dicing {
+        Dicing::Rate => {
+            scene.micropolygon_side = s.shading_rate.sqrt();
+            scene.dice_threshold = MAX_GRID_QUADS as f32 * scene.micropolygon_side;
+        }
+        Dicing::Fixed => scene.dice_threshold = s.dice_threshold,
+    }
+    if !s.motion_blur {
+        for object in &mut scene.objects {
+            object.motion = None;
+        }
+    }
+    scene
+}
+
+/// The settings `scene` was prepared with.
+pub fn settings_of(scene: &PreparedScene) -> Settings {
+    Settings {
+        spp: scene.spp,
+        sampling: scene.sampling,
+        dicing: scene.dicing,
+        shading_rate: scene.micropolygon_side * scene.micropolygon_side,
+        dice_threshold: scene.dice_threshold,
+        motion_blur: true,
+        aperture: scene.lens.aperture,
+        aov: scene.aov,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    #[test]
+    fn the_scene_settings_round_trip_through_a_full_frame() {
+        let base = PreparedScene::load(&Scene::default_teapot()).unwrap();
+        let spec = FrameSpec {
+            generation: 0,
+            quality: Quality::Full,
+            camera: base.camera,
+            settings: settings_of(&base),
+        };
+        let scene = scene_for(&base, &spec);
+        assert_eq!(scene.camera, base.camera);
+        assert_eq!(scene.lens, base.lens);
+        assert_eq!(scene.spp, base.spp);
+        assert!((scene.micropolygon_side - base.micropolygon_side).abs() < 1e-6);
+        assert!((scene.dice_threshold - base.dice_threshold).abs() < 1e-4);
+        let preview = scene_for(
+            &base,
+            &FrameSpec {
+                quality: Quality::Preview,
+                ..spec
+            },
+        );
+        assert_eq!(preview.spp, 1);
+    }
+}
