@@ -21,9 +21,14 @@ fn data(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// A random generator drawn afresh, its seed printed; `TEST_SEED=<seed>`
+/// replays a run.
 fn fresh_rng(test: &str) -> StdRng {
-    let seed: u64 = rand::random();
-    eprintln!("{test} seed = {seed}");
+    let seed: u64 = std::env::var("TEST_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(rand::random);
+    eprintln!("{test} seed = {seed} (replay with TEST_SEED={seed})");
     StdRng::seed_from_u64(seed)
 }
 

@@ -68,7 +68,9 @@ fn minimize(f: impl Fn(f64, f64) -> f64, seeds: &[(f64, f64)]) -> (f64, f64) {
     let mut best = (0.0, 0.0, f64::INFINITY);
     let grid =
         (0..=N).flat_map(|i| (0..=N).map(move |j| (i as f64 / N as f64, j as f64 / N as f64)));
-    for (u, v) in grid.chain(seeds.iter().copied()) {
+    // Seeds first: at a degenerate apex (a disk's centre) every u ties at
+    // the same v, and only a seed's u points the descent the right way.
+    for (u, v) in seeds.iter().copied().chain(grid) {
         let d = f(u, v);
         if d < best.2 {
             best = (u, v, d);
