@@ -8,7 +8,9 @@
 //! persistent megakernel and under the Rounds strategy; every variant's image
 //! is verified: the flat dispatch's against the CPU brute force, the
 //! subdivision's against the CPU subdivision (and its counters against the
-//! CPU's tile counts), after the warm-up and after the last timed run.
+//! CPU's tile counts), after the warm-up and after the last timed run. The
+//! `mk checked` row is the default megakernel compiled in checked mode
+//! (every index into `counts` guarded): the cost of checked mode.
 
 use std::time::Duration;
 
@@ -178,19 +180,26 @@ fn boxed(error: Box<dyn std::error::Error>) -> BenchError {
     BenchError::Config(format!("the Mandelbrot graph: {error}"))
 }
 
+/// One scheduled variant: strategy, workgroups, chunks per batch, and
+/// whether it is compiled in checked mode.
+type Scheduled = (Strategy, u32, u32, bool);
+
 /// Times one megakernel or Rounds variant: a verified warm-up, `runs` timed
 /// runs, the last one verified too. Returns the row without its ratio.
 fn measure_scheduled(
     gpu: &Gpu,
     view: View,
     config: &MandelbrotConfig,
-    (strategy, workgroups, chunks): (Strategy, u32, u32),
+    (strategy, workgroups, chunks, checked): Scheduled,
     cpu: &Subdivision,
 ) -> Result<MandelbrotRow, BenchError> {
-    let name =
-        format!("mandelbrot {strategy}, {workgroups} workgroups, {chunks} chunk(s) per batch");
+    let mode = if checked { ", checked" } else { "" };
+    let name = format!(
+        "mandelbrot {strategy}, {workgroups} workgroups, {chunks} chunk(s) per batch{mode}"
+    );
     let options = CompileOptions {
         chunks_per_batch: chunks,
+        checked,
         ..CompileOptions::with_features(scheduler::recommended_features(&gpu.device))
     };
     let executor_config = ExecutorConfig {
@@ -213,6 +222,12 @@ fn measure_scheduled(
     };
     let report = mandelbrot.render(strategy)?;
     verify(&mandelbrot, &report)?;
+    let variant = match (strategy, checked) {
+        // The megakernel with every resource index guarded: its cost.
+        (Strategy::Megakernel, true) => "mk checked".to_owned(),
+        (_, true) => format!("{} checked", strategy.name()),
+        (_, false) => strategy.name().to_owned(),
+    };
     let mut source = TimeSource::GpuTimestamps;
     let mut times = Vec::with_capacity(config.runs as usize);
     let mut walls = Vec::with_capacity(config.runs as usize);
@@ -227,7 +242,7 @@ fn measure_scheduled(
     }
     verify(&mandelbrot, &last)?;
     Ok(MandelbrotRow {
-        variant: strategy.name().to_owned(),
+        variant,
         workgroups,
         chunks: Some(chunks),
         timings: Timings::new(times, &walls, source),
@@ -299,11 +314,21 @@ pub fn run_mandelbrot(
         let variants = config
             .workgroups
             .iter()
-            .map(|&w| (Strategy::Megakernel, w))
-            .chain([(Strategy::rounds(), scheduler::DEFAULT_WORKGROUPS)]);
-        for (strategy, workgroups) in variants {
-            let mut row =
-                measure_scheduled(gpu, view, config, (strategy, workgroups, chunks), &cpu)?;
+            .map(|&w| (Strategy::Megakernel, w, false))
+            .chain([
+                (Strategy::rounds(), scheduler::DEFAULT_WORKGROUPS, false),
+                // Checked mode's cost: the default megakernel with every
+                // index into `counts` guarded.
+                (Strategy::Megakernel, scheduler::DEFAULT_WORKGROUPS, true),
+            ]);
+        for (strategy, workgroups, checked) in variants {
+            let mut row = measure_scheduled(
+                gpu,
+                view,
+                config,
+                (strategy, workgroups, chunks, checked),
+                &cpu,
+            )?;
             row.ratio_to_flat =
                 flat_median.as_secs_f64() / row.timings.median.as_secs_f64().max(1e-12);
             progress(&row);
@@ -393,8 +418,17 @@ mod tests {
             chunks: vec![1, 4],
         };
         let report = run_mandelbrot(&gpu, &config, |_| {}).unwrap();
-        // Flat, then per chunk count: 2 megakernel rows and 1 Rounds row.
-        assert_eq!(report.rows.len(), 7);
+        // Flat, then per chunk count: 2 megakernel rows, 1 Rounds row and
+        // 1 checked megakernel row.
+        assert_eq!(report.rows.len(), 9);
+        assert_eq!(
+            report
+                .rows
+                .iter()
+                .filter(|r| r.variant == "mk checked")
+                .count(),
+            2
+        );
         assert!(
             report
                 .rows

@@ -141,8 +141,9 @@ pub use resource::{Access, Atomic, BufferContents, BufferShape, Resource, Resour
 pub use runtime::config::{
     Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
 };
-pub use runtime::executor::{Binding, Executor, ResetFn, Retry};
-pub use runtime::report::{ProcedureStats, RunReport};
+pub use runtime::executor::{Binding, Executor};
+pub use runtime::report::{BoundsViolation, ProcedureStats, RunReport};
+pub use runtime::retry::{ResetFn, Retry};
 pub use runtime::seeds::Seeds;
 pub use runtime::strategy::{DEFAULT_ROUNDS_PER_BATCH, Strategy};
 pub use scheduler_derive::{Item, item};

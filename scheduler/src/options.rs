@@ -36,6 +36,13 @@ pub struct CompileOptions {
     /// small, so that more workgroups share a short queue. Default 1; on
     /// llvmpipe 4 is markedly faster (docs/performance.md, "Chunks per batch").
     pub chunks_per_batch: u32,
+    /// Checked mode: every index into a runtime-sized array resource made by
+    /// a body or the library is compared with the bound buffer's length, and
+    /// a run with a violation fails with
+    /// [`RunError::OutOfBounds`](crate::RunError::OutOfBounds). Costs a
+    /// branch per access (docs/scheduler.md, "Checked mode"). Without it,
+    /// such an access is undefined behaviour.
+    pub checked: bool,
 }
 
 /// Largest [`CompileOptions::chunks_per_batch`]. Staging memory grows with it
@@ -52,11 +59,20 @@ impl Default for CompileOptions {
             limits: wgpu::Limits::default(),
             features: wgpu::Features::empty(),
             chunks_per_batch: 1,
+            checked: false,
         }
     }
 }
 
 impl CompileOptions {
+    /// These options in checked mode ([`CompileOptions::checked`]).
+    pub fn checked(self) -> Self {
+        Self {
+            checked: true,
+            ..self
+        }
+    }
+
     /// Default options with the given features enabled.
     pub fn with_features(features: wgpu::Features) -> Self {
         Self {

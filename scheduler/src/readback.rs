@@ -10,6 +10,7 @@ use crate::RunError;
 pub const LONGEST_WAIT: Duration = Duration::from_secs(100 * 365 * 24 * 60 * 60);
 
 /// Waits for all work submitted so far, failing with [`RunError::Timeout`]
+/// (without a report: the caller adds what it could read)
 /// after `timeout`.
 pub fn wait(
     device: &wgpu::Device,
@@ -21,7 +22,7 @@ pub fn wait(
         timeout: Some(timeout.min(LONGEST_WAIT)),
     }) {
         Ok(_) => Ok(()),
-        Err(wgpu::PollError::Timeout) => Err(RunError::Timeout(timeout)),
+        Err(wgpu::PollError::Timeout) => Err(RunError::timeout(timeout)),
         Err(e) => Err(RunError::Gpu(e.to_string())),
     }
 }
@@ -41,7 +42,7 @@ pub fn map_read(
     let mapped = wait(device, submission, timeout).and_then(|()| {
         receiver
             .recv_timeout(timeout)
-            .map_err(|_| RunError::Timeout(timeout))?
+            .map_err(|_| RunError::timeout(timeout))?
             .map_err(|e| RunError::Gpu(e.to_string()))
     });
     if let Err(error) = mapped {

@@ -141,3 +141,149 @@ fn over_seeding_is_grown_by_retry() {
     assert_eq!(executor.capacities(), [64]);
     assert_eq!(report.procedure(&tree.ids).unwrap().executed, 40);
 }
+
+/// A chain of `Step`s, one item per round, each also enqueueing four
+/// `Leaf`s into a queue of one: it runs far longer than its timeout, and its
+/// `Leaf` queue overflows from the first round on.
+fn long_chain() -> (CompiledGraph, ProcedureId<Node>) {
+    let mut graph = Graph::new("long chain");
+    let step = graph.procedure(Procedure::of::<Node>("Step").initial(true).body(
+        "if (valid) {
+    enqueue_Step(Node(item.depth + 1u, item.id));
+    for (var c = 0u; c < 4u; c += 1u) { enqueue_Leaf(Node(item.depth, c)); }
+}",
+    ));
+    let leaf = graph.procedure(Procedure::of::<Node>("Leaf").body(""));
+    graph.connect(&step, &step);
+    graph.connect_with_fan_out(&step, &leaf, 4);
+    (graph.compile(&CompileOptions::default()).unwrap(), step)
+}
+
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn a_timeout_carries_the_report_of_the_completed_submissions_and_names_the_overflow() {
+    let gpu = tests::gpu();
+    let (compiled, step) = long_chain();
+    let config = scheduler::ExecutorConfig {
+        capacities: scheduler::Capacities::uniform(16).with("Leaf", 1),
+        timeout: std::time::Duration::from_secs(1),
+        ..config(1, 16)
+    };
+    let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config).unwrap();
+    let seeds = Seeds::new().add(&step, &[Node { depth: 0, id: 0 }]);
+    // One round per submission: the host reads the counters after each.
+    let strategy = Strategy::Rounds {
+        rounds_per_batch: 1,
+    };
+    let result = executor.run_with(strategy, &seeds, &[]);
+    let Err(RunError::Timeout {
+        report: Some(report),
+        also,
+        ..
+    }) = &result
+    else {
+        panic!("expected a timeout with a report, got {result:?}");
+    };
+    assert!(report.dispatches >= 1, "{report}");
+    assert!(report.procedure(&step).unwrap().executed >= 1, "{report}");
+    assert!(
+        report.procedure_named("Leaf").unwrap().dropped > 0,
+        "{report}"
+    );
+    assert!(
+        also.first().is_some_and(|a| a.contains("queue `Leaf`")),
+        "the overflow is named first: {also:?}"
+    );
+    let message = result.unwrap_err().to_string();
+    assert!(
+        message.contains("completed submission(s); by then: queue `Leaf`"),
+        "{message}"
+    );
+}
+
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn device_limits_are_checked_before_the_run() {
+    let gpu = tests::gpu();
+    let limits = gpu.device.limits();
+    let tree = binary_tree(3);
+    let compiled = tree.compile(&CompileOptions::default()).unwrap();
+    // More persistent workgroups than one dispatch may launch.
+    let wide = config(limits.max_compute_workgroups_per_dimension + 1, 16);
+    let refused = Executor::new(&gpu.device, &gpu.queue, &compiled, &wide);
+    assert!(
+        matches!(
+            &refused,
+            Err(RunError::ExceedsDeviceLimit {
+                limit_name: "max_compute_workgroups_per_dimension",
+                ..
+            })
+        ),
+        "{refused:?}"
+    );
+
+    // A binding at an offset the device cannot bind, and one larger than a
+    // storage binding may be: refused by name, before any dispatch.
+    let mut graph = Graph::new("bound");
+    graph.resource(Resource::storage::<[u32]>("out"));
+    let run = graph.procedure(
+        Procedure::of::<Node>("Run")
+            .initial(true)
+            .body("if (valid) { out[0] = item.id; }"),
+    );
+    let compiled = graph.compile(&CompileOptions::default()).unwrap();
+    let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config(1, 16)).unwrap();
+    let seeds = Seeds::new().add(&run, &nodes(1));
+    let alignment = u64::from(limits.min_storage_buffer_offset_alignment);
+    let buffer = gpu
+        .device
+        .create_buffer(&scheduler::wgpu::BufferDescriptor {
+            label: Some("out"),
+            size: 2 * alignment,
+            usage: scheduler::wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+    let misaligned = scheduler::Binding {
+        name: "out",
+        resource: scheduler::wgpu::BindingResource::Buffer(scheduler::wgpu::BufferBinding {
+            buffer: &buffer,
+            offset: 4,
+            size: None,
+        }),
+    };
+    let result = executor.run(&seeds, &[misaligned]);
+    assert!(
+        matches!(
+            &result,
+            Err(RunError::ExceedsDeviceLimit {
+                limit_name: "min_storage_buffer_offset_alignment",
+                ..
+            })
+        ),
+        "{result:?}"
+    );
+    let binding_limit = limits.max_storage_buffer_binding_size;
+    if binding_limit < limits.max_buffer_size && binding_limit < 1 << 30 {
+        let large = gpu
+            .device
+            .create_buffer(&scheduler::wgpu::BufferDescriptor {
+                label: Some("too large"),
+                size: binding_limit + 256,
+                usage: scheduler::wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            });
+        let result = executor.run(&seeds, &[scheduler::Binding::buffer("out", &large)]);
+        assert!(
+            matches!(
+                &result,
+                Err(RunError::ExceedsDeviceLimit {
+                    limit_name: "max_storage_buffer_binding_size",
+                    ..
+                })
+            ),
+            "{result:?}"
+        );
+    } else {
+        eprintln!("the device binds whole buffers up to {binding_limit} bytes: no larger one made");
+    }
+}

@@ -259,6 +259,7 @@ fn overflow_is_a_typed_error_and_the_run_still_ends() {
                 capacity,
                 dropped,
                 needed_at_least,
+                needed,
                 also,
                 report,
             }) => {
@@ -267,6 +268,11 @@ fn overflow_is_a_typed_error_and_the_run_still_ends() {
                 assert_eq!(capacity, 64);
                 assert!(dropped > 0);
                 assert!(needed_at_least > 64);
+                // The measured need: every item of the run, refused ones
+                // included, fits it.
+                let stats = report.procedure(&tree.ids).unwrap();
+                assert_eq!(needed, stats.high_water + dropped);
+                assert!(needed >= needed_at_least, "{needed} < {needed_at_least}");
                 let grow = report.procedure(&tree.ids).unwrap();
                 // Nothing is lost silently: what ran plus what was dropped
                 // accounts for every enqueue attempt.
@@ -417,15 +423,18 @@ if (valid && h == 7u) {
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &config).unwrap();
     let seeds = Seeds::new().add(&slow, &seeds);
     let result = executor.run(&seeds, &[]);
-    // The error names the configured limit.
+    // The error names the configured limit, and says that no report could
+    // be read: the only submission never completed.
     assert!(
-        matches!(result, Err(RunError::Timeout(limit)) if limit == Duration::from_millis(1)),
+        matches!(&result, Err(RunError::Timeout { limit, report: None, .. }) if *limit == Duration::from_millis(1)),
         "{result:?}"
     );
+    let message = result.unwrap_err().to_string();
+    assert!(message.contains("No report could be read"), "{message}");
     let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
     // The executor stays usable: its read-back buffer was not left mapped.
     let again = executor.run(&seeds, &[]);
-    assert!(matches!(again, Err(RunError::Timeout(_))), "{again:?}");
+    assert!(matches!(again, Err(RunError::Timeout { .. })), "{again:?}");
     let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
 }
 

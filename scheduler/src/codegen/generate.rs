@@ -9,7 +9,7 @@ use crate::codegen::kernels::{
     round_entry, runner,
 };
 use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
-use crate::codegen::{globals, helpers};
+use crate::codegen::{checked, globals, helpers};
 use crate::compile::ExtraStructs;
 use crate::compile::layout::{ItemLayout, encode_name};
 use crate::compile::plan::{Plan, control};
@@ -215,10 +215,23 @@ pub(crate) fn generate(
     }
     let coherent = globals::shape(plan).coherent;
 
+    let guarded = plan.guarded_resources();
+    // Checked mode guards the user's indices; otherwise their text is kept.
+    let user_text = |text: &str| {
+        if guarded.is_empty() {
+            text.to_owned()
+        } else {
+            checked::rewrite(text, &guarded)
+        }
+    };
+    if !guarded.is_empty() {
+        module.constants.extend(checked::constants(plan));
+        module.globals.extend(checked::globals());
+    }
     if !library.trim().is_empty() {
         module.library = Some(Verbatim {
             title: "graph library".into(),
-            text: library.to_owned(),
+            text: user_text(library),
             origin: SourceOrigin::Library,
         });
     }
@@ -238,6 +251,9 @@ pub(crate) fn generate(
         module
             .functions
             .push(helpers::reduce_function(plan.workgroup_size));
+    }
+    if !guarded.is_empty() {
+        module.functions.extend(checked::functions(plan));
     }
     module.functions.push(policy_function(plan.policy));
     module.functions.extend(payload_functions(coherent));
@@ -271,9 +287,7 @@ pub(crate) fn generate(
             .param("valid", "bool")
             .param("thread", "u32")
             .param("slot", "u32");
-        f.body = procedure
-            .body
-            .trim_end()
+        f.body = user_text(procedure.body.trim_end())
             .lines()
             .map(str::to_owned)
             .collect();

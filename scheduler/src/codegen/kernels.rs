@@ -89,6 +89,12 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     f.line(format!("let slot = lid / {tpi}u;"));
     f.line(format!("let thread = lid % {tpi}u;"));
     f.line(format!("sched_scratch_stride = {}u;", queue.scratch_words));
+    if !plan.guarded_resources().is_empty() {
+        f.line(format!(
+            "{} = {q}u; // checked mode: the guards count violations for this procedure",
+            crate::codegen::checked::RUNNING
+        ));
+    }
     if plan.item_helpers {
         for line in crate::codegen::helpers::runner_lines(tpi) {
             f.line(line);

@@ -1,6 +1,7 @@
 //! Generation of the megakernel's WGSL.
 
 pub(crate) mod bindings;
+pub(crate) mod checked;
 pub(crate) mod generate;
 pub(crate) mod globals;
 pub(crate) mod helpers;

@@ -224,6 +224,7 @@ impl Graph {
             resources: self.resources.clone(),
             item_helpers: crate::codegen::helpers::used(&self.procedures, &self.library),
             features: options.features,
+            checked: options.checked,
         };
 
         let mut kernel = generate(

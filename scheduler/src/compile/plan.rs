@@ -55,6 +55,8 @@ pub(crate) struct Plan {
     /// Whether bodies or the library call the item-wide helpers.
     pub item_helpers: bool,
     pub features: wgpu::Features,
+    /// Checked mode: indices into runtime-sized array resources are guarded.
+    pub checked: bool,
 }
 
 /// Layout of the control buffer (atomic u32 words). Mirrored as WGSL constants.
@@ -106,6 +108,27 @@ pub(crate) mod control {
 }
 
 impl Plan {
+    /// The resources checked mode guards (none without it), in declaration
+    /// order; a guard's number is its position here.
+    pub fn guarded_resources(&self) -> Vec<&str> {
+        if !self.checked {
+            return Vec::new();
+        }
+        self.resources
+            .iter()
+            .filter(|r| crate::codegen::checked::guarded(r))
+            .map(|r| r.name())
+            .collect()
+    }
+
+    /// Control words the host reads back: the counters, then checked mode's
+    /// words per procedure and guarded resource.
+    pub fn control_words(&self) -> u32 {
+        control::words(self.queues.len())
+            + crate::codegen::checked::WORDS_PER_CHECK
+                * (self.queues.len() * self.guarded_resources().len()) as u32
+    }
+
     pub fn queue_index(&self, name: &str) -> Option<usize> {
         self.queues.iter().position(|q| q.name == name)
     }

@@ -5,7 +5,6 @@ use std::time::Duration;
 
 use crate::CompiledGraph;
 use crate::codegen::uniform;
-use crate::compile::plan::control;
 
 /// Default queue capacity in items.
 pub const DEFAULT_CAPACITY: u32 = 1 << 16;
@@ -127,8 +126,7 @@ impl CompiledGraph {
             .iter()
             .map(|q| u64::from(config.capacities.of(&q.name)))
             .sum();
-        let control_bytes =
-            2 * 4 * u64::from(control::words(self.plan.queues.len())) + 4 * 2 * slots;
+        let control_bytes = 2 * 4 * u64::from(self.plan.control_words()) + 4 * 2 * slots;
         let config_bytes = uniform::bytes(self.plan.queues.len());
         MemoryPlan {
             queue_bytes,

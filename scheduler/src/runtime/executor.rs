@@ -10,7 +10,8 @@ use crate::readback::{LONGEST_WAIT, map_read};
 use crate::runtime::config::{DEFAULT_WORKGROUPS, ExecutorConfig};
 use crate::runtime::resources::OwnedBuffers;
 use crate::runtime::state::{Layouts, QueueState, Tuning};
-use crate::{CompiledGraph, ProcedureStats, Quirks, RunError, RunReport, Seeds, Strategy};
+use crate::runtime::{limits, outcome};
+use crate::{CompiledGraph, Quirks, RunError, RunReport, Seeds, Strategy};
 
 /// A user resource bound for a run, by its declared name.
 #[derive(Clone, Debug)]
@@ -48,57 +49,6 @@ struct RoundPipelines {
     procedures: Vec<wgpu::ComputePipeline>,
 }
 
-/// Restores the user's resources before a retry.
-pub type ResetFn<'a> = Box<dyn FnMut(&wgpu::Device, &wgpu::Queue) + 'a>;
-
-/// Opt-in automatic retry after a queue overflow, too many seeds, or a loop
-/// the driver cut short ([`RunError::LoopLimit`], llvmpipe).
-///
-/// - After an overflow, each overflowing queue grows to at least its
-///   reported lower bound (and at least doubles).
-/// - After [`RunError::TooManySeeds`], the seeded queue grows to hold the
-///   seeds.
-/// - After a loop limit under the megakernel, the iteration budget halves
-///   (down to 1), so workgroups leave sooner; this changes the dispatches,
-///   never the results. At a budget of 1, and under Rounds, the same
-///   configuration runs again.
-///
-/// Each retry reallocates the scheduler's buffers, calls `reset` so the
-/// user can restore their own resources (clear a framebuffer, zero
-/// counters), and runs again from the seeds. A run that succeeds after
-/// retries therefore gives the same results as one configured right from
-/// the start. The grown capacities and the lowered budget stay for later
-/// runs.
-pub struct Retry<'a> {
-    /// Attempts in all, the first included (at least 1).
-    pub max_attempts: u32,
-    /// Restores the user's resources before each retry.
-    pub reset: ResetFn<'a>,
-}
-
-impl<'a> Retry<'a> {
-    /// Up to `max_attempts` attempts, with `reset` called before each retry.
-    pub fn new(max_attempts: u32, reset: impl FnMut(&wgpu::Device, &wgpu::Queue) + 'a) -> Self {
-        Self {
-            max_attempts,
-            reset: Box::new(reset),
-        }
-    }
-
-    /// Up to `max_attempts` attempts, for graphs whose resources need no reset.
-    pub fn without_reset(max_attempts: u32) -> Self {
-        Self::new(max_attempts, |_, _| {})
-    }
-}
-
-impl std::fmt::Debug for Retry<'_> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Retry")
-            .field("max_attempts", &self.max_attempts)
-            .finish_non_exhaustive()
-    }
-}
-
 /// The GPU objects for one compiled graph and one configuration. Runs reuse
 /// them; each run starts from empty queues.
 #[derive(Debug)]
@@ -107,15 +57,15 @@ pub struct Executor {
     pub(super) queue: wgpu::Queue,
     pub(super) compiled: CompiledGraph,
     module: wgpu::ShaderModule,
-    layouts: Layouts,
+    pub(super) layouts: Layouts,
     pub(super) resource_layout: Option<wgpu::BindGroupLayout>,
     /// Buffers created for typed resources.
     pub(super) owned: OwnedBuffers,
     megakernel: wgpu::ComputePipeline,
     rounds: Option<RoundPipelines>,
-    state: QueueState,
+    pub(super) state: QueueState,
     timestamps: Option<Timestamps>,
-    tuning: Tuning,
+    pub(super) tuning: Tuning,
     pub(super) timeout: Duration,
 }
 
@@ -123,8 +73,10 @@ impl Executor {
     /// Creates the megakernel pipeline and allocates the queues for `config`.
     /// The Rounds strategy's pipelines are created on its first run.
     ///
-    /// Fails with [`RunError::TooLarge`] when a buffer would exceed the
-    /// device's limits and [`RunError::Gpu`] when the device rejects the module.
+    /// Fails with [`RunError::ExceedsDeviceLimit`] when the graph or the
+    /// workgroup count exceeds one of the device's limits (the module may
+    /// have been compiled for larger ones), [`RunError::TooLarge`] when a
+    /// buffer would, and [`RunError::Gpu`] when the device rejects the module.
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -139,14 +91,7 @@ impl Executor {
             )));
         }
         let workgroups = config.workgroups.unwrap_or(DEFAULT_WORKGROUPS).max(1);
-        let limits = device.limits();
-        if workgroups > limits.max_compute_workgroups_per_dimension {
-            return Err(RunError::TooLarge {
-                what: "workgroup count",
-                needed: u64::from(workgroups),
-                limit: u64::from(limits.max_compute_workgroups_per_dimension),
-            });
-        }
+        limits::check_plan(plan, &device.limits(), workgroups)?;
         let capacities: Vec<u32> = plan
             .queues
             .iter()
@@ -285,138 +230,8 @@ impl Executor {
         self.attempt(strategy, seeds, resources.as_ref())
     }
 
-    /// Runs like [`run_with`](Self::run_with), but on a queue overflow grows
-    /// the overflowing queues and runs again from a clean state (see
-    /// [`Retry`]). The report counts the attempts. Fails with the last
-    /// overflow once `retry.max_attempts` are spent, with
-    /// [`RunError::TooLarge`] when the grown queues no longer fit the device,
-    /// and at once on any other error.
-    pub fn run_with_retry(
-        &mut self,
-        strategy: Strategy,
-        seeds: &Seeds,
-        bindings: &[Binding<'_>],
-        mut retry: Retry<'_>,
-    ) -> Result<RunReport, RunError> {
-        let resources = self.resource_bind_group(bindings)?;
-        let mut attempt = 1;
-        loop {
-            match self.attempt(strategy, seeds, resources.as_ref()) {
-                Ok(mut report) => {
-                    report.attempts = attempt;
-                    return Ok(report);
-                }
-                Err(RunError::QueueOverflow { report, .. }) if attempt < retry.max_attempts => {
-                    let capacities = report
-                        .procedures
-                        .iter()
-                        .map(|p| {
-                            if p.dropped == 0 {
-                                return p.capacity;
-                            }
-                            let needed = p
-                                .needed_at_least
-                                .max(2 * u64::from(p.capacity))
-                                .min(1 << 31);
-                            (needed as u32).next_power_of_two()
-                        })
-                        .collect();
-                    log::info!(
-                        "attempt {attempt} overflowed; retrying with capacities {capacities:?}"
-                    );
-                    self.rebuild_state(capacities, self.tuning)?;
-                    (retry.reset)(&self.device, &self.queue);
-                    attempt += 1;
-                }
-                Err(RunError::TooManySeeds {
-                    procedure, seeds, ..
-                }) if attempt < retry.max_attempts => {
-                    let mut capacities = self.state.capacities.clone();
-                    if let Some(q) = self
-                        .compiled
-                        .plan
-                        .queues
-                        .iter()
-                        .position(|q| q.name == procedure)
-                    {
-                        capacities[q] = (seeds.min(1 << 31) as u32).next_power_of_two();
-                    }
-                    log::info!(
-                        "attempt {attempt}: {seeds} seeds for `{procedure}`; retrying with capacities {capacities:?}"
-                    );
-                    self.rebuild_state(capacities, self.tuning)?;
-                    attempt += 1;
-                }
-                Err(RunError::LoopLimit { waits, .. }) if attempt < retry.max_attempts => {
-                    // The driver cut a loop (llvmpipe): the megakernel's
-                    // workgroups leave sooner with a smaller iteration budget,
-                    // which changes the dispatches, never the results. At a
-                    // budget of 1 (and under Rounds) the same configuration
-                    // runs again: a cut under CPU contention may not recur.
-                    let mut tuning = self.tuning;
-                    if strategy == Strategy::Megakernel && tuning.iteration_budget > 1 {
-                        tuning.iteration_budget = if tuning.iteration_budget == u32::MAX {
-                            Quirks::of_device(&self.device)
-                                .default_iteration_budget(self.compiled.plan.chunks_per_batch)
-                                .unwrap_or(64)
-                        } else {
-                            tuning.iteration_budget / 2
-                        };
-                    }
-                    log::info!(
-                        "attempt {attempt}: {waits} loop(s) cut by the driver; retrying with an iteration budget of {}",
-                        tuning.iteration_budget
-                    );
-                    self.rebuild_state(self.state.capacities.clone(), tuning)?;
-                    (retry.reset)(&self.device, &self.queue);
-                    attempt += 1;
-                }
-                Err(error) => return Err(error),
-            }
-        }
-    }
-
-    /// Reallocates the queues with `capacities` and `tuning`, which later
-    /// runs keep.
-    fn rebuild_state(&mut self, capacities: Vec<u32>, tuning: Tuning) -> Result<(), RunError> {
-        self.state = QueueState::new(
-            &self.device,
-            &self.queue,
-            &self.compiled,
-            &self.layouts,
-            capacities,
-            tuning,
-        )?;
-        self.tuning = tuning;
-        Ok(())
-    }
-
-    /// What to change after a loop limit, for the strategy and configuration
-    /// that were used.
-    fn loop_limit_advice(&self, strategy: Strategy) -> String {
-        let chunks = self.compiled.plan.chunks_per_batch;
-        let budget = self.tuning.iteration_budget;
-        let shorten = format!(
-            "the bodies' own loops are too long for the driver: shorten them, or compile with fewer chunks per batch (now {chunks})"
-        );
-        match strategy {
-            Strategy::Rounds { .. } => {
-                format!("Under Rounds each workgroup runs one batch per dispatch, so {shorten}.")
-            }
-            Strategy::Megakernel if budget == u32::MAX => {
-                "The megakernel ran without an iteration budget: `Executor::run_with_retry` sets one, or set `ExecutorConfig::iteration_budget` (e.g. 64).".to_owned()
-            }
-            Strategy::Megakernel if budget > 1 => format!(
-                "`Executor::run_with_retry` runs again with half the iteration budget (now {budget}); by hand, set `ExecutorConfig::iteration_budget` below {budget}."
-            ),
-            Strategy::Megakernel => format!(
-                "Every workgroup already leaves after one batch (iteration budget 1), so {shorten}."
-            ),
-        }
-    }
-
     /// One run from the seeds to the end of the work.
-    fn attempt(
+    pub(super) fn attempt(
         &mut self,
         strategy: Strategy,
         seeds: &Seeds,
@@ -434,6 +249,29 @@ impl Executor {
         let deadline = start.checked_add(self.timeout);
         let mut gpu_time = self.timestamps.as_ref().map(|_| Duration::ZERO);
         let mut submissions = 0u32;
+        // What the report is built from; `submissions` and the times are
+        // filled in when it is.
+        let facts = |submissions, gpu_time| outcome::RunFacts {
+            plan: &self.compiled.plan,
+            strategy,
+            capacities: &self.state.capacities,
+            seeded: &seeded,
+            workgroups: self.tuning.workgroups,
+            submissions,
+            wall_time: start.elapsed(),
+            gpu_time,
+        };
+        // The control words of the last submission read back, for the
+        // partial report of a run that does not finish.
+        let mut last: Option<Vec<u32>> = None;
+        let partial = |last: &Option<Vec<u32>>, submissions, gpu_time| {
+            last.as_ref().map(|counters| {
+                (
+                    outcome::report(&facts(submissions, gpu_time), counters),
+                    counters[control::LOOPS_CUT as usize],
+                )
+            })
+        };
         let counters = loop {
             let mut encoder = self
                 .device
@@ -463,26 +301,35 @@ impl Executor {
                 encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
             }
             let submission = self.queue.submit([encoder.finish()]);
-            submissions += 1;
             let remaining = deadline.map_or(LONGEST_WAIT, |deadline| {
                 deadline.saturating_duration_since(Instant::now())
             });
-            // A timeout reports the configured limit, not the time that was left.
-            let limit = |error| match error {
-                RunError::Timeout(_) => RunError::Timeout(self.timeout),
-                other => other,
-            };
+            // A run that does not finish reports the configured limit (not
+            // the time that was left) and the counters of the submissions
+            // that did.
             let bytes = map_read(
                 &self.device,
                 &self.state.control_readback,
                 submission.clone(),
                 remaining,
             )
-            .map_err(limit)?;
+            .map_err(|error| {
+                outcome::interrupted(error, self.timeout, partial(&last, submissions, gpu_time))
+            })?;
+            submissions += 1;
             let counters: Vec<u32> = bytemuck::cast_slice(&bytes).to_vec();
             if let (Some(t), Some(total)) = (&self.timestamps, gpu_time.as_mut()) {
-                let stamps =
-                    map_read(&self.device, &t.readback, submission, remaining).map_err(limit)?;
+                // The counters of this submission are in: a failure now
+                // still reports them.
+                let stamps = map_read(&self.device, &t.readback, submission, remaining).map_err(
+                    |error| {
+                        outcome::interrupted(
+                            error,
+                            self.timeout,
+                            partial(&Some(counters.clone()), submissions, Some(*total)),
+                        )
+                    },
+                )?;
                 let stamps: &[u64] = bytemuck::cast_slice(&stamps);
                 let ticks = stamps[1].saturating_sub(stamps[0]) as f64;
                 *total += Duration::from_nanos((ticks * t.period_ns) as u64);
@@ -497,92 +344,23 @@ impl Executor {
             // budget (or a driver ended the persistent loop early, between
             // batches, so nothing is lost), or the batch of rounds ended. The
             // queues persist, so submit again.
+            last = Some(counters);
             if deadline.is_some_and(|deadline| Instant::now() >= deadline) {
-                return Err(RunError::Timeout(self.timeout));
-            }
-        };
-        let report = RunReport {
-            strategy,
-            procedures: self
-                .compiled
-                .plan
-                .queues
-                .iter()
-                .enumerate()
-                .map(|(q, queue)| {
-                    let word = |field| u64::from(counters[control::index(q, field)]);
-                    ProcedureStats {
-                        name: queue.name.clone(),
-                        capacity: self.state.capacities[q],
-                        seeded: seeded[q],
-                        executed: word(control::EXECUTED),
-                        enqueued: word(control::ENQUEUED),
-                        high_water: word(control::HIGH_WATER),
-                        dropped: word(control::DROPPED),
-                        needed_at_least: word(control::NEEDED),
-                        fan_out_overflow: word(control::FANOUT_OVERFLOW),
-                    }
-                })
-                .collect(),
-            workgroups: self.tuning.workgroups,
-            dispatches: submissions,
-            rounds: match strategy {
-                Strategy::Megakernel => 0,
-                Strategy::Rounds { .. } => counters[control::ROUNDS as usize],
-            },
-            attempts: 1,
-            wall_time: start.elapsed(),
-            gpu_time,
-        };
-        let loops_cut = counters[control::LOOPS_CUT as usize];
-        if let Some(p) = report.procedures.iter().find(|p| p.dropped > 0) {
-            let mut also: Vec<String> = report
-                .procedures
-                .iter()
-                .filter(|q| q.dropped > 0 && q.name != p.name)
-                .map(|q| format!("queue `{}` dropped {} items", q.name, q.dropped))
-                .collect();
-            if loops_cut > 0 {
-                also.push(format!(
-                    "the driver's loop limit cut {loops_cut} loop(s) short, likely because the full queue kept workgroups waiting"
+                return Err(outcome::interrupted(
+                    RunError::Timeout {
+                        limit: self.timeout,
+                        report: None,
+                        also: Vec::new(),
+                    },
+                    self.timeout,
+                    partial(&last, submissions, gpu_time),
                 ));
             }
-            also.extend(
-                report
-                    .procedures
-                    .iter()
-                    .filter(|q| q.fan_out_overflow > 0)
-                    .map(|q| {
-                        format!(
-                            "{} enqueues into `{}` exceeded the declared fan-out",
-                            q.fan_out_overflow, q.name
-                        )
-                    }),
-            );
-            return Err(RunError::QueueOverflow {
-                procedure: p.name.clone(),
-                capacity: p.capacity,
-                dropped: p.dropped,
-                needed_at_least: p.needed_at_least.max(u64::from(p.capacity) + 1),
-                also,
-                report: Box::new(report),
-            });
-        }
-        if loops_cut > 0 {
-            return Err(RunError::LoopLimit {
-                waits: loops_cut,
-                advice: self.loop_limit_advice(strategy),
-                report: Box::new(report),
-            });
-        }
-        if let Some(p) = report.procedures.iter().find(|p| p.fan_out_overflow > 0) {
-            return Err(RunError::FanOutExceeded {
-                procedure: p.name.clone(),
-                excess: p.fan_out_overflow,
-                report: Box::new(report),
-            });
-        }
-        Ok(report)
+        };
+        let report = outcome::report(&facts(submissions, gpu_time), &counters);
+        outcome::judge(report, counters[control::LOOPS_CUT as usize], || {
+            self.loop_limit_advice(strategy)
+        })
     }
 
     /// Timestamp writes for a pass that is the first and/or last of a submission.

@@ -2,8 +2,12 @@
 
 pub(crate) mod config;
 pub(crate) mod executor;
+pub(crate) mod growth;
+pub(crate) mod limits;
+pub(crate) mod outcome;
 pub(crate) mod report;
 pub(crate) mod resources;
+pub(crate) mod retry;
 pub(crate) mod seeds;
 pub(crate) mod state;
 pub(crate) mod strategy;

@@ -22,10 +22,36 @@ pub struct ProcedureStats {
     pub high_water: u64,
     /// Items that did not fit into the queue (overflow).
     pub dropped: u64,
-    /// A lower bound on the capacity this run needed, if it overflowed.
+    /// A lower bound on the capacity this run needed, if it overflowed: the
+    /// largest fill one refused reservation asked for.
     pub needed_at_least: u64,
+    /// The capacity that would have held every item this run put into the
+    /// queue or had refused, if it overflowed (0 otherwise): the high-water
+    /// mark plus every refused item. Refused items never ran, so the
+    /// children they would have enqueued come on top of it in a run that
+    /// accepts them (docs/scheduler.md, "When a run fails").
+    #[serde(default)]
+    pub needed: u64,
     /// Enqueues beyond the staging room of the declared fan-out.
     pub fan_out_overflow: u64,
+}
+
+/// Out-of-bounds indices of one procedure into one resource, found in
+/// checked mode ([`CompileOptions::checked`](crate::CompileOptions::checked)).
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct BoundsViolation {
+    /// The procedure whose item (its body or the library code it called)
+    /// made the access.
+    pub procedure: String,
+    /// The resource indexed.
+    pub resource: String,
+    /// Out-of-bounds indices counted (every thread's access counts).
+    pub count: u64,
+    /// The first offending index recorded.
+    pub first_index: u32,
+    /// The bound it was checked against: the bound buffer's length in
+    /// elements.
+    pub bound: u32,
 }
 
 /// The report of one run.
@@ -35,6 +61,9 @@ pub struct RunReport {
     pub strategy: crate::Strategy,
     /// One entry per procedure, in declaration order.
     pub procedures: Vec<ProcedureStats>,
+    /// Out-of-bounds accesses found in checked mode (always empty without).
+    #[serde(default)]
+    pub bounds_violations: Vec<BoundsViolation>,
     /// Workgroups launched per dispatch.
     pub workgroups: u32,
     /// Submissions it took: megakernel dispatches (more than one only with an

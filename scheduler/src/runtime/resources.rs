@@ -9,6 +9,7 @@ use crate::readback::read_buffer;
 use crate::{BufferShape, Executor, Resource, ResourceKind, RunError};
 
 use super::executor::Binding;
+use super::limits;
 
 /// Buffers the executor owns, by resource name.
 #[derive(Debug, Default)]
@@ -192,13 +193,21 @@ impl Executor {
                     .ok_or_else(|| RunError::Binding(format!("resource `{name}` is not bound")))?
                     .as_entire_binding(),
             };
-            if let (Some(shape), wgpu::BindingResource::Buffer(range)) = (resource.shape(), &bound)
-            {
+            if let wgpu::BindingResource::Buffer(range) = &bound {
                 let bytes = range.size.map_or_else(
                     || range.buffer.size().saturating_sub(range.offset),
                     |size| size.get(),
                 );
-                if bytes < shape.min_bytes() {
+                limits::check_binding(
+                    name,
+                    resource.kind(),
+                    range.offset,
+                    bytes,
+                    &self.device.limits(),
+                )?;
+                if let Some(shape) = resource.shape()
+                    && bytes < shape.min_bytes()
+                {
                     return Err(RunError::BufferTooSmall {
                         resource: name.to_owned(),
                         bytes,

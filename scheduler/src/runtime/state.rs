@@ -118,7 +118,7 @@ impl QueueState {
             U::STORAGE | U::COPY_DST,
         );
         let staging = buffer("scheduler staging", memory.staging_bytes, U::STORAGE);
-        let header_bytes = 4 * u64::from(control::words(plan.queues.len()));
+        let header_bytes = 4 * u64::from(plan.control_words());
         if memory.control_bytes - header_bytes > binding_limit {
             return Err(RunError::TooLarge {
                 what: "control buffer",
@@ -150,7 +150,7 @@ impl QueueState {
 
         // Slots and then markers (two per slot) are laid out queue after queue.
         let mut first_slot_word = 0u32;
-        let mut first_marker_word = control::words(plan.queues.len());
+        let mut first_marker_word = plan.control_words();
         let queue_configs: Vec<QueueConfig> = plan
             .queues
             .iter()
@@ -271,7 +271,7 @@ impl QueueState {
 
         // Stale payload in the queues is harmless: only tickets below
         // `published` are ever read, so the queues need no clearing.
-        let mut control_words = vec![0u32; control::words(n) as usize];
+        let mut control_words = vec![0u32; plan.control_words() as usize];
         for (q, config) in self.queue_configs.iter().enumerate() {
             if counts[q] > 0 {
                 let offset = 4 * u64::from(config.first_slot_word);
