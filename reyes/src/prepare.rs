@@ -199,14 +199,13 @@ impl PreparedScene {
                 if !points.iter().all(|p| p.is_finite()) {
                     return Err(overflow("transform"));
                 }
-                if let Some(close) = close {
-                    if !patch
+                if let Some(close) = close
+                    && !patch
                         .points
                         .iter()
                         .all(|&p| close.transform_point3(p).is_finite())
-                    {
-                        return Err(overflow("transform_close"));
-                    }
+                {
+                    return Err(overflow("transform_close"));
                 }
                 if degenerate_patch(&points) {
                     skipped_degenerate_patches += 1;

@@ -1113,13 +1113,13 @@ impl Scene {
             .filter_map(|(i, o)| o.displacement.as_ref().map(|d| (i, d)))
             .filter(|(_, d)| d.kind() == SourceKind::Wgsl)
             .filter_map(|(i, d)| d.wgsl.as_deref().map(|w| (i, w)));
-        if let Some((_, first)) = user_wgsl.next() {
-            if let Some((i, _)) = user_wgsl.find(|(_, w)| *w != first) {
-                return Err(invalid(
-                    &format!("objects[{i}].displacement.wgsl"),
-                    "differs from an earlier object's: a scene may use one user WGSL function (it is compiled into the megakernel)",
-                ));
-            }
+        if let Some((_, first)) = user_wgsl.next()
+            && let Some((i, _)) = user_wgsl.find(|(_, w)| *w != first)
+        {
+            return Err(invalid(
+                &format!("objects[{i}].displacement.wgsl"),
+                "differs from an earlier object's: a scene may use one user WGSL function (it is compiled into the megakernel)",
+            ));
         }
         for (i, light) in self.lights.iter().enumerate() {
             finite(&format!("lights[{i}].color"), light.color.to_array())?;

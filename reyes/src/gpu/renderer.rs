@@ -115,10 +115,10 @@ impl<'a> GpuRenderer<'a> {
                 .map(|w| (i, w))
         });
         let user = users.next();
-        if let Some((first, wgsl)) = user {
-            if let Some((other, _)) = users.find(|(_, w)| *w != wgsl) {
-                return Err(RenderError::ConflictingUserDisplacement { first, other });
-            }
+        if let Some((first, wgsl)) = user
+            && let Some((other, _)) = users.find(|(_, w)| *w != wgsl)
+        {
+            return Err(RenderError::ConflictingUserDisplacement { first, other });
         }
         let user = user.map(|(_, w)| w);
         let chunks = chunks_per_batch(self.gpu, &self.options, scene.samples_time_and_lens());
