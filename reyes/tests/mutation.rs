@@ -129,10 +129,16 @@ fn prepare_model(model: Model) -> Verdict {
     }
 }
 
-fn check_bpt(text: &str) -> Verdict {
-    match bpt::parse(text) {
+/// Parses a model, checks that writing it and parsing again gives it back,
+/// then prepares it: the checks of both model formats.
+fn check_model(
+    text: &str,
+    parse: fn(&str) -> Result<Model, reyes::load::LoadError>,
+    write: fn(&Model) -> String,
+) -> Verdict {
+    match parse(text) {
         Ok(model) => {
-            match bpt::parse(&bpt::write(&model)) {
+            match parse(&write(&model)) {
                 Ok(again) if again == model => {}
                 again => {
                     return Verdict::Broken(format!(
@@ -147,22 +153,12 @@ fn check_bpt(text: &str) -> Verdict {
     }
 }
 
+fn check_bpt(text: &str) -> Verdict {
+    check_model(text, bpt::parse, bpt::write)
+}
+
 fn check_bez(text: &str) -> Verdict {
-    match bez::parse(text) {
-        Ok(model) => {
-            match bez::parse(&bez::write(&model)) {
-                Ok(again) if again == model => {}
-                again => {
-                    return Verdict::Broken(format!(
-                        "write then parse does not give the model back: {:?}",
-                        again.err()
-                    ));
-                }
-            }
-            prepare_model(model)
-        }
-        Err(e) => Verdict::Rejected(messages(&e)),
-    }
+    check_model(text, bez::parse, bez::write)
 }
 
 fn check_scene(text: &str) -> Verdict {

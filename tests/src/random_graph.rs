@@ -559,6 +559,18 @@ fn has_cycle(targets: &[Vec<usize>]) -> bool {
     removed < n
 }
 
+/// Random graphs a test draws: 1 when replaying a seed (`TEST_SEED`), else
+/// `RANDOM_GRAPH_CASES`, else `default`.
+pub fn cases(default: usize) -> usize {
+    if std::env::var("TEST_SEED").is_ok() {
+        return 1;
+    }
+    std::env::var("RANDOM_GRAPH_CASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
 #[cfg(test)]
 mod unit {
     use super::*;

@@ -34,15 +34,10 @@ use scheduler::{
 };
 use tests::random_graph::{Counts, GenerateOptions, RandomGraph, SplitMix64};
 
-/// Cases per test: 1 when replaying a seed, else `RANDOM_GRAPH_CASES` or 4.
+/// Cases per test (see [`tests::random_graph::cases`]): each is two shader
+/// compiles.
 fn cases() -> usize {
-    if std::env::var("TEST_SEED").is_ok() {
-        return 1;
-    }
-    std::env::var("RANDOM_GRAPH_CASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(4)
+    tests::random_graph::cases(4)
 }
 
 /// The seed of one case, printed (and replayable) through `tests::seed`.

@@ -120,15 +120,10 @@ fn retry_past_loop_limits(
     }
 }
 
-/// Cases: `RANDOM_GRAPH_CASES` or 2 (each is two shader compiles).
+/// Cases per test (see [`tests::random_graph::cases`]): each is two shader
+/// compiles.
 fn cases() -> usize {
-    if std::env::var("TEST_SEED").is_ok() {
-        return 1;
-    }
-    std::env::var("RANDOM_GRAPH_CASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(2)
+    tests::random_graph::cases(2)
 }
 
 #[test]
