@@ -26,7 +26,7 @@ use reyes::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use reyes::gpu::{GpuOptions, GpuRenderer};
 use reyes::input::{InputKind, Limits};
 use reyes::model::Model;
-use reyes::prepare::PreparedScene;
+use reyes::prepare::{PreparedScene, far_plane_covering_motion};
 use reyes::scene::{CameraDesc, Dicing, Sampling, Scene, ShadingInterpolation};
 use reyes::stats::RenderStats;
 
@@ -631,11 +631,20 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
         .as_deref()
         .and_then(|p| p.extension())
         .is_none_or(|e| !(e.eq_ignore_ascii_case("toml") || e.eq_ignore_ascii_case("rib")));
-    if resized && is_model && scene.camera.is_some() {
+    let moved = args.spin.is_some() || args.move_by.is_some();
+    if is_model && (resized || moved) && scene.camera.is_some() {
         let models = scene.load_models()?;
-        let (lo, hi) = models[0].bounds();
-        let aspect = scene.resolution.width as f32 / scene.resolution.height.max(1) as f32;
-        scene.camera = Some(CameraDesc::framing(lo, hi, aspect));
+        if resized {
+            let (lo, hi) = models[0].bounds();
+            let aspect = scene.resolution.width as f32 / scene.resolution.height.max(1) as f32;
+            scene.camera = Some(CameraDesc::framing(lo, hi, aspect));
+        }
+        // The framing sees the model at open: its far plane must also
+        // cover where `--move` and `--spin` take it.
+        if let Some(mut camera) = scene.camera.filter(|_| moved && !camera_override) {
+            camera.far = far_plane_covering_motion(&camera, &scene, &models);
+            scene.camera = Some(camera);
+        }
     }
     let camera_moves = args.camera_move.is_some() || args.camera_pan.is_some();
     if camera_override || camera_moves {

@@ -230,11 +230,12 @@ impl PreparedScene {
                     objects: scene.objects.len(),
                     source,
                 };
-                let desc = CameraDesc::try_framing_points(
+                let mut desc = CameraDesc::try_framing_points(
                     patches.iter().flat_map(|p| p.points.iter().copied()),
                     width as f32 / height as f32,
                 )
                 .map_err(framing)?;
+                desc.far = far_plane_covering_motion(&desc, scene, models);
                 if let Some(reason) = desc.camera(width, height).matrix_problem() {
                     let (lo, hi) = patches
                         .iter()
@@ -358,5 +359,40 @@ impl PreparedScene {
     pub fn load(scene: &Scene) -> Result<PreparedScene, SceneError> {
         let models = scene.load_models()?;
         PreparedScene::new(scene, &models)
+    }
+}
+
+/// The far plane of the automatically framed camera `desc`, pushed back
+/// so that it also covers the control points of `scene`'s moving objects
+/// (`models`, one per object) at shutter close: the framing looks at the
+/// objects at open, and a point past the far plane is not seen. The
+/// margin beyond the farthest point is the one the framing leaves beyond
+/// the objects' centre. `reyes render` applies it to a framed model that
+/// `--move` or `--spin` sets in motion.
+pub fn far_plane_covering_motion(desc: &CameraDesc, scene: &Scene, models: &[Model]) -> f32 {
+    let forward = (desc.target - desc.eye).normalize();
+    let margin = desc.far - (desc.target - desc.eye).length();
+    let farthest = scene
+        .objects
+        .iter()
+        .zip(models)
+        .filter_map(|(object, model)| {
+            let close = object.transform_close.as_ref()?;
+            Some((object.transform.interpolate(close, scene.shutter), model))
+        })
+        .flat_map(|(close, model)| {
+            model
+                .patches
+                .iter()
+                .flat_map(move |patch| patch.points.map(|p| close.transform_point3(p)))
+        })
+        .map(|p| (p - desc.eye).dot(forward))
+        .fold(f32::NEG_INFINITY, f32::max);
+    let far = farthest + margin;
+    // A non-finite depth (or nothing moving) keeps the framing's plane.
+    if far.is_finite() {
+        desc.far.max(far)
+    } else {
+        desc.far
     }
 }

@@ -462,3 +462,39 @@ fn orthographic_cameras_parse_and_validate() {
         "{unknown}"
     );
 }
+
+/// The automatic camera frames the objects at shutter open; its far plane
+/// also covers where they move, so a teapot receding 200 units along the
+/// view is not cut off at the framing's far plane (the distance plus four
+/// radii, about 25 units here).
+#[test]
+fn the_automatic_far_plane_covers_the_motion() {
+    let scene = Scene::from_toml_str(
+        r#"
+[[objects]]
+model = "teapot"
+[objects.transform_close]
+translate = [0.0, 200.0, 0.0]
+"#,
+    )
+    .unwrap();
+    let prepared = PreparedScene::load(&scene).unwrap();
+    let camera = &prepared.camera;
+    let forward = (camera.target - camera.eye).normalize();
+    let teapot = Model::teapot();
+    let farthest_at_close = teapot
+        .patches
+        .iter()
+        .flat_map(|p| p.points)
+        .map(|p| (p + Vec3::new(0.0, 200.0, 0.0) - camera.eye).dot(forward))
+        .fold(f32::NEG_INFINITY, f32::max);
+    assert!(
+        camera.far > farthest_at_close,
+        "far plane {} in front of the farthest point at close, {farthest_at_close}",
+        camera.far
+    );
+    // A still teapot keeps the framing's plane.
+    let still = Scene::from_toml_str("[[objects]]\nmodel = \"teapot\"\n").unwrap();
+    let still = PreparedScene::load(&still).unwrap();
+    assert!(still.camera.far < 40.0, "{}", still.camera.far);
+}

@@ -17,8 +17,10 @@
 // lens), each sample blending its triangle's corner colours (smooth
 // shading) or taking the micropolygon's mean colour (constant shading,
 // the grids picture, nearest sampling).
-// Scratch: POINT_WORDS (9) words per point: px, py, depth, clip w, packed
-// colour, and at close px, py, depth, clip w.
+// Scratch: POINT_WORDS (9) words per point: the clip position (x, y, z,
+// w), the packed colour, and the clip position at close. Phase 2 projects
+// them (a corner that crosses the near or far plane during the shutter is
+// seen while it is in view: raster5d.wgsl moving_point).
 // llvmpipe turns every workgroupBarrier into a coroutine suspension whose
 // compile cost grows with the state that lives across it: the phases hand
 // their results over in scratch only.
@@ -64,11 +66,7 @@ if (valid) {
         }
         let w = POINT_WORDS * k;
         let clip = to_clip(moved);
-        let open = to_pixel(clip);
-        scratch_store_f32(slot, w, open.x);
-        scratch_store_f32(slot, w + 1u, open.y);
-        scratch_store_f32(slot, w + 2u, open.z);
-        scratch_store_f32(slot, w + 3u, clip.w);
+        scratch_store_clip(slot, w, clip);
         var color = vec3<f32>(0.0);
         switch frame.aov {
             case AOV_DEPTH: {
@@ -88,13 +86,10 @@ if (valid) {
                 close_position = motion_close(object, moved);
             }
             let close_clip = to_clip(close_position);
-            let close = to_pixel(close_clip);
-            scratch_store_f32(slot, w + 5u, close.x);
-            scratch_store_f32(slot, w + 6u, close.y);
-            scratch_store_f32(slot, w + 7u, close.z);
-            scratch_store_f32(slot, w + 8u, close_clip.w);
-            let motion = dist2(open.xy, close.xy);
-            let blur = max(abs(coc(clip.w)), abs(coc(close_clip.w)));
+            scratch_store_clip(slot, w + 5u, close_clip);
+            let seen = moving_point(clip, close_clip);
+            let motion = dist2(seen.open.xy, seen.close.xy);
+            let blur = moving_blur(seen);
             // NaN extents (a point behind the eye) are ignored, as f32::max does.
             if (!is_nan_f32(motion)) {
                 atomicMax(&grid_extent[2u * slot], bitcast<u32>(motion));
@@ -153,14 +148,16 @@ if (valid && thread < nu * nv) {
         if (thread == 0u && mode == SAMPLING_INTERLEAVE) {
             atomicAdd(&stats[STAT_INTERLEAVE_GRIDS], 1u);
         }
-        let ma = moving_point(a.xyz, a.w, grid_point_close(slot, wa).xyz, grid_point_close(slot, wa).w);
-        let mb = moving_point(b.xyz, b.w, grid_point_close(slot, wb).xyz, grid_point_close(slot, wb).w);
-        let mc = moving_point(c.xyz, c.w, grid_point_close(slot, wc).xyz, grid_point_close(slot, wc).w);
-        let md = moving_point(d.xyz, d.w, grid_point_close(slot, wd).xyz, grid_point_close(slot, wd).w);
-        if (draw_abc) {
+        let ma = moving_point(grid_clip(slot, wa), grid_clip(slot, wa + 5u));
+        let mb = moving_point(grid_clip(slot, wb), grid_clip(slot, wb + 5u));
+        let mc = moving_point(grid_clip(slot, wc), grid_clip(slot, wc + 5u));
+        let md = moving_point(grid_clip(slot, wd), grid_clip(slot, wd + 5u));
+        // Faces are culled as seen when the corners come into view (at
+        // open, for corners visible during the whole shutter).
+        if (drawn_face(ma.open.xy, mb.open.xy, mc.open.xy, front)) {
             raster_triangle_5d(mode, ma, mb, mc, colors_abc, &counts);
         }
-        if (draw_acd) {
+        if (drawn_face(ma.open.xy, mc.open.xy, md.open.xy, front)) {
             raster_triangle_5d(mode, ma, mc, md, colors_acd, &counts);
         }
     } else if (frame.sampling == SAMPLING_NEAREST) {

@@ -579,15 +579,23 @@ fn inside(e: f32, a: vec2<f32>, b: vec2<f32>) -> bool {
     return e > 0.0 || (e == 0.0 && owns(a, b));
 }
 
-// A projected grid point at shutter open, (px, py, depth, clip w), from
-// DiceShadeSample's scratch words w..w+4.
-fn grid_point(slot: u32, w: u32) -> vec4<f32> {
+// A grid point's clip position in DiceShadeSample's scratch words
+// w..w+4 (at open; at close from w + 5).
+fn scratch_store_clip(slot: u32, w: u32, clip: vec4<f32>) {
+    scratch_store_f32(slot, w, clip.x);
+    scratch_store_f32(slot, w + 1u, clip.y);
+    scratch_store_f32(slot, w + 2u, clip.z);
+    scratch_store_f32(slot, w + 3u, clip.w);
+}
+
+fn grid_clip(slot: u32, w: u32) -> vec4<f32> {
     return vec4<f32>(scratch_load_f32(slot, w), scratch_load_f32(slot, w + 1u), scratch_load_f32(slot, w + 2u), scratch_load_f32(slot, w + 3u));
 }
 
-// The same point at shutter close, from words w+5..w+9.
-fn grid_point_close(slot: u32, w: u32) -> vec4<f32> {
-    return grid_point(slot, w + 5u);
+// A projected grid point at shutter open, (px, py, depth, clip w).
+fn grid_point(slot: u32, w: u32) -> vec4<f32> {
+    let clip = grid_clip(slot, w);
+    return vec4<f32>(to_pixel(clip), clip.w);
 }
 
 // reyes::color::average_rgb10: a micropolygon's colour from its corners'.

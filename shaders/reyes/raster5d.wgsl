@@ -5,12 +5,16 @@
 // (reyes::uvt::UvtTables) at frame.uvt_* in height_texels. Every loop is
 // checked afterwards: one the driver cut short counts in STAT_LOOPS_CUT.
 
-// A grid point at shutter open and close (reyes::reference::raster5d::MovingPoint).
+// A grid point over the part of the shutter during which it can be seen
+// (reyes::reference::raster5d::MovingPoint): open and close are its
+// projections at t_open and t_close.
 struct Moving {
     open: vec3<f32>,
     close: vec3<f32>,
     coc_open: f32,
     coc_close: f32,
+    t_open: f32,
+    t_close: f32,
     usable: bool,
 }
 
@@ -18,14 +22,92 @@ fn usable_end(p: vec3<f32>, w: f32) -> bool {
     return w > NEAR_EPS && p.z >= 0.0 && p.z <= 1.0;
 }
 
-fn moving_point(open: vec3<f32>, w_open: f32, close: vec3<f32>, w_close: f32) -> Moving {
-    return Moving(open, close, coc(w_open), coc(w_close), usable_end(open, w_open) && usable_end(close, w_close));
+// One plane of reyes::reference::raster5d::visible_span: `f0` and `f1` are
+// a function of the clip position, linear in t and >= 0 on the visible
+// side, at open and close.
+fn clip_span(span: vec2<f32>, f0: f32, f1: f32) -> vec2<f32> {
+    if (f0 >= 0.0 && f1 >= 0.0) {
+        return span;
+    }
+    if (f0 < 0.0 && f1 < 0.0) {
+        return vec2<f32>(1.0, 0.0);
+    }
+    let t = f0 / (f0 - f1);
+    if (f0 < 0.0) {
+        return vec2<f32>(max(span.x, t), span.y);
+    }
+    return vec2<f32>(span.x, min(span.y, t));
+}
+
+// The shutter times (lo, hi) at which the clip position moving linearly
+// from c0 to c1 is in front of the near plane and not past the far plane;
+// lo > hi when there are none.
+fn visible_span(c0: vec4<f32>, c1: vec4<f32>) -> vec2<f32> {
+    if (!(all(vec4<bool>(is_finite_f32(c0.x), is_finite_f32(c0.y), is_finite_f32(c0.z), is_finite_f32(c0.w)))
+        && all(vec4<bool>(is_finite_f32(c1.x), is_finite_f32(c1.y), is_finite_f32(c1.z), is_finite_f32(c1.w))))) {
+        return vec2<f32>(1.0, 0.0);
+    }
+    var span = vec2<f32>(0.0, 1.0);
+    span = clip_span(span, c0.z, c1.z);
+    span = clip_span(span, c0.w - c0.z, c1.w - c1.z);
+    span = clip_span(span, c0.w - NEAR_EPS, c1.w - NEAR_EPS);
+    return span;
+}
+
+// The clip position at shutter time t, exactly an end at 0 and 1.
+fn clip_at(c0: vec4<f32>, c1: vec4<f32>, t: f32) -> vec4<f32> {
+    if (t == 0.0) {
+        return c0;
+    }
+    if (t == 1.0) {
+        return c1;
+    }
+    return c0 + (c1 - c0) * t;
+}
+
+fn moving_point(clip_open: vec4<f32>, clip_close: vec4<f32>) -> Moving {
+    let span = visible_span(clip_open, clip_close);
+    let c0 = clip_at(clip_open, clip_close, span.x);
+    let c1 = clip_at(clip_open, clip_close, span.y);
+    var open = to_pixel(c0);
+    var close = to_pixel(c1);
+    // A clipped end lies on the near or far plane: rounding must not push
+    // its depth out of [0, 1].
+    if (span.x > 0.0) {
+        open.z = clamp(open.z, 0.0, 1.0);
+    }
+    if (span.y < 1.0) {
+        close.z = clamp(close.z, 0.0, 1.0);
+    }
+    let usable = span.x <= span.y && usable_end(open, c0.w) && usable_end(close, c1.w);
+    return Moving(open, close, coc(c0.w), coc(c1.w), span.x, span.y, usable);
+}
+
+fn visible_at(m: Moving, t: f32) -> bool {
+    return t >= m.t_open && t <= m.t_close;
+}
+
+// Where shutter time t lies between m.open (0) and m.close (1), clamped.
+fn moving_param(m: Moving, t: f32) -> f32 {
+    if (m.t_open == 0.0 && m.t_close == 1.0) {
+        return t;
+    }
+    let length = m.t_close - m.t_open;
+    if (length > 0.0) {
+        return clamp((t - m.t_open) / length, 0.0, 1.0);
+    }
+    return 0.0;
+}
+
+fn moving_coc(m: Moving, t: f32) -> f32 {
+    return m.coc_open + (m.coc_close - m.coc_open) * moving_param(m, t);
 }
 
 // Where a sample at time t through lens position `lens` sees the point.
 fn moving_at(m: Moving, t: f32, lens: vec2<f32>) -> vec3<f32> {
-    let p = m.open + (m.close - m.open) * t;
-    let c = m.coc_open + (m.coc_close - m.coc_open) * t;
+    let s = moving_param(m, t);
+    let p = m.open + (m.close - m.open) * s;
+    let c = m.coc_open + (m.coc_close - m.coc_open) * s;
     return vec3<f32>(p.x + lens.x * c, p.y + lens.y * c, p.z);
 }
 
@@ -33,8 +115,8 @@ fn moving_blur(m: Moving) -> f32 {
     return max(abs(m.coc_open), abs(m.coc_close));
 }
 
-// A triangle at one time and lens position; `ok` is false when it has no
-// area there.
+// A triangle at one time and lens position; `ok` is false when a corner
+// cannot be seen then or the triangle has no area there.
 struct Placed {
     a: vec3<f32>,
     b: vec3<f32>,
@@ -59,6 +141,9 @@ fn uvt_pixel_at(x: u32, y: u32, s: u32) -> u32 {
 
 fn place(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, tl: vec3<f32>) -> Placed {
     let a = moving_at(ma, tl.x, tl.yz);
+    if (!(visible_at(ma, tl.x) && visible_at(mb, tl.x) && visible_at(mc, tl.x))) {
+        return Placed(a, a, a, colors, 0.0, false);
+    }
     var b = moving_at(mb, tl.x, tl.yz);
     var c = moving_at(mc, tl.x, tl.yz);
     let area = edge(a.xy, b.xy, c.xy);
@@ -253,6 +338,9 @@ fn raster_interleave(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, coun
 fn raster_interval(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
     let spp = frame.spp;
     let n_f = f32(spp);
+    // The times at which all three corners can be seen.
+    let seen_from = max(max(max(0.0, ma.t_open), mb.t_open), mc.t_open);
+    let seen_until = min(min(min(1.0, ma.t_close), mb.t_close), mc.t_close);
     var i = 0u;
     loop {
         if (i >= spp) {
@@ -260,6 +348,10 @@ fn raster_interval(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts
         }
         let t0 = f32(i) / n_f;
         let t1 = f32(i + 1u) / n_f;
+        if (t1 < seen_from || t0 > seen_until) {
+            i += 1u;
+            continue;
+        }
         let a0 = moving_at(ma, t0, vec2<f32>(0.0));
         let a1 = moving_at(ma, t1, vec2<f32>(0.0));
         let b0 = moving_at(mb, t0, vec2<f32>(0.0));
@@ -269,9 +361,9 @@ fn raster_interval(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts
         let lo = min(min(min(a0.xy, a1.xy), min(b0.xy, b1.xy)), min(c0.xy, c1.xy));
         let hi = max(max(max(a0.xy, a1.xy), max(b0.xy, b1.xy)), max(c0.xy, c1.xy));
         var r = 0.0;
-        r = max(max(r, abs(ma.coc_open + (ma.coc_close - ma.coc_open) * t0)), abs(ma.coc_open + (ma.coc_close - ma.coc_open) * t1));
-        r = max(max(r, abs(mb.coc_open + (mb.coc_close - mb.coc_open) * t0)), abs(mb.coc_open + (mb.coc_close - mb.coc_open) * t1));
-        r = max(max(r, abs(mc.coc_open + (mc.coc_close - mc.coc_open) * t0)), abs(mc.coc_open + (mc.coc_close - mc.coc_open) * t1));
+        r = max(max(r, abs(moving_coc(ma, t0))), abs(moving_coc(ma, t1)));
+        r = max(max(r, abs(moving_coc(mb, t0))), abs(moving_coc(mb, t1)));
+        r = max(max(r, abs(moving_coc(mc, t0))), abs(moving_coc(mc, t1)));
         let range = pixel_range(lo - vec2<f32>(r), hi + vec2<f32>(r));
         if (range.ok) {
             let total = range.nx * range.ny;

@@ -422,15 +422,14 @@ fn dice_shade_sample(
     // algorithm (Adaptive decides per grid from its largest motion and blur).
     let moving = sampler.map(|sampler| {
         let motion = object.motion.as_ref();
-        let points: Vec<MovingPoint> = screen
+        let points: Vec<MovingPoint> = grid
+            .positions
             .iter()
-            .zip(&grid.positions)
-            .map(|(open, &position)| {
+            .map(|&position| {
                 let close_position = motion.map_or(position, |m| m.close(position));
-                let clip = *view_proj * close_position.extend(1.0);
-                let close = scene.camera.to_pixel(clip);
-                let coc = [scene.lens.coc(open.w), scene.lens.coc(clip.w)];
-                MovingPoint::new(open.pixel, open.w, close, clip.w, coc)
+                let clip_open = *view_proj * position.extend(1.0);
+                let clip_close = *view_proj * close_position.extend(1.0);
+                MovingPoint::new(clip_open, clip_close, &scene.camera, &scene.lens)
             })
             .collect();
         let extent = |f: fn(&MovingPoint) -> f32| points.iter().map(f).fold(0.0f32, f32::max);
@@ -474,6 +473,10 @@ fn dice_shade_sample(
             let drawn = [front(pa, pb, pc), front(pa, pc, pd)];
             if let Some((sampler, points, mode)) = &moving {
                 let [a, b, c, d] = micropolygon_corners(points, size, i, j);
+                // Faces are culled as seen when the corners come into view
+                // (at open, for corners visible during the whole shutter).
+                let [pa, pb, pc, pd] = [a, b, c, d].map(|c| c.open.truncate());
+                let drawn = [front(pa, pb, pc), front(pa, pc, pd)];
                 for ((triangle, colors), drawn) in [[a, b, c], [a, c, d]]
                     .into_iter()
                     .zip(triangle_colors)

@@ -5,61 +5,180 @@
 //! A micropolygon corner is known at shutter open and close
 //! ([`MovingPoint`]); a sample with time `t` and lens position `l` sees it
 //! at `lerp(open, close, t) + l * lerp(coc_open, coc_close, t)` in pixels
-//! (depth interpolated likewise), see [`crate::motion`]. Each mode decides
+//! (depth interpolated likewise), see [`crate::motion`]. A corner that
+//! crosses the near or far plane during the shutter is seen only during
+//! the part of it in which it is in view, between the projections at the
+//! ends of that part. Each mode decides
 //! which (triangle position, sample) pairs to test; the test itself is the
 //! plain path's edge-function test with the top-left rule, done on the
 //! triangle positioned at the sample's time and lens position. Every tested
 //! pair counts in `samples_tested`, every hit in `samples_hit`.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 use super::framebuffer::Framebuffer;
 use super::raster::{SampleGrid, edge, inside, key_depth};
+use crate::camera::Camera;
 use crate::color::{blend_rgb10, pack_key};
+use crate::motion::PreparedLens;
 use crate::params::{ADAPTIVE_INTERLEAVE_BIAS, NEAR_EPS};
 use crate::scene::Sampling;
 use crate::stats::RenderStats;
 use crate::uvt::{INTERLEAVE_TILE, TimeLens, UvtTables};
 
-/// A grid point at shutter open and close.
+/// A grid point at shutter open and close, over the part of the shutter
+/// during which it can be seen.
+///
+/// A point can be a triangle corner while its clip position lies in front
+/// of the near plane and not past the far plane (`0 <= z <= w`, `w >
+/// NEAR_EPS`). Its clip position moves linearly between open and close, so
+/// that part is one interval `[t_open, t_close]` of the shutter
+/// ([`visible_span`]). [`Self::open`] and [`Self::close`] are the point's
+/// projections at the ends of that interval, and a sample at a time in it
+/// sees the point at the linear interpolation of the two (the papers'
+/// constant screen velocity). A point visible during the whole shutter
+/// has `t_open = 0` and `t_close = 1`, and its ends are its projections at
+/// open and close. A moving object that crosses the near or far plane
+/// during the shutter is thus sampled while it is in view, instead of
+/// vanishing for the whole shutter.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MovingPoint {
-    /// `(px, py, depth)` at open.
+    /// `(px, py, depth)` at `t_open`.
     pub open: Vec3,
-    /// `(px, py, depth)` at close.
+    /// `(px, py, depth)` at `t_close`.
     pub close: Vec3,
-    /// Signed circle of confusion (pixels) at open.
+    /// Signed circle of confusion (pixels) at `t_open`.
     pub coc_open: f32,
-    /// Signed circle of confusion (pixels) at close.
+    /// Signed circle of confusion (pixels) at `t_close`.
     pub coc_close: f32,
-    /// Whether the point can be a triangle corner at both ends: clip
-    /// `w > NEAR_EPS` and depth in `[0, 1]` at open and at close.
+    /// The shutter time from which the point can be seen.
+    pub t_open: f32,
+    /// The shutter time until which the point can be seen.
+    pub t_close: f32,
+    /// Whether the point can be seen at all: a non-empty interval whose
+    /// ends project with `w > NEAR_EPS` and depth in `[0, 1]`.
     pub usable: bool,
 }
 
+/// The interval `[lo, hi]` of shutter times `t` in `[0, 1]` at which the
+/// clip position `clip_open + (clip_close - clip_open) * t` lies in front
+/// of the near plane and not past the far plane; `lo > hi` when there is
+/// none (or an end is not finite). Shared with the WGSL `visible_span`.
+pub fn visible_span(clip_open: Vec4, clip_close: Vec4) -> (f32, f32) {
+    const NEVER: (f32, f32) = (1.0, 0.0);
+    if !(clip_open.is_finite() && clip_close.is_finite()) {
+        return NEVER;
+    }
+    // Each plane is a function of the clip position that is linear in t and
+    // >= 0 on the visible side.
+    let planes = [
+        (clip_open.z, clip_close.z),
+        (clip_open.w - clip_open.z, clip_close.w - clip_close.z),
+        (clip_open.w - NEAR_EPS, clip_close.w - NEAR_EPS),
+    ];
+    let mut span = (0.0f32, 1.0f32);
+    for (f0, f1) in planes {
+        if f0 >= 0.0 && f1 >= 0.0 {
+            continue;
+        }
+        if f0 < 0.0 && f1 < 0.0 {
+            return NEVER;
+        }
+        let t = f0 / (f0 - f1);
+        if f0 < 0.0 {
+            span.0 = span.0.max(t);
+        } else {
+            span.1 = span.1.min(t);
+        }
+    }
+    span
+}
+
+/// The clip position at shutter time `t`, exactly an end at 0 and 1.
+fn clip_at(clip_open: Vec4, clip_close: Vec4, t: f32) -> Vec4 {
+    if t == 0.0 {
+        clip_open
+    } else if t == 1.0 {
+        clip_close
+    } else {
+        clip_open + (clip_close - clip_open) * t
+    }
+}
+
 impl MovingPoint {
-    /// The point from its projections (`pixel`, clip `w`) and circles of
-    /// confusion at open and close.
-    pub fn new(open: Vec3, w_open: f32, close: Vec3, w_close: f32, coc: [f32; 2]) -> MovingPoint {
+    /// The point from its clip positions at open and close, projected by
+    /// `camera` and blurred by `lens`.
+    pub fn new(
+        clip_open: Vec4,
+        clip_close: Vec4,
+        camera: &Camera,
+        lens: &PreparedLens,
+    ) -> MovingPoint {
         let ok = |p: Vec3, w: f32| w > NEAR_EPS && (0.0..=1.0).contains(&p.z);
+        let (t_open, t_close) = visible_span(clip_open, clip_close);
+        let c0 = clip_at(clip_open, clip_close, t_open);
+        let c1 = clip_at(clip_open, clip_close, t_close);
+        let mut open = camera.to_pixel(c0);
+        let mut close = camera.to_pixel(c1);
+        // A clipped end lies on the near or far plane: rounding must not
+        // push its depth out of [0, 1].
+        if t_open > 0.0 {
+            open.z = open.z.clamp(0.0, 1.0);
+        }
+        if t_close < 1.0 {
+            close.z = close.z.clamp(0.0, 1.0);
+        }
         MovingPoint {
             open,
             close,
-            coc_open: coc[0],
-            coc_close: coc[1],
-            usable: ok(open, w_open) && ok(close, w_close),
+            coc_open: lens.coc(c0.w),
+            coc_close: lens.coc(c1.w),
+            t_open,
+            t_close,
+            usable: t_open <= t_close && ok(open, c0.w) && ok(close, c1.w),
         }
     }
 
-    /// Where a sample at `t` through lens position `lens` sees the point.
+    /// Whether a sample at shutter time `t` can see the point.
+    #[inline]
+    pub fn visible_at(&self, t: f32) -> bool {
+        t >= self.t_open && t <= self.t_close
+    }
+
+    /// Where shutter time `t` lies between [`Self::open`] (0) and
+    /// [`Self::close`] (1), clamped to them.
+    #[inline]
+    fn param(&self, t: f32) -> f32 {
+        if self.t_open == 0.0 && self.t_close == 1.0 {
+            // Visible during the whole shutter: exactly `t`.
+            return t;
+        }
+        let length = self.t_close - self.t_open;
+        if length > 0.0 {
+            ((t - self.t_open) / length).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// The signed circle of confusion at shutter time `t` (clamped to the
+    /// visible interval).
+    #[inline]
+    pub fn coc_at(&self, t: f32) -> f32 {
+        self.coc_open + (self.coc_close - self.coc_open) * self.param(t)
+    }
+
+    /// Where a sample at `t` through lens position `lens` sees the point
+    /// (`t` clamped to the visible interval).
     #[inline]
     pub fn at(&self, t: f32, lens: Vec2) -> Vec3 {
-        let p = self.open + (self.close - self.open) * t;
-        let coc = self.coc_open + (self.coc_close - self.coc_open) * t;
+        let s = self.param(t);
+        let p = self.open + (self.close - self.open) * s;
+        let coc = self.coc_open + (self.coc_close - self.coc_open) * s;
         Vec3::new(p.x + lens.x * coc, p.y + lens.y * coc, p.z)
     }
 
-    /// The point's screen motion during the shutter, in pixels.
+    /// The point's screen motion while it is visible, in pixels.
     pub fn motion(&self) -> f32 {
         (self.close.truncate() - self.open.truncate()).length()
     }
@@ -89,9 +208,13 @@ struct Placed {
     area: f32,
 }
 
-/// Positions triangle `corners` at `(t, lens)`; `None` when it has no area
-/// there (degenerate, or not finite).
+/// Positions triangle `corners` at `(t, lens)`; `None` when a corner cannot
+/// be seen at `t` or the triangle has no area there (degenerate, or not
+/// finite).
 fn place(corners: &[MovingPoint; 3], colors: [u32; 3], tl: TimeLens) -> Option<Placed> {
+    if !corners.iter().all(|c| c.visible_at(tl.t)) {
+        return None;
+    }
     let a = corners[0].at(tl.t, tl.lens);
     let b = corners[1].at(tl.t, tl.lens);
     let c = corners[2].at(tl.t, tl.lens);
@@ -327,8 +450,14 @@ pub fn raster_triangle_5d(
         }
         Mode5d::Interval => {
             let n = spp as f32;
+            // The times at which all three corners can be seen.
+            let seen_from = corners.iter().fold(0.0f32, |t, c| t.max(c.t_open));
+            let seen_until = corners.iter().fold(1.0f32, |t, c| t.min(c.t_close));
             for i in 0..spp {
                 let (t0, t1) = (i as f32 / n, (i + 1) as f32 / n);
+                if t1 < seen_from || t0 > seen_until {
+                    continue;
+                }
                 let mut lo = Vec2::INFINITY;
                 let mut hi = Vec2::NEG_INFINITY;
                 let mut r = 0.0f32;
@@ -337,8 +466,7 @@ pub fn raster_triangle_5d(
                     lo = lo.min(p0.truncate()).min(p1.truncate());
                     hi = hi.max(p0.truncate()).max(p1.truncate());
                     // The circle of confusion is linear in t: largest at an end.
-                    let coc = |t: f32| c.coc_open + (c.coc_close - c.coc_open) * t;
-                    r = r.max(coc(t0).abs()).max(coc(t1).abs());
+                    r = r.max(c.coc_at(t0).abs()).max(c.coc_at(t1).abs());
                 }
                 let Some([x0, y0, x1, y1]) =
                     pixel_range(lo - Vec2::splat(r), hi + Vec2::splat(r), width, height)
@@ -362,5 +490,67 @@ pub fn raster_triangle_5d(
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec4;
+
+    use super::visible_span;
+    use crate::params::NEAR_EPS;
+
+    /// A clip position with depth `z` and `w` (x and y do not matter).
+    fn clip(z: f32, w: f32) -> Vec4 {
+        Vec4::new(0.0, 0.0, z, w)
+    }
+
+    fn assert_span(open: Vec4, close: Vec4, expected: (f32, f32)) {
+        let (lo, hi) = visible_span(open, close);
+        assert!(
+            (lo - expected.0).abs() < 1e-6 && (hi - expected.1).abs() < 1e-6,
+            "{open} -> {close}: span ({lo}, {hi}), expected {expected:?}"
+        );
+    }
+
+    #[test]
+    fn a_point_in_view_at_both_ends_is_seen_during_the_whole_shutter() {
+        assert_eq!(visible_span(clip(0.5, 2.0), clip(1.0, 3.0)), (0.0, 1.0));
+    }
+
+    #[test]
+    fn a_point_crossing_the_near_plane_is_seen_until_it_does() {
+        // z goes from 1 to -3: it reaches 0 a quarter into the shutter.
+        assert_span(clip(1.0, 2.0), clip(-3.0, 0.5), (0.0, 0.25));
+        // And the other way round: seen from three quarters on.
+        assert_span(clip(-3.0, 0.5), clip(1.0, 2.0), (0.75, 1.0));
+    }
+
+    #[test]
+    fn a_point_receding_past_the_far_plane_is_seen_until_it_does() {
+        // w - z goes from 1 to -1: past the far plane from half-way.
+        assert_span(clip(1.0, 2.0), clip(5.0, 4.0), (0.0, 0.5));
+    }
+
+    #[test]
+    fn a_point_passing_behind_the_eye_is_seen_while_in_front_of_it() {
+        // Depth 0 (on the near plane) throughout, w from 1 to -1: seen
+        // while w > NEAR_EPS, up to just before half-way.
+        let (lo, hi) = visible_span(clip(0.0, 1.0), clip(0.0, -1.0));
+        assert_eq!(lo, 0.0);
+        let expected = (1.0 - NEAR_EPS) / 2.0;
+        assert!((hi - expected).abs() < 1e-7 && hi < 0.5, "{hi}");
+    }
+
+    #[test]
+    fn a_point_out_of_view_throughout_or_not_finite_is_never_seen() {
+        let never = |open, close| {
+            let (lo, hi) = visible_span(open, close);
+            assert!(lo > hi, "{open} -> {close}: ({lo}, {hi})");
+        };
+        never(clip(-1.0, 2.0), clip(-0.5, 3.0));
+        never(clip(3.0, 2.0), clip(4.0, 3.0));
+        never(clip(0.5, f32::NAN), clip(0.5, 1.0));
+        never(clip(0.5, 1.0), clip(f32::INFINITY, 1.0));
     }
 }
