@@ -374,6 +374,42 @@ fn cases() -> Vec<Case> {
             written: &["out.png"],
             ..BASE
         },
+        // D3: motion that leaves the view is sampled while in view; the
+        // frame used to be blank with 0 samples tested and no warning.
+        Case {
+            name: "D3 teapot receding past the far plane",
+            setup: motion_scenes,
+            args: cpu_tiny!["render", "far.toml", "--stats", "-o", "out.png"],
+            code: 0,
+            absent: &["covered no sample"],
+            written: &["out.png"],
+            ..BASE
+        },
+        Case {
+            name: "D3 teapot moving through the eye",
+            setup: motion_scenes,
+            args: cpu_tiny!["render", "behind.toml", "--stats", "-o", "out.png"],
+            code: 0,
+            absent: &["covered no sample"],
+            written: &["out.png"],
+            ..BASE
+        },
+        Case {
+            name: "D3 --move 100,0,0",
+            args: cpu_tiny!["render", "--move", "100,0,0", "--stats", "-o", "out.png"],
+            code: 0,
+            absent: &["covered no sample"],
+            written: &["out.png"],
+            ..BASE
+        },
+        Case {
+            name: "D3 --camera-pan 179",
+            args: cpu_tiny!["render", "--camera-pan", "179", "--stats", "-o", "out.png"],
+            code: 0,
+            absent: &["covered no sample"],
+            written: &["out.png"],
+            ..BASE
+        },
         // D4, D12: user WGSL that reaches the renderer's buffers, a
         // function named only in a comment, a barrier; refused on the
         // function's own source, at its own line, before any device is opened.
@@ -908,6 +944,18 @@ fn fine_scene(dir: &Path) -> Result<(), String> {
         "fine.toml",
         "dicing = \"fixed\"\ndice_threshold = 0.5\n[[objects]]\nmodel = \"teapot\"\n",
     )
+}
+
+/// The teapot seen from `[0, -20, 1.5]`, moving along the view past the
+/// far plane (`far.toml`) or through the eye (`behind.toml`).
+fn motion_scenes(dir: &Path) -> Result<(), String> {
+    let scene = |translate: &str| {
+        format!(
+            "spp = 16\nsampling = \"interval\"\n[camera]\neye = [0.0, -20.0, 1.5]\ntarget = [0.0, 0.0, 1.5]\nnear = 0.1\nfar = 1000.0\n[[objects]]\nmodel = \"teapot\"\n[objects.transform_close]\ntranslate = {translate}\n"
+        )
+    };
+    write(dir, "far.toml", &scene("[0.0, 2000.0, 0.0]"))?;
+    write(dir, "behind.toml", &scene("[0.0, -40.0, 0.0]"))
 }
 
 fn depth0_scene(dir: &Path) -> Result<(), String> {
