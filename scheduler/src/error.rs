@@ -286,14 +286,21 @@ pub enum RunError {
     },
     /// A loop of the megakernel or of a body ran out of the driver's loop
     /// budget (llvmpipe caps every invocation's loops), so the run's results
-    /// cannot be trusted. `advice` fits the strategy and configuration the
-    /// run used.
+    /// cannot be trusted. The scheduler finds its own cut waits; cuts of the
+    /// bodies' own loops only the bodies can count, and a caller reports
+    /// them with [`Retry::check_loops`](crate::Retry::check_loops).
+    /// `advice` fits the strategy and configuration the run used.
     #[error(
-        "the driver's loop limit cut {waits} loop(s) short (llvmpipe); the results are not trustworthy. {advice}"
+        "the driver's loop limit cut {} short (llvmpipe); the results are not trustworthy. {advice}",
+        cut_loops(*waits, *body_loops)
     )]
     LoopLimit {
         /// Spin-waits and invocations that found a loop cut.
         waits: u32,
+        /// Loops of the bodies that the caller's
+        /// [`Retry::check_loops`](crate::Retry::check_loops) reported cut
+        /// (0 without a check).
+        body_loops: u32,
         /// What to change, for this run's strategy and configuration.
         advice: String,
         /// The report of the run up to the submission that found the cut.
@@ -431,6 +438,20 @@ impl RunError {
             | Self::QueueExceedsDevice { report, .. } => report.as_deref(),
             _ => None,
         }
+    }
+}
+
+/// What a loop limit cut: the scheduler's waits, the bodies' own loops, or
+/// both.
+fn cut_loops(waits: u32, body_loops: u32) -> String {
+    match (waits, body_loops) {
+        (waits, 0) => format!("{waits} loop(s)"),
+        (0, body) => {
+            format!("{body} of the bodies' own loop(s) (reported by `Retry::check_loops`)")
+        }
+        (waits, body) => format!(
+            "{waits} of the scheduler's loop(s) and {body} of the bodies' own loop(s) (reported by `Retry::check_loops`)"
+        ),
     }
 }
 

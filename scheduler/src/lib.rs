@@ -136,14 +136,14 @@ pub use graph::{Connection, DEFAULT_PRIORITY, Graph, Procedure};
 pub use handle::{ProcedureId, Untyped};
 pub use item::{Item, ItemType, WgslStructs, WgslType, layout as wgsl_layout};
 pub use options::{CompileOptions, MAX_CHUNKS_PER_BATCH, Policy, recommended_features};
-pub use quirks::{LoopBudget, Quirks};
+pub use quirks::{CpuWorkgroups, LoopBudget, Quirks};
 pub use resource::{Access, Atomic, BufferContents, BufferShape, Resource, ResourceKind};
 pub use runtime::config::{
     Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
 };
 pub use runtime::executor::{Binding, Executor};
-pub use runtime::report::{BoundsViolation, ProcedureStats, RunReport};
-pub use runtime::retry::{ResetFn, Retry};
+pub use runtime::report::{BoundsViolation, ProcedureStats, RetryCauses, RunReport};
+pub use runtime::retry::{LoopCheckFn, ResetFn, Retry};
 pub use runtime::seeds::Seeds;
 pub use runtime::strategy::{DEFAULT_ROUNDS_PER_BATCH, Strategy};
 pub use scheduler_derive::{Item, item};

@@ -1,7 +1,9 @@
 //! Driver quirks: behaviours of particular drivers that the scheduler works
 //! around, decided once per adapter from its driver name (as wgpu-hal's
-//! `Workarounds` are) and applied by the executor. Nothing else in the
-//! crate asks what kind of adapter it runs on. docs/scheduler.md ("Driver
+//! `Workarounds` are) and applied by the executor; libraries built on the
+//! scheduler take their per-driver defaults from here too (the Reyes
+//! renderer's workgroups, chunks per batch and first iteration budget).
+//! Nothing else in the crate asks what kind of adapter it runs on. docs/scheduler.md ("Driver
 //! quirks") lists each quirk, what it costs elsewhere and the test that
 //! shows it.
 
@@ -25,7 +27,43 @@ pub struct LoopBudget {
     /// batch boundary. Each makes 64 checks; together with the budget they
     /// leave an invocation roughly 50,000 iterations for the bodies.
     pub spin_limit: u32,
+    /// Batches per dispatch for graphs whose bodies run long loops of their
+    /// own (a rasterizer's sample loops: hundreds to thousands of iterations
+    /// per item), which share the same budget. Measured with the Reyes
+    /// renderer: at 64 batches per dispatch the rasterization loops of
+    /// DiceShadeSample were cut in a 256-workgroup teapot run (counted by
+    /// the renderer's `STAT_LOOPS_CUT` and reported through
+    /// [`Retry::check_loops`](crate::Retry::check_loops)); 16 left room in
+    /// every uncontended run, at the cost of a few more dispatches.
+    pub long_body_batches: u32,
 }
+
+/// How a driver that runs each workgroup on a CPU thread (llvmpipe) wants
+/// the megakernel shaped (docs/scheduler.md, "Driver quirks").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CpuWorkgroups {
+    /// Chunks per batch ([`CompileOptions::chunks_per_batch`](crate::CompileOptions::chunks_per_batch))
+    /// worth compiling for. llvmpipe runs every part of the megakernel for
+    /// every group of 8 lanes, whichever procedure the batch belongs to, so
+    /// larger batches share that cost among more items: the default Reyes
+    /// teapot frame takes about 1.5 s with 4 chunks against 2.4 s with 1
+    /// (docs/performance.md, "Chunks per batch"). Graphs whose bodies loop
+    /// long (motion blur, depth of field in the renderer) keep 1: 4 chunks
+    /// per batch ran them into the loop limit.
+    pub chunks_per_batch: u32,
+    /// The most chunks per batch worth compiling for. The megakernel's
+    /// workgroup staging grows with the chunk count, and so does llvmpipe's
+    /// compile of it (measured on a 2-core VM, shader cache cold, the Reyes
+    /// megakernel at 64 x 48): 96 s at 2 chunks, 324 s at 8, and the 64
+    /// chunks the scheduler allows ran past 400 s at 4.2 GB.
+    pub max_chunks_per_batch: u32,
+}
+
+/// llvmpipe's shaping of the megakernel, measured on Mesa 22.3.6.
+const LLVMPIPE_WORKGROUPS: CpuWorkgroups = CpuWorkgroups {
+    chunks_per_batch: 4,
+    max_chunks_per_batch: 4,
+};
 
 /// llvmpipe (Mesa's CPU driver, behind lavapipe), measured on Mesa 22.3.6.
 const LLVMPIPE_LOOP_BUDGET: LoopBudget = LoopBudget {
@@ -33,6 +71,7 @@ const LLVMPIPE_LOOP_BUDGET: LoopBudget = LoopBudget {
     batches: 64,
     chunks: 256,
     spin_limit: 8192,
+    long_body_batches: 16,
 };
 
 /// What the scheduler works around on one adapter.
@@ -43,6 +82,10 @@ pub struct Quirks {
     /// limit, and a cut loop is reported as
     /// [`RunError::LoopLimit`](crate::RunError::LoopLimit).
     pub loop_budget: Option<LoopBudget>,
+    /// `Some` on drivers that run each workgroup on a CPU thread
+    /// (llvmpipe): see [`Quirks::megakernel_workgroups`] and
+    /// [`CpuWorkgroups`].
+    pub cpu_workgroups: Option<CpuWorkgroups>,
 }
 
 impl Quirks {
@@ -54,6 +97,7 @@ impl Quirks {
             || info.name.to_ascii_lowercase().starts_with("llvmpipe");
         Self {
             loop_budget: llvmpipe.then_some(LLVMPIPE_LOOP_BUDGET),
+            cpu_workgroups: llvmpipe.then_some(LLVMPIPE_WORKGROUPS),
         }
     }
 
@@ -76,6 +120,47 @@ impl Quirks {
                 .min(budget.chunks / chunks_per_batch.max(1))
                 .max(1)
         })
+    }
+
+    /// The iteration budget of a first attempt for graphs whose bodies run
+    /// long loops of their own ([`LoopBudget::long_body_batches`], within the
+    /// same chunk cap as [`Quirks::default_iteration_budget`]): `None` (no
+    /// budget) unless the driver caps loops.
+    pub fn long_body_iteration_budget(&self, chunks_per_batch: u32) -> Option<u32> {
+        self.loop_budget.map(|budget| {
+            budget
+                .long_body_batches
+                .min(budget.chunks / chunks_per_batch.max(1))
+                .max(1)
+        })
+    }
+
+    /// Persistent workgroups for the megakernel: one per CPU thread on
+    /// drivers that run each workgroup on one (llvmpipe), so that all of
+    /// them run at once; `None` (the scheduler's default) elsewhere.
+    /// llvmpipe runs only as many workgroups at a time as it has threads; a
+    /// workgroup polling for work that a descheduled workgroup is producing
+    /// spends the shared loop budget until the bodies' own loops get cut.
+    /// With 256 or 16 workgroups that happened in 800x600 and 1920x1080
+    /// Reyes teapot frames even at 4 batches per dispatch. Rounds keep the
+    /// scheduler's default: each of their workgroups strides over a round's
+    /// batches within one budget.
+    pub fn megakernel_workgroups(&self) -> Option<u32> {
+        self.cpu_workgroups
+            .map(|_| std::thread::available_parallelism().map_or(2, |n| n.get().min(64) as u32))
+    }
+
+    /// Chunks per batch worth compiling for on this driver
+    /// ([`CpuWorkgroups::chunks_per_batch`]; 1 elsewhere).
+    pub fn chunks_per_batch(&self) -> u32 {
+        self.cpu_workgroups.map_or(1, |cpu| cpu.chunks_per_batch)
+    }
+
+    /// The most chunks per batch this driver compiles in reasonable time
+    /// ([`CpuWorkgroups::max_chunks_per_batch`]; `None`: no limit beyond the
+    /// scheduler's).
+    pub fn max_chunks_per_batch(&self) -> Option<u32> {
+        self.cpu_workgroups.map(|cpu| cpu.max_chunks_per_batch)
     }
 
     /// Spin-wait iterations after which a workgroup leaves (`u32::MAX`:
@@ -111,6 +196,11 @@ mod tests {
         assert_eq!(lavapipe.default_iteration_budget(16), Some(16));
         assert_eq!(lavapipe.default_iteration_budget(1024), Some(1));
         assert_eq!(lavapipe.spin_limit(), 8192);
+        assert_eq!(lavapipe.long_body_iteration_budget(4), Some(16));
+        assert_eq!(lavapipe.long_body_iteration_budget(64), Some(4));
+        assert_eq!(lavapipe.chunks_per_batch(), 4);
+        assert_eq!(lavapipe.max_chunks_per_batch(), Some(4));
+        assert!(lavapipe.megakernel_workgroups().is_some_and(|n| n >= 1));
         let gl = Quirks::of(&info("llvmpipe (LLVM 15)", "", wgpu::DeviceType::Cpu));
         assert!(gl.caps_loops());
         for other in [
@@ -126,6 +216,10 @@ mod tests {
             assert_eq!(quirks, Quirks::default(), "{}", other.name);
             assert_eq!(quirks.default_iteration_budget(4), None);
             assert_eq!(quirks.spin_limit(), u32::MAX);
+            assert_eq!(quirks.long_body_iteration_budget(4), None);
+            assert_eq!(quirks.megakernel_workgroups(), None);
+            assert_eq!(quirks.chunks_per_batch(), 1);
+            assert_eq!(quirks.max_chunks_per_batch(), None);
         }
     }
 }

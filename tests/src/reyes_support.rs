@@ -11,7 +11,7 @@ use reyes::scene::{CameraDesc, Scene};
 
 /// lavapipe has 2 cores: renders from parallel tests would only compete for
 /// them (and for llvmpipe's loop budget, see
-/// `reyes::gpu::renderer::CPU_ITERATION_BUDGET`), so GPU tests take turns.
+/// `scheduler::Quirks::long_body_iteration_budget`), so GPU tests take turns.
 static GPU_TURN: Mutex<()> = Mutex::new(());
 
 /// Waits for this test's turn on the GPU.

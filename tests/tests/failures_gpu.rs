@@ -3,6 +3,7 @@
 //! lowering the iteration budget itself). On lavapipe in CI, where llvmpipe
 //! caps every invocation's loops at 65,535 iterations in all.
 
+use scheduler::wgpu;
 use scheduler::{
     Atomic, CompileOptions, CompiledGraph, Executor, Graph, Procedure, ProcedureId, Resource,
     Retry, RunError, Seeds, Strategy,
@@ -111,6 +112,138 @@ fn a_loop_limit_carries_its_report_and_retry_lowers_the_budget() {
             assert_eq!(executor.iteration_budget(), 1);
         }
     }
+}
+
+/// `Count` adds one to `sink[0]` per item: a user resource that a repeated
+/// run counts twice unless `reset` restores it.
+fn counting_graph() -> (CompiledGraph, ProcedureId<Node>) {
+    let mut graph = Graph::new("count");
+    graph.resource(Resource::storage::<[Atomic<u32>]>("sink"));
+    let count = graph.procedure(
+        Procedure::of::<Node>("Count")
+            .initial(true)
+            .body("if (valid) { atomicAdd(&sink[0], 1u); }"),
+    );
+    (graph.compile(&CompileOptions::default()).unwrap(), count)
+}
+
+/// A zeroed one-word `sink` the test binds itself, so that `reset` and the
+/// loop check can reach it while the executor runs.
+fn sink(gpu: &scheduler::Gpu) -> wgpu::Buffer {
+    let sink = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sink"),
+        size: 4,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    gpu.queue.write_buffer(&sink, 0, &[0; 4]);
+    sink
+}
+
+fn read_word(gpu: &scheduler::Gpu, buffer: &wgpu::Buffer) -> u32 {
+    let bytes = scheduler::readback::read_buffer(
+        &gpu.device,
+        &gpu.queue,
+        buffer,
+        std::time::Duration::from_secs(60),
+    )
+    .unwrap();
+    u32::from_le_bytes(bytes[..4].try_into().unwrap())
+}
+
+/// An executor of `counting_graph` with an iteration budget of 8.
+fn budgeted_executor(gpu: &scheduler::Gpu, compiled: &CompiledGraph) -> Executor {
+    let config = scheduler::ExecutorConfig {
+        iteration_budget: Some(8),
+        ..config(2, 64)
+    };
+    Executor::new(&gpu.device, &gpu.queue, compiled, &config).unwrap()
+}
+
+/// A body's own loops were cut (as its counter reports, here scripted: 3
+/// on the first run, 1 on the second): `run_with_retry` treats that as a
+/// loop limit, halves the budget, resets the user's resources and succeeds
+/// on the third attempt with the results of one clean run.
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn body_loops_reported_cut_are_retried_with_a_halved_budget() {
+    let gpu = tests::gpu();
+    let (compiled, count) = counting_graph();
+    let mut executor = budgeted_executor(gpu, &compiled);
+    let sink = sink(gpu);
+    let (checks, resets) = (std::cell::Cell::new(0), std::cell::Cell::new(0));
+    let reported = [3, 1];
+    let retry = Retry::new(4, |_, queue| {
+        resets.set(resets.get() + 1);
+        queue.write_buffer(&sink, 0, &[0; 4]);
+    })
+    .check_loops(|_, _| {
+        let run = checks.get();
+        checks.set(run + 1);
+        Ok(reported.get(run).copied().unwrap_or(0))
+    });
+    let seeds = Seeds::new().add(&count, &nodes(40));
+    let report = executor
+        .run_with_retry(
+            Strategy::Megakernel,
+            &seeds,
+            &[scheduler::Binding::buffer("sink", &sink)],
+            retry,
+        )
+        .unwrap();
+    assert_eq!(report.attempts, 3);
+    assert_eq!(
+        report.retries,
+        scheduler::RetryCauses {
+            loop_limit: 2,
+            ..Default::default()
+        }
+    );
+    assert_eq!((checks.get(), resets.get()), (3, 2));
+    assert_eq!(executor.iteration_budget(), 2, "8 halved twice");
+    assert_eq!(read_word(gpu, &sink), 40, "reset before each retry");
+    assert_eq!(report.procedure(&count).unwrap().executed, 40);
+}
+
+/// Bodies whose loops are cut in every run: once the attempts are spent the
+/// error is a loop limit that names the bodies' loops, with the attempts.
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn body_loops_cut_in_every_attempt_end_in_a_loop_limit_naming_them() {
+    let gpu = tests::gpu();
+    let (compiled, count) = counting_graph();
+    let mut executor = budgeted_executor(gpu, &compiled);
+    let sink = sink(gpu);
+    let resets = std::cell::Cell::new(0);
+    let retry = Retry::new(3, |_, _| resets.set(resets.get() + 1)).check_loops(|_, _| Ok(5));
+    let result = executor.run_with_retry(
+        Strategy::Megakernel,
+        &Seeds::new().add(&count, &nodes(8)),
+        &[scheduler::Binding::buffer("sink", &sink)],
+        retry,
+    );
+    let Err(RunError::LoopLimit {
+        waits,
+        body_loops,
+        advice,
+        report,
+    }) = &result
+    else {
+        panic!("expected a loop limit, got {result:?}");
+    };
+    assert_eq!((*waits, *body_loops), (0, 5));
+    assert_eq!(report.attempts, 3);
+    assert_eq!(report.retries.loop_limit, 2);
+    assert_eq!(resets.get(), 2);
+    assert_eq!(executor.iteration_budget(), 2);
+    assert!(advice.contains("bodies' own loops were cut"), "{advice}");
+    let message = result.unwrap_err().to_string();
+    assert!(
+        message.contains("5 of the bodies' own loop(s) (reported by `Retry::check_loops`)"),
+        "{message}"
+    );
 }
 
 #[test]

@@ -421,7 +421,11 @@ fn a_sample_loop_too_long_for_llvmpipe_is_a_typed_error_not_a_partial_image() {
         Err(reyes::gpu::RenderError::LoopLimit(error)) if on_llvmpipe => {
             eprintln!("{error}");
             assert!(error.rasterization + error.waits > 0);
-            assert_eq!(error.runs, 3, "the first run and both retries");
+            assert_eq!(
+                error.runs,
+                reyes::gpu::renderer::RENDER_ATTEMPTS,
+                "every attempt of the scheduler's retry"
+            );
             // The message names what to change: the sampling, since the
             // micropolygons' sample loops are the long ones.
             let message = error.to_string();

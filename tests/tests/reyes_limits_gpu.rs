@@ -3,6 +3,7 @@
 //! error gives advice that follows from the frame's configuration.
 
 use glam::Vec3;
+use reyes::gpu::renderer::RENDER_ATTEMPTS;
 use reyes::gpu::{GpuOptions, GpuRendered, LoopLimitHint, RenderError};
 use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
@@ -144,6 +145,58 @@ fn batches_compose_within_screen_tiles() {
     agreement(&batched, &cpu).assert_at_least("tiled batches", 0.99, 0.98);
 }
 
+/// A batched frame whose work queues are far too small: the scheduler's
+/// retry grows them after the first batch overflows, the statistics are
+/// restored before each retry and the framebuffer's depth test makes a
+/// repeated batch harmless, so the frame and its counters are those of an
+/// unforced render. The grown queues stay for the later batches.
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn an_overflow_retried_within_batches_loses_and_doubles_nothing() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let (scene, models) = spheres(64, 48);
+    let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+    let options = GpuOptions {
+        max_batch_patches: Some(10),
+        ..GpuOptions::default()
+    };
+    let unforced = renderer(gpu, options.clone())
+        .render(&prepared)
+        .expect("unforced render");
+    let forced = renderer(
+        gpu,
+        GpuOptions {
+            work_capacity: 8,
+            ..options
+        },
+    )
+    .render(&prepared)
+    .expect("render with overflows");
+    eprintln!(
+        "{} batches, {} overflow and {} loop retries",
+        forced.batches, forced.overflow_retries, forced.loop_retries
+    );
+    assert_eq!(unforced.overflow_retries, 0);
+    assert!(forced.overflow_retries > 0, "the test needs an overflow");
+    assert!(
+        forced.overflow_retries < forced.batches,
+        "grown queues are kept for later batches"
+    );
+    assert_eq!(forced.batches, unforced.batches);
+    assert_eq!(
+        counts(&forced),
+        counts(&unforced),
+        "counters neither lost nor doubled"
+    );
+    assert_eq!(forced.coverage, unforced.coverage);
+    assert_eq!(forced.covered_samples, unforced.covered_samples);
+    assert!(
+        forced.image.as_raw() == unforced.image.as_raw(),
+        "forced and unforced images differ"
+    );
+}
+
 /// A card at depth 5 with the focus at depth 1 and a lens of radius 1: a
 /// circle of confusion of about 33 pixels at 64 x 48, so each micropolygon's
 /// bounding box holds thousands of pixels, each tested at 64 samples: more
@@ -190,13 +243,21 @@ fn loop_limit(
         Err(RenderError::LoopLimit(error)) if on_llvmpipe => {
             eprintln!("{error}");
             assert!(error.rasterization + error.waits > 0);
-            assert_eq!(error.runs, 3, "the first run and both retries");
+            assert_eq!(
+                error.runs, RENDER_ATTEMPTS,
+                "every attempt of the scheduler's retry"
+            );
             assert!(error.workgroups > 0);
-            assert_eq!(error.iteration_budget, Some(1), "the retries' budget");
+            assert_eq!(
+                error.iteration_budget,
+                Some(1),
+                "the budget halved by the retries"
+            );
             assert_eq!(error.batch, (1, 1));
             assert!(!error.context.user_displacement);
             let message = error.to_string();
-            for fact in ["workgroups", "iteration budget", "3 attempt(s)"] {
+            let attempts = format!("{RENDER_ATTEMPTS} attempt(s)");
+            for fact in ["workgroups", "iteration budget", attempts.as_str()] {
                 assert!(message.contains(fact), "{fact:?} missing: {message}");
             }
             assert!(!message.contains("displacement_user"), "{message}");
@@ -256,11 +317,12 @@ fn a_small_dice_threshold_is_not_told_to_shrink() {
 #[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
 fn chunk_counts_llvmpipe_compiles_too_slowly_are_refused() {
     let gpu = tests::gpu();
+    let quirks = scheduler::Quirks::of(&gpu.adapter.get_info());
     let options = GpuOptions {
-        chunks_per_batch: Some(reyes::gpu::renderer::CPU_MAX_CHUNKS_PER_BATCH + 4),
+        chunks_per_batch: Some(quirks.max_chunks_per_batch().unwrap_or(4) + 4),
         ..GpuOptions::default()
     };
-    let on_llvmpipe = scheduler::Quirks::of(&gpu.adapter.get_info()).caps_loops();
+    let on_llvmpipe = quirks.caps_loops();
     match reyes::gpu::GpuRenderer::new(gpu, options) {
         Err(RenderError::TooManyChunks { chunks: 8, max: 4 }) if on_llvmpipe => {}
         Ok(_) if !on_llvmpipe => {}

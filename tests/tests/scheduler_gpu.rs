@@ -199,7 +199,7 @@ fn iteration_budget_spreads_the_run_over_dispatches() {
 
 /// With many chunks per batch, each batch runs the bodies' loops once per
 /// chunk, so the default CPU iteration budget also caps the chunks
-/// (`CPU_CHUNK_BUDGET`). One workgroup runs ~50 batches, 1,024 full chunks
+/// (`LoopBudget::chunks`). One workgroup runs ~50 batches, 1,024 full chunks
 /// of 256 items, here: capped at 64 batches alone, it would run them all in
 /// one invocation, and its loops would pass llvmpipe's 65,535 iterations
 /// (1,024 x 150 hash rounds). With the cap, an invocation runs 256 chunks.

@@ -1,7 +1,7 @@
 //! Batches of input patches: a scene with more patches than the Bound queue
 //! holds next to the work queues in one device buffer is seeded in several
 //! runs of the megakernel ([`plan_batch`], [`batch_ranges`]), which make up
-//! one [`Attempt`] at a tile.
+//! the [`TileRuns`] of a tile.
 
 use std::time::Duration;
 
@@ -39,7 +39,9 @@ pub(super) fn plan_batch(
     queue_bytes: impl Fn(u32, u32) -> u64,
 ) -> Result<BatchPlan, u64> {
     let wanted = wanted.clamp(1, 1 << 31);
-    let mut work = work.max(MIN_WORK_CAPACITY);
+    // A smaller capacity asked for is kept (the scheduler grows an
+    // overflowing queue); only shrinking to fit stops at the minimum.
+    let mut work = work.max(1);
     loop {
         let mut bound = wanted.next_power_of_two();
         while bound > 1 && queue_bytes(bound, work) > limit {
@@ -60,25 +62,36 @@ pub(super) fn plan_batch(
     }
 }
 
-/// The runs of one attempt at a tile.
+/// The runs of the megakernel for one tile, one per batch of input patches
+/// (each retried by the scheduler as it needs).
 #[derive(Debug, Default)]
-pub(super) struct Attempt {
+pub(super) struct TileRuns {
     /// The report of the last run.
     pub(super) report: Option<RunReport>,
-    /// GPU time of the runs, when every run measured it.
+    /// GPU time of the runs' last attempts, when every run measured it.
     pub(super) gpu_time: Option<Duration>,
-    /// Host wall time of the runs.
+    /// Host wall time of the runs, retries included.
     pub(super) wall: Duration,
     /// Runs made (batches started).
     pub(super) batches: u32,
+    /// Attempts repeated because a queue overflowed (or held too few seeds).
+    pub(super) overflow_retries: u32,
+    /// Attempts repeated because the driver cut loops short.
+    pub(super) loop_retries: u32,
 }
 
-impl Attempt {
-    /// The batch the attempt stopped in (1-based) and the batches of the
-    /// attempt, for `patches` patches in batches of `batch`.
+impl TileRuns {
+    /// The batch the runs stopped in (1-based) and the batches of the tile,
+    /// for `patches` patches in batches of `batch`.
     pub(super) fn batch_of(&self, patches: usize, batch: u32) -> (u32, u32) {
         let count = patches.div_ceil(batch.max(1) as usize) as u32;
         (self.batches.max(1), count.max(1))
+    }
+
+    /// Adds the retries `report` counts.
+    pub(super) fn add_retries(&mut self, report: &RunReport) {
+        self.overflow_retries += report.retries.overflow + report.retries.seeds;
+        self.loop_retries += report.retries.loop_limit;
     }
 }
 
@@ -174,11 +187,11 @@ mod tests {
         assert_eq!(batch_ranges(10, 5), [0..5, 5..10]);
         assert_eq!(batch_ranges(11, 4), [0..4, 4..8, 8..11]);
         assert_eq!(batch_ranges(2, 0), [0..1, 1..2]);
-        let attempt = Attempt {
+        let runs = TileRuns {
             batches: 2,
-            ..Attempt::default()
+            ..TileRuns::default()
         };
-        assert_eq!(attempt.batch_of(11, 4), (2, 3));
-        assert_eq!(Attempt::default().batch_of(3, 8), (1, 1));
+        assert_eq!(runs.batch_of(11, 4), (2, 3));
+        assert_eq!(TileRuns::default().batch_of(3, 8), (1, 1));
     }
 }

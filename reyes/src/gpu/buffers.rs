@@ -223,6 +223,10 @@ pub struct FrameBuffers {
     pub stats: wgpu::Buffer,
     /// `height_texels`: the height maps' texels (f32), concatenated.
     pub height_texels: wgpu::Buffer,
+    /// The statistics before the batch of input patches now running
+    /// ([`FrameBuffers::save_stats`]): a retried run restores them, since
+    /// the statistics are sums that a run adds to.
+    stats_before_batch: wgpu::Buffer,
     /// Samples in `framebuffer`.
     pub samples: u64,
     objects_len: usize,
@@ -277,6 +281,11 @@ impl FrameBuffers {
                 "reyes height texels",
                 texel_buffer_bytes(scene),
                 U::STORAGE | U::COPY_DST,
+            ),
+            stats_before_batch: buffer(
+                "reyes stats before batch",
+                4 * u64::from(stat::WORDS),
+                U::COPY_SRC | U::COPY_DST,
             ),
             samples,
             objects_len: scene.objects.len(),
@@ -366,6 +375,24 @@ impl FrameBuffers {
         queue.write_buffer(&self.stats, 0, &[0u8; 4 * stat::WORDS as usize]);
     }
 
+    /// Keeps a copy of the statistics as they are before a batch runs, for
+    /// [`FrameBuffers::restore_stats`].
+    ///
+    /// Of the buffers the megakernel writes, only the statistics need it:
+    /// the framebuffer keeps the nearest sample per slot (an atomicMin on
+    /// depth and colour keys), so running a batch again writes nothing a
+    /// first, cut-short run would not have kept; the statistics are sums
+    /// (and one maximum) that every run adds to.
+    pub fn save_stats(&self, device: &wgpu::Device, queue: &wgpu::Queue) {
+        copy_whole(device, queue, &self.stats, &self.stats_before_batch);
+    }
+
+    /// Restores the statistics [`FrameBuffers::save_stats`] kept, before a
+    /// batch runs again.
+    pub fn restore_stats(&self, device: &wgpu::Device, queue: &wgpu::Queue) {
+        copy_whole(device, queue, &self.stats_before_batch, &self.stats);
+    }
+
     /// The bindings of the megakernel's resources, by name.
     pub fn bindings(&self) -> [scheduler::Binding<'_>; 6] {
         [
@@ -377,6 +404,15 @@ impl FrameBuffers {
             scheduler::Binding::buffer("height_texels", &self.height_texels),
         ]
     }
+}
+
+/// Copies all of `from` into `to` (of the same size) on the device.
+fn copy_whole(device: &wgpu::Device, queue: &wgpu::Queue, from: &wgpu::Buffer, to: &wgpu::Buffer) {
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("reyes stats copy"),
+    });
+    encoder.copy_buffer_to_buffer(from, 0, to, 0, from.size());
+    queue.submit([encoder.finish()]);
 }
 
 /// Samples in the framebuffer of `scene`: `width * height * spp`.

@@ -1,8 +1,10 @@
 //! [`LoopLimitError`]: what the renderer says when llvmpipe's loop limit
-//! still cut loops short after its retries, with advice that follows from
-//! what the frame was configured with (issue 19, D10).
+//! still cut loops short after the scheduler's retries, with advice that
+//! follows from what the frame was configured with (issue 19, D10).
 
 use std::fmt;
+
+use scheduler::RunError;
 
 use crate::params::{DEFAULT_DICE_THRESHOLD, DEFAULT_SHADING_RATE};
 use crate::prepare::PreparedScene;
@@ -229,11 +231,16 @@ impl fmt::Display for LoopLimitHint {
     }
 }
 
-/// llvmpipe's loop limit still cut loops short after the renderer's retries
-/// with smaller iteration budgets, so samples would be missing.
+/// llvmpipe's loop limit still cut loops short after the scheduler's
+/// retries with smaller iteration budgets
+/// ([`Executor::run_with_retry`](scheduler::Executor::run_with_retry)), so
+/// samples would be missing.
 ///
-/// Rasterization loops count their own completion; the scheduler finds cut
-/// queue waits, which an item's long loops starve of the budget they share.
+/// Rasterization loops count their own completion (`STAT_LOOPS_CUT`, which
+/// the renderer reports to the scheduler through
+/// [`Retry::check_loops`](scheduler::Retry::check_loops)); the scheduler
+/// finds cut queue waits, which an item's long loops starve of the budget
+/// they share.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub struct LoopLimitError {
     /// Rasterization loops cut in the last run.
@@ -256,6 +263,36 @@ pub struct LoopLimitError {
 }
 
 impl LoopLimitError {
+    /// The error for the scheduler's final [`RunError::LoopLimit`] (its
+    /// cut waits, the rasterization loops reported cut, its attempts and
+    /// workgroups), with the iteration budget the scheduler ended with, the
+    /// input batch it failed in and the frame's `context`. `Err`: `error`
+    /// back when it is not a loop limit.
+    pub fn from_run(
+        error: RunError,
+        iteration_budget: Option<u32>,
+        batch: (u32, u32),
+        context: LoopLimitContext,
+    ) -> Result<Self, RunError> {
+        match error {
+            RunError::LoopLimit {
+                waits,
+                body_loops,
+                report,
+                ..
+            } => Ok(Self::new(
+                body_loops,
+                waits,
+                report.attempts.max(1),
+                report.workgroups,
+                iteration_budget,
+                batch,
+                context,
+            )),
+            other => Err(other),
+        }
+    }
+
     /// The error for a run with these counts; the hints follow from
     /// `context` ([`LoopLimitHint::for_context`]).
     pub fn new(
@@ -327,6 +364,34 @@ mod tests {
 
     fn message(context: LoopLimitContext, rasterization: u32, waits: u32) -> String {
         LoopLimitError::new(rasterization, waits, 3, 2, Some(1), (1, 1), context).to_string()
+    }
+
+    #[test]
+    fn the_schedulers_loop_limit_gives_the_facts() {
+        let report = scheduler::RunReport {
+            attempts: 6,
+            workgroups: 2,
+            ..scheduler::RunReport::default()
+        };
+        let error = RunError::LoopLimit {
+            waits: 1,
+            body_loops: 4,
+            advice: String::new(),
+            report: Box::new(report),
+        };
+        let error = LoopLimitError::from_run(error, Some(1), (2, 3), context()).unwrap();
+        assert_eq!(
+            (
+                error.rasterization,
+                error.waits,
+                error.runs,
+                error.workgroups
+            ),
+            (4, 1, 6, 2)
+        );
+        assert_eq!((error.iteration_budget, error.batch), (Some(1), (2, 3)));
+        let other = RunError::Gpu("lost".into());
+        assert!(LoopLimitError::from_run(other, None, (1, 1), context()).is_err());
     }
 
     #[test]

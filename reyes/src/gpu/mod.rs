@@ -6,12 +6,13 @@
 //! * [`objects`]: the per-object table (albedo, displacement) and the
 //!   height-map texels' layout;
 //! * [`loop_limit`]: [`LoopLimitError`], the advice when llvmpipe's loop
-//!   limit cut loops short;
+//!   limit still cut loops short after the scheduler's retries;
 //! * [`resolve`]: the clear and resolve passes (a plain compute shader);
 //! * [`renderer`]: [`GpuRenderer`], which runs a frame and returns the image
 //!   and [`crate::stats::RenderStats`]; its options and results, its error,
-//!   the screen tiles, the batches of input patches and the defaults for CPU
-//!   adapters are private modules beside it, re-exported from [`renderer`].
+//!   the screen tiles and the batches of input patches are private modules
+//!   beside it, re-exported from [`renderer`]. Per-driver defaults come from
+//!   [`scheduler::Quirks`].
 //!
 //! ```no_run
 //! use reyes::gpu::{GpuRenderer, GpuOptions};
@@ -33,7 +34,6 @@ pub mod renderer;
 pub mod resolve;
 
 mod batches;
-mod cpu_tuning;
 mod options;
 mod render_error;
 mod tiles;

@@ -11,27 +11,29 @@ use crate::stats::RenderStats;
 /// Default capacity (items) of the split and dice queues. With the
 /// depth-first priorities the queues hold roughly one wave of pieces per
 /// running workgroup; 2^16 items (14 MiB per queue) leaves ample room for
-/// the teapot and the Killeroo, and an overflow is retried with double the
-/// capacity, never ignored.
+/// the teapot and the Killeroo, and an overflow is retried with the queues
+/// grown to the need the run measured, never ignored.
 pub const DEFAULT_WORK_CAPACITY: u32 = 1 << 16;
 
 /// How the renderer runs the megakernel.
 #[derive(Clone, Debug)]
 pub struct GpuOptions {
-    /// Persistent workgroups (`None`:
-    /// [`cpu_workgroups`](super::renderer::cpu_workgroups) on CPU adapters,
-    /// else the scheduler's default).
+    /// Persistent workgroups (`None`: what the driver's quirks ask for,
+    /// [`scheduler::Quirks::megakernel_workgroups`], one per CPU thread on
+    /// llvmpipe; else the scheduler's default).
     pub workgroups: Option<u32>,
-    /// Iteration budget per dispatch (`None`:
-    /// [`CPU_ITERATION_BUDGET`](super::renderer::CPU_ITERATION_BUDGET) on
-    /// CPU adapters, else the scheduler's default).
+    /// Iteration budget per dispatch of a first attempt (`None`: the
+    /// driver's budget for long-looping bodies,
+    /// [`scheduler::Quirks::long_body_iteration_budget`], 16 on llvmpipe;
+    /// else the scheduler's default). A loop limit halves it for the retry.
     pub iteration_budget: Option<u32>,
     /// Chunks per batch the megakernel is compiled with (`None`:
-    /// [`CPU_CHUNKS_PER_BATCH`](super::renderer::CPU_CHUNKS_PER_BATCH) on
-    /// CPU adapters for frames without motion blur or depth of field, else
-    /// 1). The image is the same for any value.
+    /// [`scheduler::Quirks::chunks_per_batch`], 4 on llvmpipe, for frames
+    /// without motion blur or depth of field, else 1). The image is the
+    /// same for any value.
     pub chunks_per_batch: Option<u32>,
-    /// Capacity of the split and dice queues in items.
+    /// Capacity of the split and dice queues in items, to start with: an
+    /// overflow grows them (and the grown queues stay for later frames).
     pub work_capacity: u32,
     /// Host-side limit of one run.
     pub timeout: Duration,
@@ -103,11 +105,11 @@ pub struct GpuRendered {
     /// The scheduler's report of the (last) megakernel run; `None` for a
     /// scene without patches, where nothing runs.
     pub report: Option<RunReport>,
-    /// Runs repeated because a queue overflowed (0 or 1 per tile, summed
-    /// over the tiles).
+    /// Runs repeated because a queue overflowed, summed over the batches and
+    /// tiles (the scheduler's [`scheduler::RetryCauses`]).
     pub overflow_retries: u32,
-    /// Runs repeated because llvmpipe cut loops short (0 to 2 per tile,
-    /// summed over the tiles).
+    /// Runs repeated because llvmpipe cut loops short (the scheduler's
+    /// waits or the rasterization loops), summed over the batches and tiles.
     pub loop_retries: u32,
     /// Timings of the frame (summed over the tiles).
     pub timings: FrameTimings,

@@ -21,7 +21,7 @@ pub enum RenderError {
         missing: wgpu::Features,
     },
     /// More chunks per batch than llvmpipe compiles in reasonable time
-    /// ([`super::renderer::CPU_MAX_CHUNKS_PER_BATCH`]).
+    /// ([`scheduler::Quirks::max_chunks_per_batch`]).
     #[error(
         "{chunks} chunks per batch: llvmpipe would compile that megakernel for many minutes (its compile grows with the chunk count); at most {max} are accepted on this driver"
     )]
@@ -84,12 +84,13 @@ pub enum RenderError {
         /// An object whose function differs.
         other: usize,
     },
-    /// The scheduler could not run the megakernel (after one retry with
-    /// doubled capacities when a queue overflowed).
+    /// The scheduler could not run the megakernel (after its retries, up to
+    /// [`super::renderer::RENDER_ATTEMPTS`] attempts, when a queue
+    /// overflowed).
     #[error("the Reyes megakernel failed: {0}")]
     Run(#[from] RunError),
-    /// llvmpipe's loop limit still cut loops short after the retries with
-    /// smaller iteration budgets, so samples would be missing. The error
+    /// llvmpipe's loop limit still cut loops short after the scheduler's
+    /// retries with smaller iteration budgets, so samples would be missing. The error
     /// gives the facts (workgroups, iteration budget, attempts) and advice
     /// that follows from the frame's configuration ([`LoopLimitError`]).
     #[error(transparent)]

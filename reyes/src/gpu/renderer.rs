@@ -3,43 +3,51 @@
 //!
 //! What the renderer takes and gives ([`GpuOptions`], [`GpuRendered`],
 //! [`RenderError`]), the screen tiles ([`plan_tiles`]), the batches of input
-//! patches and the defaults for CPU adapters live in modules of their own
-//! beside this one and are re-exported here. The renderer's methods are
-//! split by what they do: fitting a frame to the device (`limits`), running
-//! the megakernel (`runs`) and rendering in screen tiles (`tiled`); this
-//! file compiles the megakernel and renders one tile, retrying after queue
-//! overflows and llvmpipe's loop limit.
+//! patches live in modules of their own beside this one and are re-exported
+//! here. The renderer's methods are split by what they do: fitting a frame
+//! to the device (`limits`), running the megakernel (`runs`, where the
+//! scheduler's `run_with_retry` retries after queue overflows and llvmpipe's
+//! loop limit) and rendering in screen tiles (`tiled`); this file compiles
+//! the megakernel and renders one tile. Per-driver defaults come from the
+//! scheduler's [`scheduler::Quirks`].
 
 use std::time::Instant;
 
 use image::RgbaImage;
 use scheduler::readback::read_buffer;
-use scheduler::{Capacities, CompiledGraph, DEFAULT_WORKGROUPS, Executor, Gpu, RunError};
+use scheduler::{Capacities, CompiledGraph, Executor, Gpu, Quirks, RunError};
 
-use super::batches::Attempt;
+use super::batches::TileRuns;
 use super::buffers::{FrameBuffers, GpuCounters};
-use super::cpu_tuning::{chunks_per_batch, is_cpu};
 use super::graph::{self, REQUIRED_FEATURES};
 use super::loop_limit::{LoopLimitContext, LoopLimitError};
 use super::resolve::{ResolveTarget, Resolver};
 use crate::prepare::PreparedScene;
 
-pub use super::cpu_tuning::{
-    CPU_CHUNKS_PER_BATCH, CPU_ITERATION_BUDGET, CPU_MAX_CHUNKS_PER_BATCH,
-    CPU_RETRY_ITERATION_BUDGET, cpu_workgroups,
-};
 pub use super::options::{
     DEFAULT_RENDER_TIMEOUT, DEFAULT_WORK_CAPACITY, FrameTimings, GpuOptions, GpuRendered,
 };
 pub use super::render_error::RenderError;
 pub use super::tiles::{TILE_ALIGN, Tile, plan_tiles};
+pub use runs::RENDER_ATTEMPTS;
 
 mod limits;
 mod runs;
 mod tiled;
 
-/// Retries after llvmpipe cut loops short (each from scratch).
-const MAX_LOOP_RETRIES: u32 = 2;
+/// The chunks per batch `options` ask for on `gpu`, for a frame that samples
+/// time or lens (`blurred`) or not: by default what the driver's quirks
+/// favour ([`Quirks::chunks_per_batch`]) for frames without motion blur or
+/// depth of field, whose rasterization loops are short enough; blurred
+/// frames keep 1, as their loops ran into llvmpipe's loop limit at 4 chunks
+/// per batch and the bookkeeping is a small share of their time.
+fn chunks_per_batch(gpu: &Gpu, options: &GpuOptions, blurred: bool) -> u32 {
+    options.chunks_per_batch.unwrap_or(if blurred {
+        1
+    } else {
+        Quirks::of_device(&gpu.device).chunks_per_batch()
+    })
+}
 
 /// Renders prepared scenes with the Reyes megakernel. Pipelines, the
 /// executor (for a given queue sizing) and the frame buffers (for a given
@@ -67,11 +75,10 @@ impl<'a> GpuRenderer<'a> {
             return Err(RenderError::MissingFeatures { missing });
         }
         let chunks = chunks_per_batch(gpu, &options, false);
-        if is_cpu(gpu) && chunks > CPU_MAX_CHUNKS_PER_BATCH {
-            return Err(RenderError::TooManyChunks {
-                chunks,
-                max: CPU_MAX_CHUNKS_PER_BATCH,
-            });
+        if let Some(max) = Quirks::of_device(&gpu.device).max_chunks_per_batch()
+            && chunks > max
+        {
+            return Err(RenderError::TooManyChunks { chunks, max });
         }
         let compiled = graph::compile_for(
             scheduler::recommended_features(&gpu.device),
@@ -198,10 +205,17 @@ impl<'a> GpuRenderer<'a> {
     /// image and the counters are those of one run of all patches (see
     /// [`GpuRendered::batches`]).
     ///
-    /// Within a tile, a queue overflow is retried once from scratch (cleared
-    /// framebuffer and statistics) with the work queues' capacities doubled,
-    /// and a run whose loops llvmpipe cut short is retried once with
-    /// [`CPU_RETRY_ITERATION_BUDGET`]; the result reports both retries.
+    /// Each run goes through the scheduler's
+    /// [`Executor::run_with_retry`](scheduler::Executor::run_with_retry), up
+    /// to [`RENDER_ATTEMPTS`] attempts: a queue overflow grows the queues to
+    /// the measured need, and a run whose loops llvmpipe cut short (the
+    /// scheduler's waits, or the rasterization loops the renderer counts and
+    /// reports through [`scheduler::Retry::check_loops`]) runs again with
+    /// half the iteration budget. Before a retry the statistics are restored
+    /// to what they were before the batch; the framebuffer keeps the nearest
+    /// sample, so a repeated batch changes nothing there. The grown queues
+    /// and the lowered budget stay for later batches, tiles and frames; the
+    /// result counts the retries.
     pub fn render(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
         let tiles = self.plan(scene)?;
         self.prepare_megakernel(scene)?;
@@ -216,81 +230,26 @@ impl<'a> GpuRenderer<'a> {
     /// [`Self::capacities`]), all into the same framebuffer and statistics.
     /// The framebuffer keeps the nearest sample (a depth-tested atomicMin)
     /// and the counters are sums and maxima, so the batches compose into the
-    /// frame one run of every patch would give. A retry starts the whole
-    /// attempt again from a cleared frame.
+    /// frame one run of every patch would give.
     fn render_tile(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
         let start = Instant::now();
         self.frame_buffers(scene);
-        let mut work = self.options.work_capacity;
-        let mut budget = self.iteration_budget();
-        let mut overflow_retries = 0;
-        let mut loop_retries = 0;
-        let mut attempt;
-        let counters = loop {
-            self.clear_frame();
-            if scene.patches.is_empty() {
-                attempt = Attempt::default();
-                break self.read_counters()?;
-            }
-            let (capacities, batch) = self.capacities(scene.patches.len(), work)?;
-            let (outcome, done) = self.run_batches(scene, &capacities, budget, batch);
-            attempt = done;
-            match outcome {
-                Ok(counters) if counters.loops_cut() == 0 => break counters,
-                Ok(counters) if loop_retries < MAX_LOOP_RETRIES => {
-                    log::warn!(
-                        "llvmpipe cut {} rasterization loop(s); rendering again with a smaller iteration budget",
-                        counters.loops_cut()
-                    );
-                    loop_retries += 1;
-                    budget = Some(CPU_RETRY_ITERATION_BUDGET);
+        self.clear_frame();
+        let (counters, runs) = if scene.patches.is_empty() {
+            (self.read_counters()?, TileRuns::default())
+        } else {
+            let (capacities, batch) =
+                self.capacities(scene.patches.len(), self.options.work_capacity)?;
+            let budget = self.iteration_budget();
+            match self.run_batches(scene, &capacities, budget, batch) {
+                (Ok(counters), runs) => (counters, runs),
+                (Err(RenderError::Run(error @ RunError::LoopLimit { .. })), runs) => {
+                    // The scheduler's retries with smaller budgets are
+                    // spent: say what is too long instead.
+                    let batch = runs.batch_of(scene.patches.len(), batch);
+                    return Err(self.loop_limit_error(scene, error, batch)?);
                 }
-                Ok(counters) => {
-                    return Err(self.loop_limit_error(
-                        scene,
-                        &counters,
-                        0,
-                        loop_retries + 1,
-                        &capacities,
-                        budget,
-                        attempt.batch_of(scene.patches.len(), batch),
-                    ));
-                }
-                Err(RenderError::Run(RunError::QueueOverflow {
-                    procedure,
-                    needed_at_least,
-                    ..
-                })) if overflow_retries == 0 => {
-                    log::warn!(
-                        "queue {procedure} overflowed (needed at least {needed_at_least}); rendering again with doubled capacities"
-                    );
-                    overflow_retries += 1;
-                    work = work.saturating_mul(2);
-                }
-                Err(RenderError::Run(RunError::LoopLimit { waits, .. }))
-                    if loop_retries < MAX_LOOP_RETRIES =>
-                {
-                    log::warn!(
-                        "llvmpipe cut {waits} queue wait(s); rendering again with a smaller iteration budget"
-                    );
-                    loop_retries += 1;
-                    budget = Some(CPU_RETRY_ITERATION_BUDGET);
-                }
-                Err(RenderError::Run(RunError::LoopLimit { waits, .. })) => {
-                    // The scheduler's own advice (retry with a smaller
-                    // budget) is spent: say what is too long instead.
-                    let counters = self.read_counters()?;
-                    return Err(self.loop_limit_error(
-                        scene,
-                        &counters,
-                        waits,
-                        loop_retries + 1,
-                        &capacities,
-                        budget,
-                        attempt.batch_of(scene.patches.len(), batch),
-                    ));
-                }
-                Err(e) => return Err(e),
+                (Err(e), _) => return Err(e),
             }
         };
         let (buffers, target) = self.frame.as_ref().expect("prepared above");
@@ -308,58 +267,53 @@ impl<'a> GpuRenderer<'a> {
         let mut stats = counters.to_stats();
         // Bound counts the patches it ran; a scene without patches runs nothing.
         stats.input_patches = scene.patches.len() as u64;
-        let megakernel_gpu_ms = attempt.gpu_time.map(|d| d.as_secs_f64() * 1e3);
+        let megakernel_gpu_ms = runs.gpu_time.map(|d| d.as_secs_f64() * 1e3);
         stats.frame_time_ms = Some(megakernel_gpu_ms.unwrap_or(total_wall.as_secs_f64() * 1e3));
         Ok(GpuRendered {
             image,
             coverage: resolved.coverage,
             covered_samples: resolved.covered_samples,
             stats,
-            report: attempt.report,
-            overflow_retries,
-            loop_retries,
+            report: runs.report,
+            overflow_retries: runs.overflow_retries,
+            loop_retries: runs.loop_retries,
             timings: FrameTimings {
                 megakernel_gpu_ms,
-                megakernel_wall_ms: attempt.wall.as_secs_f64() * 1e3,
+                megakernel_wall_ms: runs.wall.as_secs_f64() * 1e3,
                 total_wall_ms: total_wall.as_secs_f64() * 1e3,
             },
             tiles: 1,
-            batches: attempt.batches,
+            batches: runs.batches,
         })
     }
 
-    /// The error after the last retry still cut loops: the facts of the
-    /// last run and advice from the scene's configuration.
-    #[allow(clippy::too_many_arguments)]
+    /// The error after the scheduler's last retry still cut loops
+    /// (`error`, a [`RunError::LoopLimit`]): its facts, the iteration budget
+    /// the scheduler ended with, the counters of that last run and advice
+    /// from the scene's configuration.
     fn loop_limit_error(
         &self,
         scene: &PreparedScene,
-        counters: &GpuCounters,
-        waits: u32,
-        runs: u32,
-        capacities: &Capacities,
-        budget: Option<u32>,
+        error: RunError,
         batch: (u32, u32),
-    ) -> RenderError {
-        let stats = counters.to_stats();
+    ) -> Result<RenderError, RenderError> {
+        let stats = self.read_counters()?.to_stats();
         let context = LoopLimitContext::new(
             scene,
             stats.depth_guard_drops,
             stats.largest_micropolygon_px,
         );
-        let workgroups = self
-            .config(capacities.clone(), budget)
-            .workgroups
-            .unwrap_or(DEFAULT_WORKGROUPS);
-        RenderError::LoopLimit(Box::new(LoopLimitError::new(
-            counters.loops_cut(),
-            waits,
-            runs,
-            workgroups,
-            budget,
-            batch,
-            context,
-        )))
+        let budget = self
+            .executor
+            .as_ref()
+            .map(|(_, _, executor)| executor.iteration_budget())
+            .filter(|&budget| budget != u32::MAX);
+        Ok(
+            match LoopLimitError::from_run(error, budget, batch, context) {
+                Ok(error) => RenderError::LoopLimit(Box::new(error)),
+                Err(error) => RenderError::Run(error),
+            },
+        )
     }
 
     fn read_counters(&self) -> Result<GpuCounters, RenderError> {

@@ -359,7 +359,7 @@ impl Executor {
         };
         let report = outcome::report(&facts(submissions, gpu_time), &counters);
         outcome::judge(report, counters[control::LOOPS_CUT as usize], || {
-            self.loop_limit_advice(strategy)
+            self.loop_limit_advice(strategy, 0)
         })
     }
 

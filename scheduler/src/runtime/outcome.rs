@@ -61,6 +61,7 @@ pub(crate) fn report(facts: &RunFacts<'_>, counters: &[u32]) -> RunReport {
             Strategy::Rounds { .. } => counters[control::ROUNDS as usize],
         },
         attempts: 1,
+        retries: crate::RetryCauses::default(),
         wall_time: facts.wall_time,
         gpu_time: facts.gpu_time,
     }
@@ -171,6 +172,7 @@ pub(crate) fn judge(
     if loops_cut > 0 {
         return Err(RunError::LoopLimit {
             waits: loops_cut,
+            body_loops: 0,
             advice: advice(),
             report: Box::new(report),
         });

@@ -54,6 +54,20 @@ pub struct BoundsViolation {
     pub bound: u32,
 }
 
+/// The retries of one [`Executor::run_with_retry`](crate::Executor::run_with_retry)
+/// call, by cause (all 0 for a run without retries).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct RetryCauses {
+    /// Retries after a queue overflow, with the queues grown.
+    pub overflow: u32,
+    /// Retries after too many seeds, with the seeded queue grown.
+    pub seeds: u32,
+    /// Retries after a loop limit (the scheduler's waits or, reported by
+    /// [`Retry::check_loops`](crate::Retry::check_loops), the bodies' own
+    /// loops), with a lower iteration budget.
+    pub loop_limit: u32,
+}
+
 /// The report of one run.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunReport {
@@ -71,8 +85,12 @@ pub struct RunReport {
     pub dispatches: u32,
     /// Rounds that found work (Rounds strategy; 0 for the megakernel).
     pub rounds: u32,
-    /// Attempts it took (more than one only after overflow retries).
+    /// Attempts it took (more than one only after retries of
+    /// [`Executor::run_with_retry`](crate::Executor::run_with_retry)).
     pub attempts: u32,
+    /// Why the attempts before the last were retried.
+    #[serde(default)]
+    pub retries: RetryCauses,
     /// Host wall time from the first submission to the final read-back.
     #[serde(with = "duration_ms")]
     pub wall_time: Duration,

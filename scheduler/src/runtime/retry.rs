@@ -5,10 +5,15 @@
 use crate::runtime::executor::{Binding, Executor};
 use crate::runtime::growth::{capacities_for_seeds, grown_capacities};
 use crate::runtime::state::{QueueState, Tuning};
-use crate::{Quirks, RunError, RunReport, Seeds, Strategy};
+use crate::{Quirks, RetryCauses, RunError, RunReport, Seeds, Strategy};
 
 /// Restores the user's resources before a retry.
 pub type ResetFn<'a> = Box<dyn FnMut(&wgpu::Device, &wgpu::Queue) + 'a>;
+
+/// Counts, after a run, the loops of the bodies that the driver cut short
+/// (see [`Retry::check_loops`]).
+pub type LoopCheckFn<'a> =
+    Box<dyn FnMut(&wgpu::Device, &wgpu::Queue) -> Result<u32, RunError> + 'a>;
 
 /// Opt-in automatic retry after a queue overflow, too many seeds, or a loop
 /// the driver cut short ([`RunError::LoopLimit`], llvmpipe).
@@ -24,19 +29,26 @@ pub type ResetFn<'a> = Box<dyn FnMut(&wgpu::Device, &wgpu::Queue) + 'a>;
 /// - After a loop limit under the megakernel, the iteration budget halves
 ///   (down to 1), so workgroups leave sooner; this changes the dispatches,
 ///   never the results. At a budget of 1, and under Rounds, the same
-///   configuration runs again.
+///   configuration runs again. A loop limit is the scheduler's own (its
+///   queue waits were cut) or one the bodies' loops saw, which only the
+///   bodies can count: with [`Retry::check_loops`] the caller reports those
+///   after each run, and they are retried the same way.
 ///
 /// Each retry reallocates the scheduler's buffers, calls `reset` so the
 /// user can restore their own resources (clear a framebuffer, zero
 /// counters), and runs again from the seeds. A run that succeeds after
 /// retries therefore gives the same results as one configured right from
 /// the start. The grown capacities and the lowered budget stay for later
-/// runs.
+/// runs. The report counts the attempts and their causes
+/// ([`RunReport::retries`]).
 pub struct Retry<'a> {
     /// Attempts in all, the first included (at least 1).
     pub max_attempts: u32,
     /// Restores the user's resources before each retry.
     pub reset: ResetFn<'a>,
+    /// Counts the bodies' loops the driver cut in the run just made (`None`:
+    /// only the scheduler's own waits are checked).
+    pub check_loops: Option<LoopCheckFn<'a>>,
 }
 
 impl<'a> Retry<'a> {
@@ -45,6 +57,7 @@ impl<'a> Retry<'a> {
         Self {
             max_attempts,
             reset: Box::new(reset),
+            check_loops: None,
         }
     }
 
@@ -52,21 +65,43 @@ impl<'a> Retry<'a> {
     pub fn without_reset(max_attempts: u32) -> Self {
         Self::new(max_attempts, |_, _| {})
     }
+
+    /// Reports cuts of the bodies' own loops: after each run that found
+    /// nothing else wrong, `check` returns how many loops of the bodies the
+    /// driver cut short (a body counts them itself, for example by testing
+    /// after its loop whether the loop reached its end, into a counter
+    /// resource that `check` reads back; llvmpipe cuts every loop of an
+    /// invocation once they have run 65,535 iterations together). A nonzero
+    /// count is a loop limit like the scheduler's own: the same halving of
+    /// the iteration budget, the same `reset`, the same attempt count, and
+    /// once the attempts are spent a [`RunError::LoopLimit`] whose
+    /// `body_loops` holds the count. A read-back error of `check` ends the
+    /// run with that error.
+    pub fn check_loops(
+        mut self,
+        check: impl FnMut(&wgpu::Device, &wgpu::Queue) -> Result<u32, RunError> + 'a,
+    ) -> Self {
+        self.check_loops = Some(Box::new(check));
+        self
+    }
 }
 
 impl std::fmt::Debug for Retry<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Retry")
             .field("max_attempts", &self.max_attempts)
+            .field("check_loops", &self.check_loops.is_some())
             .finish_non_exhaustive()
     }
 }
 
 impl Executor {
-    /// Runs like [`run_with`](Self::run_with), but on a queue overflow grows
-    /// the overflowing queues and runs again from a clean state (see
-    /// [`Retry`]). The report counts the attempts. Fails with the last
-    /// overflow once `retry.max_attempts` are spent, with
+    /// Runs like [`run_with`](Self::run_with), but on a queue overflow, too
+    /// many seeds or a loop limit (the scheduler's, or the bodies' reported
+    /// by [`Retry::check_loops`]) adapts the queues or the iteration budget
+    /// and runs again from a clean state (see [`Retry`]). The report counts
+    /// the attempts and their causes. Fails with the last overflow or loop
+    /// limit once `retry.max_attempts` are spent, with
     /// [`RunError::QueueExceedsDevice`] when the measured need of a queue
     /// does not fit the device, and at once on any other error.
     pub fn run_with_retry(
@@ -78,10 +113,14 @@ impl Executor {
     ) -> Result<RunReport, RunError> {
         let resources = self.resource_bind_group(bindings)?;
         let mut attempt = 1;
+        let mut causes = RetryCauses::default();
         loop {
-            match self.attempt(strategy, seeds, resources.as_ref()) {
+            let outcome = self.attempt(strategy, seeds, resources.as_ref());
+            let outcome = self.with_body_loops(strategy, outcome, retry.check_loops.as_mut())?;
+            match outcome {
                 Ok(mut report) => {
                     report.attempts = attempt;
+                    report.retries = causes;
                     return Ok(report);
                 }
                 Err(RunError::QueueOverflow { report, .. }) if attempt < retry.max_attempts => {
@@ -92,6 +131,7 @@ impl Executor {
                     );
                     self.rebuild_state(capacities, self.tuning)?;
                     (retry.reset)(&self.device, &self.queue);
+                    causes.overflow += 1;
                     attempt += 1;
                 }
                 Err(RunError::TooManySeeds {
@@ -109,35 +149,92 @@ impl Executor {
                         "attempt {attempt}: {seeds} seeds for `{procedure}`; retrying with capacities {capacities:?}"
                     );
                     self.rebuild_state(capacities, self.tuning)?;
+                    causes.seeds += 1;
                     attempt += 1;
                 }
-                Err(RunError::LoopLimit { waits, .. }) if attempt < retry.max_attempts => {
-                    // The driver cut a loop (llvmpipe): the megakernel's
-                    // workgroups leave sooner with a smaller iteration budget,
-                    // which changes the dispatches, never the results. At a
-                    // budget of 1 (and under Rounds) the same configuration
-                    // runs again: a cut under CPU contention may not recur.
-                    let mut tuning = self.tuning;
-                    if strategy == Strategy::Megakernel && tuning.iteration_budget > 1 {
-                        tuning.iteration_budget = if tuning.iteration_budget == u32::MAX {
-                            Quirks::of_device(&self.device)
-                                .default_iteration_budget(self.compiled.plan.chunks_per_batch)
-                                .unwrap_or(64)
-                        } else {
-                            tuning.iteration_budget / 2
-                        };
-                    }
+                Err(RunError::LoopLimit {
+                    waits, body_loops, ..
+                }) if attempt < retry.max_attempts => {
+                    let tuning = self.lowered_budget(strategy);
                     log::info!(
-                        "attempt {attempt}: {waits} loop(s) cut by the driver; retrying with an iteration budget of {}",
+                        "attempt {attempt}: {waits} wait(s) and {body_loops} body loop(s) cut by the driver; retrying with an iteration budget of {}",
                         tuning.iteration_budget
                     );
                     self.rebuild_state(self.state.capacities.clone(), tuning)?;
                     (retry.reset)(&self.device, &self.queue);
+                    causes.loop_limit += 1;
                     attempt += 1;
+                }
+                Err(RunError::LoopLimit {
+                    waits,
+                    body_loops,
+                    advice,
+                    mut report,
+                }) => {
+                    report.attempts = attempt;
+                    report.retries = causes;
+                    return Err(RunError::LoopLimit {
+                        waits,
+                        body_loops,
+                        advice,
+                        report,
+                    });
                 }
                 Err(error) => return Err(error),
             }
         }
+    }
+
+    /// `outcome` with the bodies' loop cuts that `check` counts: a run that
+    /// succeeded, or hit the scheduler's own loop limit, becomes a loop
+    /// limit with `body_loops` when `check` counts any. Other failures are
+    /// left as they are (an overflow is retried first, as
+    /// [`run_with`](Self::run_with) reports it first). `Err` only when
+    /// `check` failed.
+    fn with_body_loops(
+        &self,
+        strategy: Strategy,
+        outcome: Result<RunReport, RunError>,
+        check: Option<&mut LoopCheckFn<'_>>,
+    ) -> Result<Result<RunReport, RunError>, RunError> {
+        let Some(check) = check else {
+            return Ok(outcome);
+        };
+        let (waits, report) = match outcome {
+            Ok(report) => (0, Box::new(report)),
+            Err(RunError::LoopLimit { waits, report, .. }) => (waits, report),
+            other => return Ok(other),
+        };
+        let body_loops = check(&self.device, &self.queue)?;
+        if waits == 0 && body_loops == 0 {
+            return Ok(Ok(*report));
+        }
+        Ok(Err(RunError::LoopLimit {
+            waits,
+            body_loops,
+            advice: self.loop_limit_advice(strategy, body_loops),
+            report,
+        }))
+    }
+
+    /// The tuning to retry with after a loop limit: the driver cut a loop
+    /// (llvmpipe), and the megakernel's workgroups leave sooner with a
+    /// smaller iteration budget, which changes the dispatches, never the
+    /// results. Without a budget the driver's default is set. At a budget of
+    /// 1 (and under Rounds) the same configuration runs again: a cut under
+    /// CPU contention may not recur.
+    fn lowered_budget(&self, strategy: Strategy) -> Tuning {
+        let mut tuning = self.tuning;
+        if strategy == Strategy::Megakernel && tuning.iteration_budget > 1 {
+            tuning.iteration_budget = if tuning.iteration_budget == u32::MAX {
+                Quirks::of_device(&self.device)
+                    .default_iteration_budget(self.compiled.plan.chunks_per_batch)
+                    .unwrap_or(64)
+            } else {
+                tuning.iteration_budget / 2
+            };
+        }
+        tuning
     }
 
     /// Reallocates the queues with `capacities` and `tuning`, which later
@@ -160,8 +257,20 @@ impl Executor {
     }
 
     /// What to change after a loop limit, for the strategy and configuration
-    /// that were used.
-    pub(super) fn loop_limit_advice(&self, strategy: Strategy) -> String {
+    /// that were used; `body_loops` are the bodies' own loops reported cut
+    /// ([`Retry::check_loops`]).
+    pub(super) fn loop_limit_advice(&self, strategy: Strategy, body_loops: u32) -> String {
+        let advice = self.budget_advice(strategy);
+        if body_loops == 0 {
+            return advice;
+        }
+        format!(
+            "The bodies' own loops were cut ({body_loops} reported by `Retry::check_loops`): they share the driver's per-invocation budget with the scheduler's waits. {advice}"
+        )
+    }
+
+    /// What to change about the iteration budget or the bodies.
+    fn budget_advice(&self, strategy: Strategy) -> String {
         let chunks = self.compiled.plan.chunks_per_batch;
         let budget = self.tuning.iteration_budget;
         let shorten = format!(

@@ -134,7 +134,7 @@ impl GpuRenderer<'_> {
             Ok(plan) => Ok((with(plan.bound, plan.work), plan.batch)),
             Err(needed) => Err(RenderError::NoBatchFits {
                 patches,
-                work_capacity: MIN_WORK_CAPACITY,
+                work_capacity: MIN_WORK_CAPACITY.min(work),
                 needed,
                 limit,
             }),

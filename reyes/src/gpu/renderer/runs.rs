@@ -1,30 +1,43 @@
-//! Running the megakernel: the executor's configuration and the runs of one
-//! attempt at a tile, one per batch of input patches.
+//! Running the megakernel: the executor's configuration and the runs of a
+//! tile, one per batch of input patches, each through the scheduler's
+//! [`Executor::run_with_retry`].
 
 use std::time::{Duration, Instant};
 
-use scheduler::{Capacities, DEFAULT_WORKGROUPS, Executor, ExecutorConfig, Seeds, Strategy};
+use scheduler::readback::read_buffer;
+use scheduler::{
+    Capacities, DEFAULT_WORKGROUPS, Executor, ExecutorConfig, Quirks, Retry, Seeds, Strategy,
+};
 
 use super::GpuRenderer;
-use crate::gpu::batches::{Attempt, batch_ranges};
+use crate::gpu::batches::{TileRuns, batch_ranges};
 use crate::gpu::buffers::GpuCounters;
-use crate::gpu::cpu_tuning::{CPU_ITERATION_BUDGET, cpu_workgroups, is_cpu};
 use crate::gpu::graph::{BOUND, PatchItem};
 use crate::gpu::render_error::RenderError;
 use crate::prepare::PreparedScene;
 
+/// Attempts at each batch of input patches, the first included: the
+/// scheduler's queue growth converged within two extra attempts in every
+/// measured run (docs/scheduler.md, "Overflow and retry"), and a loop limit
+/// halves the first budget of 16 batches per dispatch down to 2 in three
+/// more.
+pub const RENDER_ATTEMPTS: u32 = 6;
+
 impl GpuRenderer<'_> {
-    /// The iteration budget of a first attempt (see
-    /// [`GpuOptions::iteration_budget`](super::GpuOptions::iteration_budget)).
-    pub(super) fn iteration_budget(&self) -> Option<u32> {
-        self.options
-            .iteration_budget
-            .or_else(|| self.is_cpu().then_some(CPU_ITERATION_BUDGET))
+    /// The driver's quirks, which decide the defaults below.
+    pub(super) fn quirks(&self) -> Quirks {
+        Quirks::of_device(&self.gpu.device)
     }
 
-    /// Whether the adapter is a CPU (llvmpipe behind lavapipe).
-    pub(super) fn is_cpu(&self) -> bool {
-        is_cpu(self.gpu)
+    /// The iteration budget of a first attempt (see
+    /// [`GpuOptions::iteration_budget`](super::GpuOptions::iteration_budget)):
+    /// the rasterization loops are long, so on drivers that cap loops the
+    /// budget for long-looping bodies.
+    pub(super) fn iteration_budget(&self) -> Option<u32> {
+        self.options.iteration_budget.or_else(|| {
+            self.quirks()
+                .long_body_iteration_budget(self.compiled_chunks)
+        })
     }
 
     pub(super) fn config(
@@ -34,13 +47,10 @@ impl GpuRenderer<'_> {
     ) -> ExecutorConfig {
         let mut config = ExecutorConfig {
             capacities,
-            // Rounds launch as many workgroups as a round has batches, up to
-            // this count; on llvmpipe each workgroup's loops share one budget
-            // for all the batches it strides over, so Rounds keep the
-            // scheduler's default there instead of one per core.
             workgroups: self.options.workgroups.or_else(|| {
-                (self.is_cpu() && self.options.strategy == Strategy::Megakernel)
-                    .then(cpu_workgroups)
+                (self.options.strategy == Strategy::Megakernel)
+                    .then(|| self.quirks().megakernel_workgroups())
+                    .flatten()
             }),
             iteration_budget,
             timeout: self.options.timeout,
@@ -58,7 +68,10 @@ impl GpuRenderer<'_> {
         config
     }
 
-    /// Creates the executor unless the cached one has these capacities.
+    /// Creates the executor unless the cached one was created for these
+    /// capacities and budget. The cached one keeps what the scheduler's
+    /// retries changed (grown queues, a lower budget) for later batches,
+    /// tiles and frames.
     pub(super) fn executor(
         &mut self,
         capacities: &Capacities,
@@ -83,9 +96,13 @@ impl GpuRenderer<'_> {
     }
 
     /// Runs the megakernel once per batch of `batch` input patches of
-    /// `scene` into the cleared frame. Stops at the first failed run, or at
-    /// the first run after which llvmpipe had cut rasterization loops (the
-    /// frame is then rendered again anyway); otherwise returns the counters
+    /// `scene` into the cleared frame, each batch through
+    /// [`Executor::run_with_retry`]: an overflow grows the queues, a loop
+    /// limit (the scheduler's waits, or the rasterization loops counted in
+    /// `STAT_LOOPS_CUT`) lowers the iteration budget, and before each retry
+    /// the statistics are restored to what they were before the batch (the
+    /// framebuffer's depth test makes a repeated batch harmless there).
+    /// Stops at the first batch that fails; otherwise returns the counters
     /// of all batches together.
     pub(super) fn run_batches(
         &mut self,
@@ -93,10 +110,10 @@ impl GpuRenderer<'_> {
         capacities: &Capacities,
         budget: Option<u32>,
         batch: u32,
-    ) -> (Result<GpuCounters, RenderError>, Attempt) {
-        let mut attempt = Attempt {
+    ) -> (Result<GpuCounters, RenderError>, TileRuns) {
+        let mut runs = TileRuns {
             gpu_time: Some(Duration::ZERO),
-            ..Attempt::default()
+            ..TileRuns::default()
         };
         let ranges = batch_ranges(scene.patches.len(), batch);
         let count = ranges.len();
@@ -104,7 +121,8 @@ impl GpuRenderer<'_> {
             .compiled()
             .procedure_id::<PatchItem>(BOUND)
             .expect("the Reyes graph's Bound consumes PatchItems");
-        for (index, range) in ranges.into_iter().enumerate() {
+        let (strategy, timeout) = (self.options.strategy, self.options.timeout);
+        for range in ranges {
             // Seeds keep the scene's patch indices: every run reads its
             // patches from the same scene buffers.
             let seeds: Vec<PatchItem> = scene.patches[range.clone()]
@@ -115,40 +133,60 @@ impl GpuRenderer<'_> {
             let run_start = Instant::now();
             // The executor borrows `self` mutably; take the buffers out meanwhile.
             let frame = self.frame.take().expect("prepared above");
-            let strategy = self.options.strategy;
+            let buffers = &frame.0;
+            buffers.save_stats(&self.gpu.device, &self.gpu.queue);
+            let retry = Retry::new(RENDER_ATTEMPTS, |device, queue| {
+                buffers.restore_stats(device, queue);
+            })
+            .check_loops(|device, queue| {
+                // Earlier batches ended without cuts and a retry restores
+                // the statistics, so the count is this batch's.
+                let bytes = read_buffer(device, queue, &buffers.stats, timeout)?;
+                Ok(GpuCounters::from_bytes(&bytes).loops_cut())
+            });
             let result = self.executor(capacities, budget).and_then(|executor| {
                 executor
-                    .run_with(
+                    .run_with_retry(
                         strategy,
                         &Seeds::new().add(&bound, &seeds),
-                        &frame.0.bindings(),
+                        &buffers.bindings(),
+                        retry,
                     )
                     .map_err(RenderError::Run)
             });
             self.frame = Some(frame);
-            attempt.wall += run_start.elapsed();
-            attempt.batches += 1;
+            runs.wall += run_start.elapsed();
+            runs.batches += 1;
             match result {
                 Ok(report) => {
-                    attempt.gpu_time = attempt.gpu_time.zip(report.gpu_time).map(|(a, b)| a + b);
-                    attempt.report = Some(report);
+                    if report.attempts > 1 {
+                        log::warn!(
+                            "input patches {}..{} took {} attempts ({} after overflows, {} after llvmpipe cut loops); the grown queues and iteration budget {} stay for later runs",
+                            range.start,
+                            range.end,
+                            report.attempts,
+                            report.retries.overflow + report.retries.seeds,
+                            report.retries.loop_limit,
+                            self.executor
+                                .as_ref()
+                                .map_or(0, |(_, _, e)| e.iteration_budget())
+                        );
+                    }
+                    runs.gpu_time = runs.gpu_time.zip(report.gpu_time).map(|(a, b)| a + b);
+                    runs.add_retries(&report);
+                    runs.report = Some(report);
                 }
-                Err(e) => return (Err(e), attempt),
+                Err(e) => return (Err(e), runs),
             }
-            if count > 1 && index + 1 < count {
-                match self.read_counters() {
-                    Ok(counters) if counters.loops_cut() > 0 => return (Ok(counters), attempt),
-                    Ok(_) => {}
-                    Err(e) => return (Err(e), attempt),
-                }
+            if count > 1 {
                 log::info!(
                     "batch {}/{count} of input patches ({}..{}) done",
-                    index + 1,
+                    runs.batches,
                     range.start,
                     range.end
                 );
             }
         }
-        (self.read_counters(), attempt)
+        (self.read_counters(), runs)
     }
 }
