@@ -12,13 +12,16 @@
 //!   `k x k` grid on the lens square, mapped to the disk, for a fixed
 //!   pseudo-random permutation `π`.
 //! * **Interleave UVT** ([`UvtTables::interleave`]): `N = spp * K^2` tuples
-//!   built the same way (`K = INTERLEAVE_TILE`), shared by the `K x K`-pixel
-//!   tiles. Sample `j` of a tile (pixel `q = j / spp` of the tile in row-major
-//!   order, sample `j % spp` of that pixel) has tuple `perm_p(j)`, where
+//!   (`K = INTERLEAVE_TILE`), shared by the `K x K`-pixel tiles, in `K^2`
+//!   pixel slots of `spp` tuples; each slot's tuples cover every time
+//!   stratum and every `k x k` lens stratum of a pixel once (see
+//!   `interleave_tuples`), as Fatahalian et al. (2009) keep them. A tile
+//!   gives slot `q` to its pixel `ρ_p(q)` (row-major), where
 //!   `p = hash(tx, ty, 0, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS` picks
-//!   one of a few precomputed random permutations per tile, which breaks
-//!   the repetition of the pattern. The table stores the inverses: for a
-//!   tuple, which sample of the tile carries it.
+//!   one of a few precomputed permutations of the pixel offsets per tile,
+//!   which breaks the repetition of the pattern while every pixel stays
+//!   stratified. The table stores, for a tuple, which sample `j` of the tile
+//!   (pixel `j / spp`, sample `j % spp` of it) carries it.
 //! * **Per-pixel table** ([`UvtTables::pixel`]), used by the bounding-box and
 //!   INTERVAL modes: `TABLE_SIDE x TABLE_SIDE` pixels with `spp` samples
 //!   each, repeated over the screen. Within a pixel the times are stratified
@@ -103,6 +106,37 @@ fn stratified_tuples(m: u32, key: u32) -> Vec<TimeLens> {
         .collect()
 }
 
+/// The `N = spp * K^2` tuples of an Interleave UVT tile (`spp = k * k`):
+/// tuple `n = s * K^2 + q` is the `s`-th tuple of pixel slot `q`. Its time is
+/// the centre of fine stratum `n` of `N`, which lies in coarse stratum `s`
+/// of `spp`; its lens position is the centre of fine cell `q` (of `K x K`)
+/// within coarse lens cell `σ_q(s)` (of `k x k`), for a per-slot
+/// permutation `σ_q`. So each slot's `spp` tuples take every coarse time
+/// and lens stratum once (Fatahalian et al. 2009), and the tile's tuples
+/// use every fine time stratum and every fine lens cell once.
+fn interleave_tuples(k: u32, key: u32) -> Vec<TimeLens> {
+    let spp = k * k;
+    let slots = INTERLEAVE_TILE * INTERLEAVE_TILE;
+    let fine = k * INTERLEAVE_TILE;
+    let n = spp * slots;
+    let lens_of: Vec<Vec<u32>> = (0..slots).map(|q| permutation(spp, [key, q, 4])).collect();
+    (0..n)
+        .map(|i| {
+            let (s, q) = (i / slots, i % slots);
+            let coarse = lens_of[q as usize][s as usize];
+            let col = (coarse % k) * INTERLEAVE_TILE + q % INTERLEAVE_TILE;
+            let row = (coarse / k) * INTERLEAVE_TILE + q / INTERLEAVE_TILE;
+            TimeLens {
+                t: (i as f32 + 0.5) / n as f32,
+                lens: concentric_disk(
+                    (col as f32 + 0.5) / fine as f32,
+                    (row as f32 + 0.5) / fine as f32,
+                ),
+            }
+        })
+        .collect()
+}
+
 /// The time/lens tables of one sample count.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UvtTables {
@@ -127,15 +161,23 @@ impl UvtTables {
     /// Builds the tables for `spp` (a perfect square) samples per pixel.
     pub fn new(spp: u32) -> UvtTables {
         let k = grid_size(spp);
-        let tuples = spp * INTERLEAVE_TILE * INTERLEAVE_TILE;
+        let slots = INTERLEAVE_TILE * INTERLEAVE_TILE;
+        let tuples = spp * slots;
+        // Tuple n = s * K^2 + q belongs to pixel slot q; its sample index in
+        // the pixel is a fixed per-slot permutation of s, so that a sample's
+        // screen stratum is not tied to its time stratum.
+        let sample_of: Vec<Vec<u32>> = (0..slots).map(|q| permutation(spp, [q, 1, 5])).collect();
         let mut inverse = Vec::with_capacity((INTERLEAVE_PERMUTATIONS * tuples) as usize);
         for p in 0..INTERLEAVE_PERMUTATIONS {
-            let forward = permutation(tuples, [p, 1, 1]);
-            let mut inv = vec![0; tuples as usize];
-            for (j, &n) in forward.iter().enumerate() {
-                inv[n as usize] = j as u32;
+            // Only the pixel offsets are permuted: each pixel keeps one
+            // slot's stratified tuples.
+            let pixel_of_slot = permutation(slots, [p, 1, 1]);
+            for s in 0..spp {
+                for q in 0..slots {
+                    inverse
+                        .push(pixel_of_slot[q as usize] * spp + sample_of[q as usize][s as usize]);
+                }
             }
-            inverse.extend(inv);
         }
         let mut pixel = Vec::with_capacity((TABLE_SIDE * TABLE_SIDE * spp) as usize);
         let mut sample_in_stratum = Vec::with_capacity(pixel.capacity());
@@ -163,7 +205,7 @@ impl UvtTables {
         UvtTables {
             spp,
             simple: stratified_tuples(k, 5),
-            interleave: stratified_tuples(k * INTERLEAVE_TILE, 7),
+            interleave: interleave_tuples(k, 7),
             inverse,
             pixel,
             sample_in_stratum,

@@ -1,0 +1,162 @@
+//! `noise-bench`: the noise of each 5D sampling mode, as the RMSE of a
+//! 16-spp render against a converged render of the same scene, on the CPU
+//! reference.
+//!
+//! ```text
+//! cargo run --release -p benches --bin noise-bench -- [--model teapot|killeroo|FILE]
+//!     [--width 160] [--height 120] [--spp 16]
+//! ```
+//!
+//! The converged render has 256 samples per pixel: the scene rendered at
+//! twice the width and height with 64 spp (the most a scene allows), each
+//! 2 x 2 block of pixels averaged in linear light, which is the box filter
+//! of 256 samples over the output pixel. It uses Bounding box sampling,
+//! whose samples each carry their own stratified time and lens position.
+//! RMSE is in 8-bit sRGB levels over the three colour channels of every
+//! pixel; blur configurations are those of `blur-bench`.
+
+use std::process::ExitCode;
+
+use benches::blur::{BlurConfig, load_model, scene};
+use clap::Parser;
+use image::RgbaImage;
+use reyes::model::Model;
+use reyes::prepare::PreparedScene;
+use reyes::reference;
+use reyes::scene::Sampling;
+
+#[derive(Debug, Parser)]
+#[command(about = "Noise of the 5D sampling modes against a 256-spp render")]
+struct Args {
+    /// `teapot`, `killeroo` (from ../shared/data), or a .bpt/.bez path.
+    #[arg(long, default_value = "teapot")]
+    model: String,
+    /// Image width.
+    #[arg(long, default_value_t = 160)]
+    width: u32,
+    /// Image height.
+    #[arg(long, default_value_t = 120)]
+    height: u32,
+    /// Samples per pixel of the measured renders.
+    #[arg(long, default_value_t = 16)]
+    spp: u32,
+}
+
+const MODES: [Sampling; 5] = [
+    Sampling::Bbox,
+    Sampling::Simple,
+    Sampling::Interleave,
+    Sampling::Interval,
+    Sampling::Adaptive,
+];
+
+fn configs() -> [BlurConfig; 3] {
+    let config = |spin_degrees, aperture_fraction| BlurConfig {
+        spin_degrees,
+        aperture_fraction,
+        pan_degrees: 0.0,
+    };
+    [config(30.0, 0.0), config(0.0, 0.02), config(30.0, 0.02)]
+}
+
+fn srgb_to_linear(v: u8) -> f64 {
+    let c = v as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn linear_to_srgb_level(c: f64) -> f64 {
+    let s = if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    s * 255.0
+}
+
+/// The `width x height` image of sRGB levels whose pixels average (in
+/// linear light) the 2 x 2 blocks of `fine`.
+fn downsample(fine: &RgbaImage, width: u32, height: u32) -> Vec<[f64; 3]> {
+    let mut out = Vec::with_capacity((width * height) as usize);
+    for y in 0..height {
+        for x in 0..width {
+            let mut sum = [0.0; 3];
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let p = fine.get_pixel(2 * x + dx, 2 * y + dy);
+                for (c, total) in sum.iter_mut().enumerate() {
+                    *total += srgb_to_linear(p[c]);
+                }
+            }
+            out.push(sum.map(|s| linear_to_srgb_level(s / 4.0)));
+        }
+    }
+    out
+}
+
+fn rmse(image: &RgbaImage, converged: &[[f64; 3]]) -> f64 {
+    let mut sum = 0.0;
+    for (p, q) in image.pixels().zip(converged) {
+        for c in 0..3 {
+            let d = p[c] as f64 - q[c];
+            sum += d * d;
+        }
+    }
+    (sum / (3 * converged.len()) as f64).sqrt()
+}
+
+fn render(
+    name: &str,
+    model: &Model,
+    config: BlurConfig,
+    size: (u32, u32),
+    spp: u32,
+    mode: Sampling,
+) -> Result<reference::Rendered, String> {
+    let scene = scene(name, model, config, size.0, size.1, spp, mode);
+    let prepared = PreparedScene::load(&scene).map_err(|e| e.to_string())?;
+    reference::try_render(&prepared).map_err(|e| e.to_string())
+}
+
+fn run(args: &Args) -> Result<(), String> {
+    let (name, model) = load_model(&args.model).map_err(|e| e.to_string())?;
+    let (width, height) = (args.width, args.height);
+    println!(
+        "{name}, {width} x {height}, {} spp vs 256 spp (CPU reference)",
+        args.spp
+    );
+    println!(
+        "{:<18} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "blur", "bbox", "simple", "interleave", "interval", "adaptive"
+    );
+    for config in configs() {
+        let fine = render(
+            &name,
+            &model,
+            config,
+            (2 * width, 2 * height),
+            64,
+            Sampling::Bbox,
+        )?;
+        let converged = downsample(&fine.image, width, height);
+        let mut line = format!("{:<18}", config.label());
+        for mode in MODES {
+            let rendered = render(&name, &model, config, (width, height), args.spp, mode)?;
+            line += &format!(" {:>10.3}", rmse(&rendered.image, &converged));
+        }
+        println!("{line}");
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match run(&Args::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("noise-bench: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
