@@ -376,4 +376,71 @@ mod tests {
         );
         assert_eq!(layout.interleave, 4 * 16);
     }
+
+    /// The square point that [`concentric_disk`] maps to `p`.
+    fn disk_to_square(p: Vec2) -> (f32, f32) {
+        use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+        let r = p.length();
+        let phi = p.y.atan2(p.x);
+        let (x, y) = if (-FRAC_PI_4..=FRAC_PI_4).contains(&phi) {
+            (r, r * phi / FRAC_PI_4)
+        } else if phi > FRAC_PI_4 && phi <= 3.0 * FRAC_PI_4 {
+            (r * (FRAC_PI_2 - phi) / FRAC_PI_4, r)
+        } else if phi >= -3.0 * FRAC_PI_4 && phi < -FRAC_PI_4 {
+            (-r * (-FRAC_PI_2 - phi) / FRAC_PI_4, -r)
+        } else {
+            let shifted = if phi > 0.0 { phi - PI } else { phi + PI };
+            (-r, -r * shifted / FRAC_PI_4)
+        };
+        ((x + 1.0) * 0.5, (y + 1.0) * 0.5)
+    }
+
+    /// Interleave UVT as Fatahalian et al. keep it: in every tile, with
+    /// every permutation, each pixel's `spp` samples take every time
+    /// stratum and every `k x k` lens stratum once. The builder that
+    /// permuted all `spp * K^2` tuples of a tile failed this.
+    #[test]
+    fn every_interleave_pixel_keeps_its_time_and_lens_stratified() {
+        for spp in [4, 16, 64] {
+            let tables = UvtTables::new(spp);
+            let k = grid_size(spp);
+            let n = tables.interleave_tuples();
+            for (tx, ty) in (0..64).map(|i| (i % 8, i / 8)) {
+                let mut times = std::collections::HashMap::new();
+                let mut lenses = std::collections::HashMap::new();
+                for tuple in 0..n {
+                    let (x, y, _) = tables.interleave_sample(tx, ty, tuple);
+                    let tl = tables.interleave[tuple as usize];
+                    let (a, b) = disk_to_square(tl.lens);
+                    let back = concentric_disk(a, b);
+                    assert!(
+                        (back - tl.lens).length() < 1e-4,
+                        "{a} {b}: {back} vs {}",
+                        tl.lens
+                    );
+                    let time = (tl.t * spp as f32) as u32;
+                    let lens = (b * k as f32) as u32 * k + (a * k as f32) as u32;
+                    assert!(
+                        times
+                            .entry((x, y))
+                            .or_insert_with(Vec::new)
+                            .iter()
+                            .all(|&t| t != time),
+                        "spp {spp}, tile ({tx}, {ty}): pixel ({x}, {y}) has time stratum {time} twice"
+                    );
+                    times.get_mut(&(x, y)).unwrap().push(time);
+                    assert!(
+                        lenses
+                            .entry((x, y))
+                            .or_insert_with(Vec::new)
+                            .iter()
+                            .all(|&l| l != lens),
+                        "spp {spp}, tile ({tx}, {ty}): pixel ({x}, {y}) has lens stratum {lens} twice"
+                    );
+                    lenses.get_mut(&(x, y)).unwrap().push(lens);
+                }
+                assert!(times.values().all(|t| t.len() == spp as usize));
+            }
+        }
+    }
 }
