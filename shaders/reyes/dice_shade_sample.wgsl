@@ -11,7 +11,8 @@
 // border point between two vertices of its edge moves onto their chord;
 // then shading and projection, at open and (time and lens) at close,
 // gathering the grid's largest motion and circle of confusion for
-// Adaptive sampling.
+// Adaptive sampling, and counting the point if a stage turned its position
+// non-finite (reyes::nonfinite).
 // Phase 2: thread t < nu * nv rasterizes micropolygon (t % nu, t / nu) as
 // the two triangles (a, b, c) and (a, c, d) (raster5d.wgsl with time and
 // lens), each sample blending its triangle's corner colours (smooth
@@ -35,7 +36,8 @@ if (valid) {
         let u = grid_param(item.uv.x, item.uv.z, i, nu);
         let v = grid_param(item.uv.y, item.uv.w, j, nv);
         // displaced_point, with the bound check.
-        var moved = patch_position(&q, u, v);
+        let patch_point = patch_position(&q, u, v);
+        var moved = patch_point;
         if (object.displace_kind != DISPLACE_NONE) {
             let offset = displacement_height(object, u, v) * object.displace_scale;
             if (abs(offset) > object.displace_bound * DISPLACEMENT_BOUND_SLACK) {
@@ -65,6 +67,8 @@ if (valid) {
         let w = POINT_WORDS * k;
         let clip = to_clip(moved);
         let open = to_pixel(clip);
+        // The stages that lost the point (reyes::nonfinite), counted below.
+        var non_finite = dice_non_finite(patch_point, object.displace_kind != DISPLACE_NONE, moved) | camera_non_finite(moved, clip, open);
         scratch_store_f32(slot, w, open.x);
         scratch_store_f32(slot, w + 1u, open.y);
         scratch_store_f32(slot, w + 2u, open.z);
@@ -89,6 +93,7 @@ if (valid) {
             }
             let close_clip = to_clip(close_position);
             let close = to_pixel(close_clip);
+            non_finite |= close_non_finite(moved, close_position, close_clip, close);
             scratch_store_f32(slot, w + 5u, close.x);
             scratch_store_f32(slot, w + 6u, close.y);
             scratch_store_f32(slot, w + 7u, close.z);
@@ -103,6 +108,7 @@ if (valid) {
                 atomicMax(&grid_extent[2u * slot + 1u], bitcast<u32>(blur));
             }
         }
+        count_non_finite(non_finite);
     }
 }
 workgroupBarrier();

@@ -45,6 +45,7 @@ use self::work::WorkItem;
 use crate::aov::{self, Aov};
 use crate::color::{average_rgb10, pack_rgb10};
 use crate::dicing::{EdgeSpacing, GridSize};
+use crate::nonfinite::{camera_sources, close_sources};
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::scene::{Dicing, Sampling, Scene, SceneError, ShadingInterpolation};
@@ -391,16 +392,19 @@ fn dice_shade_sample(
         .expect("an undisplaced grid always evaluates");
     stats.displacement_bound_exceeded += grid.bound_exceeded;
     let albedo = object.albedo;
+    // The stages that lost each point (see crate::nonfinite), counted once
+    // all are known.
+    let mut non_finite = grid.non_finite.clone();
 
     let screen: Vec<ScreenPoint> = grid
         .positions
         .iter()
-        .map(|&position| {
+        .zip(&mut non_finite)
+        .map(|(&position, sources)| {
             let clip = *view_proj * position.extend(1.0);
-            ScreenPoint {
-                pixel: scene.camera.to_pixel(clip),
-                w: clip.w,
-            }
+            let pixel = scene.camera.to_pixel(clip);
+            *sources = sources.union(camera_sources(position, clip, pixel));
+            ScreenPoint { pixel, w: clip.w }
         })
         .collect();
     let depth_range = aov::depth_range(&scene.camera);
@@ -425,10 +429,12 @@ fn dice_shade_sample(
         let points: Vec<MovingPoint> = screen
             .iter()
             .zip(&grid.positions)
-            .map(|(open, &position)| {
+            .zip(&mut non_finite)
+            .map(|((open, &position), sources)| {
                 let close_position = motion.map_or(position, |m| m.close(position));
                 let clip = *view_proj * close_position.extend(1.0);
                 let close = scene.camera.to_pixel(clip);
+                *sources = sources.union(close_sources(position, close_position, clip, close));
                 let coc = [scene.lens.coc(open.w), scene.lens.coc(clip.w)];
                 MovingPoint::new(open.pixel, open.w, close, clip.w, coc)
             })
@@ -443,6 +449,9 @@ fn dice_shade_sample(
         .unwrap_or(Mode5d::Bbox);
         (sampler, points, mode)
     });
+    for sources in non_finite {
+        sources.count_into(stats);
+    }
     if let Some((_, _, Mode5d::Interleave)) = &moving {
         stats.interleave_grids += 1;
     }
