@@ -31,6 +31,7 @@ pub mod input;
 pub mod load;
 pub mod model;
 pub mod motion;
+pub mod nonfinite;
 pub mod output;
 pub mod params;
 pub mod prepare;

@@ -691,7 +691,7 @@ fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
         Dicing::Fixed => format!("fixed, threshold {} px", scene.dice_threshold),
     };
     let dicing = format!("{dicing}, {} shading", scene.shading_interpolation.name());
-    let rows: [(&str, String); 17] = [
+    let rows: [(&str, String); 18] = [
         ("input patches", stats.input_patches.to_string()),
         ("splits", stats.splits.to_string()),
         ("culled patches", stats.culled_patches.to_string()),
@@ -728,6 +728,13 @@ fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
         (
             "beyond displ. bound",
             stats.displacement_bound_exceeded.to_string(),
+        ),
+        (
+            "non-finite dsp/tf/cam",
+            format!(
+                "{}/{}/{}",
+                stats.non_finite_displacement, stats.non_finite_transform, stats.non_finite_camera
+            ),
         ),
         (
             "frame time",

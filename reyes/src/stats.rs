@@ -42,6 +42,22 @@ pub struct RenderStats {
     /// displacement bound (0 when every bound holds; see `docs/reyes.md`).
     #[serde(default)]
     pub displacement_bound_exceeded: u64,
+    /// Grid points whose position the displacement turned infinite or NaN
+    /// (height times scale beyond `f32`, or a user function returning NaN
+    /// or infinity), counted once per diced point (see
+    /// [`crate::nonfinite`]; 0 in a healthy frame).
+    #[serde(default)]
+    pub non_finite_displacement: u64,
+    /// Grid points whose position the object's transform turned infinite or
+    /// NaN (the shutter-close motion, or a placement near the `f32` limit),
+    /// counted once per diced point (see [`crate::nonfinite`]).
+    #[serde(default)]
+    pub non_finite_transform: u64,
+    /// Grid points with a finite world position whose clip or pixel
+    /// position (at open or close) is infinite or NaN, counted once per
+    /// diced point (see [`crate::nonfinite`]).
+    #[serde(default)]
+    pub non_finite_camera: u64,
     /// Grids that Adaptive sampling (or Interleave UVT itself) sampled
     /// with Interleave UVT.
     #[serde(default)]

@@ -11,7 +11,8 @@
 // border point between two vertices of its edge moves onto their chord;
 // then shading and projection, at open and (time and lens) at close,
 // gathering the grid's largest motion and circle of confusion for
-// Adaptive sampling.
+// Adaptive sampling, and counting the point if a stage turned its position
+// non-finite (reyes::nonfinite).
 // Phase 2: thread t < nu * nv rasterizes micropolygon (t % nu, t / nu) as
 // the two triangles (a, b, c) and (a, c, d) (raster5d.wgsl with time and
 // lens), each sample blending its triangle's corner colours (smooth
@@ -37,7 +38,8 @@ if (valid) {
         let u = grid_param(item.uv.x, item.uv.z, i, nu);
         let v = grid_param(item.uv.y, item.uv.w, j, nv);
         // displaced_point, with the bound check.
-        var moved = patch_position(&q, u, v);
+        let patch_point = patch_position(&q, u, v);
+        var moved = patch_point;
         if (object.displace_kind != DISPLACE_NONE) {
             let offset = displacement_height(object, u, v) * object.displace_scale;
             if (abs(offset) > object.displace_bound * DISPLACEMENT_BOUND_SLACK) {
@@ -67,6 +69,8 @@ if (valid) {
         let w = POINT_WORDS * k;
         let clip = to_clip(moved);
         scratch_store_clip(slot, w, clip);
+        // The stages that lost the point (reyes::nonfinite), counted below.
+        var non_finite = dice_non_finite(patch_point, object.displace_kind != DISPLACE_NONE, moved) | camera_non_finite(moved, clip, to_pixel(clip));
         var color = vec3<f32>(0.0);
         switch frame.aov {
             case AOV_DEPTH: {
@@ -87,6 +91,7 @@ if (valid) {
             }
             let close_clip = to_clip(close_position);
             scratch_store_clip(slot, w + 5u, close_clip);
+            non_finite |= close_non_finite(moved, close_position, close_clip, to_pixel(close_clip));
             let seen = moving_point(clip, close_clip);
             let motion = dist2(seen.open.xy, seen.close.xy);
             let blur = moving_blur(seen);
@@ -98,6 +103,7 @@ if (valid) {
                 atomicMax(&grid_extent[2u * slot + 1u], bitcast<u32>(blur));
             }
         }
+        count_non_finite(non_finite);
     }
 }
 workgroupBarrier();

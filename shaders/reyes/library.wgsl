@@ -38,6 +38,63 @@ fn is_nan_f32(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u;
 }
 
+fn is_finite3(v: vec3<f32>) -> bool {
+    return is_finite_f32(v.x) && is_finite_f32(v.y) && is_finite_f32(v.z);
+}
+
+fn is_finite4(v: vec4<f32>) -> bool {
+    return is_finite3(v.xyz) && is_finite_f32(v.w);
+}
+
+// ------------------------------------------------- non-finite grid points
+
+// reyes::nonfinite: the NON_FINITE_* bits of the stage that first turned a
+// grid point's position infinite or NaN (each mirrors the function of the
+// same name there, without the `_sources`).
+
+// nonfinite::dice_sources: the transform when the patch's own point is not
+// finite, else when the final position `moved` is not, the displacement of
+// a displaced object (the transform otherwise).
+fn dice_non_finite(patch_point: vec3<f32>, displaced: bool, moved: vec3<f32>) -> u32 {
+    if (!is_finite3(patch_point)) {
+        return NON_FINITE_TRANSFORM;
+    }
+    if (!is_finite3(moved)) {
+        return select(NON_FINITE_TRANSFORM, NON_FINITE_DISPLACEMENT, displaced);
+    }
+    return 0u;
+}
+
+// nonfinite::camera_sources: a finite world position whose clip or pixel
+// position is not finite.
+fn camera_non_finite(world: vec3<f32>, clip: vec4<f32>, pixel: vec3<f32>) -> u32 {
+    if (is_finite3(world) && !(is_finite4(clip) && is_finite3(pixel))) {
+        return NON_FINITE_CAMERA;
+    }
+    return 0u;
+}
+
+// nonfinite::close_sources: the motion lost the finite `moved`, else the
+// camera lost the close position.
+fn close_non_finite(moved: vec3<f32>, close_position: vec3<f32>, close_clip: vec4<f32>, close: vec3<f32>) -> u32 {
+    if (is_finite3(moved) && !is_finite3(close_position)) {
+        return NON_FINITE_TRANSFORM;
+    }
+    return camera_non_finite(close_position, close_clip, close);
+}
+
+// nonfinite::Sources::count_into: one per source in `sources`.
+fn count_non_finite(sources: u32) {
+    if (sources == 0u) {
+        return;
+    }
+    for (var b = 0u; b < 3u; b += 1u) {
+        if ((sources & (1u << b)) != 0u) {
+            atomicAdd(&stats[STAT_NON_FINITE + b], 1u);
+        }
+    }
+}
+
 // Rust's `f32::round` for x >= 0 (halves away from zero); WGSL's round()
 // rounds halves to even, which would differ from the reference on ties.
 fn round_half_up(x: f32) -> f32 {

@@ -6,6 +6,7 @@ use glam::{Mat4, Vec4};
 
 use super::graph::{sampling, stat};
 use super::objects::{ObjectData, ObjectTables};
+use crate::nonfinite::Source;
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::stats::RenderStats;
@@ -463,6 +464,9 @@ impl GpuCounters {
                 self.words[stat::LARGEST_MICROPOLYGON as usize],
             ),
             displacement_bound_exceeded: w(stat::DISPLACEMENT_BOUND_EXCEEDED),
+            non_finite_displacement: w(stat::NON_FINITE + Source::Displacement as u32),
+            non_finite_transform: w(stat::NON_FINITE + Source::Transform as u32),
+            non_finite_camera: w(stat::NON_FINITE + Source::Camera as u32),
             interleave_grids: w(stat::INTERLEAVE_GRIDS),
             grids_by_class: std::array::from_fn(|c| w(stat::GRIDS_BY_CLASS + c as u32)),
             dice_threads: self.wide(stat::DICE_THREADS),

@@ -121,8 +121,26 @@ pub mod stat {
     pub const GRIDS_BY_CLASS: u32 = 15;
     /// Threads of the dice items (64-bit: words 18, 19).
     pub const DICE_THREADS: u32 = 18;
+    /// Grid points whose position turned infinite or NaN, by the stage that
+    /// turned it (words 20, 21, 22: [`super::non_finite`]'s displacement,
+    /// transform, camera).
+    pub const NON_FINITE: u32 = 20;
     /// Words in the buffer.
-    pub const WORDS: u32 = 20;
+    pub const WORDS: u32 = 23;
+}
+
+/// The stages that can turn a grid point's position non-finite, as bits of
+/// the per-point mask of `dice_shade_sample.wgsl`; bit `b` is counted in
+/// stats word [`stat::NON_FINITE`] + `b`, as [`crate::nonfinite::Source`]
+/// orders them.
+pub mod non_finite {
+    /// The displacement (height times scale, or the displaced point).
+    pub const DISPLACEMENT: u32 = 1 << crate::nonfinite::Source::Displacement as u32;
+    /// The object's transform (the patch evaluated at a finite
+    /// transform's points near the `f32` limit, or the shutter-close motion).
+    pub const TRANSFORM: u32 = 1 << crate::nonfinite::Source::Transform as u32;
+    /// The camera (clip or pixel position of a finite world position).
+    pub const CAMERA: u32 = 1 << crate::nonfinite::Source::Camera as u32;
 }
 
 /// Displacement sources, as [`super::objects::ObjectData::displace_kind`]
@@ -394,6 +412,16 @@ fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, ConstantValue)> {
             ConstantValue::U32(stat::GRIDS_BY_CLASS),
         ),
         ("STAT_DICE_THREADS", ConstantValue::U32(stat::DICE_THREADS)),
+        ("STAT_NON_FINITE", ConstantValue::U32(stat::NON_FINITE)),
+        (
+            "NON_FINITE_DISPLACEMENT",
+            ConstantValue::U32(non_finite::DISPLACEMENT),
+        ),
+        (
+            "NON_FINITE_TRANSFORM",
+            ConstantValue::U32(non_finite::TRANSFORM),
+        ),
+        ("NON_FINITE_CAMERA", ConstantValue::U32(non_finite::CAMERA)),
         ("DISPLACE_NONE", ConstantValue::U32(displace::NONE)),
         ("DISPLACE_IMAGE", ConstantValue::U32(displace::IMAGE)),
         ("DISPLACE_SINES", ConstantValue::U32(displace::SINES)),

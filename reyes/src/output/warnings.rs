@@ -6,8 +6,8 @@ use crate::stats::RenderStats;
 
 /// The warnings a frame's statistics call for, one sentence each (without
 /// a `warning:` prefix): patches dropped by the depth guard, a frame that
-/// covered no sample although the scene has objects, and displaced points
-/// beyond their bound. `objects` is the scene's object count and
+/// covered no sample although the scene has objects, displaced points
+/// beyond their bound, and grid points that turned non-finite, by source. `objects` is the scene's object count and
 /// `max_split_depth` the depth guard it rendered with.
 pub fn frame_warnings(stats: &RenderStats, objects: usize, max_split_depth: u32) -> Vec<String> {
     let mut warnings = Vec::new();
@@ -43,7 +43,37 @@ pub fn frame_warnings(stats: &RenderStats, objects: usize, max_split_depth: u32)
             stats.displacement_bound_exceeded
         ));
     }
+    warnings.extend(non_finite_warnings(stats));
     warnings
+}
+
+/// One warning per source that turned grid points non-finite
+/// ([`crate::nonfinite`]), naming what to check.
+fn non_finite_warnings(stats: &RenderStats) -> impl Iterator<Item = String> {
+    [
+        (
+            stats.non_finite_displacement,
+            "the displacement",
+            "check the displacement function (a user function may return NaN or infinity) and its scale",
+        ),
+        (
+            stats.non_finite_transform,
+            "the object's transform",
+            "check the objects' transform and transform_close: their scales times the model's size (and its displacement) must stay well within f32",
+        ),
+        (
+            stats.non_finite_camera,
+            "the camera's projection",
+            "check the camera (eye, target, fov) and how far from it the surfaces lie: a position, displaced or placed, far beyond the scene overflows f32 when projected",
+        ),
+    ]
+    .into_iter()
+    .filter(|&(count, _, _)| count > 0)
+    .map(|(count, source, check)| {
+        format!(
+            "{count} grid point(s) got an infinite or NaN position from {source} and may be missing or drawn wrongly; {check}"
+        )
+    })
 }
 
 /// Why no sample was covered, as far as the counters tell.
@@ -111,6 +141,29 @@ mod tests {
         assert_eq!(warnings.len(), 1);
         assert!(warnings[0].starts_with("the depth guard dropped 3 patch piece(s)"));
         assert!(warnings[0].contains("already at its limit"));
+    }
+
+    #[test]
+    fn each_non_finite_source_is_named() {
+        let stats = RenderStats {
+            non_finite_displacement: 7,
+            non_finite_camera: 2,
+            ..healthy()
+        };
+        let warnings = frame_warnings(&stats, 1, 24);
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(
+            warnings[0].starts_with(
+                "7 grid point(s) got an infinite or NaN position from the displacement"
+            )
+        );
+        assert!(warnings[0].contains("and its scale"));
+        assert!(warnings[1].starts_with("2 grid point(s)") && warnings[1].contains("the camera"));
+        let moved = RenderStats {
+            non_finite_transform: 1,
+            ..healthy()
+        };
+        assert!(frame_warnings(&moved, 1, 24)[0].contains("transform_close"));
     }
 
     #[test]

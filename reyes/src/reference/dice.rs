@@ -7,8 +7,11 @@ use glam::{Vec3, Vec4};
 use super::displace::{displaced_point, grid_normal};
 use crate::bezier;
 use crate::camera::{HomogeneousEye, towards_eye};
-use crate::dicing::{BorderPoint, GridSize, PieceEdges, border_point, chord_point, grid_param};
+use crate::dicing::{
+    BorderPoint, GridSize, PieceEdges, border_point, chord_point, grid_param, patch_position,
+};
 use crate::displacement::PreparedDisplacement;
+use crate::nonfinite::{Sources, dice_sources};
 use crate::params::{DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX, DEGENERATE_PARAM_MIN};
 
 /// A diced grid: point `(i, j)` (i along u, j along v) is at index
@@ -24,6 +27,9 @@ pub struct Grid {
     /// Grid points displaced further than their object's bound (see
     /// [`PreparedDisplacement::exceeds_bound`]).
     pub bound_exceeded: u64,
+    /// Per point, the stages that turned its position non-finite
+    /// ([`dice_sources`]; the camera's are added when it is projected).
+    pub non_finite: Vec<Sources>,
 }
 
 impl Grid {
@@ -45,6 +51,8 @@ impl Grid {
 /// 3. With `edges` (rate dicing), a border point that lies between two
 ///    vertices of its edge moves onto the chord between their positions
 ///    ([`border_point`]); its normal stays its own.
+/// 4. Its final position is checked for the stage that may have turned it
+///    non-finite ([`dice_sources`]).
 ///
 /// Returns `None` when a height cannot be evaluated on the CPU (a user WGSL
 /// function without a Rust twin).
@@ -68,6 +76,7 @@ pub fn dice(
         positions: Vec::with_capacity((columns * rows) as usize),
         normals: Vec::new(),
         bound_exceeded: 0,
+        non_finite: Vec::new(),
     };
     for j in 0..rows {
         for i in 0..columns {
@@ -107,6 +116,15 @@ pub fn dice(
                     grid.positions[k] = chord_point(qa, qb, f);
                 }
             }
+        }
+    }
+    // After the chords, as the GPU checks the point's final position.
+    for j in 0..rows {
+        for i in 0..columns {
+            let (u, v) = param(i, j);
+            let moved = grid.positions[grid.index(i, j)];
+            let sources = dice_sources(patch_position(patch, u, v), displacement.is_some(), moved);
+            grid.non_finite.push(sources);
         }
     }
     Some(grid)

@@ -45,6 +45,7 @@ use self::work::WorkItem;
 use crate::aov::{self, Aov};
 use crate::color::{average_rgb10, pack_rgb10};
 use crate::dicing::{EdgeSpacing, GridSize};
+use crate::nonfinite::{camera_sources, close_sources};
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::scene::{Dicing, Sampling, Scene, SceneError, ShadingInterpolation};
@@ -391,16 +392,19 @@ fn dice_shade_sample(
         .expect("an undisplaced grid always evaluates");
     stats.displacement_bound_exceeded += grid.bound_exceeded;
     let albedo = object.albedo;
+    // The stages that lost each point (see crate::nonfinite), counted once
+    // all are known.
+    let mut non_finite = grid.non_finite.clone();
 
     let screen: Vec<ScreenPoint> = grid
         .positions
         .iter()
-        .map(|&position| {
+        .zip(&mut non_finite)
+        .map(|(&position, sources)| {
             let clip = *view_proj * position.extend(1.0);
-            ScreenPoint {
-                pixel: scene.camera.to_pixel(clip),
-                w: clip.w,
-            }
+            let pixel = scene.camera.to_pixel(clip);
+            *sources = sources.union(camera_sources(position, clip, pixel));
+            ScreenPoint { pixel, w: clip.w }
         })
         .collect();
     let depth_range = aov::depth_range(&scene.camera);
@@ -425,10 +429,14 @@ fn dice_shade_sample(
         let points: Vec<MovingPoint> = grid
             .positions
             .iter()
-            .map(|&position| {
+            .zip(&mut non_finite)
+            .map(|(&position, sources)| {
                 let close_position = motion.map_or(position, |m| m.close(position));
                 let clip_open = *view_proj * position.extend(1.0);
                 let clip_close = *view_proj * close_position.extend(1.0);
+                let close = scene.camera.to_pixel(clip_close);
+                *sources =
+                    sources.union(close_sources(position, close_position, clip_close, close));
                 MovingPoint::new(clip_open, clip_close, &scene.camera, &scene.lens)
             })
             .collect();
@@ -442,6 +450,9 @@ fn dice_shade_sample(
         .unwrap_or(Mode5d::Bbox);
         (sampler, points, mode)
     });
+    for sources in non_finite {
+        sources.count_into(stats);
+    }
     if let Some((_, _, Mode5d::Interleave)) = &moving {
         stats.interleave_grids += 1;
     }

@@ -28,6 +28,9 @@ fn add_tile_stats(total: &mut RenderStats, tile: &RenderStats) {
         samples_hit,
         largest_micropolygon_px,
         displacement_bound_exceeded,
+        non_finite_displacement,
+        non_finite_transform,
+        non_finite_camera,
         interleave_grids,
         grids_by_class,
         dice_threads,
@@ -46,6 +49,9 @@ fn add_tile_stats(total: &mut RenderStats, tile: &RenderStats) {
     total.samples_hit += samples_hit;
     total.largest_micropolygon_px = total.largest_micropolygon_px.max(*largest_micropolygon_px);
     total.displacement_bound_exceeded += displacement_bound_exceeded;
+    total.non_finite_displacement += non_finite_displacement;
+    total.non_finite_transform += non_finite_transform;
+    total.non_finite_camera += non_finite_camera;
     total.interleave_grids += interleave_grids;
 }
 
