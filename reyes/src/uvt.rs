@@ -386,7 +386,7 @@ mod tests {
             (r, r * phi / FRAC_PI_4)
         } else if phi > FRAC_PI_4 && phi <= 3.0 * FRAC_PI_4 {
             (r * (FRAC_PI_2 - phi) / FRAC_PI_4, r)
-        } else if phi >= -3.0 * FRAC_PI_4 && phi < -FRAC_PI_4 {
+        } else if (-3.0 * FRAC_PI_4..-FRAC_PI_4).contains(&phi) {
             (-r * (-FRAC_PI_2 - phi) / FRAC_PI_4, -r)
         } else {
             let shifted = if phi > 0.0 { phi - PI } else { phi + PI };
