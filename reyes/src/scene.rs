@@ -316,6 +316,16 @@ impl Dicing {
 }
 
 impl Sampling {
+    /// The modes that sample time and lens (every mode but
+    /// [`Sampling::Nearest`]), in declaration order.
+    pub const TIME_AND_LENS: [Sampling; 5] = [
+        Sampling::Bbox,
+        Sampling::Simple,
+        Sampling::Interleave,
+        Sampling::Interval,
+        Sampling::Adaptive,
+    ];
+
     /// Every mode, in the order of the docs and the benchmark tables.
     pub const ALL: [Sampling; 6] = [
         Sampling::Bbox,

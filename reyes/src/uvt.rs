@@ -401,13 +401,14 @@ mod tests {
     /// permuted all `spp * K^2` tuples of a tile failed this.
     #[test]
     fn every_interleave_pixel_keeps_its_time_and_lens_stratified() {
+        use std::collections::{HashMap, HashSet};
         for spp in [4, 16, 64] {
             let tables = UvtTables::new(spp);
             let k = grid_size(spp);
             let n = tables.interleave_tuples();
             for (tx, ty) in (0..64).map(|i| (i % 8, i / 8)) {
-                let mut times = std::collections::HashMap::new();
-                let mut lenses = std::collections::HashMap::new();
+                let mut times = HashMap::<(u32, u32), HashSet<u32>>::new();
+                let mut lenses = HashMap::<(u32, u32), HashSet<u32>>::new();
                 for tuple in 0..n {
                     let (x, y, _) = tables.interleave_sample(tx, ty, tuple);
                     let tl = tables.interleave[tuple as usize];
@@ -420,24 +421,15 @@ mod tests {
                     );
                     let time = (tl.t * spp as f32) as u32;
                     let lens = (b * k as f32) as u32 * k + (a * k as f32) as u32;
-                    assert!(
-                        times
-                            .entry((x, y))
-                            .or_insert_with(Vec::new)
-                            .iter()
-                            .all(|&t| t != time),
-                        "spp {spp}, tile ({tx}, {ty}): pixel ({x}, {y}) has time stratum {time} twice"
-                    );
-                    times.get_mut(&(x, y)).unwrap().push(time);
-                    assert!(
-                        lenses
-                            .entry((x, y))
-                            .or_insert_with(Vec::new)
-                            .iter()
-                            .all(|&l| l != lens),
-                        "spp {spp}, tile ({tx}, {ty}): pixel ({x}, {y}) has lens stratum {lens} twice"
-                    );
-                    lenses.get_mut(&(x, y)).unwrap().push(lens);
+                    for (strata, stratum, what) in
+                        [(&mut times, time, "time"), (&mut lenses, lens, "lens")]
+                    {
+                        // HashSet::insert is false for a stratum seen before.
+                        assert!(
+                            strata.entry((x, y)).or_default().insert(stratum),
+                            "spp {spp}, tile ({tx}, {ty}): pixel ({x}, {y}) has {what} stratum {stratum} twice"
+                        );
+                    }
                 }
                 assert!(times.values().all(|t| t.len() == spp as usize));
             }

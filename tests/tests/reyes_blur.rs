@@ -28,14 +28,8 @@ use tests::reyes_support::{
     agreement, as_reference, assert_counts_close, camera_down_z, framed_teapot, gpu_turn, renderer,
 };
 
-/// The 5D modes.
-const MODES: [Sampling; 5] = [
-    Sampling::Bbox,
-    Sampling::Simple,
-    Sampling::Interleave,
-    Sampling::Interval,
-    Sampling::Adaptive,
-];
+/// The modes that sample time and lens.
+const MODES: [Sampling; 5] = Sampling::TIME_AND_LENS;
 
 /// Image side of the card scenes.
 const SIDE: u32 = 128;

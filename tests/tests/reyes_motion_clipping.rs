@@ -12,19 +12,14 @@
 //! reference.
 
 use glam::Vec3;
-use reyes::gpu::GpuOptions;
+use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::prepare::PreparedScene;
-use reyes::reference;
+use reyes::reference::{self, Rendered};
 use reyes::scene::{CameraDesc, Projection, Sampling, Scene, Transform};
 use tests::reyes_support::{agreement, assert_counts_close, gpu_turn, renderer};
 
-const MODES: [Sampling; 5] = [
-    Sampling::Bbox,
-    Sampling::Simple,
-    Sampling::Interleave,
-    Sampling::Interval,
-    Sampling::Adaptive,
-];
+/// The modes that sample time and lens.
+const MODES: [Sampling; 5] = Sampling::TIME_AND_LENS;
 
 /// The teapot seen from `[0, -20, 1.5]` (near 0.1, far 1000), moving by
 /// `motion` during the shutter (none: still).
@@ -53,6 +48,31 @@ fn scene(motion: Option<Vec3>, sampling: Sampling) -> Scene {
     scene
 }
 
+/// The scene moving by `motion` in `mode`, on the GPU and on the CPU, which
+/// must agree (coverage, colours and sample counts).
+fn render_both(
+    renderer: &mut GpuRenderer<'_>,
+    motion: Vec3,
+    mode: Sampling,
+) -> (GpuRendered, Rendered) {
+    let prepared = PreparedScene::load(&scene(Some(motion), mode)).expect("scene prepares");
+    let g = renderer.render(&prepared).expect("GPU render");
+    let c = reference::render(&prepared);
+    let a = agreement(&g, &c);
+    eprintln!(
+        "{mode:?}: GPU tested {} hit {}, CPU tested {} hit {}, {a:?}",
+        g.stats.samples_tested, g.stats.samples_hit, c.stats.samples_tested, c.stats.samples_hit
+    );
+    a.assert_at_least(&format!("{mode:?}"), 0.99, 0.98);
+    assert_counts_close(
+        "samples tested",
+        g.stats.samples_tested,
+        c.stats.samples_tested,
+    );
+    assert_counts_close("samples hit", g.stats.samples_hit, c.stats.samples_hit);
+    (g, c)
+}
+
 fn covered(coverage: &[bool]) -> usize {
     coverage.iter().filter(|&&c| c).count()
 }
@@ -67,18 +87,7 @@ fn a_teapot_receding_past_the_far_plane_streaks_while_in_view() {
     let still_pixels = covered(&still.coverage);
     assert!(still_pixels > 100, "the still teapot covers {still_pixels}");
     for mode in MODES {
-        let prepared = PreparedScene::load(&scene(Some(Vec3::new(0.0, 2000.0, 0.0)), mode))
-            .expect("scene prepares");
-        let g = renderer.render(&prepared).expect("GPU render");
-        let c = reference::render(&prepared);
-        let a = agreement(&g, &c);
-        eprintln!(
-            "{mode:?}: GPU tested {} hit {}, CPU tested {} hit {}, {a:?}",
-            g.stats.samples_tested,
-            g.stats.samples_hit,
-            c.stats.samples_tested,
-            c.stats.samples_hit
-        );
+        let (g, c) = render_both(&mut renderer, Vec3::new(0.0, 2000.0, 0.0), mode);
         for (who, coverage) in [("GPU", &g.coverage), ("CPU", &c.coverage)] {
             // The teapot shrinks towards the view's centre as it recedes:
             // its streak lies inside the still teapot's silhouette (up to
@@ -100,13 +109,6 @@ fn a_teapot_receding_past_the_far_plane_streaks_while_in_view() {
                 "{who} {mode:?}: {outside} of {pixels} streak pixels lie outside the still teapot"
             );
         }
-        a.assert_at_least(&format!("{mode:?}"), 0.99, 0.98);
-        assert_counts_close(
-            "samples tested",
-            g.stats.samples_tested,
-            c.stats.samples_tested,
-        );
-        assert_counts_close("samples hit", g.stats.samples_hit, c.stats.samples_hit);
     }
 }
 
@@ -117,18 +119,7 @@ fn a_teapot_moving_through_the_eye_streaks_while_in_front_of_it() {
     let _turn = gpu_turn();
     let mut renderer = renderer(gpu, GpuOptions::default());
     for mode in MODES {
-        let prepared = PreparedScene::load(&scene(Some(Vec3::new(0.0, -40.0, 0.0)), mode))
-            .expect("scene prepares");
-        let g = renderer.render(&prepared).expect("GPU render");
-        let c = reference::render(&prepared);
-        let a = agreement(&g, &c);
-        eprintln!(
-            "{mode:?}: GPU tested {} hit {}, CPU tested {} hit {}, {a:?}",
-            g.stats.samples_tested,
-            g.stats.samples_hit,
-            c.stats.samples_tested,
-            c.stats.samples_hit
-        );
+        let (g, c) = render_both(&mut renderer, Vec3::new(0.0, -40.0, 0.0), mode);
         // On its way to the eye the teapot grows until it fills the view.
         for (who, coverage) in [("GPU", &g.coverage), ("CPU", &c.coverage)] {
             let fraction = covered(coverage) as f64 / coverage.len() as f64;
@@ -137,12 +128,5 @@ fn a_teapot_moving_through_the_eye_streaks_while_in_front_of_it() {
                 "{who} {mode:?}: the streak covers {fraction:.3} of the frame"
             );
         }
-        a.assert_at_least(&format!("{mode:?}"), 0.99, 0.98);
-        assert_counts_close(
-            "samples tested",
-            g.stats.samples_tested,
-            c.stats.samples_tested,
-        );
-        assert_counts_close("samples hit", g.stats.samples_hit, c.stats.samples_hit);
     }
 }

@@ -42,13 +42,8 @@ struct Args {
     spp: u32,
 }
 
-const MODES: [Sampling; 5] = [
-    Sampling::Bbox,
-    Sampling::Simple,
-    Sampling::Interleave,
-    Sampling::Interval,
-    Sampling::Adaptive,
-];
+/// The modes that sample time and lens.
+const MODES: [Sampling; 5] = Sampling::TIME_AND_LENS;
 
 fn configs() -> [BlurConfig; 3] {
     let config = |spin_degrees, aperture_fraction| BlurConfig {
