@@ -2,14 +2,14 @@
 //!
 //! ```text
 //! reyes render [SCENE] -o out.png [--width W] [--height H] [--spp N]
-//!              [--sampling bbox|simple|interleave|interval|adaptive|nearest]
+//!              [--sampling bbox|simple|interleave|interval|adaptive|nearest] [--interleave-tile 2|3|4]
 //!              [--stats] [--stats-json FILE]
 //!              [--spin DEG] [--move x,y,z] [--camera-move x,y,z] [--camera-pan DEG]
 //!              [--shutter F] [--aperture R] [--focus D]
 //!              [--eye x,y,z] [--target x,y,z] [--up x,y,z] [--fov DEG] [--cpu]
 //!              [--displace bumps|sines|FILE.png|FILE.wgsl --displace-scale S
 //!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
-//!              [--chunks N] [--dicing rate|fixed] [--shading-rate R] [--shading-interpolation smooth|constant]
+//!              [--chunks N] [--dicing rate|fixed] [--shading-rate R] [--shading-interpolation smooth|constant] [--flat-shading]
 //!              [--aov shaded|grids|depth|normal] [--sides 1|2] [--reverse-orientation]
 //!              [--max-input-bytes BYTES]
 //! reyes view [SCENE] [the options of render] [--frames N --screenshot PNG] [--hide-overlay]
@@ -273,6 +273,10 @@ struct RenderArgs {
     /// Sampling mode (default: the scene's, bbox).
     #[arg(long, value_enum)]
     sampling: Option<SamplingArg>,
+    /// Side, in pixels, of Interleave UVT's tiles: 2, 3 or 4 (default: the
+    /// scene's, 2). Interleave UVT and Adaptive use it.
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(2..=4))]
+    interleave_tile: Option<u32>,
     /// How pieces are diced (default: the scene's, rate).
     #[arg(long, value_enum)]
     dicing: Option<DicingArg>,
@@ -283,6 +287,10 @@ struct RenderArgs {
     /// How colour varies over a micropolygon (default: the scene's, smooth).
     #[arg(long, value_enum)]
     shading_interpolation: Option<InterpolationArg>,
+    /// One colour per micropolygon, the mean of its corners' (the same as
+    /// `--shading-interpolation constant`).
+    #[arg(long, conflicts_with = "shading_interpolation")]
+    flat_shading: bool,
     /// What the image shows: the shaded surface, each micropolygon coloured
     /// by its grid's size (checkered), the view depth or the shading normal.
     #[arg(long, value_enum)]
@@ -589,6 +597,12 @@ fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
             InterpolationArg::Smooth => ShadingInterpolation::Smooth,
             InterpolationArg::Constant => ShadingInterpolation::Constant,
         };
+    }
+    if args.flat_shading {
+        scene.shading_interpolation = ShadingInterpolation::Constant;
+    }
+    if let Some(tile) = args.interleave_tile {
+        scene.interleave_tile = tile;
     }
     if let Some(aov) = args.aov {
         scene.aov = match aov {

@@ -105,15 +105,11 @@ pub const SINES_OCTAVE_2_WEIGHT: f32 = 0.5;
 /// the largest `|height|` is exactly 1.
 pub const SINES_NORMALIZATION: f32 = 2.0 / 3.0;
 
-/// Adaptive sampling picks Interleave UVT for a grid when INTERVAL's
-/// estimated sample tests exceed Interleave UVT's by more than this factor
-/// (see `reyes::reference::raster5d::adaptive_choice`). Set from the
-/// Killeroo benchmark at 800x600 (docs/performance.md, the Killeroo blur
-/// tables): with 1.0 Adaptive was 31% slower than INTERVAL at spp 64 with
-/// a 30 degree spin, because the estimate overstates INTERVAL's boxes at high
-/// spp; with 2.0 it stays within 7% of the better mode in every cell
-/// measured (one frame each), giving up some of its lead with the lens alone.
-pub const ADAPTIVE_INTERLEAVE_BIAS: f32 = 2.0;
+/// What placing a micropolygon at one time and lens position costs, in
+/// sample tests, in Adaptive's cost model
+/// (`reyes::reference::raster5d::adaptive_costs`): four corner positions
+/// against one five-edge test, about the same work.
+pub const ADAPTIVE_PLACE_COST: f32 = 1.0;
 
 /// Default shading rate: the target area of a micropolygon in pixels
 /// (RenderMan's `ShadingRate`), used by [`crate::scene::Dicing::Rate`].

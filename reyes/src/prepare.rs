@@ -128,6 +128,8 @@ pub struct PreparedScene {
     pub spp: u32,
     /// Sampling mode.
     pub sampling: Sampling,
+    /// Side, in pixels, of Interleave UVT's tiles (2, 3 or 4).
+    pub interleave_tile: u32,
     /// Whether samples are jittered within their strata.
     pub jitter: bool,
     /// Linear RGB background.
@@ -315,6 +317,7 @@ impl PreparedScene {
             shininess: scene.specular.shininess,
             spp: scene.spp,
             sampling: scene.sampling,
+            interleave_tile: scene.interleave_tile,
             jitter: scene.jitter,
             background: scene.background,
             dicing: scene.dicing,
@@ -334,6 +337,17 @@ impl PreparedScene {
     /// with camera motion, every object does).
     pub fn has_motion(&self) -> bool {
         self.objects.iter().any(|o| o.motion.is_some())
+    }
+
+    /// The side of a micropolygon, in pixels, that Adaptive sampling's cost
+    /// model assumes: the side at the shading rate with rate dicing; with
+    /// fixed dicing, the side of a fixed grid's micropolygon in a piece as
+    /// large as `dice_threshold` allows.
+    pub fn nominal_micropolygon_px(&self) -> f32 {
+        match self.dicing {
+            Dicing::Rate => self.micropolygon_side,
+            Dicing::Fixed => self.dice_threshold / crate::dicing::GridSize::FIXED.nu as f32,
+        }
     }
 
     /// Whether samples carry a time and a lens position: with motion, with a

@@ -18,6 +18,7 @@
 //! ```toml
 //! spp = 4                            # samples per pixel: 1, 4, 9, 16, 25, 36, 49 or 64
 //! sampling = "bbox"                  # "bbox", "simple", "interleave", "interval", "adaptive" or "nearest"
+//! interleave_tile = 2                # Interleave UVT's tile side in pixels: 2, 3 or 4
 //! jitter = false                     # jitter samples within their strata
 //! shutter = 1.0                      # fraction of the open-to-close motion the shutter sees
 //! background = [0.05, 0.05, 0.07]    # linear RGB
@@ -664,6 +665,11 @@ pub struct Scene {
     /// Sampling mode (default bbox).
     #[serde(default)]
     pub sampling: Sampling,
+    /// Side, in pixels, of Interleave UVT's tiles (default
+    /// [`crate::uvt::DEFAULT_INTERLEAVE_TILE`]); one of
+    /// [`crate::uvt::INTERLEAVE_TILES`]. Interleave UVT and Adaptive use it.
+    #[serde(default = "default_interleave_tile")]
+    pub interleave_tile: u32,
     /// Jitter samples within their strata (default false).
     #[serde(default)]
     pub jitter: bool,
@@ -758,6 +764,9 @@ fn default_light_direction() -> Vec3 {
 fn default_spp() -> u32 {
     4
 }
+fn default_interleave_tile() -> u32 {
+    crate::uvt::DEFAULT_INTERLEAVE_TILE
+}
 fn default_background() -> Vec3 {
     Vec3::new(0.05, 0.05, 0.07)
 }
@@ -786,6 +795,7 @@ impl Default for Scene {
         Scene {
             spp: default_spp(),
             sampling: Sampling::default(),
+            interleave_tile: default_interleave_tile(),
             jitter: false,
             shutter: 1.0,
             lens: Lens::default(),
@@ -970,6 +980,12 @@ impl Scene {
         }
         if !VALID_SPP.contains(&self.spp) {
             return Err(SceneError::InvalidSpp { spp: self.spp });
+        }
+        if !crate::uvt::INTERLEAVE_TILES.contains(&self.interleave_tile) {
+            return Err(invalid(
+                "interleave_tile",
+                "must be 2, 3 or 4 (Interleave UVT's tile side in pixels)",
+            ));
         }
         finite("background", self.background.to_array())?;
         finite("shutter", [self.shutter])?;

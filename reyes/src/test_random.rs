@@ -5,11 +5,14 @@ use glam::Vec3;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
-/// A generator seeded afresh for `test`, and its seed (printed, and for the
-/// failure messages).
+/// A generator seeded afresh for `test` (or from `TEST_SEED`, to replay a
+/// failure), and its seed (printed, and for the failure messages).
 pub fn fresh_rng(test: &str) -> (u64, StdRng) {
-    let seed: u64 = rand::random();
-    eprintln!("{test} seed = {seed}");
+    let seed: u64 = std::env::var("TEST_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(rand::random);
+    eprintln!("{test} seed = {seed} (replay with TEST_SEED={seed})");
     (seed, StdRng::seed_from_u64(seed))
 }
 

@@ -12,24 +12,31 @@
 //!   `k x k` grid on the lens square, mapped to the disk, for a fixed
 //!   pseudo-random permutation `π`.
 //! * **Interleave UVT** ([`UvtTables::interleave`]): `N = spp * K^2` tuples
-//!   (`K = INTERLEAVE_TILE`), shared by the `K x K`-pixel tiles, in `K^2`
-//!   pixel slots of `spp` tuples; each slot's tuples cover every time
-//!   stratum and every `k x k` lens stratum of a pixel once (see
-//!   `interleave_tuples`), as Fatahalian et al. (2009) keep them. A tile
-//!   gives slot `q` to its pixel `ρ_p(q)` (row-major), where
-//!   `p = hash(tx, ty, 0, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS` picks
-//!   one of a few precomputed permutations of the pixel offsets per tile,
-//!   which breaks the repetition of the pattern while every pixel stays
-//!   stratified. The table stores, for a tuple, which sample `j` of the tile
-//!   (pixel `j / spp`, sample `j % spp` of it) carries it.
+//!   (`K` is the tile side, 2, 3 or 4: [`INTERLEAVE_TILES`]), shared by the
+//!   `K x K`-pixel tiles, in `K^2` pixel slots of `spp` tuples; each slot's
+//!   tuples cover every time stratum and every `k x k` lens stratum of a
+//!   pixel once (see `interleave_tuples`), as Fatahalian et al. (2009) keep
+//!   them. A tile gives slot `q` to its pixel `ρ_p(q)` (row-major), where
+//!   `p` ([`UvtTables::tile_permutation`]) picks one of
+//!   [`INTERLEAVE_PERMUTATIONS`] precomputed permutations of the pixel
+//!   offsets per tile, which breaks the repetition of the pattern while
+//!   every pixel stays stratified. The table stores, for a tuple, which
+//!   sample `j` of the tile (pixel `j / spp`, sample `j % spp` of it)
+//!   carries it. Tiles are counted in absolute pixel coordinates, so a
+//!   screen tile of the renderer may start anywhere in an Interleave tile.
 //! * **Per-pixel table** ([`UvtTables::pixel`]), used by the bounding-box and
 //!   INTERVAL modes: `TABLE_SIDE x TABLE_SIDE` pixels with `spp` samples
 //!   each, repeated over the screen. Within a pixel the times are stratified
-//!   (one sample per time stratum, in a random order per pixel) and so are
-//!   the lens positions (an independent random order); both are jittered
-//!   within their strata. Each entry also names the sample of its pixel
-//!   whose time lies in stratum `s`, which is how INTERVAL finds the one
-//!   sample of a pixel inside time interval `s`.
+//!   (one sample per time stratum, in a random order per pixel), and the
+//!   sample in time stratum `i` takes its lens position in lens stratum
+//!   `π(i)` of a `k x k` grid, for one pairing `π` shared by every pixel
+//!   ([`UvtTables::pairing`]): Fatahalian et al.'s UV-T pairing (2009,
+//!   §3.2.1), so that INTERVAL's box for interval `i` grows by the circle
+//!   of confusion over lens region `π(i)` alone
+//!   ([`UvtTables::interval_lens`]), not the whole lens. Times and lens
+//!   positions are jittered within their strata. Each entry also names the
+//!   sample of its pixel whose time lies in stratum `s`, which is how
+//!   INTERVAL finds the one sample of a pixel inside time interval `s`.
 //!
 //! Lens squares map to the disk with Shirley and Chiu's concentric map,
 //! which keeps strata compact.
@@ -38,10 +45,22 @@ use glam::Vec2;
 
 use crate::sampling::{grid_size, hash};
 
-/// Side, in pixels, of the tiles of Interleave UVT (`K`).
-pub const INTERLEAVE_TILE: u32 = 2;
-/// Number of precomputed tuple permutations a tile chooses from (`P`).
-pub const INTERLEAVE_PERMUTATIONS: u32 = 8;
+/// The sides, in pixels, that the tiles of Interleave UVT (`K`) may have:
+/// the sizes Fatahalian et al. and Sattlecker and Steinberger measure.
+pub const INTERLEAVE_TILES: [u32; 3] = [2, 3, 4];
+/// The default side of Interleave UVT's tiles.
+pub const DEFAULT_INTERLEAVE_TILE: u32 = 2;
+/// Number of precomputed pixel-offset permutations a tile chooses from
+/// (`P`), as in both papers.
+pub const INTERLEAVE_PERMUTATIONS: u32 = 64;
+/// How far, in lens units (the unit disk), the lens box of an INTERVAL
+/// interval ([`UvtTables::interval_lens`]) reaches past the region's image
+/// as sampled: more than the bulge of the region's curved sides between
+/// [`LENS_BOX_STEPS`] samples, and more than f32 rounding of a jittered
+/// lens position.
+pub const LENS_BOX_MARGIN: f32 = 1.0 / 512.0;
+/// Samples per side of a lens stratum when its image on the disk is bounded.
+const LENS_BOX_STEPS: u32 = 64;
 /// Side, in pixels, of the per-pixel table, which repeats over the screen.
 pub const TABLE_SIDE: u32 = 64;
 /// Hash channel that picks a tile's permutation (channels 0 and 1 jitter
@@ -114,18 +133,18 @@ fn stratified_tuples(m: u32, key: u32) -> Vec<TimeLens> {
 /// permutation `σ_q`. So each slot's `spp` tuples take every coarse time
 /// and lens stratum once (Fatahalian et al. 2009), and the tile's tuples
 /// use every fine time stratum and every fine lens cell once.
-fn interleave_tuples(k: u32, key: u32) -> Vec<TimeLens> {
+fn interleave_tuples(k: u32, tile: u32, key: u32) -> Vec<TimeLens> {
     let spp = k * k;
-    let slots = INTERLEAVE_TILE * INTERLEAVE_TILE;
-    let fine = k * INTERLEAVE_TILE;
+    let slots = tile * tile;
+    let fine = k * tile;
     let n = spp * slots;
     let lens_of: Vec<Vec<u32>> = (0..slots).map(|q| permutation(spp, [key, q, 4])).collect();
     (0..n)
         .map(|i| {
             let (s, q) = (i / slots, i % slots);
             let coarse = lens_of[q as usize][s as usize];
-            let col = (coarse % k) * INTERLEAVE_TILE + q % INTERLEAVE_TILE;
-            let row = (coarse / k) * INTERLEAVE_TILE + q / INTERLEAVE_TILE;
+            let col = (coarse % k) * tile + q % tile;
+            let row = (coarse / k) * tile + q / tile;
             TimeLens {
                 t: (i as f32 + 0.5) / n as f32,
                 lens: concentric_disk(
@@ -137,11 +156,44 @@ fn interleave_tuples(k: u32, key: u32) -> Vec<TimeLens> {
         .collect()
 }
 
-/// The time/lens tables of one sample count.
+/// The bounding box, on the unit disk, of lens stratum `(col, row)` of a
+/// `k x k` grid on the lens square, grown by [`LENS_BOX_MARGIN`] and
+/// clamped to the disk's box: `[lo, hi]`.
+///
+/// The concentric map is continuous and maps the stratum's inside to the
+/// inside of its image, so the image's extremes lie on the image of the
+/// stratum's boundary, which is sampled here.
+pub fn lens_stratum_box(col: u32, row: u32, k: u32) -> [Vec2; 2] {
+    let (a0, b0) = (col as f32 / k as f32, row as f32 / k as f32);
+    let (a1, b1) = ((col + 1) as f32 / k as f32, (row + 1) as f32 / k as f32);
+    let mut lo = Vec2::INFINITY;
+    let mut hi = Vec2::NEG_INFINITY;
+    for step in 0..=LENS_BOX_STEPS {
+        let f = step as f32 / LENS_BOX_STEPS as f32;
+        let (a, b) = (a0 + (a1 - a0) * f, b0 + (b1 - b0) * f);
+        for p in [
+            concentric_disk(a, b0),
+            concentric_disk(a, b1),
+            concentric_disk(a0, b),
+            concentric_disk(a1, b),
+        ] {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    [
+        (lo - Vec2::splat(LENS_BOX_MARGIN)).max(Vec2::splat(-1.0)),
+        (hi + Vec2::splat(LENS_BOX_MARGIN)).min(Vec2::splat(1.0)),
+    ]
+}
+
+/// The time/lens tables of one sample count and Interleave tile side.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UvtTables {
     /// Samples per pixel.
     pub spp: u32,
+    /// Side, in pixels, of Interleave UVT's tiles (`K`).
+    pub tile: u32,
     /// Simple UVT: tuple of sample `s` of every pixel.
     pub simple: Vec<TimeLens>,
     /// Interleave UVT: the `spp * K^2` tuples of a tile.
@@ -149,6 +201,12 @@ pub struct UvtTables {
     /// Interleave UVT: `inverse[p * N + n]` is the sample of a tile (with
     /// permutation `p`) that carries tuple `n`.
     pub inverse: Vec<u32>,
+    /// The UV-T pairing: `pairing[i]` is the lens stratum (`row * k + col`)
+    /// of every pixel's sample in time stratum `i`.
+    pub pairing: Vec<u32>,
+    /// INTERVAL: the box `[lo, hi]` on the unit disk of the lens positions
+    /// of the samples in time stratum `i` (lens stratum `pairing[i]`).
+    pub interval_lens: Vec<[Vec2; 2]>,
     /// Per-pixel table: entry `(py * TABLE_SIDE + px) * spp + s` is sample
     /// `s` of table pixel `(px, py)`.
     pub pixel: Vec<TimeLens>,
@@ -158,10 +216,12 @@ pub struct UvtTables {
 }
 
 impl UvtTables {
-    /// Builds the tables for `spp` (a perfect square) samples per pixel.
-    pub fn new(spp: u32) -> UvtTables {
+    /// Builds the tables for `spp` (a perfect square) samples per pixel and
+    /// Interleave tiles of `tile` pixels a side (one of [`INTERLEAVE_TILES`]).
+    pub fn new(spp: u32, tile: u32) -> UvtTables {
+        debug_assert!(INTERLEAVE_TILES.contains(&tile), "Interleave tile {tile}");
         let k = grid_size(spp);
-        let slots = INTERLEAVE_TILE * INTERLEAVE_TILE;
+        let slots = tile * tile;
         let tuples = spp * slots;
         // Tuple n = s * K^2 + q belongs to pixel slot q; its sample index in
         // the pixel is a fixed per-slot permutation of s, so that a sample's
@@ -179,17 +239,21 @@ impl UvtTables {
                 }
             }
         }
+        let pairing = permutation(spp, [0, 0, 8]);
+        let interval_lens = pairing
+            .iter()
+            .map(|&lens| lens_stratum_box(lens % k, lens / k, k))
+            .collect();
         let mut pixel = Vec::with_capacity((TABLE_SIDE * TABLE_SIDE * spp) as usize);
         let mut sample_in_stratum = Vec::with_capacity(pixel.capacity());
         for py in 0..TABLE_SIDE {
             for px in 0..TABLE_SIDE {
                 let times = permutation(spp, [px, py, 2]);
-                let lenses = permutation(spp, [px, py, 3]);
                 let mut inverse_times = vec![0; spp as usize];
                 for s in 0..spp {
                     let stratum = times[s as usize];
                     inverse_times[stratum as usize] = s;
-                    let lens = lenses[s as usize];
+                    let lens = pairing[stratum as usize];
                     let jitter = |c| unit(hash(px, py, s, c));
                     pixel.push(TimeLens {
                         t: (stratum as f32 + jitter(2)) / spp as f32,
@@ -204,9 +268,12 @@ impl UvtTables {
         }
         UvtTables {
             spp,
+            tile,
             simple: stratified_tuples(k, 5),
-            interleave: interleave_tuples(k, 7),
+            interleave: interleave_tuples(k, tile, 7),
             inverse,
+            pairing,
+            interval_lens,
             pixel,
             sample_in_stratum,
         }
@@ -222,7 +289,8 @@ impl UvtTables {
         (((y % TABLE_SIDE) * TABLE_SIDE + x % TABLE_SIDE) * self.spp + s) as usize
     }
 
-    /// The permutation tile `(tx, ty)` of Interleave UVT uses.
+    /// The permutation tile `(tx, ty)` of Interleave UVT uses (tiles
+    /// counted in absolute pixel coordinates).
     pub fn tile_permutation(tx: u32, ty: u32) -> u32 {
         hash(tx, ty, 0, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS
     }
@@ -234,21 +302,25 @@ impl UvtTables {
         let j = self.inverse[(p * self.interleave_tuples() + n) as usize];
         let q = j / self.spp;
         (
-            tx * INTERLEAVE_TILE + q % INTERLEAVE_TILE,
-            ty * INTERLEAVE_TILE + q / INTERLEAVE_TILE,
+            tx * self.tile + q % self.tile,
+            ty * self.tile + q / self.tile,
             j % self.spp,
         )
     }
 
     /// The tables as the GPU reads them, `vec4<f32>` records in the order
-    /// simple, interleave, pixel (`t, lens.x, lens.y, 0` for the tuples;
-    /// `t, lens.x, lens.y, sample_in_stratum` for the pixel table), then the
-    /// interleave inverses as `f32` (exact: they are below 2^24). Offsets are
-    /// in [`UvtTables::layout`].
+    /// simple, interleave, INTERVAL lens boxes, pixel (`t, lens.x, lens.y, 0`
+    /// for the tuples; `lo.x, lo.y, hi.x, hi.y` for the boxes; `t, lens.x,
+    /// lens.y, sample_in_stratum` for the pixel table), then the interleave
+    /// inverses as `f32` (exact: they are below 2^24). Offsets are in
+    /// [`UvtTables::layout`].
     pub fn to_floats(&self) -> Vec<f32> {
         let mut out = Vec::with_capacity(self.layout().floats as usize);
         for tuple in self.simple.iter().chain(&self.interleave) {
             out.extend([tuple.t, tuple.lens.x, tuple.lens.y, 0.0]);
+        }
+        for [lo, hi] in &self.interval_lens {
+            out.extend([lo.x, lo.y, hi.x, hi.y]);
         }
         for (tuple, &s) in self.pixel.iter().zip(&self.sample_in_stratum) {
             out.extend([tuple.t, tuple.lens.x, tuple.lens.y, s as f32]);
@@ -259,7 +331,7 @@ impl UvtTables {
 
     /// Where each table starts in [`UvtTables::to_floats`], in floats.
     pub fn layout(&self) -> UvtLayout {
-        UvtLayout::for_spp(self.spp)
+        UvtLayout::new(self.spp, self.tile)
     }
 }
 
@@ -270,6 +342,8 @@ pub struct UvtLayout {
     pub simple: u32,
     /// Interleave UVT tuples.
     pub interleave: u32,
+    /// INTERVAL's lens box per time stratum.
+    pub interval_lens: u32,
     /// The per-pixel table.
     pub pixel: u32,
     /// Interleave inverse permutations.
@@ -279,17 +353,20 @@ pub struct UvtLayout {
 }
 
 impl UvtLayout {
-    /// The layout of the tables for `spp` samples per pixel, without
-    /// building them (buffer sizing needs only this).
-    pub fn for_spp(spp: u32) -> UvtLayout {
-        let tuples = spp * INTERLEAVE_TILE * INTERLEAVE_TILE;
+    /// The layout of the tables for `spp` samples per pixel and Interleave
+    /// tiles of `tile` pixels a side, without building them (buffer sizing
+    /// needs only this).
+    pub fn new(spp: u32, tile: u32) -> UvtLayout {
+        let tuples = spp * tile * tile;
         let simple = 0;
         let interleave = simple + 4 * spp;
-        let pixel = interleave + 4 * tuples;
+        let interval_lens = interleave + 4 * tuples;
+        let pixel = interval_lens + 4 * spp;
         let inverse = pixel + 4 * TABLE_SIDE * TABLE_SIDE * spp;
         UvtLayout {
             simple,
             interleave,
+            interval_lens,
             pixel,
             inverse,
             floats: inverse + INTERLEAVE_PERMUTATIONS * tuples,
@@ -317,7 +394,7 @@ mod tests {
     #[test]
     fn pixel_table_stratifies_time_within_every_pixel() {
         for spp in [1, 4, 16, 64] {
-            let tables = UvtTables::new(spp);
+            let tables = UvtTables::new(spp, 2);
             for (x, y) in [(0, 0), (5, 63), (70, 200)] {
                 let mut seen = vec![false; spp as usize];
                 for s in 0..spp {
@@ -340,29 +417,108 @@ mod tests {
 
     #[test]
     fn every_interleave_tuple_has_exactly_one_sample_per_tile() {
-        for spp in [1, 4, 16] {
-            let tables = UvtTables::new(spp);
+        for (spp, tile) in [1, 4, 16]
+            .into_iter()
+            .flat_map(|spp| INTERLEAVE_TILES.map(|k| (spp, k)))
+        {
+            let tables = UvtTables::new(spp, tile);
             let n = tables.interleave_tuples();
-            assert_eq!(n, spp * INTERLEAVE_TILE * INTERLEAVE_TILE);
+            assert_eq!(n, spp * tile * tile);
             for (tx, ty) in [(0, 0), (1, 0), (17, 33)] {
                 let mut seen = std::collections::HashSet::new();
                 for tuple in 0..n {
                     let (x, y, s) = tables.interleave_sample(tx, ty, tuple);
-                    assert_eq!((x / INTERLEAVE_TILE, y / INTERLEAVE_TILE), (tx, ty));
+                    assert_eq!((x / tile, y / tile), (tx, ty));
                     assert!(s < spp);
                     assert!(seen.insert((x, y, s)), "sample reused");
                 }
             }
         }
-        let perms: std::collections::HashSet<u32> = (0..64)
-            .map(|i| UvtTables::tile_permutation(i % 8, i / 8))
+        // Over a 32 x 32 patch of tiles, nearly every one of the 64
+        // permutations is picked (a hash modulo 64 over 1024 tiles).
+        let perms: std::collections::HashSet<u32> = (0..1024)
+            .map(|i| UvtTables::tile_permutation(i % 32, i / 32))
             .collect();
-        assert!(perms.len() > 4, "tiles should use several permutations");
+        assert!(
+            perms.len() >= 60,
+            "tiles use only {} permutations",
+            perms.len()
+        );
+    }
+
+    /// INTERVAL's UV-T pairing: in every pixel, the sample of time stratum
+    /// `i` lies in lens stratum `pairing[i]`, inside its interval's lens
+    /// box, and the boxes are much smaller than the lens (with the boxes
+    /// of the whole disk, INTERVAL with a lens alone tests what the
+    /// bounding box does).
+    #[test]
+    fn every_pixel_pairs_time_and_lens_strata_inside_the_interval_boxes() {
+        for spp in [1, 4, 16, 64] {
+            let tables = UvtTables::new(spp, 2);
+            let k = grid_size(spp);
+            let mut seen = tables.pairing.clone();
+            seen.sort_unstable();
+            assert_eq!(
+                seen,
+                (0..spp).collect::<Vec<_>>(),
+                "pairing is a permutation"
+            );
+            for (x, y) in [(0, 0), (5, 63), (70, 200), (63, 1)] {
+                for s in 0..spp {
+                    let tl = tables.pixel[tables.pixel_index(x, y, s)];
+                    let stratum = (tl.t * spp as f32) as usize;
+                    let [lo, hi] = tables.interval_lens[stratum];
+                    assert!(
+                        tl.lens.cmpge(lo).all() && tl.lens.cmple(hi).all(),
+                        "spp {spp}, pixel ({x}, {y}), sample {s}: lens {} outside [{lo}, {hi}]",
+                        tl.lens
+                    );
+                    let (a, b) = disk_to_square(tl.lens);
+                    let lens =
+                        ((b * k as f32) as u32).min(k - 1) * k + ((a * k as f32) as u32).min(k - 1);
+                    assert_eq!(lens, tables.pairing[stratum]);
+                }
+            }
+            // The whole lens is 2 x 2; a region's box is about a stratum's
+            // size, 2 / k across (larger at the rim, where strata are arcs).
+            let mut area = 0.0;
+            for [lo, hi] in &tables.interval_lens {
+                let side = *hi - *lo;
+                assert!(side.max_element() <= 4.0 / k as f32, "spp {spp}: {lo} {hi}");
+                area += side.x * side.y;
+            }
+            let mean_side = (area / spp as f32).sqrt();
+            assert!(
+                mean_side <= 2.5 / k as f32,
+                "spp {spp}: mean box side {mean_side}"
+            );
+        }
+    }
+
+    /// Dense points of every lens stratum lie in its box.
+    #[test]
+    fn lens_stratum_boxes_hold_their_strata() {
+        for k in [1, 2, 3, 4, 8] {
+            for (col, row) in (0..k * k).map(|i| (i % k, i / k)) {
+                let [lo, hi] = lens_stratum_box(col, row, k);
+                for i in 0..=40 {
+                    for j in 0..=40 {
+                        let a = (col as f32 + i as f32 / 40.0) / k as f32;
+                        let b = (row as f32 + j as f32 / 40.0) / k as f32;
+                        let p = concentric_disk(a, b);
+                        assert!(
+                            p.cmpge(lo).all() && p.cmple(hi).all(),
+                            "k {k} ({col}, {row}): {p}"
+                        );
+                    }
+                }
+            }
+        }
     }
 
     #[test]
     fn tuples_stratify_time_and_lens() {
-        let tables = UvtTables::new(16);
+        let tables = UvtTables::new(16, 2);
         let mut times: Vec<f32> = tables.simple.iter().map(|t| t.t).collect();
         times.sort_by(f32::total_cmp);
         for (i, t) in times.iter().enumerate() {
@@ -372,7 +528,7 @@ mod tests {
         assert_eq!(tables.to_floats().len(), layout.floats as usize);
         assert_eq!(
             layout.pixel as usize,
-            4 * (tables.simple.len() + tables.interleave.len())
+            4 * (tables.simple.len() + tables.interleave.len() + tables.interval_lens.len())
         );
         assert_eq!(layout.interleave, 4 * 16);
     }
@@ -402,8 +558,11 @@ mod tests {
     #[test]
     fn every_interleave_pixel_keeps_its_time_and_lens_stratified() {
         use std::collections::{HashMap, HashSet};
-        for spp in [4, 16, 64] {
-            let tables = UvtTables::new(spp);
+        for (spp, tile) in [4, 16, 64]
+            .into_iter()
+            .flat_map(|spp| INTERLEAVE_TILES.map(|k| (spp, k)))
+        {
+            let tables = UvtTables::new(spp, tile);
             let k = grid_size(spp);
             let n = tables.interleave_tuples();
             for (tx, ty) in (0..64).map(|i| (i % 8, i / 8)) {
@@ -427,7 +586,7 @@ mod tests {
                         // HashSet::insert is false for a stratum seen before.
                         assert!(
                             strata.entry((x, y)).or_default().insert(stratum),
-                            "spp {spp}, tile ({tx}, {ty}): pixel ({x}, {y}) has {what} stratum {stratum} twice"
+                            "spp {spp}, K {tile}, tile ({tx}, {ty}): pixel ({x}, {y}) has {what} stratum {stratum} twice"
                         );
                     }
                 }

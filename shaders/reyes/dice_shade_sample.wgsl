@@ -14,10 +14,10 @@
 // Adaptive sampling, and counting the point if a stage turned its position
 // non-finite (reyes::nonfinite).
 // Phase 2: thread t < nu * nv rasterizes micropolygon (t % nu, t / nu) as
-// the two triangles (a, b, c) and (a, c, d) (raster5d.wgsl with time and
-// lens), each sample blending its triangle's corner colours (smooth
-// shading) or taking the micropolygon's mean colour (constant shading,
-// the grids picture, nearest sampling).
+// one quad of the two triangles (a, b, c) and (a, c, d) (quad.wgsl;
+// raster5d.wgsl with time and lens), each sample blending its triangle's
+// corner colours (smooth shading) or taking the micropolygon's mean
+// colour (constant shading, the grids picture).
 // Scratch: POINT_WORDS (9) words per point: the clip position (x, y, z,
 // w), the packed colour, and the clip position at close. Phase 2 projects
 // them (a corner that crosses the near or far plane during the shutter is
@@ -138,16 +138,12 @@ if (valid && thread < nu * nv) {
     if (frame.aov == AOV_GRIDS) {
         color = grid_color(nu * nv, i, j);
     }
-    var colors_abc = vec3<u32>(color);
-    var colors_acd = vec3<u32>(color);
+    var colors = vec4<u32>(color);
     if (frame.smooth_shading != 0u && frame.aov != AOV_GRIDS) {
-        colors_abc = vec3<u32>(ca, cb, cc);
-        colors_acd = vec3<u32>(ca, cc, cd);
+        colors = vec4<u32>(ca, cb, cc, cd);
     }
     // A one-sided object's back-facing triangles are culled.
     let front = objects[item.object].front;
-    let draw_abc = drawn_face(a.xy, b.xy, c.xy, front);
-    let draw_acd = drawn_face(a.xy, c.xy, d.xy, front);
     var counts = SampleCounts(0u, 0u);
     if (frame.time_lens != 0u) {
         let mode = mode_for_grid(bitcast<f32>(atomicLoad(&grid_extent[2u * slot])), bitcast<f32>(atomicLoad(&grid_extent[2u * slot + 1u])));
@@ -160,22 +156,15 @@ if (valid && thread < nu * nv) {
         let md = moving_point(grid_clip(slot, wd), grid_clip(slot, wd + 5u));
         // Faces are culled as seen when the corners come into view (at
         // open, for corners visible during the whole shutter).
-        if (drawn_face(ma.open.xy, mb.open.xy, mc.open.xy, front)) {
-            raster_triangle_5d(mode, ma, mb, mc, colors_abc, &counts);
-        }
-        if (drawn_face(ma.open.xy, mc.open.xy, md.open.xy, front)) {
-            raster_triangle_5d(mode, ma, mc, md, colors_acd, &counts);
-        }
-    } else if (frame.sampling == SAMPLING_NEAREST) {
-        if (draw_abc || draw_acd) {
-            raster_nearest(a, b, c, d, color, &counts);
-        }
+        let drawn = vec2<bool>(drawn_face(ma.open.xy, mb.open.xy, mc.open.xy, front), drawn_face(ma.open.xy, mc.open.xy, md.open.xy, front));
+        raster_quad_5d(mode, ma, mb, mc, md, colors, drawn, &counts);
     } else {
-        if (draw_abc) {
-            raster_triangle(a, b, c, colors_abc, &counts);
-        }
-        if (draw_acd) {
-            raster_triangle(a, c, d, colors_acd, &counts);
+        let drawn = vec2<bool>(drawn_face(a.xy, b.xy, c.xy, front), drawn_face(a.xy, c.xy, d.xy, front));
+        let quad = still_quad(a, b, c, d, colors, drawn);
+        if (frame.sampling == SAMPLING_NEAREST) {
+            raster_nearest(a, b, c, d, quad, &counts);
+        } else {
+            raster_quad(quad, &counts);
         }
     }
     stat_add64(STAT_SAMPLES_TESTED, counts.tested);

@@ -1,5 +1,6 @@
 // Rasterization with motion blur and depth of field
-// (reyes::reference::raster5d, operation for operation): the sampling modes
+// (reyes::reference::raster5d, operation for operation), on the quads of
+// quad.wgsl: the sampling modes
 // Bounding box, Simple UVT, Interleave UVT, INTERVAL and Adaptive. A
 // sample's time and lens position come from the host-built tables
 // (reyes::uvt::UvtTables) at frame.uvt_* in height_texels. Every loop is
@@ -115,18 +116,6 @@ fn moving_blur(m: Moving) -> f32 {
     return max(abs(m.coc_open), abs(m.coc_close));
 }
 
-// A triangle at one time and lens position; `ok` is false when a corner
-// cannot be seen then or the triangle has no area there.
-struct Placed {
-    a: vec3<f32>,
-    b: vec3<f32>,
-    c: vec3<f32>,
-    // The packed colours of a, b and c.
-    colors: vec3<u32>,
-    area: f32,
-    ok: bool,
-}
-
 // (t, lens.x, lens.y) of a time/lens record at float offset `at`.
 fn uvt_record(at: u32) -> vec3<f32> {
     return vec3<f32>(height_texels[at], height_texels[at + 1u], height_texels[at + 2u]);
@@ -139,109 +128,82 @@ fn uvt_pixel_at(x: u32, y: u32, s: u32) -> u32 {
     return frame.uvt_pixel + 4u * (((gy % TABLE_SIDE) * TABLE_SIDE + gx % TABLE_SIDE) * frame.spp + s);
 }
 
-fn place(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, tl: vec3<f32>) -> Placed {
-    let a = moving_at(ma, tl.x, tl.yz);
-    if (!(visible_at(ma, tl.x) && visible_at(mb, tl.x) && visible_at(mc, tl.x))) {
-        return Placed(a, a, a, colors, 0.0, false);
+// A micropolygon over the shutter (reference MovingQuad): its corners,
+// their packed colours, and which of its triangles (a, b, c), (a, c, d)
+// may be drawn at all.
+struct MovingQuad {
+    a: Moving,
+    b: Moving,
+    c: Moving,
+    d: Moving,
+    colors: vec4<u32>,
+    drawable: vec2<bool>,
+}
+
+// The quad at time and lens `tl` (reference MovingQuad::place): a triangle
+// is drawn when it is drawable and all its corners can be seen at tl.x.
+fn place_quad(q: MovingQuad, tl: vec3<f32>) -> Quad {
+    let t = tl.x;
+    let seen_ac = visible_at(q.a, t) && visible_at(q.c, t);
+    let drawn = vec2<bool>(q.drawable.x && seen_ac && visible_at(q.b, t), q.drawable.y && seen_ac && visible_at(q.d, t));
+    return make_quad(moving_at(q.a, t, tl.yz), moving_at(q.b, t, tl.yz), moving_at(q.c, t, tl.yz), moving_at(q.d, t, tl.yz), q.colors, drawn);
+}
+
+// Whether the triangle of corners x, y, z can all be seen at some time of [t0, t1].
+fn seen_in(x: Moving, y: Moving, z: Moving, t0: f32, t1: f32) -> bool {
+    let seen_from = max(max(max(0.0, x.t_open), y.t_open), z.t_open);
+    let seen_until = min(min(min(1.0, x.t_close), y.t_close), z.t_close);
+    return seen_from <= t1 && seen_until >= t0;
+}
+
+// The corners (a, b, c, d) of the drawable triangles seen during [t0, t1]
+// (reference MovingQuad::corners_seen).
+fn corners_seen(q: MovingQuad, t0: f32, t1: f32) -> vec4<bool> {
+    let abc = q.drawable.x && seen_in(q.a, q.b, q.c, t0, t1);
+    let acd = q.drawable.y && seen_in(q.a, q.c, q.d, t0, t1);
+    return vec4<bool>(abc || acd, abc, abc || acd, acd);
+}
+
+// Places q at sample s's own time and lens (`tl`) and tests the sample; a
+// quad without a triangle there still counts as tested.
+fn place_and_test(q: MovingQuad, tl: vec3<f32>, x: u32, y: u32, s: u32, counts: ptr<function, SampleCounts>) {
+    test_quad(place_quad(q, tl), x, y, s, counts);
+}
+
+// The box over both ends of a point, grown by r (Bounding box).
+fn ends_bounds(b: Bounds, m: Moving, used: bool) -> Bounds {
+    if (!used) {
+        return b;
     }
-    var b = moving_at(mb, tl.x, tl.yz);
-    var c = moving_at(mc, tl.x, tl.yz);
-    let area = edge(a.xy, b.xy, c.xy);
-    if (area == 0.0 || !is_finite_f32(area)) {
-        return Placed(a, b, c, colors, 0.0, false);
-    }
-    if (area < 0.0) {
-        let swap = b;
-        b = c;
-        c = swap;
-        return Placed(a, b, c, colors.xzy, abs(area), true);
-    }
-    return Placed(a, b, c, colors, abs(area), true);
+    return bounds_add(bounds_add(b, m.open.xy), m.close.xy);
 }
 
-// Places the triangle at sample s's own time and lens (`tl`) and tests the
-// sample; a triangle without area there still counts as tested.
-fn place_and_test(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, tl: vec3<f32>, x: u32, y: u32, s: u32, counts: ptr<function, SampleCounts>) {
-    let placed = place(ma, mb, mc, colors, tl);
-    if (placed.ok) {
-        test_sample(placed, x, y, s, counts);
-    } else {
-        (*counts).tested += 1u;
-    }
-}
-
-fn placed_lo(p: Placed) -> vec2<f32> {
-    return min(min(p.a.xy, p.b.xy), p.c.xy);
-}
-
-fn placed_hi(p: Placed) -> vec2<f32> {
-    return max(max(p.a.xy, p.b.xy), p.c.xy);
-}
-
-// Tests sample s of pixel (x, y) against a placed triangle.
-fn test_sample(p: Placed, x: u32, y: u32, s: u32, counts: ptr<function, SampleCounts>) {
-    (*counts).tested += 1u;
-    let q = sample_position(x, y, s);
-    let a = p.a.xy;
-    let b = p.b.xy;
-    let c = p.c.xy;
-    let e_bc = edge(b, c, q);
-    let e_ca = edge(c, a, q);
-    let e_ab = edge(a, b, q);
-    if (inside(e_bc, b, c) && inside(e_ca, c, a) && inside(e_ab, a, b)) {
-        (*counts).hit += 1u;
-        let z = (e_bc * p.a.z + e_ca * p.b.z + e_ab * p.c.z) / p.area;
-        offer(x, y, s, z, blend_rgb10(p.colors, vec3<f32>(e_bc, e_ca, e_ab), p.area));
-    }
-}
-
-// The pixel range (x0, y0, x1, y1) a box touches, clamped to the screen;
-// `.w < .y` or `.z < .x` when it misses (reyes::reference::raster5d::pixel_range).
-struct PixelRange {
-    x0: u32,
-    y0: u32,
-    nx: u32,
-    ny: u32,
-    ok: bool,
-}
-
-fn pixel_range(lo: vec2<f32>, hi: vec2<f32>) -> PixelRange {
-    let x0 = max(floor(lo.x), 0.0);
-    let y0 = max(floor(lo.y), 0.0);
-    let x1 = min(floor(hi.x), f32(frame.width) - 1.0);
-    let y1 = min(floor(hi.y), f32(frame.height) - 1.0);
-    if (!(x0 <= x1 && y0 <= y1)) {
-        return PixelRange(0u, 0u, 0u, 0u, false);
-    }
-    return PixelRange(u32(x0), u32(y0), u32(x1) - u32(x0) + 1u, u32(y1) - u32(y0) + 1u, true);
-}
-
-fn loop_cut() {
-    atomicAdd(&stats[STAT_LOOPS_CUT], 1u);
-}
-
-// Bounding box: the box over both ends, grown by the corners' largest blur;
-// every sample of every pixel in it, each with its own time and lens.
-fn raster_bbox_5d(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
-    let r = max(max(max(0.0, moving_blur(ma)), moving_blur(mb)), moving_blur(mc));
-    let lo = min(min(min(ma.open.xy, ma.close.xy), min(mb.open.xy, mb.close.xy)), min(mc.open.xy, mc.close.xy));
-    let hi = max(max(max(ma.open.xy, ma.close.xy), max(mb.open.xy, mb.close.xy)), max(mc.open.xy, mc.close.xy));
-    let range = pixel_range(lo - vec2<f32>(r), hi + vec2<f32>(r));
-    if (!range.ok) {
+// Bounding box: the box over both ends of the corners, grown by their
+// largest blur; every sample of the strata it touches, each with its own
+// time and lens.
+fn raster_bbox_5d(q: MovingQuad, counts: ptr<function, SampleCounts>) {
+    let used = corners_seen(q, 0.0, 1.0);
+    var r = 0.0;
+    r = select(r, max(r, moving_blur(q.a)), used.x);
+    r = select(r, max(r, moving_blur(q.b)), used.y);
+    r = select(r, max(r, moving_blur(q.c)), used.z);
+    r = select(r, max(r, moving_blur(q.d)), used.w);
+    let ends = ends_bounds(ends_bounds(ends_bounds(ends_bounds(no_bounds(), q.a, used.x), q.b, used.y), q.c, used.z), q.d, used.w);
+    if (!ends.ok) {
         return;
     }
-    let spp = frame.spp;
-    let total = range.nx * range.ny * spp;
+    let strata = strata_box(ends.lo - vec2<f32>(r), ends.hi + vec2<f32>(r));
+    if (!strata.ok) {
+        return;
+    }
+    let total = strata_count(strata);
     var n = 0u;
     loop {
         if (n >= total) {
             break;
         }
-        let s = n % spp;
-        let pixel = n / spp;
-        let x = range.x0 + pixel % range.nx;
-        let y = range.y0 + pixel / range.nx;
-        place_and_test(ma, mb, mc, colors, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, counts);
+        let sample = strata_sample(strata, n);
+        place_and_test(q, uvt_record(uvt_pixel_at(sample.x, sample.y, sample.z)), sample.x, sample.y, sample.z, counts);
         n += 1u;
     }
     if (n < total) {
@@ -249,25 +211,30 @@ fn raster_bbox_5d(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts:
     }
 }
 
-// Simple UVT: tuple s positions the triangle once; sample s of each pixel
-// in its box is tested.
-fn raster_simple(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
+// Simple UVT: tuple s positions the quad once; sample s of each pixel
+// whose stratum its box touches is tested.
+fn raster_simple(q: MovingQuad, counts: ptr<function, SampleCounts>) {
     let spp = frame.spp;
+    let k = frame.k;
     var s = 0u;
     loop {
         if (s >= spp) {
             break;
         }
-        let placed = place(ma, mb, mc, colors, uvt_record(frame.uvt_simple + 4u * s));
-        let range = pixel_range(placed_lo(placed), placed_hi(placed));
-        if (placed.ok && range.ok) {
-            let total = range.nx * range.ny;
+        let placed = place_quad(q, uvt_record(frame.uvt_simple + 4u * s));
+        let bounds = quad_bounds(placed);
+        let strata = strata_box(bounds.lo, bounds.hi);
+        let columns = span_of(strata.x0, strata.x1, s % k);
+        let rows = span_of(strata.y0, strata.y1, s / k);
+        if (bounds.ok && strata.ok && columns.ok && rows.ok) {
+            let nx = columns.last - columns.first + 1u;
+            let total = nx * (rows.last - rows.first + 1u);
             var n = 0u;
             loop {
                 if (n >= total) {
                     break;
                 }
-                test_sample(placed, range.x0 + n % range.nx, range.y0 + n / range.nx, s, counts);
+                test_quad(placed, columns.first + n % nx, rows.first + n / nx, s, counts);
                 n += 1u;
             }
             if (n < total) {
@@ -281,22 +248,26 @@ fn raster_simple(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: 
     }
 }
 
-// Interleave UVT: tuple n positions the triangle once; in every 2x2 tile
-// its box overlaps, the one sample carrying tuple n is tested.
-fn raster_interleave(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
+// Interleave UVT: tuple n positions the quad once; in every K x K tile
+// (counted in absolute pixels) its box overlaps, the one sample carrying
+// tuple n is tested if its stratum is in the box.
+fn raster_interleave(q: MovingQuad, counts: ptr<function, SampleCounts>) {
     let tuples = frame.interleave_tuples;
+    let tile = frame.interleave_tile;
+    let k = frame.k;
     var tuple = 0u;
     loop {
         if (tuple >= tuples) {
             break;
         }
-        let placed = place(ma, mb, mc, colors, uvt_record(frame.uvt_interleave + 4u * tuple));
-        let range = pixel_range(placed_lo(placed), placed_hi(placed));
-        if (placed.ok && range.ok) {
-            let tx0 = range.x0 / INTERLEAVE_TILE;
-            let ty0 = range.y0 / INTERLEAVE_TILE;
-            let ntx = (range.x0 + range.nx - 1u) / INTERLEAVE_TILE - tx0 + 1u;
-            let nty = (range.y0 + range.ny - 1u) / INTERLEAVE_TILE - ty0 + 1u;
+        let placed = place_quad(q, uvt_record(frame.uvt_interleave + 4u * tuple));
+        let bounds = quad_bounds(placed);
+        let strata = strata_box(bounds.lo, bounds.hi);
+        if (bounds.ok && strata.ok) {
+            let tx0 = (strata.x0 / k + frame.origin_x) / tile;
+            let ty0 = (strata.y0 / k + frame.origin_y) / tile;
+            let ntx = (strata.x1 / k + frame.origin_x) / tile - tx0 + 1u;
+            let nty = (strata.y1 / k + frame.origin_y) / tile - ty0 + 1u;
             let total = ntx * nty;
             var n = 0u;
             loop {
@@ -305,19 +276,19 @@ fn raster_interleave(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, coun
                 }
                 let tx = tx0 + n % ntx;
                 let ty = ty0 + n / ntx;
-                // Tile origins are multiples of INTERLEAVE_TILE (TILE_ALIGN).
-                let permutation = jitter_hash(
-                    tx + frame.origin_x / INTERLEAVE_TILE,
-                    ty + frame.origin_y / INTERLEAVE_TILE,
-                    0u,
-                    PERMUTATION_CHANNEL,
-                ) % INTERLEAVE_PERMUTATIONS;
+                let permutation = jitter_hash(tx, ty, 0u, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS;
                 let j = u32(height_texels[frame.uvt_inverse + permutation * tuples + tuple]);
-                let q = j / frame.spp;
-                let x = tx * INTERLEAVE_TILE + q % INTERLEAVE_TILE;
-                let y = ty * INTERLEAVE_TILE + q / INTERLEAVE_TILE;
-                if (x < frame.width && y < frame.height) {
-                    test_sample(placed, x, y, j % frame.spp, counts);
+                let slot = j / frame.spp;
+                let s = j % frame.spp;
+                // The sample's pixel in absolute and then in image coordinates.
+                let gx = tx * tile + slot % tile;
+                let gy = ty * tile + slot / tile;
+                if (gx >= frame.origin_x && gy >= frame.origin_y) {
+                    let x = gx - frame.origin_x;
+                    let y = gy - frame.origin_y;
+                    if (x < frame.width && y < frame.height && strata_hold(strata, x, y, s)) {
+                        test_quad(placed, x, y, s, counts);
+                    }
                 }
                 n += 1u;
             }
@@ -332,15 +303,26 @@ fn raster_interleave(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, coun
     }
 }
 
-// INTERVAL: time interval i gets the box of the triangle over the interval
-// (grown by the largest blur in it); in each of its pixels the one sample
-// whose time lies in interval i is tested.
-fn raster_interval(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
+// A point's positions at the ends of [t0, t1] through the corners of the
+// lens box [lens_lo, lens_hi]: its extremes, as the position is bilinear
+// in time and lens position.
+fn interval_bounds(b: Bounds, m: Moving, used: bool, t0: f32, t1: f32, lens_lo: vec2<f32>, lens_hi: vec2<f32>) -> Bounds {
+    if (!used) {
+        return b;
+    }
+    var out = bounds_add(b, moving_at(m, t0, lens_lo).xy);
+    out = bounds_add(out, moving_at(m, t0, lens_hi).xy);
+    out = bounds_add(out, moving_at(m, t1, lens_lo).xy);
+    return bounds_add(out, moving_at(m, t1, lens_hi).xy);
+}
+
+// INTERVAL: time interval i gets the box of the quad over the interval
+// and the lens region its samples use (the UV-T pairing: the lens box at
+// frame.uvt_interval_lens); in each of its pixels the one sample whose
+// time lies in interval i is tested if its stratum is in the box.
+fn raster_interval(q: MovingQuad, counts: ptr<function, SampleCounts>) {
     let spp = frame.spp;
     let n_f = f32(spp);
-    // The times at which all three corners can be seen.
-    let seen_from = max(max(max(0.0, ma.t_open), mb.t_open), mc.t_open);
-    let seen_until = min(min(min(1.0, ma.t_close), mb.t_close), mc.t_close);
     var i = 0u;
     loop {
         if (i >= spp) {
@@ -348,34 +330,32 @@ fn raster_interval(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts
         }
         let t0 = f32(i) / n_f;
         let t1 = f32(i + 1u) / n_f;
-        if (t1 < seen_from || t0 > seen_until) {
-            i += 1u;
-            continue;
-        }
-        let a0 = moving_at(ma, t0, vec2<f32>(0.0));
-        let a1 = moving_at(ma, t1, vec2<f32>(0.0));
-        let b0 = moving_at(mb, t0, vec2<f32>(0.0));
-        let b1 = moving_at(mb, t1, vec2<f32>(0.0));
-        let c0 = moving_at(mc, t0, vec2<f32>(0.0));
-        let c1 = moving_at(mc, t1, vec2<f32>(0.0));
-        let lo = min(min(min(a0.xy, a1.xy), min(b0.xy, b1.xy)), min(c0.xy, c1.xy));
-        let hi = max(max(max(a0.xy, a1.xy), max(b0.xy, b1.xy)), max(c0.xy, c1.xy));
-        var r = 0.0;
-        r = max(max(r, abs(moving_coc(ma, t0))), abs(moving_coc(ma, t1)));
-        r = max(max(r, abs(moving_coc(mb, t0))), abs(moving_coc(mb, t1)));
-        r = max(max(r, abs(moving_coc(mc, t0))), abs(moving_coc(mc, t1)));
-        let range = pixel_range(lo - vec2<f32>(r), hi + vec2<f32>(r));
-        if (range.ok) {
-            let total = range.nx * range.ny;
+        let at = frame.uvt_interval_lens + 4u * i;
+        let lens_lo = vec2<f32>(height_texels[at], height_texels[at + 1u]);
+        let lens_hi = vec2<f32>(height_texels[at + 2u], height_texels[at + 3u]);
+        let used = corners_seen(q, t0, t1);
+        var bounds = interval_bounds(no_bounds(), q.a, used.x, t0, t1, lens_lo, lens_hi);
+        bounds = interval_bounds(bounds, q.b, used.y, t0, t1, lens_lo, lens_hi);
+        bounds = interval_bounds(bounds, q.c, used.z, t0, t1, lens_lo, lens_hi);
+        bounds = interval_bounds(bounds, q.d, used.w, t0, t1, lens_lo, lens_hi);
+        let strata = strata_box(bounds.lo, bounds.hi);
+        if (bounds.ok && strata.ok) {
+            let k = frame.k;
+            let x0 = strata.x0 / k;
+            let y0 = strata.y0 / k;
+            let nx = strata.x1 / k - x0 + 1u;
+            let total = nx * (strata.y1 / k - y0 + 1u);
             var n = 0u;
             loop {
                 if (n >= total) {
                     break;
                 }
-                let x = range.x0 + n % range.nx;
-                let y = range.y0 + n / range.nx;
+                let x = x0 + n % nx;
+                let y = y0 + n / nx;
                 let s = u32(height_texels[uvt_pixel_at(x, y, i) + 3u]);
-                place_and_test(ma, mb, mc, colors, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, counts);
+                if (strata_hold(strata, x, y, s)) {
+                    place_and_test(q, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, counts);
+                }
                 n += 1u;
             }
             if (n < total) {
@@ -389,13 +369,19 @@ fn raster_interval(ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts
     }
 }
 
-// reyes::reference::raster5d::adaptive_choice: SAMPLING_INTERLEAVE or
-// SAMPLING_INTERVAL for a grid with this largest motion and blur (pixels).
+// reyes::reference::raster5d::adaptive_costs and adaptive_choice:
+// SAMPLING_INTERLEAVE or SAMPLING_INTERVAL for a grid with this largest
+// motion and blur (pixels), whichever its estimated cost is lower for.
 fn adaptive_choice(motion: f32, blur: f32) -> u32 {
-    let side = 2.0 + motion / f32(frame.spp) + 2.0 * blur;
-    let k = f32(INTERLEAVE_TILE);
-    let interleave = k * k * (1.0 + 1.0 / k) * (1.0 + 1.0 / k);
-    if (side * side > ADAPTIVE_INTERLEAVE_BIAS * interleave) {
+    let n = f32(frame.spp);
+    let k = f32(frame.k);
+    let kt = f32(frame.interleave_tile);
+    let m = frame.adaptive_micropolygon;
+    let side = m + motion / n + 2.0 * blur / k + 1.0 / k;
+    let interval = n * side * side * (1.0 + ADAPTIVE_PLACE_COST);
+    let tiles = (1.0 + m / kt) * (1.0 + m / kt);
+    let interleave = n * kt * kt * (ADAPTIVE_PLACE_COST + tiles);
+    if (interleave < interval) {
         return SAMPLING_INTERLEAVE;
     }
     return SAMPLING_INTERVAL;
@@ -412,22 +398,29 @@ fn mode_for_grid(motion: f32, blur: f32) -> u32 {
     return frame.sampling;
 }
 
-fn raster_triangle_5d(mode: u32, ma: Moving, mb: Moving, mc: Moving, colors: vec3<u32>, counts: ptr<function, SampleCounts>) {
-    if (!(ma.usable && mb.usable && mc.usable)) {
+// reyes::reference::raster5d::raster_quad_5d: the micropolygon of corners
+// (a, b, c, d) with their packed colours, its triangles (a, b, c) and
+// (a, c, d) drawn where `drawn` says so and their corners are usable.
+fn raster_quad_5d(mode: u32, ma: Moving, mb: Moving, mc: Moving, md: Moving, colors: vec4<u32>, drawn: vec2<bool>, counts: ptr<function, SampleCounts>) {
+    let ua = ma.usable;
+    let uc = mc.usable;
+    let drawable = vec2<bool>(drawn.x && ua && mb.usable && uc, drawn.y && ua && uc && md.usable);
+    if (!(drawable.x || drawable.y)) {
         return;
     }
+    let q = MovingQuad(ma, mb, mc, md, colors, drawable);
     switch mode {
         case SAMPLING_SIMPLE: {
-            raster_simple(ma, mb, mc, colors, counts);
+            raster_simple(q, counts);
         }
         case SAMPLING_INTERLEAVE: {
-            raster_interleave(ma, mb, mc, colors, counts);
+            raster_interleave(q, counts);
         }
         case SAMPLING_INTERVAL: {
-            raster_interval(ma, mb, mc, colors, counts);
+            raster_interval(q, counts);
         }
         default: {
-            raster_bbox_5d(ma, mb, mc, colors, counts);
+            raster_bbox_5d(q, counts);
         }
     }
 }

@@ -80,12 +80,10 @@ fn a_still_sharp_frame_samples_alike_in_every_mode() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
-fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
-    let gpu = tests::gpu();
-    let _turn = gpu_turn();
-    let mut renderer = renderer(gpu, GpuOptions::default());
+/// The 96 x 96, 4-spp teapot spinning 20 degrees, focused on the camera
+/// target (its centre): grids near the spin axis and the focal plane stay
+/// sharp, the spout and handle blur.
+fn spinning_defocused_teapot() -> Scene {
     let mut scene = framed_teapot(96, 96, 4);
     for object in &mut scene.objects {
         object.transform_close = Some(Transform {
@@ -93,9 +91,17 @@ fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
             ..object.transform
         });
     }
-    // Focused on the camera target (the teapot's centre): grids near the
-    // spin axis and the focal plane stay sharp, the spout and handle blur.
     scene.lens.aperture = 0.1;
+    scene
+}
+
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let mut scene = spinning_defocused_teapot();
     let mut interleave_grids = Vec::new();
     for mode in MODES {
         scene.sampling = mode;
@@ -134,6 +140,39 @@ fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
         "adaptive sent {} of {grids} grids to Interleave UVT",
         interleave_grids[4]
     );
+}
+
+/// Interleave UVT with 3 x 3 and 4 x 4 tiles (and Adaptive, which uses
+/// them) agrees with the CPU reference, sample counts included.
+#[test]
+#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+fn larger_interleave_tiles_match_the_cpu_reference() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let mut scene = spinning_defocused_teapot();
+    scene.jitter = true;
+    for (mode, tile) in [
+        (Sampling::Interleave, 3),
+        (Sampling::Interleave, 4),
+        (Sampling::Adaptive, 3),
+    ] {
+        scene.sampling = mode;
+        scene.interleave_tile = tile;
+        let prepared = PreparedScene::load(&scene).expect("scene prepares");
+        let g = render_gpu(&mut renderer, &prepared);
+        let c = reference::render(&prepared);
+        let a = agreement(&g, &c);
+        eprintln!("{mode:?}, K = {tile}: {a:?}");
+        assert!(a.coverage >= 0.1, "{mode:?}: coverage {:.3}", a.coverage);
+        a.assert_at_least(&format!("{mode:?}, K = {tile}"), 0.99, 0.98);
+        assert_counts_close(
+            "samples tested",
+            g.stats.samples_tested,
+            c.stats.samples_tested,
+        );
+        assert_counts_close("samples hit", g.stats.samples_hit, c.stats.samples_hit);
+    }
 }
 
 /// A flat square card facing +z, `2 * half` wide, centred at `centre`.

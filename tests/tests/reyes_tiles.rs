@@ -112,8 +112,8 @@ fn tiled_frames_match_the_untiled_frame() {
 
 /// With motion blur and depth of field every sample carries a time and a
 /// lens position from tables indexed by absolute pixel coordinates (the
-/// per-pixel table repeats every 64 x 64 pixels; Interleave UVT's
-/// permutation is hashed from the absolute 2 x 2 square), and jitter is
+/// per-pixel table repeats every 64 x 64 pixels; Interleave UVT's tiles
+/// and their permutations follow absolute pixels), and jitter is
 /// hashed from them too: a spinning, defocused, jittered teapot renders
 /// alike tiled and untiled in every mode.
 #[test]
@@ -133,23 +133,29 @@ fn tiled_frames_with_motion_and_depth_of_field_match_the_untiled_frame() {
     scene.jitter = true;
     let cap = 128 * u64::from(TILE_ALIGN) * u64::from(spp);
     let (mut whole, mut tiled) = (capped(gpu, None), capped(gpu, Some(cap)));
-    for mode in [
-        Sampling::Bbox,
-        Sampling::Simple,
-        Sampling::Interleave,
-        Sampling::Interval,
-        Sampling::Adaptive,
+    // Interleave UVT with 3 x 3 tiles too: tile origins (multiples of 64
+    // pixels) are not multiples of 3, so its tiles must follow absolute
+    // pixel coordinates.
+    for (mode, interleave_tile) in [
+        (Sampling::Bbox, 2),
+        (Sampling::Simple, 2),
+        (Sampling::Interleave, 2),
+        (Sampling::Interleave, 3),
+        (Sampling::Interval, 2),
+        (Sampling::Adaptive, 4),
     ] {
         scene.sampling = mode;
+        scene.interleave_tile = interleave_tile;
+        let mode = format!("{mode:?}, K = {interleave_tile}");
         let prepared = PreparedScene::load(&scene).expect("scene prepares");
         assert!(prepared.samples_time_and_lens());
         let untiled = whole.render(&prepared).expect("untiled render");
         let tiles = tiled.render(&prepared).expect("tiled render");
         assert_eq!((untiled.tiles, tiles.tiles), (1, 6));
         let a = agreement(&tiles, &as_reference(&untiled));
-        eprintln!("{mode:?}: {a:?}");
-        assert!(a.coverage >= 0.15, "{mode:?}: coverage {:.3}", a.coverage);
-        a.assert_at_least(&format!("{mode:?}"), 0.995, 0.99);
+        eprintln!("{mode}: {a:?}");
+        assert!(a.coverage >= 0.15, "{mode}: coverage {:.3}", a.coverage);
+        a.assert_at_least(&mode, 0.995, 0.99);
         assert_counts_close(
             "samples hit",
             tiles.stats.samples_hit,

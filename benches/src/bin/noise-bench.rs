@@ -4,7 +4,8 @@
 //!
 //! ```text
 //! cargo run --release -p benches --bin noise-bench -- [--model teapot|killeroo|FILE]
-//!     [--width 160] [--height 120] [--spp 16]
+//!     [--width 160] [--height 120] [--spp 16] [--interleave-tile 2]
+//!     [--images DIR]
 //! ```
 //!
 //! The converged render has 256 samples per pixel: the scene rendered at
@@ -14,6 +15,12 @@
 //! whose samples each carry their own stratified time and lens position.
 //! RMSE is in 8-bit sRGB levels over the three colour channels of every
 //! pixel; blur configurations are those of `blur-bench`.
+//!
+//! With `--images DIR` it also writes, per blur configuration, the
+//! converged render (`converged-BLUR.png`), each mode's render
+//! (`BLUR-MODE.png`) and its per-pixel error against the converged one
+//! (`error-BLUR-MODE.png`: each pixel's RMSE over its channels, 0 black,
+//! [`ERROR_WHITE`] levels and more white).
 
 use std::process::ExitCode;
 
@@ -40,7 +47,16 @@ struct Args {
     /// Samples per pixel of the measured renders.
     #[arg(long, default_value_t = 16)]
     spp: u32,
+    /// Side, in pixels, of Interleave UVT's tiles (Interleave and Adaptive).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(2..=4))]
+    interleave_tile: u32,
+    /// Write the renders and per-pixel error pictures to this directory.
+    #[arg(long)]
+    images: Option<std::path::PathBuf>,
 }
+
+/// The per-pixel error (8-bit sRGB levels) drawn white in the error pictures.
+const ERROR_WHITE: f64 = 32.0;
 
 /// The modes that sample time and lens.
 const MODES: [Sampling; 5] = Sampling::TIME_AND_LENS;
@@ -102,6 +118,22 @@ fn rmse(image: &RgbaImage, converged: &[[f64; 3]]) -> f64 {
     (sum / (3 * converged.len()) as f64).sqrt()
 }
 
+/// The picture of each pixel's RMSE over its channels against `converged`.
+fn error_image(image: &RgbaImage, converged: &[[f64; 3]]) -> image::GrayImage {
+    let mut out = image::GrayImage::new(image.width(), image.height());
+    for ((p, q), e) in image.pixels().zip(converged).zip(out.pixels_mut()) {
+        let sum: f64 = (0..3).map(|c| (p[c] as f64 - q[c]).powi(2)).sum();
+        let level = (sum / 3.0).sqrt() / ERROR_WHITE * 255.0;
+        e[0] = level.clamp(0.0, 255.0) as u8;
+    }
+    out
+}
+
+/// A blur configuration's label as a file name part (`spin-30-dof-0.02`).
+fn file_label(config: BlurConfig) -> String {
+    config.label().replace(" + ", "-").replace(' ', "-")
+}
+
 fn render(
     name: &str,
     model: &Model,
@@ -109,8 +141,10 @@ fn render(
     size: (u32, u32),
     spp: u32,
     mode: Sampling,
+    interleave_tile: u32,
 ) -> Result<reference::Rendered, String> {
-    let scene = scene(name, model, config, size.0, size.1, spp, mode);
+    let mut scene = scene(name, model, config, size.0, size.1, spp, mode);
+    scene.interleave_tile = interleave_tile;
     let prepared = PreparedScene::load(&scene).map_err(|e| e.to_string())?;
     reference::try_render(&prepared).map_err(|e| e.to_string())
 }
@@ -134,12 +168,46 @@ fn run(args: &Args) -> Result<(), String> {
             (2 * width, 2 * height),
             64,
             Sampling::Bbox,
+            args.interleave_tile,
         )?;
         let converged = downsample(&fine.image, width, height);
+        if let Some(dir) = &args.images {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            let mut image = RgbaImage::new(width, height);
+            for (p, q) in image.pixels_mut().zip(&converged) {
+                *p = image::Rgba(
+                    [q[0], q[1], q[2], 255.0].map(|v| v.round().clamp(0.0, 255.0) as u8),
+                );
+            }
+            let path = dir.join(format!("converged-{}.png", file_label(config)));
+            image
+                .save(&path)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
         let mut line = format!("{:<18}", config.label());
         for mode in MODES {
-            let rendered = render(&name, &model, config, (width, height), args.spp, mode)?;
+            let rendered = render(
+                &name,
+                &model,
+                config,
+                (width, height),
+                args.spp,
+                mode,
+                args.interleave_tile,
+            )?;
             line += &format!(" {:>10.3}", rmse(&rendered.image, &converged));
+            if let Some(dir) = &args.images {
+                let stem = format!("{}-{}", file_label(config), mode.name());
+                let path = dir.join(format!("{stem}.png"));
+                rendered
+                    .image
+                    .save(&path)
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+                let path = dir.join(format!("error-{stem}.png"));
+                error_image(&rendered.image, &converged)
+                    .save(&path)
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+            }
         }
         println!("{line}");
     }

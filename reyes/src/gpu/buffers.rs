@@ -10,7 +10,7 @@ use crate::nonfinite::Source;
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::stats::RenderStats;
-use crate::uvt::{INTERLEAVE_TILE, UvtLayout, UvtTables};
+use crate::uvt::{UvtLayout, UvtTables};
 
 /// The frame uniform, WGSL struct `Frame` (declared from this struct in the
 /// generated module, its layout checked when this crate compiles).
@@ -65,6 +65,8 @@ pub struct FrameUniform {
     pub uvt_simple: u32,
     /// The interleave tuples.
     pub uvt_interleave: u32,
+    /// INTERVAL's lens box per time stratum.
+    pub uvt_interval_lens: u32,
     /// The per-pixel table.
     pub uvt_pixel: u32,
     /// The interleave inverses.
@@ -89,12 +91,11 @@ pub struct FrameUniform {
     pub smooth_shading: u32,
     /// Dice threshold in pixels.
     pub dice_threshold: f32,
-    /// Padding to the struct's 16-byte alignment.
-    pub pad0: u32,
-    /// Padding.
-    pub pad1: u32,
-    /// Padding.
-    pub pad2: u32,
+    /// Side, in pixels, of Interleave UVT's tiles (K: 2, 3 or 4).
+    pub interleave_tile: u32,
+    /// The micropolygon side in pixels that Adaptive's cost model assumes
+    /// (reyes::prepare::PreparedScene::nominal_micropolygon_px).
+    pub adaptive_micropolygon: f32,
 }
 
 impl FrameUniform {
@@ -125,6 +126,7 @@ impl FrameUniform {
             time_lens: u32::from(scene.samples_time_and_lens()),
             uvt_simple: 0,
             uvt_interleave: 0,
+            uvt_interval_lens: 0,
             uvt_pixel: 0,
             uvt_inverse: 0,
             interleave_tuples: 0,
@@ -137,21 +139,21 @@ impl FrameUniform {
             smooth_shading: u32::from(
                 scene.shading_interpolation == crate::scene::ShadingInterpolation::Smooth,
             ),
-            pad0: 0,
-            pad1: 0,
-            pad2: 0,
+            interleave_tile: scene.interleave_tile,
+            adaptive_micropolygon: scene.nominal_micropolygon_px(),
         }
     }
 
     /// Points the uniform at the time/lens tables stored at float `base` of
     /// `height_texels`.
-    fn with_uvt(mut self, base: u32, spp: u32) -> Self {
-        let layout = UvtLayout::for_spp(spp);
+    fn with_uvt(mut self, base: u32) -> Self {
+        let layout = UvtLayout::new(self.spp, self.interleave_tile);
         self.uvt_simple = base + layout.simple;
         self.uvt_interleave = base + layout.interleave;
+        self.uvt_interval_lens = base + layout.interval_lens;
         self.uvt_pixel = base + layout.pixel;
         self.uvt_inverse = base + layout.inverse;
-        self.interleave_tuples = spp * INTERLEAVE_TILE * INTERLEAVE_TILE;
+        self.interleave_tuples = self.spp * self.interleave_tile * self.interleave_tile;
         self
     }
 }
@@ -174,7 +176,7 @@ impl FloatLayout {
     fn new(scene: &PreparedScene, tables: &ObjectTables) -> Self {
         let uvt = tables.texels as u64;
         let uvt_floats = if scene.samples_time_and_lens() {
-            u64::from(UvtLayout::for_spp(scene.spp).floats)
+            u64::from(UvtLayout::new(scene.spp, scene.interleave_tile).floats)
         } else {
             0
         };
@@ -344,11 +346,13 @@ impl FrameBuffers {
                 queue.write_buffer(
                     &self.height_texels,
                     4 * u64::from(base),
-                    bytemuck::cast_slice(&UvtTables::new(scene.spp).to_floats()),
+                    bytemuck::cast_slice(
+                        &UvtTables::new(scene.spp, scene.interleave_tile).to_floats(),
+                    ),
                 );
                 self.uvt = Some((scene.spp, base));
             }
-            frame = frame.with_uvt(base, scene.spp);
+            frame = frame.with_uvt(base);
         }
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&frame));
         if !tables.objects.is_empty() {

@@ -30,13 +30,14 @@ use crate::dicing::{
     EDGE_U0, EDGE_U1, EDGE_V0, EDGE_V1, GridClass, GridSize, RATE_ROUNDING, pack_edges,
 };
 use crate::params::{
-    ADAPTIVE_INTERLEAVE_BIAS, DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX,
-    DEGENERATE_PARAM_MIN, DISPLACED_DICE_FRACTION, DISPLACEMENT_BOUND_TOLERANCE, HASH_MIX,
-    HASH_MULTIPLIERS, MAX_GRID_QUADS, NEAR_EPS, POINT_LIGHT_MIN_DISTANCE_SQUARED,
-    SINES_NORMALIZATION, SINES_OCTAVE_2_FREQUENCY, SINES_OCTAVE_2_WEIGHT,
+    ADAPTIVE_PLACE_COST, DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX, DEGENERATE_PARAM_MIN,
+    DISPLACED_DICE_FRACTION, DISPLACEMENT_BOUND_TOLERANCE, HASH_MIX, HASH_MULTIPLIERS,
+    MAX_GRID_QUADS, NEAR_EPS, POINT_LIGHT_MIN_DISTANCE_SQUARED, SINES_NORMALIZATION,
+    SINES_OCTAVE_2_FREQUENCY, SINES_OCTAVE_2_WEIGHT,
 };
 use crate::prepare::WorldPatch;
-use crate::uvt::{INTERLEAVE_PERMUTATIONS, INTERLEAVE_TILE, PERMUTATION_CHANNEL, TABLE_SIDE};
+use crate::reference::quad::STRATUM_MARGIN;
+use crate::uvt::{INTERLEAVE_PERMUTATIONS, PERMUTATION_CHANNEL, TABLE_SIDE};
 
 const LIBRARY_WGSL: &str = include_str!("../../../shaders/reyes/library.wgsl");
 const BOUND_WGSL: &str = include_str!("../../../shaders/reyes/bound.wgsl");
@@ -44,6 +45,7 @@ const SPLIT_WGSL: &str = include_str!("../../../shaders/reyes/split.wgsl");
 const DICE_WGSL: &str = include_str!("../../../shaders/reyes/dice_shade_sample.wgsl");
 const DICING_WGSL: &str = include_str!("../../../shaders/reyes/dicing.wgsl");
 const DISPLACEMENT_WGSL: &str = include_str!("../../../shaders/reyes/displacement.wgsl");
+const QUAD_WGSL: &str = include_str!("../../../shaders/reyes/quad.wgsl");
 const RASTER5D_WGSL: &str = include_str!("../../../shaders/reyes/raster5d.wgsl");
 /// The `displacement_user` of scenes without a user function (returns 0).
 pub const DEFAULT_USER_DISPLACEMENT_WGSL: &str =
@@ -356,7 +358,6 @@ fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, ConstantValue)> {
         ),
         ("SAMPLING_INTERVAL", ConstantValue::U32(sampling::INTERVAL)),
         ("SAMPLING_ADAPTIVE", ConstantValue::U32(sampling::ADAPTIVE)),
-        ("INTERLEAVE_TILE", ConstantValue::U32(INTERLEAVE_TILE)),
         (
             "INTERLEAVE_PERMUTATIONS",
             ConstantValue::U32(INTERLEAVE_PERMUTATIONS),
@@ -367,9 +368,10 @@ fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, ConstantValue)> {
         ),
         ("TABLE_SIDE", ConstantValue::U32(TABLE_SIDE)),
         (
-            "ADAPTIVE_INTERLEAVE_BIAS",
-            ConstantValue::F32(ADAPTIVE_INTERLEAVE_BIAS),
+            "ADAPTIVE_PLACE_COST",
+            ConstantValue::F32(ADAPTIVE_PLACE_COST),
         ),
+        ("STRATUM_MARGIN", ConstantValue::F32(STRATUM_MARGIN)),
         ("AOV_SHADED", ConstantValue::U32(aov_shaded)),
         ("AOV_GRIDS", ConstantValue::U32(aov_grids)),
         ("AOV_DEPTH", ConstantValue::U32(aov_depth)),
@@ -509,6 +511,7 @@ pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
     graph.library(&constants_wgsl(workgroup_size));
     graph.library(LIBRARY_WGSL);
     graph.library(DICING_WGSL);
+    graph.library(QUAD_WGSL);
     graph.library(RASTER5D_WGSL);
     graph.library(DISPLACEMENT_WGSL);
     graph.library(user_displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));

@@ -3,17 +3,15 @@
 
 /// Screen tiles start at multiples of this many pixels. The renderer's
 /// per-pixel 5D sample table repeats every [`crate::uvt::TABLE_SIDE`] (64)
-/// pixels and its interleaved sampling works on
-/// [`crate::uvt::INTERLEAVE_TILE`] (2) pixel squares, both indexed by the
-/// pixel coordinates of the frame being rendered; a tile whose origin is a
-/// multiple of both gives every pixel the samples it has in the untiled
-/// frame, so tiling changes the image only through float rounding. The
-/// jitter and Interleave UVT's permutation per 2 x 2 square are hashed from
-/// absolute pixel coordinates ([`crate::camera::Camera::origin`]).
+/// pixels, indexed by the pixel coordinates of the frame being rendered; a
+/// tile whose origin is a multiple of it gives every pixel the samples it
+/// has in the untiled frame, so tiling changes the image only through
+/// float rounding. The jitter, and Interleave UVT's tiles and their
+/// permutations, follow absolute pixel coordinates
+/// ([`crate::camera::Camera::origin`]).
 pub const TILE_ALIGN: u32 = 64;
 const _: () = assert!(
-    TILE_ALIGN.is_multiple_of(crate::uvt::TABLE_SIDE)
-        && TILE_ALIGN.is_multiple_of(crate::uvt::INTERLEAVE_TILE),
+    TILE_ALIGN.is_multiple_of(crate::uvt::TABLE_SIDE),
     "tile origins must keep the sample tables' period"
 );
 

@@ -58,6 +58,12 @@ pub struct ReferenceOptions {
     pub max_items: u64,
     /// Most micropolygons diced (default [`DEFAULT_MAX_MICROPOLYGONS`]).
     pub max_micropolygons: u64,
+    /// Rasterize a still frame's bbox-sampled micropolygons as two
+    /// triangles with a box each, over whole pixels
+    /// ([`super::raster::raster_triangle`]), as the renderer did before
+    /// its quad boxes (default `false`): the same image, with more sample
+    /// tests. For measuring what the quad boxes save (`reyes-bench ste`).
+    pub triangle_boxes: bool,
 }
 
 impl Default for ReferenceOptions {
@@ -68,6 +74,7 @@ impl Default for ReferenceOptions {
             max_framebuffer_bytes: DEFAULT_MAX_FRAMEBUFFER_BYTES,
             max_items: DEFAULT_MAX_ITEMS,
             max_micropolygons: DEFAULT_MAX_MICROPOLYGONS,
+            triangle_boxes: false,
         }
     }
 }

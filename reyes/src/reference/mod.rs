@@ -18,6 +18,7 @@ pub mod dice;
 pub mod displace;
 pub mod framebuffer;
 pub mod limits;
+pub mod quad;
 pub mod raster;
 pub mod raster5d;
 pub mod resolve;
@@ -36,10 +37,10 @@ use self::framebuffer::Framebuffer;
 use self::limits::Budget;
 pub use self::limits::ReferenceOptions;
 use self::raster::{
-    SampleGrid, ScreenPoint, micropolygon_corners, micropolygon_size, raster_nearest,
-    raster_triangle, shows_front,
+    SampleGrid, ScreenPoint, micropolygon_corners, micropolygon_size, raster_nearest, raster_quad,
+    raster_triangle, shows_front, still_quad,
 };
-use self::raster5d::{Mode5d, MovingPoint, Sampler, raster_triangle_5d};
+use self::raster5d::{Mode5d, MovingPoint, Sampler, raster_quad_5d};
 use self::shade::shade;
 use self::work::WorkItem;
 use crate::aov::{self, Aov};
@@ -239,10 +240,11 @@ pub fn try_render_samples(
     let samples = SampleGrid::new(grid_size(scene.spp), scene.jitter);
     let uvt = scene
         .samples_time_and_lens()
-        .then(|| UvtTables::new(scene.spp));
+        .then(|| UvtTables::new(scene.spp, scene.interleave_tile));
     let sampler = uvt.as_ref().map(|uvt| Sampler {
         samples: &samples,
         uvt,
+        micropolygon_px: scene.nominal_micropolygon_px(),
     });
     let mut stats = RenderStats {
         input_patches: scene.patches.len() as u64,
@@ -353,6 +355,7 @@ pub fn try_render_samples(
                     &mut framebuffer,
                     &mut stats,
                     &mut budget,
+                    options.triangle_boxes,
                 )?;
             }
         }
@@ -376,6 +379,7 @@ fn dice_shade_sample(
     framebuffer: &mut Framebuffer,
     stats: &mut RenderStats,
     budget: &mut Budget,
+    triangle_boxes: bool,
 ) -> Result<(), ReferenceError> {
     let class = size.class();
     stats.grids_diced += 1;
@@ -445,7 +449,7 @@ fn dice_shade_sample(
             scene.sampling,
             extent(MovingPoint::motion),
             extent(MovingPoint::blur),
-            scene.spp,
+            sampler,
         )
         .unwrap_or(Mode5d::Bbox);
         (sampler, points, mode)
@@ -474,42 +478,37 @@ fn dice_shade_sample(
                 (Aov::Grids, _) | (_, ShadingInterpolation::Constant) => [packed; 4],
                 (_, ShadingInterpolation::Smooth) => corner_colors,
             };
-            let triangle_colors = [[ca, cb, cc], [ca, cc, cd]];
+            let quad_colors = [ca, cb, cc, cd];
             // Which of the two triangles to sample: a one-sided object's
             // back-facing ones are culled.
-            let [pa, pb, pc, pd] = corners.map(|c| c.pixel.truncate());
-            let front = |p: glam::Vec2, q: glam::Vec2, r: glam::Vec2| {
-                object.front.is_none_or(|s| shows_front(p, q, r, s))
-            };
-            let drawn = [front(pa, pb, pc), front(pa, pc, pd)];
+            let front =
+                |[p, q, r]: [glam::Vec2; 3]| object.front.is_none_or(|s| shows_front(p, q, r, s));
+            let drawn = |[a, b, c, d]: [glam::Vec2; 4]| [front([a, b, c]), front([a, c, d])];
             if let Some((sampler, points, mode)) = &moving {
-                let [a, b, c, d] = micropolygon_corners(points, size, i, j);
+                let corners = micropolygon_corners(points, size, i, j);
                 // Faces are culled as seen when the corners come into view
                 // (at open, for corners visible during the whole shutter).
-                let [pa, pb, pc, pd] = [a, b, c, d].map(|c| c.open.truncate());
-                let drawn = [front(pa, pb, pc), front(pa, pc, pd)];
-                for ((triangle, colors), drawn) in [[a, b, c], [a, c, d]]
-                    .into_iter()
-                    .zip(triangle_colors)
-                    .zip(drawn)
-                {
-                    if drawn {
-                        raster_triangle_5d(framebuffer, sampler, *mode, triangle, colors, stats);
-                    }
-                }
+                let drawn = drawn(corners.map(|c| c.open.truncate()));
+                raster_quad_5d(
+                    framebuffer,
+                    sampler,
+                    *mode,
+                    corners,
+                    quad_colors,
+                    drawn,
+                    stats,
+                );
                 continue;
             }
+            let drawn = drawn(corners.map(|c| c.pixel.truncate()));
+            let quad = still_quad(corners, quad_colors, drawn);
             match scene.sampling {
-                Sampling::Nearest => {
-                    if drawn[0] || drawn[1] {
-                        raster_nearest(framebuffer, samples.k, corners, packed, stats);
-                    }
-                }
-                _ => {
+                Sampling::Nearest => raster_nearest(framebuffer, samples, corners, &quad, stats),
+                _ if triangle_boxes => {
                     let [a, b, c, d] = corners;
                     for ((triangle, colors), drawn) in [[a, b, c], [a, c, d]]
                         .into_iter()
-                        .zip(triangle_colors)
+                        .zip([[ca, cb, cc], [ca, cc, cd]])
                         .zip(drawn)
                     {
                         if drawn {
@@ -517,6 +516,7 @@ fn dice_shade_sample(
                         }
                     }
                 }
+                _ => raster_quad(framebuffer, samples, &quad, stats),
             }
         }
     }

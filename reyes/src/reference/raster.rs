@@ -2,13 +2,20 @@
 //!
 //! Two modes ([`crate::scene::Sampling`]):
 //! * **bbox**: each micropolygon is split into triangles `(a, b, c)` and
-//!   `(a, c, d)`; every sample in each triangle's pixel bounding box is tested
-//!   with edge functions and a top-left fill rule.
-//! * **nearest**: each micropolygon writes only the sample nearest its centroid.
+//!   `(a, c, d)`; every sample in the strata that the micropolygon's box
+//!   touches is tested once against both, with edge functions and a
+//!   top-left fill rule ([`raster_quad`], see [`super::quad`]).
+//!   [`raster_triangle`], a box per triangle over whole pixels, is what the
+//!   renderer did before; it stays as the independent check of the quad
+//!   test and for measuring what the quad boxes save
+//!   ([`super::ReferenceOptions::triangle_boxes`]).
+//! * **nearest**: each micropolygon tests only the sample nearest its
+//!   centroid, and writes it if it lies inside (Sattlecker and Steinberger).
 
 use glam::{Vec2, Vec3};
 
 use super::framebuffer::Framebuffer;
+use super::quad::{Quad, StrataBox, test_sample};
 use crate::color::{blend_rgb10, pack_key};
 use crate::dicing::GridSize;
 use crate::params::NEAR_EPS;
@@ -26,7 +33,7 @@ pub struct ScreenPoint {
 
 impl ScreenPoint {
     /// Usable as a triangle corner: `w > NEAR_EPS` and depth in `[0, 1]`.
-    fn usable(&self) -> bool {
+    pub fn usable(&self) -> bool {
         self.w > NEAR_EPS && (0.0..=1.0).contains(&self.pixel.z)
     }
 }
@@ -168,19 +175,58 @@ pub fn raster_triangle(
     }
 }
 
-/// Nearest mode: offers `packed_color` to the one sample nearest the
-/// centroid of the micropolygon's 4 corners (their averaged px, py, depth):
-/// the sample whose stratum contains the centroid (the nearest sample
-/// exactly when jitter is off). The sample is written when the centroid is
-/// on screen, its depth is in `[0, 1]` and all 4 corners have `w > NEAR_EPS`.
-pub fn raster_nearest(
+/// Rasterizes one micropolygon in bbox mode: every sample of the strata
+/// its box touches is tested once against its drawn triangles, and offered
+/// the interpolated depth and blended colour of each it is inside.
+pub fn raster_quad(
     framebuffer: &mut Framebuffer,
-    k: u32,
-    corners: [ScreenPoint; 4],
-    packed_color: u32,
+    samples: &SampleGrid,
+    quad: &Quad,
     stats: &mut RenderStats,
 ) {
-    stats.samples_tested += 1;
+    let Some((lo, hi)) = quad.bounds() else {
+        return;
+    };
+    let Some(strata) = StrataBox::new(lo, hi, samples.k, framebuffer.width, framebuffer.height)
+    else {
+        return;
+    };
+    for (x, y, s) in strata.samples() {
+        test_sample(
+            framebuffer,
+            quad,
+            samples.position(x, y, s),
+            (x, y, s),
+            stats,
+        );
+    }
+}
+
+/// The quad of a still micropolygon's corners for [`raster_quad`]: a
+/// triangle is drawn when `drawn` says so and its corners are usable.
+pub fn still_quad(corners: [ScreenPoint; 4], colors: [u32; 4], drawn: [bool; 2]) -> Quad {
+    let [a, b, c, d] = corners.map(|p| p.usable());
+    Quad::new(
+        corners.map(|p| p.pixel),
+        colors,
+        [drawn[0] && a && b && c, drawn[1] && a && c && d],
+    )
+}
+
+/// Nearest mode: tests the one sample nearest the centroid of the
+/// micropolygon's 4 corners (their averaged px, py): the sample whose
+/// stratum contains the centroid (the nearest sample exactly when jitter
+/// is off), and offers it the fragment of the triangle of `quad` it lies
+/// in, if any (Sattlecker and Steinberger's inside test). Nothing is tested
+/// when the centroid is off screen or a corner has `w <= NEAR_EPS`.
+pub fn raster_nearest(
+    framebuffer: &mut Framebuffer,
+    samples: &SampleGrid,
+    corners: [ScreenPoint; 4],
+    quad: &Quad,
+    stats: &mut RenderStats,
+) {
+    let k = samples.k;
     if !corners.iter().all(|c| c.w > NEAR_EPS) {
         return;
     }
@@ -188,7 +234,7 @@ pub fn raster_nearest(
     let (width, height) = (framebuffer.width as f32, framebuffer.height as f32);
     let on_screen =
         centroid.x >= 0.0 && centroid.x < width && centroid.y >= 0.0 && centroid.y < height;
-    if !on_screen || !(0.0..=1.0).contains(&centroid.z) {
+    if !on_screen {
         return;
     }
     // Global sample column/row; the min() guards against rounding up to the edge.
@@ -196,8 +242,13 @@ pub fn raster_nearest(
     let gy = ((centroid.y * k as f32).floor() as u32).min(framebuffer.height * k - 1);
     let (x, y) = (gx / k, gy / k);
     let s = (gy % k) * k + gx % k;
-    stats.samples_hit += 1;
-    framebuffer.offer(x, y, s, pack_key(key_depth(centroid.z), packed_color));
+    test_sample(
+        framebuffer,
+        quad,
+        samples.position(x, y, s),
+        (x, y, s),
+        stats,
+    );
 }
 
 /// Whether triangle `(a, b, c)` of a grid (in grid order: `b` one step
@@ -354,14 +405,17 @@ mod tests {
     fn nearest_picks_the_stratum_of_the_centroid() {
         let mut fb = Framebuffer::new(4, 4, 4);
         let mut stats = RenderStats::default();
+        let samples = SampleGrid::new(2, false);
         let corners = [
-            point(2.6, 1.2),
-            point(2.8, 1.2),
-            point(2.8, 1.4),
+            point(2.6, 1.1),
+            point(2.9, 1.1),
+            point(2.9, 1.4),
             point(2.6, 1.4),
         ];
-        raster_nearest(&mut fb, 2, corners, 7, &mut stats);
-        // Centroid (2.7, 1.3): pixel (2, 1), sample column 1, row 0 -> s = 1.
+        let quad = still_quad(corners, [7; 4], [true; 2]);
+        raster_nearest(&mut fb, &samples, corners, &quad, &mut stats);
+        // Centroid (2.75, 1.25): pixel (2, 1), sample column 1, row 0 -> s = 1,
+        // at (2.75, 1.25): inside.
         let i = fb.index(2, 1, 1);
         assert_ne!(fb.keys[i], CLEAR_KEY);
         assert_eq!(fb.keys.iter().filter(|&&k| k != CLEAR_KEY).count(), 1);
@@ -372,8 +426,95 @@ mod tests {
             point(-1.0, 2.0),
             point(-2.0, 2.0),
         ];
-        raster_nearest(&mut fb, 2, off, 7, &mut stats);
-        assert_eq!((stats.samples_tested, stats.samples_hit), (2, 1));
+        let quad = still_quad(off, [7; 4], [true; 2]);
+        raster_nearest(&mut fb, &samples, off, &quad, &mut stats);
+        assert_eq!((stats.samples_tested, stats.samples_hit), (1, 1));
+    }
+
+    /// Sattlecker and Steinberger's inside test: a micropolygon whose
+    /// nearest sample lies outside it writes nothing (the old nearest mode
+    /// wrote every centroid's sample).
+    #[test]
+    fn nearest_writes_no_sample_outside_the_micropolygon() {
+        let mut fb = Framebuffer::new(4, 4, 1);
+        let mut stats = RenderStats::default();
+        let samples = SampleGrid::new(1, false);
+        // A sliver around (2.1, 1.1): its nearest sample, the centre
+        // (2.5, 1.5) of pixel (2, 1), is outside it.
+        let corners = [
+            point(2.0, 1.0),
+            point(2.2, 1.0),
+            point(2.2, 1.2),
+            point(2.0, 1.2),
+        ];
+        let quad = still_quad(corners, [7; 4], [true; 2]);
+        raster_nearest(&mut fb, &samples, corners, &quad, &mut stats);
+        assert!(fb.keys.iter().all(|&k| k == CLEAR_KEY));
+        assert_eq!((stats.samples_tested, stats.samples_hit), (1, 0));
+    }
+
+    /// Random quads (convex, concave, folded, some degenerate) against the
+    /// per-triangle rasterizer: the same framebuffer and hits, and fewer
+    /// tests over all. Prints its seed; `TEST_SEED` replays it.
+    #[test]
+    fn quads_match_their_triangles_with_fewer_tests() {
+        use rand::Rng;
+        let (seed, mut rng) = crate::test_random::fresh_rng("raster quads");
+        let (mut quad_tests, mut triangle_tests) = (0, 0);
+        for case in 0..300 {
+            let k = [1, 2, 3, 4][case % 4];
+            let jitter = case % 3 == 0;
+            let samples = SampleGrid::new(k, jitter);
+            let size = [0.3, 1.0, 3.0][case % 3];
+            let centre = Vec2::new(rng.random_range(1.0..7.0), rng.random_range(1.0..7.0));
+            let mut corners = [0; 4].map(|_| {
+                let p = centre
+                    + Vec2::new(rng.random_range(-size..size), rng.random_range(-size..size));
+                ScreenPoint {
+                    pixel: Vec3::new(p.x, p.y, rng.random_range(0.0..1.0)),
+                    w: 1.0,
+                }
+            });
+            if case % 7 == 0 {
+                // A collapsed edge: one degenerate triangle.
+                corners[1] = corners[0];
+            }
+            let colors = [0x0010_0401, 0x0020_0802, 0x0030_0c03, 0x0040_1004];
+            let drawn = [case % 5 != 1, case % 5 != 2];
+            let mut by_quad = Framebuffer::new(8, 8, k * k);
+            let mut stats_quad = RenderStats::default();
+            raster_quad(
+                &mut by_quad,
+                &samples,
+                &still_quad(corners, colors, drawn),
+                &mut stats_quad,
+            );
+            let mut by_triangle = Framebuffer::new(8, 8, k * k);
+            let mut stats_triangle = RenderStats::default();
+            let [a, b, c, d] = corners;
+            let [ca, cb, cc, cd] = colors;
+            for (i, (tri, cols)) in [([a, b, c], [ca, cb, cc]), ([a, c, d], [ca, cc, cd])]
+                .into_iter()
+                .enumerate()
+            {
+                if drawn[i] {
+                    raster_triangle(&mut by_triangle, &samples, tri, cols, &mut stats_triangle);
+                }
+            }
+            assert!(
+                by_quad.keys == by_triangle.keys,
+                "seed {seed}, case {case}: the framebuffers differ"
+            );
+            let covered = by_quad.keys.iter().filter(|&&k| k != CLEAR_KEY).count() as u64;
+            assert_eq!(stats_quad.samples_hit, covered, "seed {seed}, case {case}");
+            quad_tests += stats_quad.samples_tested;
+            triangle_tests += stats_triangle.samples_tested;
+        }
+        println!("seed {seed}: {quad_tests} quad tests, {triangle_tests} triangle tests");
+        assert!(
+            quad_tests * 2 < triangle_tests,
+            "{quad_tests} vs {triangle_tests}"
+        );
     }
 
     #[test]

@@ -9,22 +9,24 @@
 //! crosses the near or far plane during the shutter is seen only during
 //! the part of it in which it is in view, between the projections at the
 //! ends of that part. Each mode decides
-//! which (triangle position, sample) pairs to test; the test itself is the
-//! plain path's edge-function test with the top-left rule, done on the
-//! triangle positioned at the sample's time and lens position. Every tested
-//! pair counts in `samples_tested`, every hit in `samples_hit`.
+//! which (micropolygon position, sample) pairs to test; the test itself is
+//! the plain path's quad test ([`super::quad`]): both triangles of the
+//! micropolygon positioned at the sample's time and lens position, with
+//! edge functions and the top-left rule. Boxes are clamped to the sample
+//! strata they touch. Every tested pair counts in `samples_tested`, every
+//! sample inside in `samples_hit`.
 
 use glam::{Vec2, Vec3, Vec4};
 
 use super::framebuffer::Framebuffer;
-use super::raster::{SampleGrid, edge, inside, key_depth};
+use super::quad::{Quad, StrataBox, test_sample};
+use super::raster::SampleGrid;
 use crate::camera::Camera;
-use crate::color::{blend_rgb10, pack_key};
 use crate::motion::PreparedLens;
-use crate::params::{ADAPTIVE_INTERLEAVE_BIAS, NEAR_EPS};
+use crate::params::{ADAPTIVE_PLACE_COST, NEAR_EPS};
 use crate::scene::Sampling;
 use crate::stats::RenderStats;
-use crate::uvt::{INTERLEAVE_TILE, TimeLens, UvtTables};
+use crate::uvt::{TimeLens, UvtTables};
 
 /// A grid point at shutter open and close, over the part of the shutter
 /// during which it can be seen.
@@ -196,140 +198,141 @@ pub struct Sampler<'a> {
     pub samples: &'a SampleGrid,
     /// Time and lens coordinates of the samples.
     pub uvt: &'a UvtTables,
+    /// The side of a micropolygon in pixels that Adaptive's cost model
+    /// assumes ([`crate::prepare::PreparedScene::nominal_micropolygon_px`]).
+    pub micropolygon_px: f32,
 }
 
-/// A triangle at one time and lens position, ready for sample tests.
-struct Placed {
-    a: Vec3,
-    b: Vec3,
-    c: Vec3,
-    /// The packed colours of `a`, `b` and `c`.
-    colors: [u32; 3],
-    area: f32,
+/// The corners of each triangle of a quad `[a, b, c, d]`: `(a, b, c)` and
+/// `(a, c, d)`, split along the 0–2 diagonal.
+const TRIANGLE_CORNERS: [[usize; 3]; 2] = [[0, 1, 2], [0, 2, 3]];
+
+/// A micropolygon over the shutter: its corners, their colours, and which
+/// of its triangles may be drawn at all (not culled, every corner usable).
+#[derive(Debug, Clone, Copy)]
+struct MovingQuad {
+    corners: [MovingPoint; 4],
+    colors: [u32; 4],
+    active: [bool; 2],
 }
 
-/// Positions triangle `corners` at `(t, lens)`; `None` when a corner cannot
-/// be seen at `t` or the triangle has no area there (degenerate, or not
-/// finite).
-fn place(corners: &[MovingPoint; 3], colors: [u32; 3], tl: TimeLens) -> Option<Placed> {
-    if !corners.iter().all(|c| c.visible_at(tl.t)) {
-        return None;
+impl MovingQuad {
+    /// The quad at time and lens `tl`: a triangle is drawn when it is
+    /// active and all its corners can be seen at `tl.t`.
+    fn place(&self, tl: TimeLens) -> Quad {
+        let drawn = |t: usize| {
+            self.active[t]
+                && TRIANGLE_CORNERS[t]
+                    .iter()
+                    .all(|&i| self.corners[i].visible_at(tl.t))
+        };
+        Quad::new(
+            self.corners.map(|c| c.at(tl.t, tl.lens)),
+            self.colors,
+            [drawn(0), drawn(1)],
+        )
     }
-    let a = corners[0].at(tl.t, tl.lens);
-    let b = corners[1].at(tl.t, tl.lens);
-    let c = corners[2].at(tl.t, tl.lens);
-    let area = edge(a.truncate(), b.truncate(), c.truncate());
-    if area == 0.0 || !area.is_finite() {
-        return None;
-    }
-    // With b and c swapped the area is positive (as in the plain path).
-    let (b, c, colors) = if area < 0.0 {
-        (c, b, [colors[0], colors[2], colors[1]])
-    } else {
-        (b, c, colors)
-    };
-    Some(Placed {
-        a,
-        b,
-        c,
-        colors,
-        area: area.abs(),
-    })
-}
 
-impl Placed {
-    /// The depth and the blended colour at `p` if `p` is inside.
-    #[inline]
-    fn fragment_at(&self, p: Vec2) -> Option<(f32, u32)> {
-        let (a, b, c) = (self.a.truncate(), self.b.truncate(), self.c.truncate());
-        let e_bc = edge(b, c, p);
-        let e_ca = edge(c, a, p);
-        let e_ab = edge(a, b, p);
-        if inside(e_bc, b, c) && inside(e_ca, c, a) && inside(e_ab, a, b) {
-            let z = (e_bc * self.a.z + e_ca * self.b.z + e_ab * self.c.z) / self.area;
-            Some((z, blend_rgb10(self.colors, [e_bc, e_ca, e_ab], self.area)))
-        } else {
-            None
+    /// The corners of the active triangles that can all be seen at some
+    /// time of `[t0, t1]`.
+    fn corners_seen(&self, t0: f32, t1: f32) -> impl Iterator<Item = &MovingPoint> + '_ {
+        let mut used = [false; 4];
+        for (t, corners) in TRIANGLE_CORNERS.iter().enumerate() {
+            let seen_from = corners
+                .iter()
+                .fold(0.0f32, |from, &i| from.max(self.corners[i].t_open));
+            let seen_until = corners
+                .iter()
+                .fold(1.0f32, |until, &i| until.min(self.corners[i].t_close));
+            if self.active[t] && seen_from <= t1 && seen_until >= t0 {
+                for &i in corners {
+                    used[i] = true;
+                }
+            }
         }
-    }
-
-    fn lo(&self) -> Vec2 {
-        self.a
-            .truncate()
-            .min(self.b.truncate())
-            .min(self.c.truncate())
-    }
-
-    fn hi(&self) -> Vec2 {
-        self.a
-            .truncate()
-            .max(self.b.truncate())
-            .max(self.c.truncate())
+        self.corners
+            .iter()
+            .zip(used)
+            .filter_map(|(c, used)| used.then_some(c))
     }
 }
 
-/// The pixels `[x0, x1] x [y0, y1]` a screen box `[lo, hi]` touches,
-/// clamped to the screen; `None` when it misses the screen (or is NaN).
-fn pixel_range(lo: Vec2, hi: Vec2, width: u32, height: u32) -> Option<[u32; 4]> {
-    // Clamped in float first (saturating casts keep huge values harmless).
-    let x0 = lo.x.floor().max(0.0);
-    let y0 = lo.y.floor().max(0.0);
-    let x1 = hi.x.floor().min(width as f32 - 1.0);
-    let y1 = hi.y.floor().min(height as f32 - 1.0);
-    if !(x0 <= x1 && y0 <= y1) {
-        return None;
-    }
-    Some([x0 as u32, y0 as u32, x1 as u32, y1 as u32])
-}
-
-/// Tests sample `s` of pixel `(x, y)` against `placed`, offering its
-/// fragment on a hit.
-#[inline]
-fn test(
-    framebuffer: &mut Framebuffer,
-    sampler: &Sampler<'_>,
-    placed: &Placed,
-    (x, y, s): (u32, u32, u32),
-    stats: &mut RenderStats,
-) {
-    stats.samples_tested += 1;
-    if let Some((z, color)) = placed.fragment_at(sampler.samples.position(x, y, s)) {
-        stats.samples_hit += 1;
-        framebuffer.offer(x, y, s, pack_key(key_depth(z), color));
-    }
-}
-
-/// Places `corners` at sample `(x, y, s)`'s own time and lens `tl` and
-/// tests the sample; a triangle without area there still counts as tested.
+/// Places `quad` at sample `(x, y, s)`'s own time and lens `tl` and tests
+/// the sample once against both triangles; a quad without a triangle
+/// there still counts as tested.
 fn place_and_test(
     framebuffer: &mut Framebuffer,
     sampler: &Sampler<'_>,
-    corners: &[MovingPoint; 3],
-    colors: [u32; 3],
+    quad: &MovingQuad,
     tl: TimeLens,
     sample: (u32, u32, u32),
     stats: &mut RenderStats,
 ) {
-    match place(corners, colors, tl) {
-        Some(placed) => test(framebuffer, sampler, &placed, sample, stats),
-        None => stats.samples_tested += 1,
-    }
+    test(framebuffer, sampler, &quad.place(tl), sample, stats);
+}
+
+/// Tests sample `(x, y, s)` against a placed quad, offering its fragments.
+#[inline]
+fn test(
+    framebuffer: &mut Framebuffer,
+    sampler: &Sampler<'_>,
+    quad: &Quad,
+    (x, y, s): (u32, u32, u32),
+    stats: &mut RenderStats,
+) {
+    let position = sampler.samples.position(x, y, s);
+    test_sample(framebuffer, quad, position, (x, y, s), stats);
+}
+
+/// Adaptive's estimate of the cost of one micropolygon under INTERVAL and
+/// under Interleave UVT, in units of one sample test (Adaptive picks the
+/// cheaper, [`adaptive_choice`]).
+///
+/// For a micropolygon of side `m` pixels whose corners move up to
+/// `motion` pixels over the shutter and blur up to `blur` pixels:
+///
+/// * INTERVAL draws `spp` boxes, one per time interval, each of side about
+///   `m + motion / spp + 2 * blur / k` (the motion within the interval,
+///   and the circle of confusion over the interval's lens region, `2 / k`
+///   of the lens across), and tests the one sample per pixel of that
+///   interval whose stratum the box touches: about `(side + 1 / k)^2`
+///   tests, each of which places the quad at its sample's time and lens.
+/// * Interleave UVT places the quad once per tuple, `spp * K^2` times, and
+///   looks up one sample in each `K x K` tile the placed quad's box
+///   touches, about `(1 + m / K)^2` of them.
+///
+/// A placement costs [`ADAPTIVE_PLACE_COST`] tests.
+pub fn adaptive_costs(
+    motion: f32,
+    blur: f32,
+    micropolygon_px: f32,
+    spp: u32,
+    tile: u32,
+) -> (f32, f32) {
+    let n = spp as f32;
+    let k = n.sqrt();
+    let kt = tile as f32;
+    let side = micropolygon_px + motion / n + 2.0 * blur / k + 1.0 / k;
+    let interval = n * side * side * (1.0 + ADAPTIVE_PLACE_COST);
+    let tiles = (1.0 + micropolygon_px / kt) * (1.0 + micropolygon_px / kt);
+    let interleave = n * kt * kt * (ADAPTIVE_PLACE_COST + tiles);
+    (interval, interleave)
 }
 
 /// The mode a grid uses under [`Sampling::Adaptive`]: Interleave UVT when
-/// INTERVAL's estimated sample tests exceed Interleave's by more than
-/// [`ADAPTIVE_INTERLEAVE_BIAS`], else INTERVAL. For a micropolygon of about
-/// a pixel, INTERVAL tests `spp` boxes of side about
-/// `2 + motion / spp + 2 * blur` pixels, one sample per pixel each, and
-/// Interleave UVT tests `spp * K^2` tuples, each in about `(1 + 1 / K)^2`
-/// tiles. `motion` and `blur` are the grid's largest point motion and
+/// its estimated cost ([`adaptive_costs`]) is below INTERVAL's, else
+/// INTERVAL. `motion` and `blur` are the grid's largest point motion and
 /// circle of confusion, in pixels.
-pub fn adaptive_choice(motion: f32, blur: f32, spp: u32) -> Mode5d {
-    let side = 2.0 + motion / spp as f32 + 2.0 * blur;
-    let k = INTERLEAVE_TILE as f32;
-    let interleave = k * k * (1.0 + 1.0 / k) * (1.0 + 1.0 / k);
+pub fn adaptive_choice(
+    motion: f32,
+    blur: f32,
+    micropolygon_px: f32,
+    spp: u32,
+    tile: u32,
+) -> Mode5d {
+    let (interval, interleave) = adaptive_costs(motion, blur, micropolygon_px, spp, tile);
     // NaN (a point behind the eye) compares false: INTERVAL, as for a still grid.
-    if side * side > ADAPTIVE_INTERLEAVE_BIAS * interleave {
+    if interleave < interval {
         Mode5d::Interleave
     } else {
         Mode5d::Interval
@@ -353,95 +356,105 @@ impl Mode5d {
     /// The algorithm `sampling` uses for a grid whose largest point motion
     /// and circle of confusion are `motion` and `blur` pixels; `None` for
     /// [`Sampling::Nearest`].
-    pub fn for_grid(sampling: Sampling, motion: f32, blur: f32, spp: u32) -> Option<Mode5d> {
+    pub fn for_grid(
+        sampling: Sampling,
+        motion: f32,
+        blur: f32,
+        sampler: &Sampler<'_>,
+    ) -> Option<Mode5d> {
         Some(match sampling {
             Sampling::Bbox => Mode5d::Bbox,
             Sampling::Simple => Mode5d::Simple,
             Sampling::Interleave => Mode5d::Interleave,
             Sampling::Interval => Mode5d::Interval,
-            Sampling::Adaptive => adaptive_choice(motion, blur, spp),
+            Sampling::Adaptive => adaptive_choice(
+                motion,
+                blur,
+                sampler.micropolygon_px,
+                sampler.uvt.spp,
+                sampler.uvt.tile,
+            ),
             Sampling::Nearest => return None,
         })
     }
 }
 
-/// Rasterizes one moving, defocused triangle with `mode`; its corners carry
-/// the packed `colors` (see [`crate::reference::raster::raster_triangle`]).
-pub fn raster_triangle_5d(
+/// Rasterizes one moving, defocused micropolygon `[a, b, c, d]` with
+/// `mode`: its triangles `(a, b, c)` and `(a, c, d)` (those `drawn`) share
+/// one box per position, clamped to the sample strata it touches, and each
+/// sample in it is tested once against both. Its corners carry the packed
+/// `colors`.
+pub fn raster_quad_5d(
     framebuffer: &mut Framebuffer,
     sampler: &Sampler<'_>,
     mode: Mode5d,
-    corners: [MovingPoint; 3],
-    colors: [u32; 3],
+    corners: [MovingPoint; 4],
+    colors: [u32; 4],
+    drawn: [bool; 2],
     stats: &mut RenderStats,
 ) {
-    if !corners.iter().all(|c| c.usable) {
+    let active = |t: usize| drawn[t] && TRIANGLE_CORNERS[t].iter().all(|&i| corners[i].usable);
+    let quad = MovingQuad {
+        corners,
+        colors,
+        active: [active(0), active(1)],
+    };
+    if !quad.active.iter().any(|&a| a) {
         return;
     }
     let (width, height) = (framebuffer.width, framebuffer.height);
     let uvt = sampler.uvt;
     let spp = uvt.spp;
+    let k = sampler.samples.k;
+    let strata = |lo: Vec2, hi: Vec2| StrataBox::new(lo, hi, k, width, height);
     match mode {
         Mode5d::Bbox => {
             // Box over both ends, grown by the largest blur of the corners.
-            let r = corners.iter().fold(0.0f32, |r, c| r.max(c.blur()));
-            let ends = corners
-                .iter()
-                .flat_map(|c| [c.open.truncate(), c.close.truncate()]);
-            let (lo, hi) = ends.fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p), hi.max(p))
-            });
-            let Some([x0, y0, x1, y1]) =
-                pixel_range(lo - Vec2::splat(r), hi + Vec2::splat(r), width, height)
-            else {
+            let (mut lo, mut hi, mut r) = (Vec2::INFINITY, Vec2::NEG_INFINITY, 0.0f32);
+            for c in quad.corners_seen(0.0, 1.0) {
+                lo = lo.min(c.open.truncate()).min(c.close.truncate());
+                hi = hi.max(c.open.truncate()).max(c.close.truncate());
+                r = r.max(c.blur());
+            }
+            let Some(strata) = strata(lo - Vec2::splat(r), hi + Vec2::splat(r)) else {
                 return;
             };
-            for y in y0..=y1 {
-                for x in x0..=x1 {
-                    for s in 0..spp {
-                        let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
-                        place_and_test(
-                            framebuffer,
-                            sampler,
-                            &corners,
-                            colors,
-                            tl,
-                            (x, y, s),
-                            stats,
-                        );
-                    }
-                }
+            for (x, y, s) in strata.samples() {
+                let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
+                place_and_test(framebuffer, sampler, &quad, tl, (x, y, s), stats);
             }
         }
         Mode5d::Simple => {
             for (s, &tl) in uvt.simple.iter().enumerate() {
-                let Some(placed) = place(&corners, colors, tl) else {
+                let s = s as u32;
+                let placed = quad.place(tl);
+                let Some(strata) = placed.bounds().and_then(|(lo, hi)| strata(lo, hi)) else {
                     continue;
                 };
-                let Some([x0, y0, x1, y1]) = pixel_range(placed.lo(), placed.hi(), width, height)
+                let (Some((x0, x1)), Some((y0, y1))) =
+                    (strata.columns_of(s % k), strata.rows_of(s / k))
                 else {
                     continue;
                 };
                 for y in y0..=y1 {
                     for x in x0..=x1 {
-                        test(framebuffer, sampler, &placed, (x, y, s as u32), stats);
+                        test(framebuffer, sampler, &placed, (x, y, s), stats);
                     }
                 }
             }
         }
         Mode5d::Interleave => {
+            let tile = uvt.tile;
             for (n, &tl) in uvt.interleave.iter().enumerate() {
-                let Some(placed) = place(&corners, colors, tl) else {
+                let placed = quad.place(tl);
+                let Some(strata) = placed.bounds().and_then(|(lo, hi)| strata(lo, hi)) else {
                     continue;
                 };
-                let Some([x0, y0, x1, y1]) = pixel_range(placed.lo(), placed.hi(), width, height)
-                else {
-                    continue;
-                };
-                for ty in y0 / INTERLEAVE_TILE..=y1 / INTERLEAVE_TILE {
-                    for tx in x0 / INTERLEAVE_TILE..=x1 / INTERLEAVE_TILE {
+                let [x0, y0, x1, y1] = strata.pixels();
+                for ty in y0 / tile..=y1 / tile {
+                    for tx in x0 / tile..=x1 / tile {
                         let (x, y, s) = uvt.interleave_sample(tx, ty, n as u32);
-                        if x < width && y < height {
+                        if x < width && y < height && strata.holds(x, y, s) {
                             test(framebuffer, sampler, &placed, (x, y, s), stats);
                         }
                     }
@@ -450,42 +463,34 @@ pub fn raster_triangle_5d(
         }
         Mode5d::Interval => {
             let n = spp as f32;
-            // The times at which all three corners can be seen.
-            let seen_from = corners.iter().fold(0.0f32, |t, c| t.max(c.t_open));
-            let seen_until = corners.iter().fold(1.0f32, |t, c| t.min(c.t_close));
             for i in 0..spp {
                 let (t0, t1) = (i as f32 / n, (i + 1) as f32 / n);
-                if t1 < seen_from || t0 > seen_until {
-                    continue;
-                }
+                // The lens positions of this interval's samples.
+                let [lens_lo, lens_hi] = uvt.interval_lens[i as usize];
                 let mut lo = Vec2::INFINITY;
                 let mut hi = Vec2::NEG_INFINITY;
-                let mut r = 0.0f32;
-                for c in &corners {
-                    let (p0, p1) = (c.at(t0, Vec2::ZERO), c.at(t1, Vec2::ZERO));
-                    lo = lo.min(p0.truncate()).min(p1.truncate());
-                    hi = hi.max(p0.truncate()).max(p1.truncate());
-                    // The circle of confusion is linear in t: largest at an end.
-                    r = r.max(c.coc_at(t0).abs()).max(c.coc_at(t1).abs());
+                for c in quad.corners_seen(t0, t1) {
+                    // A point's position is bilinear in time and lens
+                    // position: its extremes lie at the ends of both.
+                    for t in [t0, t1] {
+                        for lens in [lens_lo, lens_hi] {
+                            let p = c.at(t, lens).truncate();
+                            lo = lo.min(p);
+                            hi = hi.max(p);
+                        }
+                    }
                 }
-                let Some([x0, y0, x1, y1]) =
-                    pixel_range(lo - Vec2::splat(r), hi + Vec2::splat(r), width, height)
-                else {
+                let Some(strata) = strata(lo, hi) else {
                     continue;
                 };
+                let [x0, y0, x1, y1] = strata.pixels();
                 for y in y0..=y1 {
                     for x in x0..=x1 {
                         let s = uvt.sample_in_stratum[uvt.pixel_index(x, y, i)];
-                        let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
-                        place_and_test(
-                            framebuffer,
-                            sampler,
-                            &corners,
-                            colors,
-                            tl,
-                            (x, y, s),
-                            stats,
-                        );
+                        if strata.holds(x, y, s) {
+                            let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
+                            place_and_test(framebuffer, sampler, &quad, tl, (x, y, s), stats);
+                        }
                     }
                 }
             }
