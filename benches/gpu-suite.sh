@@ -30,8 +30,17 @@ text() {
 {
     echo "# GPU suite, $(date -u +%Y-%m-%d), $(uname -n)"
     markdown reyes-bench --frames 5 --spp 1,16 --resolutions 800x600,1920x1080
+    markdown ste-bench --width 800 --height 600
     text strategy-bench --runs 5
     text scheduler-bench --runs 7
     text blur-bench --spp 16 --runs 3 --blurs motion,dof,both
+    # Sattlecker and Steinberger's Table 1: Simple, bounding box and
+    # Interleave UVT with tiles of 2, 3 and 4 pixels, at 16 and 64 spp.
+    text blur-bench --spp 16,64 --runs 3 --blurs both --modes simple,bbox,interleave
+    text blur-bench --spp 16,64 --runs 3 --blurs both --modes interleave --interleave-tile 3
+    text blur-bench --spp 16,64 --runs 3 --blurs both --modes interleave --interleave-tile 4
+    # Adaptive against INTERVAL and Interleave UVT, and on a mixed scene.
+    text blur-bench --spp 16 --runs 5 --adaptive
+    text blur-bench --spp 16 --runs 5 --blurs mixed --modes interval,interleave,adaptive
 } | tee "$out"
 echo "wrote $out" >&2

@@ -23,6 +23,9 @@ pub struct BlurConfig {
     /// Degrees the camera pans about its up axis during the shutter
     /// (camera motion; see `reyes::scene::CameraDesc::moved`).
     pub pan_degrees: f32,
+    /// A mixed scene: a still copy of the model stands beside the spinning
+    /// one, so that grids with very different motion share the frame.
+    pub still_copy: bool,
 }
 
 impl BlurConfig {
@@ -37,10 +40,15 @@ impl BlurConfig {
         .filter(|&(_, amount)| amount != 0.0)
         .map(|(what, amount)| format!("{what} {amount}"))
         .collect();
-        if parts.is_empty() {
+        let label = if parts.is_empty() {
             "still".into()
         } else {
             parts.join(" + ")
+        };
+        if self.still_copy {
+            format!("{label}, beside a still copy")
+        } else {
+            label
         }
     }
 }
@@ -114,7 +122,15 @@ pub fn scene(
     scene.resolution.height = height;
     scene.spp = spp;
     scene.sampling = mode;
-    let (lo, hi) = model.bounds();
+    let (lo, mut hi) = model.bounds();
+    // The still copy stands one model width further along x.
+    let offset = glam::Vec3::new(1.2 * (hi.x - lo.x), 0.0, 0.0);
+    if config.still_copy {
+        let mut copy = scene.objects[0].clone();
+        copy.transform.translate += offset;
+        scene.objects.push(copy);
+        hi += offset;
+    }
     let framed = CameraDesc::framing(lo, hi, width as f32 / height as f32);
     let distance = framed.eye.distance(framed.target);
     let elevation = 60f32.to_radians();
@@ -321,6 +337,7 @@ mod tests {
             spin_degrees,
             aperture_fraction,
             pan_degrees,
+            still_copy: false,
         }
     }
 

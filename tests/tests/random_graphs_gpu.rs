@@ -64,8 +64,11 @@ fn strategies(rng: &mut SplitMix64) -> [Strategy; 2] {
 /// Runs again, at most [`LOOP_ATTEMPTS`] times in all, while llvmpipe cuts a
 /// loop short ([`RunError::LoopLimit`]: the scheduler detected it and refused
 /// to give results; it happens under CPU contention, docs/scheduler.md "Loop
-/// limits"). Every cut is printed. Each attempt starts from the seeds, and the
-/// graphs have no resources to reset.
+/// limits"), also in a run that overflowed too: an overflow is reported
+/// first and lists the cut loops in `also`, and the workgroups a cut loop
+/// ended leave items unrun, so its account is short. Every cut is printed.
+/// Each attempt starts from the seeds, and the graphs have no resources to
+/// reset.
 fn run(
     executor: &mut Executor,
     strategy: Strategy,
@@ -79,6 +82,14 @@ fn run(
             Err(RunError::LoopLimit { waits, .. }) if attempt < LOOP_ATTEMPTS => {
                 eprintln!(
                     "{what}: llvmpipe cut {waits} loop(s) (attempt {attempt}); running again"
+                );
+                attempt += 1;
+            }
+            Err(RunError::QueueOverflow { also, .. })
+                if attempt < LOOP_ATTEMPTS && also.iter().any(|p| p.contains("loop limit")) =>
+            {
+                eprintln!(
+                    "{what}: an overflow, and llvmpipe cut loops: {also:?} (attempt {attempt}); running again"
                 );
                 attempt += 1;
             }
@@ -293,6 +304,7 @@ fn tiny_queues_give_the_cpu_counts_or_a_full_account_of_the_overflow() {
                     dropped,
                     needed_at_least,
                     report,
+                    also,
                     ..
                 }) => {
                     overflows += 1;
@@ -325,7 +337,7 @@ fn tiny_queues_give_the_cpu_counts_or_a_full_account_of_the_overflow() {
                     }
                     if !problems.is_empty() {
                         failures.push(format!(
-                            "{what}: overflow of {procedure}:\n  {}\n{report}",
+                            "{what}: overflow of {procedure} (also: {also:?}):\n  {}\n{report}",
                             problems.join("\n  ")
                         ));
                     }

@@ -10,7 +10,8 @@
 //!
 //! `--table` (default) prints time and sample test efficiency of every mode
 //! for motion blur alone (a 30 degree spin), depth of field alone, and both;
-//! `--blurs pan` adds camera motion (the camera panning 5 degrees).
+//! `--blurs pan` adds camera motion (the camera panning 5 degrees), and
+//! `--blurs mixed` a mixed scene: the spinning model beside a still copy.
 //! `--adaptive` checks Adaptive against the better of INTERVAL and
 //! Interleave UVT for small, medium and large spins, with and without depth
 //! of field: its median must stay within 5% of the better one's
@@ -108,19 +109,21 @@ fn mode(name: &str) -> Result<Sampling, Box<dyn std::error::Error>> {
 
 /// A table row's blur: the spin alone, the lens alone, both, or the camera's pan.
 fn blur(name: &str, args: &Args) -> Result<BlurConfig, Box<dyn std::error::Error>> {
-    let (spin_degrees, aperture_fraction, pan_degrees) = match name {
-        "motion" => (args.spin, 0.0, 0.0),
-        "dof" => (0.0, args.aperture, 0.0),
-        "both" => (args.spin, args.aperture, 0.0),
-        "pan" => (0.0, 0.0, args.pan),
+    let (spin_degrees, aperture_fraction, pan_degrees, still_copy) = match name {
+        "motion" => (args.spin, 0.0, 0.0, false),
+        "dof" => (0.0, args.aperture, 0.0, false),
+        "both" => (args.spin, args.aperture, 0.0, false),
+        "pan" => (0.0, 0.0, args.pan, false),
+        "mixed" => (args.spin, 0.0, 0.0, true),
         other => {
-            return Err(format!("unknown blur {other:?} (motion, dof, both or pan)").into());
+            return Err(format!("unknown blur {other:?} (motion, dof, both, pan or mixed)").into());
         }
     };
     Ok(BlurConfig {
         spin_degrees,
         aperture_fraction,
         pan_degrees,
+        still_copy,
     })
 }
 
@@ -144,7 +147,9 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
             .map(|&m| {
                 let mut s = scene(&model_name, &model, config, args.width, args.height, spp, m);
                 s.interleave_tile = args.interleave_tile;
-                PreparedScene::new(&s, std::slice::from_ref(&model)).map(|p| (m, p))
+                // One model per object (the mixed scene has two).
+                let models = vec![model.clone(); s.objects.len()];
+                PreparedScene::new(&s, &models).map(|p| (m, p))
             })
             .collect::<Result<Vec<_>, _>>()
     };
@@ -189,6 +194,7 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
                         spin_degrees: spin,
                         aperture_fraction,
                         pan_degrees: 0.0,
+                        still_copy: false,
                     };
                     let rows = measure(
                         &mut renderer,

@@ -66,6 +66,7 @@ fn configs() -> [BlurConfig; 3] {
         spin_degrees,
         aperture_fraction,
         pan_degrees: 0.0,
+        still_copy: false,
     };
     [config(30.0, 0.0), config(0.0, 0.02), config(30.0, 0.02)]
 }

@@ -112,6 +112,7 @@ fn run(args: &Args) -> Result<(), String> {
         spin_degrees: 0.0,
         aperture_fraction: 0.0,
         pan_degrees: 0.0,
+        still_copy: false,
     };
     println!(
         "Still scene, {} x {}, {} spp, shading rate {} (CPU reference)\n",

@@ -511,8 +511,11 @@ mod tests {
             triangle_tests += stats_triangle.samples_tested;
         }
         println!("seed {seed}: {quad_tests} quad tests, {triangle_tests} triangle tests");
+        // About half as many on these random quads (a third to a half of
+        // a pixel box's strata lie outside a triangle's box); never near as
+        // many.
         assert!(
-            quad_tests * 2 < triangle_tests,
+            quad_tests * 4 < triangle_tests * 3,
             "{quad_tests} vs {triangle_tests}"
         );
     }
