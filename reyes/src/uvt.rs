@@ -56,7 +56,7 @@ pub const INTERLEAVE_PERMUTATIONS: u32 = 64;
 /// How far, in lens units (the unit disk), the lens box of an INTERVAL
 /// interval ([`UvtTables::interval_lens`]) reaches past the region's image
 /// as sampled: more than the bulge of the region's curved sides between
-/// [`LENS_BOX_STEPS`] samples, and more than f32 rounding of a jittered
+/// the samples taken along each side, and more than f32 rounding of a jittered
 /// lens position.
 pub const LENS_BOX_MARGIN: f32 = 1.0 / 512.0;
 /// Samples per side of a lens stratum when its image on the disk is bounded.

@@ -6,7 +6,7 @@
 //! triangles `(a, b, c)` and `(a, c, d)`. A sample is tested once per quad,
 //! not once per triangle: five edge functions, the diagonal's shared by
 //! both triangles (the edge function is exactly antisymmetric, see
-//! [`super::raster::edge`], so the result is bit for bit that of testing
+//! `reyes::reference::raster::edge`, so the result is bit for bit that of testing
 //! each triangle on its own). A sample inside both triangles of a folded
 //! quad is offered by both, as each triangle alone would offer it.
 //!
