@@ -136,10 +136,6 @@ fn quad_bounds(q: Quad) -> Bounds {
     return tri_bounds(tri_bounds(no_bounds(), q.t0), q.t1);
 }
 
-fn quad_is_empty(q: Quad) -> bool {
-    return !(q.t0.ok || q.t1.ok);
-}
-
 // Offers sample s of pixel (x, y), at p, the fragment of t if p is inside
 // (reference Triangle::fragment_at); `diagonal` is edge(a, c, p).
 fn tri_offer(t: Tri, p: vec2<f32>, diagonal: f32, x: u32, y: u32, s: u32) -> bool {

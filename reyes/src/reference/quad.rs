@@ -217,11 +217,6 @@ impl Quad {
         }
     }
 
-    /// Whether neither triangle is drawn.
-    pub fn is_empty(&self) -> bool {
-        self.triangles.iter().all(Option::is_none)
-    }
-
     /// The screen box of the drawn triangles, `None` when there are none.
     pub fn bounds(&self) -> Option<(Vec2, Vec2)> {
         self.triangles

@@ -401,33 +401,40 @@ mod tests {
         }
     }
 
+    /// The square of side `side` with its top-left corner at `(x, y)`.
+    fn square(x: f32, y: f32, side: f32) -> [ScreenPoint; 4] {
+        [
+            point(x, y),
+            point(x + side, y),
+            point(x + side, y + side),
+            point(x, y + side),
+        ]
+    }
+
+    /// Nearest-mode rasterization of the drawn quad of `corners`.
+    fn nearest(
+        fb: &mut Framebuffer,
+        samples: &SampleGrid,
+        corners: [ScreenPoint; 4],
+        stats: &mut RenderStats,
+    ) {
+        let quad = still_quad(corners, [7; 4], [true; 2]);
+        raster_nearest(fb, samples, corners, &quad, stats);
+    }
+
     #[test]
     fn nearest_picks_the_stratum_of_the_centroid() {
         let mut fb = Framebuffer::new(4, 4, 4);
         let mut stats = RenderStats::default();
         let samples = SampleGrid::new(2, false);
-        let corners = [
-            point(2.6, 1.1),
-            point(2.9, 1.1),
-            point(2.9, 1.4),
-            point(2.6, 1.4),
-        ];
-        let quad = still_quad(corners, [7; 4], [true; 2]);
-        raster_nearest(&mut fb, &samples, corners, &quad, &mut stats);
+        nearest(&mut fb, &samples, square(2.6, 1.1, 0.3), &mut stats);
         // Centroid (2.75, 1.25): pixel (2, 1), sample column 1, row 0 -> s = 1,
         // at (2.75, 1.25): inside.
         let i = fb.index(2, 1, 1);
         assert_ne!(fb.keys[i], CLEAR_KEY);
         assert_eq!(fb.keys.iter().filter(|&&k| k != CLEAR_KEY).count(), 1);
         assert_eq!((stats.samples_tested, stats.samples_hit), (1, 1));
-        let off = [
-            point(-2.0, 1.0),
-            point(-1.0, 1.0),
-            point(-1.0, 2.0),
-            point(-2.0, 2.0),
-        ];
-        let quad = still_quad(off, [7; 4], [true; 2]);
-        raster_nearest(&mut fb, &samples, off, &quad, &mut stats);
+        nearest(&mut fb, &samples, square(-2.0, 1.0, 1.0), &mut stats);
         assert_eq!((stats.samples_tested, stats.samples_hit), (1, 1));
     }
 
@@ -441,14 +448,7 @@ mod tests {
         let samples = SampleGrid::new(1, false);
         // A sliver around (2.1, 1.1): its nearest sample, the centre
         // (2.5, 1.5) of pixel (2, 1), is outside it.
-        let corners = [
-            point(2.0, 1.0),
-            point(2.2, 1.0),
-            point(2.2, 1.2),
-            point(2.0, 1.2),
-        ];
-        let quad = still_quad(corners, [7; 4], [true; 2]);
-        raster_nearest(&mut fb, &samples, corners, &quad, &mut stats);
+        nearest(&mut fb, &samples, square(2.0, 1.0, 0.2), &mut stats);
         assert!(fb.keys.iter().all(|&k| k == CLEAR_KEY));
         assert_eq!((stats.samples_tested, stats.samples_hit), (1, 0));
     }
