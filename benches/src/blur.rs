@@ -70,6 +70,9 @@ pub struct BlurRow {
     pub tested: u64,
     /// See `tested`.
     pub hit: u64,
+    /// Samples looked up and skipped without a test in one frame
+    /// (`RenderStats::samples_skipped`).
+    pub skipped: u64,
     /// Grids Adaptive sent to Interleave UVT (and Interleave's own grids).
     pub interleave_grids: u64,
     /// Grids diced.
@@ -196,6 +199,7 @@ pub fn measure(
                 },
                 tested: frame.stats.samples_tested,
                 hit: frame.stats.samples_hit,
+                skipped: frame.stats.samples_skipped,
                 interleave_grids: frame.stats.interleave_grids,
                 grids: frame.stats.grids_diced,
                 tiles: frame.tiles,
@@ -205,7 +209,13 @@ pub fn measure(
         rows.push((*mode, row));
     }
     for frame in 2..=frames {
-        for ((mode, row), (_, prepared)) in rows.iter_mut().zip(scenes) {
+        // Each round starts with the next mode, so that no mode always
+        // follows the same one (a frame can slow the next on a shared CPU).
+        let count = rows.len();
+        for turn in 0..count {
+            let i = (turn + frame as usize) % count;
+            let (mode, prepared) = (&scenes[i].0, &scenes[i].1);
+            let row = &mut rows[i].1;
             let Ok(measured) = row else { continue };
             let rendered = renderer.render(prepared);
             progress(config, prepared.spp, *mode, (frame, frames), &rendered);
@@ -285,8 +295,18 @@ pub fn renderer(gpu: &scheduler::Gpu) -> Result<GpuRenderer<'_>, BenchError> {
 /// The rows as a table: one line per (configuration, spp, mode).
 pub fn format_rows(rows: &[(Sampling, Result<BlurRow, String>)]) -> String {
     let mut s = format!(
-        "{:<22}{:>5}  {:<11}{:>12}{:>12}{:>14}{:>11}{:>12}{:>6}{:>8}\n",
-        "blur", "spp", "mode", "median ms", "min ms", "tested", "STE", "ileave", "tiles", "retries"
+        "{:<22}{:>5}  {:<11}{:>12}{:>12}{:>14}{:>14}{:>11}{:>12}{:>6}{:>8}\n",
+        "blur",
+        "spp",
+        "mode",
+        "median ms",
+        "min ms",
+        "tested",
+        "skipped",
+        "STE",
+        "ileave",
+        "tiles",
+        "retries"
     );
     for (mode, row) in rows {
         let row = match row {
@@ -298,13 +318,14 @@ pub fn format_rows(rows: &[(Sampling, Result<BlurRow, String>)]) -> String {
         };
         let min = row.runs.iter().min().copied().unwrap_or_default();
         s += &format!(
-            "{:<22}{:>5}  {:<11}{:>12.1}{:>12.1}{:>14}{:>11.5}{:>12}{:>6}{:>8}\n",
+            "{:<22}{:>5}  {:<11}{:>12.1}{:>12.1}{:>14}{:>14}{:>11.5}{:>12}{:>6}{:>8}\n",
             row.config.label(),
             row.spp,
             row.mode.name(),
             row.median.as_secs_f64() * 1e3,
             min.as_secs_f64() * 1e3,
             row.tested,
+            row.skipped,
             row.efficiency(),
             format!("{}/{}", row.interleave_grids, row.grids),
             row.tiles,
@@ -314,16 +335,18 @@ pub fn format_rows(rows: &[(Sampling, Result<BlurRow, String>)]) -> String {
     s
 }
 
+/// The measured row of `mode` among `rows`, if it has times.
+fn row_of(rows: &[(Sampling, Result<BlurRow, String>)], mode: Sampling) -> Option<&BlurRow> {
+    rows.iter()
+        .find(|(m, _)| *m == mode)
+        .and_then(|(_, r)| r.as_ref().ok())
+}
+
 /// The Adaptive acceptance check for one (configuration, spp): Adaptive's
 /// median over the better of INTERVAL's and Interleave UVT's; `None` when
 /// one of the three has no time.
 pub fn adaptive_ratio(rows: &[(Sampling, Result<BlurRow, String>)]) -> Option<f64> {
-    let time = |mode| {
-        rows.iter()
-            .find(|(m, _)| *m == mode)
-            .and_then(|(_, r)| r.as_ref().ok())
-            .map(|r| r.median)
-    };
+    let time = |mode| row_of(rows, mode).map(|r| r.median);
     let best = time(Sampling::Interval)?.min(time(Sampling::Interleave)?);
     Some(time(Sampling::Adaptive)?.as_secs_f64() / best.as_secs_f64().max(1e-9))
 }

@@ -705,7 +705,7 @@ fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
         Dicing::Fixed => format!("fixed, threshold {} px", scene.dice_threshold),
     };
     let dicing = format!("{dicing}, {} shading", scene.shading_interpolation.name());
-    let rows: [(&str, String); 18] = [
+    let rows: [(&str, String); 19] = [
         ("input patches", stats.input_patches.to_string()),
         ("splits", stats.splits.to_string()),
         ("culled patches", stats.culled_patches.to_string()),
@@ -729,6 +729,7 @@ fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
         ),
         ("samples tested", stats.samples_tested.to_string()),
         ("samples hit", stats.samples_hit.to_string()),
+        ("samples skipped", stats.samples_skipped.to_string()),
         ("dicing", dicing),
         (
             "sample test effic.",

@@ -35,6 +35,13 @@ pub struct RenderStats {
     pub samples_tested: u64,
     /// Sample tests that hit (a key was offered to the framebuffer).
     pub samples_hit: u64,
+    /// Samples that a box's loop reached but skipped without a test:
+    /// Interleave UVT's tile lookups and INTERVAL's pixels whose sample
+    /// lies in a stratum outside the box (or off the image). The other
+    /// modes loop over the box's strata only and skip none. Fatahalian et
+    /// al. count these as tests; see [`Self::sample_lookup_efficiency`].
+    #[serde(default)]
+    pub samples_skipped: u64,
     /// Largest side, in pixels, of any micropolygon's screen bounding box
     /// (after displacement).
     pub largest_micropolygon_px: f32,
@@ -95,6 +102,18 @@ impl RenderStats {
             0.0
         } else {
             self.samples_hit as f64 / self.samples_tested as f64
+        }
+    }
+
+    /// Samples hit per sample looked up, tested or skipped: the sample test
+    /// efficiency as Fatahalian et al. count it, whose rasterizers test
+    /// every sample their loops reach (0 when none was looked up).
+    pub fn sample_lookup_efficiency(&self) -> f64 {
+        let looked_up = self.samples_tested + self.samples_skipped;
+        if looked_up == 0 {
+            0.0
+        } else {
+            self.samples_hit as f64 / looked_up as f64
         }
     }
 }

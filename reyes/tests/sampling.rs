@@ -65,6 +65,46 @@ fn quad_boxes_render_the_triangle_boxes_image_with_far_fewer_tests() {
     assert!(q * 3 < t, "quad boxes tested {q}, triangle boxes {t}");
 }
 
+/// Samples looked up and skipped without a test: the bounding box and
+/// Simple UVT loop over their boxes' strata only and skip none; Interleave
+/// UVT looks one sample up in each tile of each tuple's box, and most lie
+/// in a stratum outside it, more so the larger the tile. Counting them, its
+/// efficiency falls to the order of Fatahalian et al.'s 5%, while its
+/// efficiency per test stays the bounding box's (a still frame tests the
+/// same samples in every mode).
+#[test]
+fn skipped_lookups_show_interleave_uvt_cost_on_a_still_teapot() {
+    let mut scene = teapot(96, 16);
+    let mut rendered = |sampling, tile| {
+        scene.sampling = sampling;
+        scene.interleave_tile = tile;
+        render(&scene).stats
+    };
+    let bbox = rendered(Sampling::Bbox, 2);
+    let simple = rendered(Sampling::Simple, 2);
+    let interleave: Vec<_> = [2, 3, 4]
+        .map(|tile| rendered(Sampling::Interleave, tile))
+        .into();
+    assert_eq!((bbox.samples_skipped, simple.samples_skipped), (0, 0));
+    let mut last = bbox.sample_lookup_efficiency();
+    for (tile, stats) in [2, 3, 4].into_iter().zip(&interleave) {
+        let lookups = stats.sample_lookup_efficiency();
+        eprintln!(
+            "Interleave {tile}x{tile}: tested {}, skipped {}, efficiency per test {:.4}, per lookup {lookups:.4}",
+            stats.samples_tested,
+            stats.samples_skipped,
+            stats.sample_test_efficiency()
+        );
+        assert_eq!(stats.samples_tested, bbox.samples_tested);
+        assert!(
+            stats.samples_skipped > stats.samples_tested,
+            "{tile}: {stats:?}"
+        );
+        assert!(lookups < last, "tile {tile}: {lookups} not below {last}");
+        last = lookups;
+    }
+}
+
 /// Interleave UVT with every tile size renders the teapot close to the
 /// bounding box's image (same coverage within 1%), and a larger tile costs
 /// more placements and so more time, never fewer samples hit.

@@ -144,7 +144,7 @@ if (valid && thread < nu * nv) {
     }
     // A one-sided object's back-facing triangles are culled.
     let front = objects[item.object].front;
-    var counts = SampleCounts(0u, 0u);
+    var counts = SampleCounts(0u, 0u, 0u);
     if (frame.time_lens != 0u) {
         let mode = mode_for_grid(bitcast<f32>(atomicLoad(&grid_extent[2u * slot])), bitcast<f32>(atomicLoad(&grid_extent[2u * slot + 1u])));
         if (thread == 0u && mode == SAMPLING_INTERLEAVE) {
@@ -169,6 +169,7 @@ if (valid && thread < nu * nv) {
     }
     stat_add64(STAT_SAMPLES_TESTED, counts.tested);
     stat_add64(STAT_SAMPLES_HIT, counts.hit);
+    stat_add64(STAT_SAMPLES_SKIPPED, counts.skipped);
 }
 if (valid && thread == 0u) {
     atomicAdd(&stats[STAT_GRIDS_DICED], 1u);

@@ -681,8 +681,10 @@ fn blend_rgb10(colors: vec3<u32>, edges: vec3<f32>, area: f32) -> u32 {
     return packed;
 }
 
-// Samples tested and hit by one thread, added to the statistics once per item.
+// Samples tested, hit, and skipped untested (reyes::RenderStats) by one
+// thread, added to the statistics once per item.
 struct SampleCounts {
     tested: u32,
     hit: u32,
+    skipped: u32,
 }

@@ -283,12 +283,17 @@ fn raster_interleave(q: MovingQuad, counts: ptr<function, SampleCounts>) {
                 // The sample's pixel in absolute and then in image coordinates.
                 let gx = tx * tile + slot % tile;
                 let gy = ty * tile + slot / tile;
+                var tested = false;
                 if (gx >= frame.origin_x && gy >= frame.origin_y) {
                     let x = gx - frame.origin_x;
                     let y = gy - frame.origin_y;
                     if (x < frame.width && y < frame.height && strata_hold(strata, x, y, s)) {
                         test_quad(placed, x, y, s, counts);
+                        tested = true;
                     }
+                }
+                if (!tested) {
+                    (*counts).skipped += 1u;
                 }
                 n += 1u;
             }
@@ -355,6 +360,8 @@ fn raster_interval(q: MovingQuad, counts: ptr<function, SampleCounts>) {
                 let s = u32(height_texels[uvt_pixel_at(x, y, i) + 3u]);
                 if (strata_hold(strata, x, y, s)) {
                     place_and_test(q, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, counts);
+                } else {
+                    (*counts).skipped += 1u;
                 }
                 n += 1u;
             }

@@ -120,6 +120,11 @@ fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
         );
         assert_counts_close("samples hit", g.stats.samples_hit, c.stats.samples_hit);
         assert_counts_close(
+            "samples skipped",
+            g.stats.samples_skipped,
+            c.stats.samples_skipped,
+        );
+        assert_counts_close(
             "interleave grids",
             g.stats.interleave_grids,
             c.stats.interleave_grids,

@@ -8,8 +8,9 @@
 //!     [--table] [--adaptive]
 //! ```
 //!
-//! `--table` (default) prints time and sample test efficiency of every mode
-//! for motion blur alone (a 30 degree spin), depth of field alone, and both;
+//! `--table` (default) prints time, samples tested and skipped, and sample
+//! test efficiency of every mode for motion blur alone (a 30 degree spin),
+//! depth of field alone, and both;
 //! `--blurs pan` adds camera motion (the camera panning 5 degrees), and
 //! `--blurs mixed` a mixed scene: the spinning model beside a still copy.
 //! `--adaptive` checks Adaptive against the better of INTERVAL and

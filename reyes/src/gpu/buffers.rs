@@ -464,6 +464,7 @@ impl GpuCounters {
             micropolygons: self.wide(stat::MICROPOLYGONS),
             samples_tested: self.wide(stat::SAMPLES_TESTED),
             samples_hit: self.wide(stat::SAMPLES_HIT),
+            samples_skipped: self.wide(stat::SAMPLES_SKIPPED),
             largest_micropolygon_px: f32::from_bits(
                 self.words[stat::LARGEST_MICROPOLYGON as usize],
             ),

@@ -127,8 +127,11 @@ pub mod stat {
     /// turned it (words 20, 21, 22: [`super::non_finite`]'s displacement,
     /// transform, camera).
     pub const NON_FINITE: u32 = 20;
+    /// Samples a box's loop reached and skipped untested (64-bit: words
+    /// 23, 24).
+    pub const SAMPLES_SKIPPED: u32 = 23;
     /// Words in the buffer.
-    pub const WORDS: u32 = 23;
+    pub const WORDS: u32 = 25;
 }
 
 /// The stages that can turn a grid point's position non-finite, as bits of
@@ -396,6 +399,10 @@ fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, ConstantValue)> {
             ConstantValue::U32(stat::SAMPLES_TESTED),
         ),
         ("STAT_SAMPLES_HIT", ConstantValue::U32(stat::SAMPLES_HIT)),
+        (
+            "STAT_SAMPLES_SKIPPED",
+            ConstantValue::U32(stat::SAMPLES_SKIPPED),
+        ),
         (
             "STAT_LARGEST_MICROPOLYGON",
             ConstantValue::U32(stat::LARGEST_MICROPOLYGON),

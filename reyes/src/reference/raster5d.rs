@@ -14,7 +14,9 @@
 //! micropolygon positioned at the sample's time and lens position, with
 //! edge functions and the top-left rule. Boxes are clamped to the sample
 //! strata they touch. Every tested pair counts in `samples_tested`, every
-//! sample inside in `samples_hit`.
+//! sample inside in `samples_hit`, and every sample a loop reached but
+//! skipped for its stratum (Interleave UVT's tiles, INTERVAL's pixels) in
+//! `samples_skipped`.
 
 use glam::{Vec2, Vec3, Vec4};
 
@@ -456,6 +458,8 @@ pub fn raster_quad_5d(
                         let (x, y, s) = uvt.interleave_sample(tx, ty, n as u32);
                         if x < width && y < height && strata.holds(x, y, s) {
                             test(framebuffer, sampler, &placed, (x, y, s), stats);
+                        } else {
+                            stats.samples_skipped += 1;
                         }
                     }
                 }
@@ -490,6 +494,8 @@ pub fn raster_quad_5d(
                         if strata.holds(x, y, s) {
                             let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
                             place_and_test(framebuffer, sampler, &quad, tl, (x, y, s), stats);
+                        } else {
+                            stats.samples_skipped += 1;
                         }
                     }
                 }

@@ -26,6 +26,7 @@ fn add_tile_stats(total: &mut RenderStats, tile: &RenderStats) {
         micropolygons,
         samples_tested,
         samples_hit,
+        samples_skipped,
         largest_micropolygon_px,
         displacement_bound_exceeded,
         non_finite_displacement,
@@ -47,6 +48,7 @@ fn add_tile_stats(total: &mut RenderStats, tile: &RenderStats) {
     total.micropolygons += micropolygons;
     total.samples_tested += samples_tested;
     total.samples_hit += samples_hit;
+    total.samples_skipped += samples_skipped;
     total.largest_micropolygon_px = total.largest_micropolygon_px.max(*largest_micropolygon_px);
     total.displacement_bound_exceeded += displacement_bound_exceeded;
     total.non_finite_displacement += non_finite_displacement;
