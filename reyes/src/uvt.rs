@@ -16,7 +16,7 @@
 //!   `K x K`-pixel tiles, in `K^2` pixel slots of `spp` tuples; each slot's
 //!   tuples cover every time stratum and every `k x k` lens stratum of a
 //!   pixel once (see `interleave_tuples`), as Fatahalian et al. (2009) keep
-//!   them. A tile gives slot `q` to its pixel `ρ_p(q)` (row-major), where
+//!   them, with the per-pixel table's UV-T pairing. A tile gives slot `q` to its pixel `ρ_p(q)` (row-major), where
 //!   `p` ([`UvtTables::tile_permutation`]) picks one of
 //!   [`INTERLEAVE_PERMUTATIONS`] precomputed permutations of the pixel
 //!   offsets per tile, which breaks the repetition of the pattern while
@@ -37,6 +37,16 @@
 //!   positions are jittered within their strata. Each entry also names the
 //!   sample of its pixel whose time lies in stratum `s`, which is how
 //!   INTERVAL finds the one sample of a pixel inside time interval `s`.
+//! * **Interleave tuples per pixel** ([`PixelTuples::Interleave`]), used by
+//!   the bounding box and INTERVAL under Adaptive sampling: each sample
+//!   takes the Interleave tuple it carries ([`UvtTables::pixel_tuple`]).
+//!   Adaptive samples some grids with INTERVAL and others with Interleave
+//!   UVT; with the per-pixel table, a sample had one time and lens for the
+//!   first and another for the second, so the shared edges of grids sampled
+//!   differently neither covered nor double-covered it exactly under motion
+//!   and blur. With one tuple per sample, the two modes differ only in how
+//!   they find the samples a micropolygon may cover, and Adaptive renders
+//!   Interleave UVT's image.
 //!
 //! Lens squares map to the disk with Shirley and Chiu's concentric map,
 //! which keeps strata compact.
@@ -44,6 +54,7 @@
 use glam::Vec2;
 
 use crate::sampling::{grid_size, hash};
+use crate::scene::Sampling;
 
 /// The sides, in pixels, that the tiles of Interleave UVT (`K`) may have:
 /// the sizes Fatahalian et al. and Sattlecker and Steinberger measure.
@@ -66,6 +77,47 @@ pub const TABLE_SIDE: u32 = 64;
 /// Hash channel that picks a tile's permutation (channels 0 and 1 jitter
 /// screen positions).
 pub const PERMUTATION_CHANNEL: u32 = 6;
+/// Interleave UVT's choice of permutations repeats every this many pixels
+/// (a multiple of every tile side in [`INTERLEAVE_TILES`]), so that the
+/// slot of every pixel fits one table ([`UvtTables::pixel_slot`]) that the
+/// bounding box and INTERVAL read under Adaptive without hashing or
+/// dividing by the tile side per sample.
+pub const INTERLEAVE_PERIOD: u32 = 96;
+const _: () = {
+    let mut i = 0;
+    while i < INTERLEAVE_TILES.len() {
+        assert!(INTERLEAVE_PERIOD.is_multiple_of(INTERLEAVE_TILES[i]));
+        i += 1;
+    }
+};
+
+/// Which time and lens the bounding box and INTERVAL give a pixel's
+/// samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PixelTuples {
+    /// The per-pixel table ([`UvtTables::pixel`]): times and lens positions
+    /// jittered within their strata.
+    Table,
+    /// The Interleave tuple each sample carries, so that grids sampled with
+    /// INTERVAL and with Interleave UVT test every sample at the same time
+    /// and lens position (Adaptive sampling).
+    Interleave,
+}
+
+impl PixelTuples {
+    /// The tuples of `sampling`'s pixels: Adaptive's agree with Interleave
+    /// UVT's, every other mode reads the per-pixel table.
+    pub fn for_sampling(sampling: Sampling) -> PixelTuples {
+        match sampling {
+            Sampling::Adaptive => PixelTuples::Interleave,
+            Sampling::Bbox
+            | Sampling::Simple
+            | Sampling::Interleave
+            | Sampling::Interval
+            | Sampling::Nearest => PixelTuples::Table,
+        }
+    }
+}
 
 /// A time and a lens position.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -129,20 +181,20 @@ fn stratified_tuples(m: u32, key: u32) -> Vec<TimeLens> {
 /// tuple `n = s * K^2 + q` is the `s`-th tuple of pixel slot `q`. Its time is
 /// the centre of fine stratum `n` of `N`, which lies in coarse stratum `s`
 /// of `spp`; its lens position is the centre of fine cell `q` (of `K x K`)
-/// within coarse lens cell `σ_q(s)` (of `k x k`), for a per-slot
-/// permutation `σ_q`. So each slot's `spp` tuples take every coarse time
-/// and lens stratum once (Fatahalian et al. 2009), and the tile's tuples
-/// use every fine time stratum and every fine lens cell once.
-fn interleave_tuples(k: u32, tile: u32, key: u32) -> Vec<TimeLens> {
+/// within coarse lens cell `pairing[s]` (of `k x k`), the UV-T pairing of
+/// the per-pixel table. So each slot's `spp` tuples take every coarse time
+/// and lens stratum once (Fatahalian et al. 2009), the tile's tuples use
+/// every fine time stratum and every fine lens cell once, and the tuples of
+/// time stratum `s` lie in INTERVAL's lens box for interval `s`.
+fn interleave_tuples(k: u32, tile: u32, pairing: &[u32]) -> Vec<TimeLens> {
     let spp = k * k;
     let slots = tile * tile;
     let fine = k * tile;
     let n = spp * slots;
-    let lens_of: Vec<Vec<u32>> = (0..slots).map(|q| permutation(spp, [key, q, 4])).collect();
     (0..n)
         .map(|i| {
             let (s, q) = (i / slots, i % slots);
-            let coarse = lens_of[q as usize][s as usize];
+            let coarse = pairing[s as usize];
             let col = (coarse % k) * tile + q % tile;
             let row = (coarse / k) * tile + q / tile;
             TimeLens {
@@ -201,6 +253,16 @@ pub struct UvtTables {
     /// Interleave UVT: `inverse[p * N + n]` is the sample of a tile (with
     /// permutation `p`) that carries tuple `n`.
     pub inverse: Vec<u32>,
+    /// Interleave UVT: `pixel_slot[(y % PERIOD) * PERIOD + x % PERIOD]` is
+    /// the slot whose tuples pixel `(x, y)` takes, for `PERIOD` =
+    /// [`INTERLEAVE_PERIOD`].
+    pub pixel_slot: Vec<u32>,
+    /// Interleave UVT: `slot_sample[q * spp + s]` is the sample index, in its
+    /// pixel, of slot `q`'s tuple in time stratum `s` (tuple `s * K^2 + q`).
+    pub slot_sample: Vec<u32>,
+    /// The inverse of `slot_sample`: `slot_stratum[q * spp + i]` is the time
+    /// stratum of the tuple that sample `i` of slot `q`'s pixel carries.
+    pub slot_stratum: Vec<u32>,
     /// The UV-T pairing: `pairing[i]` is the lens stratum (`row * k + col`)
     /// of every pixel's sample in time stratum `i`.
     pub pairing: Vec<u32>,
@@ -227,11 +289,21 @@ impl UvtTables {
         // the pixel is a fixed per-slot permutation of s, so that a sample's
         // screen stratum is not tied to its time stratum.
         let sample_of: Vec<Vec<u32>> = (0..slots).map(|q| permutation(spp, [q, 1, 5])).collect();
+        let mut slot_stratum = vec![0; (slots * spp) as usize];
+        for (q, samples) in sample_of.iter().enumerate() {
+            for (stratum, &sample) in samples.iter().enumerate() {
+                slot_stratum[q * spp as usize + sample as usize] = stratum as u32;
+            }
+        }
         let mut inverse = Vec::with_capacity((INTERLEAVE_PERMUTATIONS * tuples) as usize);
+        let mut slot_of_pixel = vec![0; (INTERLEAVE_PERMUTATIONS * slots) as usize];
         for p in 0..INTERLEAVE_PERMUTATIONS {
             // Only the pixel offsets are permuted: each pixel keeps one
             // slot's stratified tuples.
             let pixel_of_slot = permutation(slots, [p, 1, 1]);
+            for (q, &pixel) in pixel_of_slot.iter().enumerate() {
+                slot_of_pixel[(p * slots + pixel) as usize] = q as u32;
+            }
             for s in 0..spp {
                 for q in 0..slots {
                     inverse
@@ -239,6 +311,14 @@ impl UvtTables {
                 }
             }
         }
+        let pixel_slot = (0..INTERLEAVE_PERIOD * INTERLEAVE_PERIOD)
+            .map(|i| {
+                let (x, y) = (i % INTERLEAVE_PERIOD, i / INTERLEAVE_PERIOD);
+                let p = Self::tile_permutation(x / tile, y / tile, tile);
+                slot_of_pixel[(p * slots + (y % tile) * tile + x % tile) as usize]
+            })
+            .collect();
+        let slot_sample = sample_of.concat();
         let pairing = permutation(spp, [0, 0, 8]);
         let interval_lens = pairing
             .iter()
@@ -270,8 +350,11 @@ impl UvtTables {
             spp,
             tile,
             simple: stratified_tuples(k, 5),
-            interleave: interleave_tuples(k, tile, 7),
+            interleave: interleave_tuples(k, tile, &pairing),
             inverse,
+            pixel_slot,
+            slot_sample,
+            slot_stratum,
             pairing,
             interval_lens,
             pixel,
@@ -289,16 +372,18 @@ impl UvtTables {
         (((y % TABLE_SIDE) * TABLE_SIDE + x % TABLE_SIDE) * self.spp + s) as usize
     }
 
-    /// The permutation tile `(tx, ty)` of Interleave UVT uses (tiles
-    /// counted in absolute pixel coordinates).
-    pub fn tile_permutation(tx: u32, ty: u32) -> u32 {
-        hash(tx, ty, 0, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS
+    /// The permutation tile `(tx, ty)` of Interleave UVT with tiles of
+    /// `tile` pixels a side uses (tiles counted in absolute pixel
+    /// coordinates; the choice repeats every [`INTERLEAVE_PERIOD`] pixels).
+    pub fn tile_permutation(tx: u32, ty: u32, tile: u32) -> u32 {
+        let period = INTERLEAVE_PERIOD / tile;
+        hash(tx % period, ty % period, 0, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS
     }
 
     /// The sample of tile `(tx, ty)` that carries Interleave tuple `n`: its
     /// pixel and its sample index in that pixel.
     pub fn interleave_sample(&self, tx: u32, ty: u32, n: u32) -> (u32, u32, u32) {
-        let p = Self::tile_permutation(tx, ty);
+        let p = Self::tile_permutation(tx, ty, self.tile);
         let j = self.inverse[(p * self.interleave_tuples() + n) as usize];
         let q = j / self.spp;
         (
@@ -308,11 +393,43 @@ impl UvtTables {
         )
     }
 
+    /// The Interleave slot of pixel `(x, y)`: the slot whose tuples its
+    /// tile gives it.
+    pub fn interleave_slot(&self, x: u32, y: u32) -> u32 {
+        let period = INTERLEAVE_PERIOD;
+        self.pixel_slot[((y % period) * period + x % period) as usize]
+    }
+
+    /// The time and lens of sample `s` of pixel `(x, y)` for the bounding
+    /// box and INTERVAL.
+    pub fn pixel_tuple(&self, tuples: PixelTuples, x: u32, y: u32, s: u32) -> TimeLens {
+        match tuples {
+            PixelTuples::Table => self.pixel[self.pixel_index(x, y, s)],
+            PixelTuples::Interleave => {
+                let q = self.interleave_slot(x, y);
+                let stratum = self.slot_stratum[(q * self.spp + s) as usize];
+                self.interleave[(stratum * self.tile * self.tile + q) as usize]
+            }
+        }
+    }
+
+    /// The sample of pixel `(x, y)` whose time lies in stratum `i`, which
+    /// INTERVAL tests for time interval `i`.
+    pub fn pixel_sample_in_stratum(&self, tuples: PixelTuples, x: u32, y: u32, i: u32) -> u32 {
+        match tuples {
+            PixelTuples::Table => self.sample_in_stratum[self.pixel_index(x, y, i)],
+            PixelTuples::Interleave => {
+                self.slot_sample[(self.interleave_slot(x, y) * self.spp + i) as usize]
+            }
+        }
+    }
+
     /// The tables as the GPU reads them, `vec4<f32>` records in the order
     /// simple, interleave, INTERVAL lens boxes, pixel (`t, lens.x, lens.y, 0`
     /// for the tuples; `lo.x, lo.y, hi.x, hi.y` for the boxes; `t, lens.x,
     /// lens.y, sample_in_stratum` for the pixel table), then the interleave
-    /// inverses as `f32` (exact: they are below 2^24). Offsets are in
+    /// inverses, the pixels' slots, `slot_sample` and `slot_stratum`
+    /// as `f32` (exact: they are below 2^24). Offsets are in
     /// [`UvtTables::layout`].
     pub fn to_floats(&self) -> Vec<f32> {
         let mut out = Vec::with_capacity(self.layout().floats as usize);
@@ -326,6 +443,9 @@ impl UvtTables {
             out.extend([tuple.t, tuple.lens.x, tuple.lens.y, s as f32]);
         }
         out.extend(self.inverse.iter().map(|&j| j as f32));
+        out.extend(self.pixel_slot.iter().map(|&q| q as f32));
+        out.extend(self.slot_sample.iter().map(|&s| s as f32));
+        out.extend(self.slot_stratum.iter().map(|&i| i as f32));
         out
     }
 
@@ -348,6 +468,12 @@ pub struct UvtLayout {
     pub pixel: u32,
     /// Interleave inverse permutations.
     pub inverse: u32,
+    /// [`UvtTables::pixel_slot`].
+    pub pixel_slot: u32,
+    /// [`UvtTables::slot_sample`].
+    pub slot_sample: u32,
+    /// [`UvtTables::slot_stratum`].
+    pub slot_stratum: u32,
     /// Total floats.
     pub floats: u32,
 }
@@ -363,13 +489,19 @@ impl UvtLayout {
         let interval_lens = interleave + 4 * tuples;
         let pixel = interval_lens + 4 * spp;
         let inverse = pixel + 4 * TABLE_SIDE * TABLE_SIDE * spp;
+        let pixel_slot = inverse + INTERLEAVE_PERMUTATIONS * tuples;
+        let slot_sample = pixel_slot + INTERLEAVE_PERIOD * INTERLEAVE_PERIOD;
+        let slot_stratum = slot_sample + tuples;
         UvtLayout {
             simple,
             interleave,
             interval_lens,
             pixel,
             inverse,
-            floats: inverse + INTERLEAVE_PERMUTATIONS * tuples,
+            pixel_slot,
+            slot_sample,
+            slot_stratum,
+            floats: slot_stratum + tuples,
         }
     }
 }
@@ -437,7 +569,7 @@ mod tests {
         // Over a 32 x 32 patch of tiles, nearly every one of the 64
         // permutations is picked (a hash modulo 64 over 1024 tiles).
         let perms: std::collections::HashSet<u32> = (0..1024)
-            .map(|i| UvtTables::tile_permutation(i % 32, i / 32))
+            .map(|i| UvtTables::tile_permutation(i % 32, i / 32, 2))
             .collect();
         assert!(
             perms.len() >= 60,
@@ -549,6 +681,45 @@ mod tests {
             (-r, -r * shifted / FRAC_PI_4)
         };
         ((x + 1.0) * 0.5, (y + 1.0) * 0.5)
+    }
+
+    /// Under [`PixelTuples::Interleave`], the bounding box and INTERVAL give
+    /// every sample the Interleave tuple it carries, INTERVAL finds for
+    /// interval `i` the sample whose tuple lies in time stratum `i`, and
+    /// that tuple's lens lies in the interval's lens box (the per-pixel
+    /// table's UV-T pairing), so INTERVAL's boxes hold it.
+    #[test]
+    fn adaptive_pixels_carry_their_interleave_tuples() {
+        for (spp, tile) in [1, 4, 16, 64]
+            .into_iter()
+            .flat_map(|spp| INTERLEAVE_TILES.map(|k| (spp, k)))
+        {
+            let tables = UvtTables::new(spp, tile);
+            let n = tables.interleave_tuples();
+            for (tx, ty) in [(0, 0), (1, 0), (5, 9), (31, 17)] {
+                for tuple in 0..n {
+                    let (x, y, s) = tables.interleave_sample(tx, ty, tuple);
+                    let carried = tables.interleave[tuple as usize];
+                    assert_eq!(
+                        tables.pixel_tuple(PixelTuples::Interleave, x, y, s),
+                        carried,
+                        "spp {spp}, K {tile}, pixel ({x}, {y}), sample {s}"
+                    );
+                    let stratum = tuple / (tile * tile);
+                    assert_eq!((carried.t * spp as f32) as u32, stratum);
+                    assert_eq!(
+                        tables.pixel_sample_in_stratum(PixelTuples::Interleave, x, y, stratum),
+                        s
+                    );
+                    let [lo, hi] = tables.interval_lens[stratum as usize];
+                    assert!(
+                        carried.lens.cmpge(lo).all() && carried.lens.cmple(hi).all(),
+                        "spp {spp}, K {tile}: tuple {tuple} lens {} outside [{lo}, {hi}]",
+                        carried.lens
+                    );
+                }
+            }
+        }
     }
 
     /// Interleave UVT as Fatahalian et al. keep it: in every tile, with

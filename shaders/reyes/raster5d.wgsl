@@ -128,6 +128,43 @@ fn uvt_pixel_at(x: u32, y: u32, s: u32) -> u32 {
     return frame.uvt_pixel + 4u * (((gy % TABLE_SIDE) * TABLE_SIDE + gx % TABLE_SIDE) * frame.spp + s);
 }
 
+// The Interleave slot of pixel (x, y) (reference UvtTables::interleave_slot).
+fn interleave_slot(x: u32, y: u32) -> u32 {
+    let gx = (x + frame.origin_x) % INTERLEAVE_PERIOD;
+    let gy = (y + frame.origin_y) % INTERLEAVE_PERIOD;
+    return u32(height_texels[frame.uvt_pixel_slot + gy * INTERLEAVE_PERIOD + gx]);
+}
+
+// The time and lens of sample s of pixel (x, y) for the bounding box
+// (reference UvtTables::pixel_tuple): the per-pixel table's, or under
+// Adaptive the Interleave tuple the sample carries.
+fn pixel_tuple(x: u32, y: u32, s: u32) -> vec3<f32> {
+    if (frame.interleave_pixel_tuples == 0u) {
+        return uvt_record(uvt_pixel_at(x, y, s));
+    }
+    let q = interleave_slot(x, y);
+    let stratum = u32(height_texels[frame.uvt_slot_stratum + q * frame.spp + s]);
+    let tile = frame.interleave_tile;
+    return uvt_record(frame.uvt_interleave + 4u * (stratum * tile * tile + q));
+}
+
+// INTERVAL's sample of pixel (x, y) for time interval i: the sample whose
+// time lies in stratum i and the float offset of its time/lens record
+// (reference UvtTables::pixel_sample_in_stratum and pixel_tuple). Under
+// Adaptive it is the sample carrying the pixel's slot's tuple of stratum
+// i, so that grids sampled by INTERVAL and by Interleave UVT agree sample
+// by sample.
+fn interval_sample(x: u32, y: u32, i: u32) -> vec2<u32> {
+    if (frame.interleave_pixel_tuples == 0u) {
+        let s = u32(height_texels[uvt_pixel_at(x, y, i) + 3u]);
+        return vec2<u32>(s, uvt_pixel_at(x, y, s));
+    }
+    let q = interleave_slot(x, y);
+    let tile = frame.interleave_tile;
+    let s = u32(height_texels[frame.uvt_slot_sample + q * frame.spp + i]);
+    return vec2<u32>(s, frame.uvt_interleave + 4u * (i * tile * tile + q));
+}
+
 // A micropolygon over the shutter (reference MovingQuad): its corners,
 // their packed colours, and which of its triangles (a, b, c), (a, c, d)
 // may be drawn at all.
@@ -203,7 +240,7 @@ fn raster_bbox_5d(q: MovingQuad, counts: ptr<function, SampleCounts>) {
             break;
         }
         let sample = strata_sample(strata, n);
-        place_and_test(q, uvt_record(uvt_pixel_at(sample.x, sample.y, sample.z)), sample.x, sample.y, sample.z, counts);
+        place_and_test(q, pixel_tuple(sample.x, sample.y, sample.z), sample.x, sample.y, sample.z, counts);
         n += 1u;
     }
     if (n < total) {
@@ -254,6 +291,8 @@ fn raster_simple(q: MovingQuad, counts: ptr<function, SampleCounts>) {
 fn raster_interleave(q: MovingQuad, counts: ptr<function, SampleCounts>) {
     let tuples = frame.interleave_tuples;
     let tile = frame.interleave_tile;
+    // Tiles repeat their permutations every INTERLEAVE_PERIOD pixels.
+    let period = INTERLEAVE_PERIOD / tile;
     let k = frame.k;
     var tuple = 0u;
     loop {
@@ -276,7 +315,7 @@ fn raster_interleave(q: MovingQuad, counts: ptr<function, SampleCounts>) {
                 }
                 let tx = tx0 + n % ntx;
                 let ty = ty0 + n / ntx;
-                let permutation = jitter_hash(tx, ty, 0u, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS;
+                let permutation = jitter_hash(tx % period, ty % period, 0u, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS;
                 let j = u32(height_texels[frame.uvt_inverse + permutation * tuples + tuple]);
                 let slot = j / frame.spp;
                 let s = j % frame.spp;
@@ -357,9 +396,10 @@ fn raster_interval(q: MovingQuad, counts: ptr<function, SampleCounts>) {
                 }
                 let x = x0 + n % nx;
                 let y = y0 + n / nx;
-                let s = u32(height_texels[uvt_pixel_at(x, y, i) + 3u]);
+                let sample = interval_sample(x, y, i);
+                let s = sample.x;
                 if (strata_hold(strata, x, y, s)) {
-                    place_and_test(q, uvt_record(uvt_pixel_at(x, y, s)), x, y, s, counts);
+                    place_and_test(q, uvt_record(sample.y), x, y, s, counts);
                 } else {
                     (*counts).skipped += 1u;
                 }

@@ -10,7 +10,7 @@ use crate::nonfinite::Source;
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::stats::RenderStats;
-use crate::uvt::{UvtLayout, UvtTables};
+use crate::uvt::{PixelTuples, UvtLayout, UvtTables};
 
 /// The frame uniform, WGSL struct `Frame` (declared from this struct in the
 /// generated module, its layout checked when this crate compiles).
@@ -71,6 +71,16 @@ pub struct FrameUniform {
     pub uvt_pixel: u32,
     /// The interleave inverses.
     pub uvt_inverse: u32,
+    /// The Interleave slot of each pixel of a period.
+    pub uvt_pixel_slot: u32,
+    /// Each Interleave slot's sample per time stratum.
+    pub uvt_slot_sample: u32,
+    /// Each Interleave slot's time stratum per sample.
+    pub uvt_slot_stratum: u32,
+    /// 1 when the bounding box and INTERVAL give each sample the Interleave
+    /// tuple it carries (reyes::uvt::PixelTuples::Interleave, Adaptive);
+    /// 0 when they read the per-pixel table.
+    pub interleave_pixel_tuples: u32,
     /// Interleave UVT tuples per tile.
     pub interleave_tuples: u32,
     /// This image's pixel (0, 0) in the full frame (a screen tile's
@@ -129,6 +139,12 @@ impl FrameUniform {
             uvt_interval_lens: 0,
             uvt_pixel: 0,
             uvt_inverse: 0,
+            uvt_pixel_slot: 0,
+            uvt_slot_sample: 0,
+            uvt_slot_stratum: 0,
+            interleave_pixel_tuples: u32::from(
+                PixelTuples::for_sampling(scene.sampling) == PixelTuples::Interleave,
+            ),
             interleave_tuples: 0,
             origin_x: camera.origin[0],
             origin_y: camera.origin[1],
@@ -153,6 +169,9 @@ impl FrameUniform {
         self.uvt_interval_lens = base + layout.interval_lens;
         self.uvt_pixel = base + layout.pixel;
         self.uvt_inverse = base + layout.inverse;
+        self.uvt_pixel_slot = base + layout.pixel_slot;
+        self.uvt_slot_sample = base + layout.slot_sample;
+        self.uvt_slot_stratum = base + layout.slot_stratum;
         self.interleave_tuples = self.spp * self.interleave_tile * self.interleave_tile;
         self
     }
@@ -236,9 +255,10 @@ pub struct FrameBuffers {
     lights_len: usize,
     /// The tables last written (their maps are in `height_texels`).
     tables: Option<ObjectTables>,
-    /// The sample count and float offset of the time/lens tables last
-    /// uploaded to `height_texels` (they stay valid while both do).
-    uvt: Option<(u32, u32)>,
+    /// The sample count, Interleave tile side and float offset of the
+    /// time/lens tables last uploaded to `height_texels` (they stay valid
+    /// while all three do).
+    uvt: Option<(u32, u32, u32)>,
 }
 
 impl FrameBuffers {
@@ -340,9 +360,10 @@ impl FrameBuffers {
         }
         if scene.samples_time_and_lens() {
             let base = layout.uvt as u32;
-            // Built and uploaded once per sample count and place in the
-            // buffer; the buffer keeps them between frames.
-            if self.uvt != Some((scene.spp, base)) {
+            // Built and uploaded once per sample count, tile side and place
+            // in the buffer; the buffer keeps them between frames.
+            let key = (scene.spp, scene.interleave_tile, base);
+            if self.uvt != Some(key) {
                 queue.write_buffer(
                     &self.height_texels,
                     4 * u64::from(base),
@@ -350,7 +371,7 @@ impl FrameBuffers {
                         &UvtTables::new(scene.spp, scene.interleave_tile).to_floats(),
                     ),
                 );
-                self.uvt = Some((scene.spp, base));
+                self.uvt = Some(key);
             }
             frame = frame.with_uvt(base);
         }

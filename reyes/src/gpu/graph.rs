@@ -37,7 +37,7 @@ use crate::params::{
 };
 use crate::prepare::WorldPatch;
 use crate::reference::quad::STRATUM_MARGIN;
-use crate::uvt::{INTERLEAVE_PERMUTATIONS, PERMUTATION_CHANNEL, TABLE_SIDE};
+use crate::uvt::{INTERLEAVE_PERIOD, INTERLEAVE_PERMUTATIONS, PERMUTATION_CHANNEL, TABLE_SIDE};
 
 const LIBRARY_WGSL: &str = include_str!("../../../shaders/reyes/library.wgsl");
 const BOUND_WGSL: &str = include_str!("../../../shaders/reyes/bound.wgsl");
@@ -370,6 +370,7 @@ fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, ConstantValue)> {
             ConstantValue::U32(PERMUTATION_CHANNEL),
         ),
         ("TABLE_SIDE", ConstantValue::U32(TABLE_SIDE)),
+        ("INTERLEAVE_PERIOD", ConstantValue::U32(INTERLEAVE_PERIOD)),
         (
             "ADAPTIVE_PLACE_COST",
             ConstantValue::F32(ADAPTIVE_PLACE_COST),

@@ -51,7 +51,7 @@ use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::scene::{Dicing, Sampling, Scene, SceneError, ShadingInterpolation};
 use crate::stats::RenderStats;
-use crate::uvt::UvtTables;
+use crate::uvt::{PixelTuples, UvtTables};
 
 /// The result of a render.
 #[derive(Debug, Clone)]
@@ -244,6 +244,7 @@ pub fn try_render_samples(
     let sampler = uvt.as_ref().map(|uvt| Sampler {
         samples: &samples,
         uvt,
+        pixel_tuples: PixelTuples::for_sampling(scene.sampling),
         micropolygon_px: scene.nominal_micropolygon_px(),
     });
     let mut stats = RenderStats {

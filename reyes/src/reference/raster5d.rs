@@ -28,7 +28,7 @@ use crate::motion::PreparedLens;
 use crate::params::{ADAPTIVE_PLACE_COST, NEAR_EPS};
 use crate::scene::Sampling;
 use crate::stats::RenderStats;
-use crate::uvt::{TimeLens, UvtTables};
+use crate::uvt::{PixelTuples, TimeLens, UvtTables};
 
 /// A grid point at shutter open and close, over the part of the shutter
 /// during which it can be seen.
@@ -200,6 +200,9 @@ pub struct Sampler<'a> {
     pub samples: &'a SampleGrid,
     /// Time and lens coordinates of the samples.
     pub uvt: &'a UvtTables,
+    /// Which tuples the bounding box and INTERVAL give a pixel's samples
+    /// (Adaptive: the Interleave tuples).
+    pub pixel_tuples: PixelTuples,
     /// The side of a micropolygon in pixels that Adaptive's cost model
     /// assumes ([`crate::prepare::PreparedScene::nominal_micropolygon_px`]).
     pub micropolygon_px: f32,
@@ -422,7 +425,7 @@ pub fn raster_quad_5d(
                 return;
             };
             for (x, y, s) in strata.samples() {
-                let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
+                let tl = uvt.pixel_tuple(sampler.pixel_tuples, x, y, s);
                 place_and_test(framebuffer, sampler, &quad, tl, (x, y, s), stats);
             }
         }
@@ -490,9 +493,9 @@ pub fn raster_quad_5d(
                 let [x0, y0, x1, y1] = strata.pixels();
                 for y in y0..=y1 {
                     for x in x0..=x1 {
-                        let s = uvt.sample_in_stratum[uvt.pixel_index(x, y, i)];
+                        let s = uvt.pixel_sample_in_stratum(sampler.pixel_tuples, x, y, i);
                         if strata.holds(x, y, s) {
-                            let tl = uvt.pixel[uvt.pixel_index(x, y, s)];
+                            let tl = uvt.pixel_tuple(sampler.pixel_tuples, x, y, s);
                             place_and_test(framebuffer, sampler, &quad, tl, (x, y, s), stats);
                         } else {
                             stats.samples_skipped += 1;
