@@ -16,7 +16,8 @@
 //!   `K x K`-pixel tiles, in `K^2` pixel slots of `spp` tuples; each slot's
 //!   tuples cover every time stratum and every `k x k` lens stratum of a
 //!   pixel once (see `interleave_tuples`), as Fatahalian et al. (2009) keep
-//!   them, with the per-pixel table's UV-T pairing. A tile gives slot `q` to its pixel `ρ_p(q)` (row-major), where
+//!   them, with the per-pixel table's UV-T pairing. A tile gives slot `q`
+//!   to its pixel `ρ_p(q)` (row-major), where
 //!   `p` ([`UvtTables::tile_permutation`]) picks one of
 //!   [`INTERLEAVE_PERMUTATIONS`] precomputed permutations of the pixel
 //!   offsets per tile, which breaks the repetition of the pattern while
@@ -288,12 +289,13 @@ impl UvtTables {
         // Tuple n = s * K^2 + q belongs to pixel slot q; its sample index in
         // the pixel is a fixed per-slot permutation of s, so that a sample's
         // screen stratum is not tied to its time stratum.
-        let sample_of: Vec<Vec<u32>> = (0..slots).map(|q| permutation(spp, [q, 1, 5])).collect();
-        let mut slot_stratum = vec![0; (slots * spp) as usize];
-        for (q, samples) in sample_of.iter().enumerate() {
-            for (stratum, &sample) in samples.iter().enumerate() {
-                slot_stratum[q * spp as usize + sample as usize] = stratum as u32;
-            }
+        let slot_sample: Vec<u32> = (0..slots)
+            .flat_map(|q| permutation(spp, [q, 1, 5]))
+            .collect();
+        let mut slot_stratum = vec![0; slot_sample.len()];
+        for (i, &sample) in slot_sample.iter().enumerate() {
+            // Entry i is slot i / spp's sample of stratum i % spp.
+            slot_stratum[i - i % spp as usize + sample as usize] = i as u32 % spp;
         }
         let mut inverse = Vec::with_capacity((INTERLEAVE_PERMUTATIONS * tuples) as usize);
         let mut slot_of_pixel = vec![0; (INTERLEAVE_PERMUTATIONS * slots) as usize];
@@ -306,8 +308,9 @@ impl UvtTables {
             }
             for s in 0..spp {
                 for q in 0..slots {
-                    inverse
-                        .push(pixel_of_slot[q as usize] * spp + sample_of[q as usize][s as usize]);
+                    inverse.push(
+                        pixel_of_slot[q as usize] * spp + slot_sample[(q * spp + s) as usize],
+                    );
                 }
             }
         }
@@ -318,7 +321,6 @@ impl UvtTables {
                 slot_of_pixel[(p * slots + (y % tile) * tile + x % tile) as usize]
             })
             .collect();
-        let slot_sample = sample_of.concat();
         let pairing = permutation(spp, [0, 0, 8]);
         let interval_lens = pairing
             .iter()
