@@ -12,6 +12,7 @@ use crate::color::pack_rgb10;
 
 /// What the image shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Aov {
     /// The shaded surface (default).

@@ -5,7 +5,8 @@
 //! * [`model`] and [`load`]: patch models and the `.bpt`/`.bez` loaders;
 //! * [`input`]: the one way input files are read (regular files only, with a
 //!   size cap);
-//! * [`scene`]: the TOML scene description;
+//! * [`scene`]: the TOML scene description; [`modes`]: its sampling,
+//!   dicing and shading-interpolation modes;
 //! * [`displacement`]: displacement sources (height maps, procedural and
 //!   user WGSL heights) and their preparation;
 //! * [`prepare`]: host preparation (world-space patches, camera, lights);
@@ -30,6 +31,7 @@ pub mod displacement;
 pub mod input;
 pub mod load;
 pub mod model;
+pub mod modes;
 pub mod motion;
 pub mod nonfinite;
 pub mod output;

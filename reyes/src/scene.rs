@@ -102,6 +102,7 @@ use crate::displacement::{DisplacementDesc, DisplacementError, desc::SourceKind}
 use crate::input::{self, InputError, InputKind};
 use crate::load::LoadError;
 use crate::model::Model;
+pub use crate::modes::{Dicing, Sampling, ShadingInterpolation};
 use crate::params::{
     DEFAULT_DICE_THRESHOLD, DEFAULT_MAX_SPLIT_DEPTH, DEFAULT_SHADING_RATE, MAX_SHADING_RATE,
     MAX_SPLIT_DEPTH_LIMIT, NEAR_EPS, VALID_SPP,
@@ -235,124 +236,6 @@ pub enum SceneError {
         /// Number of models given.
         models: usize,
     },
-}
-
-/// How micropolygons are sampled. Every mode but `Nearest` handles motion
-/// blur and depth of field: a sample then has a time and a lens position as
-/// well as a screen position (see [`crate::uvt`] and `docs/reyes.md`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Sampling {
-    /// Bounding box: test every sample in each micropolygon triangle's
-    /// screen box, grown by its motion and circle of confusion, with the
-    /// sample's own time and lens position (default).
-    #[default]
-    Bbox,
-    /// Simple UVT: the `spp` time/lens tuples are shared by every pixel;
-    /// tuple `s` positions the triangle once and tests sample `s` of each
-    /// pixel in that box (an accumulation buffer in one pass).
-    Simple,
-    /// Interleave UVT (Fatahalian et al. 2009): 2x2-pixel tiles with
-    /// `4 * spp` distinct tuples each; a triangle positioned at a tuple tests
-    /// the one sample of that tuple in every tile its box overlaps.
-    Interleave,
-    /// INTERVAL: `spp` time intervals, one box per interval; a box tests
-    /// the samples whose time lies in its interval.
-    Interval,
-    /// Adaptive: INTERVAL or Interleave UVT per grid, whichever the grid's
-    /// motion and circle of confusion make cheaper.
-    Adaptive,
-    /// Baseline: each micropolygon writes only the sample nearest its
-    /// centroid (no motion blur or depth of field).
-    Nearest,
-}
-
-/// How pieces are diced into grids of micropolygons (see `docs/reyes.md`,
-/// "Dicing").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Dicing {
-    /// To the shading rate: each piece gets a grid of up to 16 x 16
-    /// micropolygons sized by its projected rows and columns, with edges
-    /// shared watertight between neighbours (default).
-    #[default]
-    Rate,
-    /// Every piece that fits `dice_threshold` pixels gets the same 16 x 16
-    /// points (15 x 15 micropolygons), whatever its size.
-    Fixed,
-}
-
-/// How a micropolygon's colour varies over it: RenderMan's
-/// `ShadingInterpolation` (see `docs/reyes.md`, "Shading interpolation").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ShadingInterpolation {
-    /// Each sample blends the colours shaded at its triangle's three
-    /// corners by its barycentric weights (Gouraud), so that a picture at
-    /// shading rate 1 shows no facets (default).
-    #[default]
-    Smooth,
-    /// One colour per micropolygon, the mean of its four corners'.
-    Constant,
-}
-
-impl ShadingInterpolation {
-    /// The name used in scene files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            ShadingInterpolation::Smooth => "smooth",
-            ShadingInterpolation::Constant => "constant",
-        }
-    }
-}
-
-impl Dicing {
-    /// The name used in scene files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Dicing::Rate => "rate",
-            Dicing::Fixed => "fixed",
-        }
-    }
-}
-
-impl Sampling {
-    /// The modes that sample time and lens (every mode but
-    /// [`Sampling::Nearest`]), in declaration order.
-    pub const TIME_AND_LENS: [Sampling; 5] = [
-        Sampling::Bbox,
-        Sampling::Simple,
-        Sampling::Interleave,
-        Sampling::Interval,
-        Sampling::Adaptive,
-    ];
-
-    /// Every mode, in the order of the docs and the benchmark tables.
-    pub const ALL: [Sampling; 6] = [
-        Sampling::Bbox,
-        Sampling::Simple,
-        Sampling::Interleave,
-        Sampling::Interval,
-        Sampling::Adaptive,
-        Sampling::Nearest,
-    ];
-
-    /// The name used in scene files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Sampling::Bbox => "bbox",
-            Sampling::Simple => "simple",
-            Sampling::Interleave => "interleave",
-            Sampling::Interval => "interval",
-            Sampling::Adaptive => "adaptive",
-            Sampling::Nearest => "nearest",
-        }
-    }
-
-    /// Whether the mode samples time and lens (everything but `Nearest`).
-    pub fn supports_blur(self) -> bool {
-        self != Sampling::Nearest
-    }
 }
 
 /// The thin lens of the camera (`[lens]`): depth of field.

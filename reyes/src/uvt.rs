@@ -54,8 +54,8 @@
 
 use glam::Vec2;
 
+use crate::modes::Sampling;
 use crate::sampling::{grid_size, hash};
-use crate::scene::Sampling;
 
 /// The sides, in pixels, that the tiles of Interleave UVT (`K`) may have:
 /// the sizes Fatahalian et al. and Sattlecker and Steinberger measure.
