@@ -127,3 +127,16 @@ pub const MAX_SHADING_RATE: f32 = 1024.0;
 /// that needs more is split. The largest grid's points,
 /// `(MAX_GRID_QUADS + 1)^2`, must fit the large dice procedure's scratch.
 pub const MAX_GRID_QUADS: u32 = 16;
+
+/// How far past a box the strata it touches are looked for, in pixels:
+/// a sample's position is computed in f32 and may stray past its stratum
+/// by a few ulps (at most about 0.002 pixels in a frame 16,384 pixels
+/// wide). Shared by the reference's stratum boxes and the WGSL
+/// `STRATUM_MARGIN`.
+pub const STRATUM_MARGIN: f32 = 1.0 / 256.0;
+
+/// Default host-side limit of one megakernel run, and the reference's
+/// default time limit. It includes the driver's compilation of the pipeline
+/// on its first dispatch, which lavapipe does lazily: over a minute for the
+/// Reyes megakernel on a cold shader cache.
+pub const DEFAULT_RENDER_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(600);

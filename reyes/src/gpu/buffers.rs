@@ -4,12 +4,11 @@
 
 use glam::{Mat4, Vec4};
 
-use super::graph::{sampling, stat};
+use super::abi::{sampling, stat};
+pub use super::counters::GpuCounters;
 use super::objects::{ObjectData, ObjectTables};
-use crate::nonfinite::Source;
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
-use crate::stats::RenderStats;
 use crate::uvt::{PixelTuples, UvtLayout, UvtTables};
 
 /// The frame uniform, WGSL struct `Frame` (declared from this struct in the
@@ -128,7 +127,7 @@ impl FrameUniform {
             ambient: scene.ambient,
             specular_strength: scene.specular_strength,
             shininess: scene.shininess,
-            dicing: super::graph::dicing::code(scene.dicing),
+            dicing: super::abi::dicing::code(scene.dicing),
             clip_pad: camera.clip_pad(),
             aperture: scene.lens.aperture,
             focus: scene.lens.focus,
@@ -444,59 +443,4 @@ fn copy_whole(device: &wgpu::Device, queue: &wgpu::Queue, from: &wgpu::Buffer, t
 /// Samples in the framebuffer of `scene`: `width * height * spp`.
 pub fn framebuffer_samples(scene: &PreparedScene) -> u64 {
     u64::from(scene.camera.width) * u64::from(scene.camera.height) * u64::from(scene.spp)
-}
-
-/// Statistics read back from the GPU, before the frame time is added.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct GpuCounters {
-    /// The words of the statistics buffer.
-    pub words: [u32; stat::WORDS as usize],
-}
-
-impl GpuCounters {
-    /// Parses the read-back bytes.
-    pub fn from_bytes(bytes: &[u8]) -> Self {
-        let mut words = [0u32; stat::WORDS as usize];
-        for (word, chunk) in words.iter_mut().zip(bytes.chunks_exact(4)) {
-            *word = u32::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3]]);
-        }
-        Self { words }
-    }
-
-    fn wide(&self, index: u32) -> u64 {
-        let i = index as usize;
-        u64::from(self.words[i]) | (u64::from(self.words[i + 1]) << 32)
-    }
-
-    /// Rasterization loops the driver cut short (a correct run has none).
-    pub fn loops_cut(&self) -> u32 {
-        self.words[stat::LOOPS_CUT as usize]
-    }
-
-    /// The counters as [`RenderStats`] (without a frame time).
-    pub fn to_stats(&self) -> RenderStats {
-        let w = |i: u32| u64::from(self.words[i as usize]);
-        RenderStats {
-            input_patches: w(stat::INPUT_PATCHES),
-            splits: w(stat::SPLITS),
-            culled_patches: w(stat::CULLED),
-            depth_guard_drops: w(stat::DEPTH_GUARD_DROPS),
-            grids_diced: w(stat::GRIDS_DICED),
-            micropolygons: self.wide(stat::MICROPOLYGONS),
-            samples_tested: self.wide(stat::SAMPLES_TESTED),
-            samples_hit: self.wide(stat::SAMPLES_HIT),
-            samples_skipped: self.wide(stat::SAMPLES_SKIPPED),
-            largest_micropolygon_px: f32::from_bits(
-                self.words[stat::LARGEST_MICROPOLYGON as usize],
-            ),
-            displacement_bound_exceeded: w(stat::DISPLACEMENT_BOUND_EXCEEDED),
-            non_finite_displacement: w(stat::NON_FINITE + Source::Displacement as u32),
-            non_finite_transform: w(stat::NON_FINITE + Source::Transform as u32),
-            non_finite_camera: w(stat::NON_FINITE + Source::Camera as u32),
-            interleave_grids: w(stat::INTERLEAVE_GRIDS),
-            grids_by_class: std::array::from_fn(|c| w(stat::GRIDS_BY_CLASS + c as u32)),
-            dice_threads: self.wide(stat::DICE_THREADS),
-            frame_time_ms: None,
-        }
-    }
 }

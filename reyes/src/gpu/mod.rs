@@ -2,6 +2,8 @@
 //!
 //! * [`graph`]: the procedure graph (Bound, SplitU, SplitV,
 //!   DiceShadeSample) and its WGSL (`shaders/reyes/`);
+//! * [`abi`]: the codes the WGSL and the host agree on (statistics words,
+//!   mode codes), below the data layouts and the graph;
 //! * [`buffers`]: the frame uniform, scene buffers, framebuffer and statistics;
 //! * [`objects`]: the per-object table (albedo, displacement) and the
 //!   height-map texels' layout;
@@ -26,6 +28,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod abi;
 pub mod buffers;
 pub mod graph;
 pub mod loop_limit;
@@ -34,8 +37,11 @@ pub mod renderer;
 pub mod resolve;
 
 mod batches;
+mod counters;
 mod options;
+mod patch_item;
 mod render_error;
+mod shared_constants;
 mod tiles;
 
 pub use loop_limit::{LoopLimitContext, LoopLimitError, LoopLimitHint};

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use super::graph::displace;
+use super::abi::displace;
 use crate::displacement::{HeightMap, HeightSource};
 use crate::prepare::PreparedScene;
 

@@ -58,10 +58,7 @@ pub struct GpuOptions {
     pub max_batch_patches: Option<u32>,
 }
 
-/// Default host-side limit of one megakernel run. It includes the driver's
-/// compilation of the pipeline on its first dispatch, which lavapipe does
-/// lazily: over a minute for the Reyes megakernel on a cold shader cache.
-pub const DEFAULT_RENDER_TIMEOUT: Duration = Duration::from_secs(600);
+pub use crate::params::DEFAULT_RENDER_TIMEOUT;
 
 impl Default for GpuOptions {
     fn default() -> Self {

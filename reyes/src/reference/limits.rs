@@ -13,7 +13,7 @@
 use std::time::{Duration, Instant};
 
 use super::ReferenceError;
-use crate::gpu::renderer::DEFAULT_RENDER_TIMEOUT;
+use crate::params::DEFAULT_RENDER_TIMEOUT;
 pub use crate::prepare::MAX_IMAGE_BYTES;
 use crate::stats::RenderStats;
 

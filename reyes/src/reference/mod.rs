@@ -15,6 +15,7 @@
 
 pub mod bound;
 pub mod dice;
+mod dice_shade_sample;
 pub mod displace;
 pub mod framebuffer;
 pub mod limits;
@@ -23,6 +24,7 @@ pub mod raster;
 pub mod raster5d;
 pub mod resolve;
 pub mod shade;
+mod shutter;
 pub mod work;
 
 use std::time::{Duration, Instant};
@@ -32,24 +34,17 @@ use image::RgbaImage;
 use self::bound::{
     BoundDecision, DiceRule, Growth, ScreenPiece, back_facing, bound, input_edges, split_edges,
 };
-use self::dice::dice;
+use self::dice_shade_sample::{FrameContext, FrameOutput, dice_shade_sample};
 use self::framebuffer::Framebuffer;
 use self::limits::Budget;
 pub use self::limits::ReferenceOptions;
-use self::raster::{
-    SampleGrid, ScreenPoint, micropolygon_corners, micropolygon_size, raster_nearest, raster_quad,
-    raster_triangle, shows_front, still_quad,
-};
-use self::raster5d::{Mode5d, MovingPoint, Sampler, raster_quad_5d};
-use self::shade::shade;
+use self::raster::SampleGrid;
+use self::raster5d::Sampler;
 use self::work::WorkItem;
-use crate::aov::{self, Aov};
-use crate::color::{average_rgb10, pack_rgb10};
-use crate::dicing::{EdgeSpacing, GridSize};
-use crate::nonfinite::{camera_sources, close_sources};
+use crate::dicing::EdgeSpacing;
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
-use crate::scene::{Dicing, Sampling, Scene, SceneError, ShadingInterpolation};
+use crate::scene::{Dicing, Scene, SceneError};
 use crate::stats::RenderStats;
 use crate::uvt::{PixelTuples, UvtTables};
 
@@ -286,6 +281,13 @@ pub fn try_render_samples(
             WorkItem::new(p.points, p.object, index as u32, edges)
         })
         .collect();
+    let frame = FrameContext {
+        scene,
+        view_proj,
+        samples: &samples,
+        sampler: sampler.as_ref(),
+        triangle_boxes: options.triangle_boxes,
+    };
     while let Some(item) = stack.pop() {
         budget.item()?;
         let object = &scene.objects[item.object as usize];
@@ -346,180 +348,14 @@ pub fn try_render_samples(
             }
             BoundDecision::Dice(size) => {
                 budget.grid(&stats, size.quads())?;
-                dice_shade_sample(
-                    scene,
-                    &item,
-                    size,
-                    &view_proj,
-                    &samples,
-                    sampler.as_ref(),
-                    &mut framebuffer,
-                    &mut stats,
-                    &mut budget,
-                    options.triangle_boxes,
-                )?;
+                let mut output = FrameOutput {
+                    framebuffer: &mut framebuffer,
+                    stats: &mut stats,
+                    budget: &mut budget,
+                };
+                dice_shade_sample(&frame, &mut output, &item, size)?;
             }
         }
     }
     Ok((framebuffer, stats))
-}
-
-/// Dices one piece into `size`, shades its grid points and samples its
-/// micropolygons.
-#[allow(
-    clippy::too_many_arguments,
-    reason = "one frame's state, passed down once"
-)]
-fn dice_shade_sample(
-    scene: &PreparedScene,
-    item: &WorkItem,
-    size: GridSize,
-    view_proj: &glam::Mat4,
-    samples: &SampleGrid,
-    sampler: Option<&Sampler<'_>>,
-    framebuffer: &mut Framebuffer,
-    stats: &mut RenderStats,
-    budget: &mut Budget,
-    triangle_boxes: bool,
-) -> Result<(), ReferenceError> {
-    let class = size.class();
-    stats.grids_diced += 1;
-    stats.micropolygons += u64::from(size.quads());
-    stats.grids_by_class[class.index()] += 1;
-    stats.dice_threads += u64::from(class.threads());
-    let object = &scene.objects[item.object as usize];
-    let eye = scene.camera.homogeneous_eye();
-    let patch = &scene.patches[item.patch as usize].points;
-    let edges = (scene.dicing == Dicing::Rate).then_some(&item.edges);
-    let displacement = object.displacement.as_ref();
-    let grid = dice(patch, item.uv, size, edges, eye, displacement)
-        .or_else(|| dice(patch, item.uv, size, edges, eye, None))
-        .expect("an undisplaced grid always evaluates");
-    stats.displacement_bound_exceeded += grid.bound_exceeded;
-    let albedo = object.albedo;
-    // The stages that lost each point (see crate::nonfinite), counted once
-    // all are known.
-    let mut non_finite = grid.non_finite.clone();
-
-    let screen: Vec<ScreenPoint> = grid
-        .positions
-        .iter()
-        .zip(&mut non_finite)
-        .map(|(&position, sources)| {
-            let clip = *view_proj * position.extend(1.0);
-            let pixel = scene.camera.to_pixel(clip);
-            *sources = sources.union(camera_sources(position, clip, pixel));
-            ScreenPoint { pixel, w: clip.w }
-        })
-        .collect();
-    let depth_range = aov::depth_range(&scene.camera);
-    let colors: Vec<u32> = grid
-        .positions
-        .iter()
-        .zip(&grid.normals)
-        .zip(&screen)
-        .map(|((&position, &normal), point)| {
-            pack_rgb10(match scene.aov {
-                Aov::Shaded | Aov::Grids => shade(position, normal, albedo, scene),
-                Aov::Depth => aov::depth_color(point.w, depth_range),
-                Aov::Normal => aov::normal_color(normal),
-            })
-        })
-        .collect();
-
-    // With time and lens: every point at open and close, and the grid's
-    // algorithm (Adaptive decides per grid from its largest motion and blur).
-    let moving = sampler.map(|sampler| {
-        let motion = object.motion.as_ref();
-        let points: Vec<MovingPoint> = grid
-            .positions
-            .iter()
-            .zip(&mut non_finite)
-            .map(|(&position, sources)| {
-                let close_position = motion.map_or(position, |m| m.close(position));
-                let clip_open = *view_proj * position.extend(1.0);
-                let clip_close = *view_proj * close_position.extend(1.0);
-                let close = scene.camera.to_pixel(clip_close);
-                *sources =
-                    sources.union(close_sources(position, close_position, clip_close, close));
-                MovingPoint::new(clip_open, clip_close, &scene.camera, &scene.lens)
-            })
-            .collect();
-        let extent = |f: fn(&MovingPoint) -> f32| points.iter().map(f).fold(0.0f32, f32::max);
-        let mode = Mode5d::for_grid(
-            scene.sampling,
-            extent(MovingPoint::motion),
-            extent(MovingPoint::blur),
-            sampler,
-        )
-        .unwrap_or(Mode5d::Bbox);
-        (sampler, points, mode)
-    });
-    for sources in non_finite {
-        sources.count_into(stats);
-    }
-    if let Some((_, _, Mode5d::Interleave)) = &moving {
-        stats.interleave_grids += 1;
-    }
-
-    for j in 0..size.nv {
-        for i in 0..size.nu {
-            budget.samples(stats)?;
-            let corners = micropolygon_corners(&screen, size, i, j);
-            let micropolygon = micropolygon_size(&corners);
-            // f32::max ignores a NaN size (possible only for unprojectable corners).
-            stats.largest_micropolygon_px = stats.largest_micropolygon_px.max(micropolygon);
-            // The corners' colours, or one colour for the whole micropolygon.
-            let corner_colors = micropolygon_corners(&colors, size, i, j);
-            let packed = match scene.aov {
-                Aov::Grids => aov::grid_color(size.quads(), i, j),
-                _ => average_rgb10(corner_colors),
-            };
-            let [ca, cb, cc, cd] = match (scene.aov, scene.shading_interpolation) {
-                (Aov::Grids, _) | (_, ShadingInterpolation::Constant) => [packed; 4],
-                (_, ShadingInterpolation::Smooth) => corner_colors,
-            };
-            let quad_colors = [ca, cb, cc, cd];
-            // Which of the two triangles to sample: a one-sided object's
-            // back-facing ones are culled.
-            let front =
-                |[p, q, r]: [glam::Vec2; 3]| object.front.is_none_or(|s| shows_front(p, q, r, s));
-            let drawn = |[a, b, c, d]: [glam::Vec2; 4]| [front([a, b, c]), front([a, c, d])];
-            if let Some((sampler, points, mode)) = &moving {
-                let corners = micropolygon_corners(points, size, i, j);
-                // Faces are culled as seen when the corners come into view
-                // (at open, for corners visible during the whole shutter).
-                let drawn = drawn(corners.map(|c| c.open.truncate()));
-                raster_quad_5d(
-                    framebuffer,
-                    sampler,
-                    *mode,
-                    corners,
-                    quad_colors,
-                    drawn,
-                    stats,
-                );
-                continue;
-            }
-            let drawn = drawn(corners.map(|c| c.pixel.truncate()));
-            let quad = still_quad(corners, quad_colors, drawn);
-            match scene.sampling {
-                Sampling::Nearest => raster_nearest(framebuffer, samples, corners, &quad, stats),
-                _ if triangle_boxes => {
-                    let [a, b, c, d] = corners;
-                    for ((triangle, colors), drawn) in [[a, b, c], [a, c, d]]
-                        .into_iter()
-                        .zip([[ca, cb, cc], [ca, cc, cd]])
-                        .zip(drawn)
-                    {
-                        if drawn {
-                            raster_triangle(framebuffer, samples, triangle, colors, stats);
-                        }
-                    }
-                }
-                _ => raster_quad(framebuffer, samples, &quad, stats),
-            }
-        }
-    }
-    Ok(())
 }

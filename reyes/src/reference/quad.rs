@@ -22,13 +22,8 @@ use glam::{Vec2, Vec3};
 use super::framebuffer::Framebuffer;
 use super::raster::{edge, inside, key_depth};
 use crate::color::{blend_rgb10, pack_key};
+use crate::params::STRATUM_MARGIN;
 use crate::stats::RenderStats;
-
-/// How far past a box the strata it touches are looked for, in pixels:
-/// a sample's position is computed in f32 and may stray past its stratum
-/// by a few ulps (at most about 0.002 pixels in a frame 16,384 pixels
-/// wide). Shared with the WGSL `STRATUM_MARGIN`.
-pub const STRATUM_MARGIN: f32 = 1.0 / 256.0;
 
 /// The sample strata `[x0, x1] x [y0, y1]` (global stratum columns and rows,
 /// `k` per pixel) that a screen box touches, clamped to the frame.
