@@ -1,11 +1,5 @@
-//! `SKIP_GPU_TESTS=1` becomes the `skip_gpu_tests` cfg, so that every GPU
-//! test can be marked `#[cfg_attr(skip_gpu_tests, ignore = ...)]` and a
-//! deliberate skip shows as `ignored` in the test summary, never as a pass.
+//! `SKIP_GPU_TESTS=1` marks every `#[gpu_test]` test ignored (`gpu_test::build`).
 
 fn main() {
-    println!("cargo::rustc-check-cfg=cfg(skip_gpu_tests)");
-    println!("cargo::rerun-if-env-changed=SKIP_GPU_TESTS");
-    if std::env::var("SKIP_GPU_TESTS").is_ok_and(|v| v == "1") {
-        println!("cargo::rustc-cfg=skip_gpu_tests");
-    }
+    gpu_test::build::skip_gpu_tests_cfg();
 }

@@ -15,6 +15,7 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
 use glam::{Quat, Vec3};
+use gpu_test::gpu_test;
 use serde_json::Value;
 
 /// The camera both tests use: the teapot seen from the front, above.
@@ -115,8 +116,7 @@ fn load(path: &Path) -> image::RgbaImage {
     image::open(path).unwrap().to_rgba8()
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn the_refined_frame_on_screen_matches_reyes_render() {
     let _turn = turn();
     let display = display();
@@ -186,8 +186,7 @@ fn vec3(value: &Value) -> Vec3 {
     Vec3::new(v[0], v[1], v[2])
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn scripted_orbit_and_zoom_move_the_camera_and_render_again() {
     let _turn = turn();
     let display = display();

@@ -1,45 +1,29 @@
 //! Shared support for the workspace's tests.
 //!
-//! GPU tests call [`gpu`]. Without an adapter it **panics**, so a machine
-//! without a working driver fails loudly instead of passing by skipping. Set
-//! `SKIP_GPU_TESTS=1` to skip GPU tests deliberately (the one switch for the
-//! whole workspace): the build script turns it into the `skip_gpu_tests`
-//! cfg, and every GPU test carries
-//! `#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]`, so a skip shows
-//! as `ignored` in the summary.
+//! GPU tests are marked `#[gpu_test]` (the `gpu-test` crate, whose doc
+//! states the contract) and take the shared device from [`gpu`]. Without an
+//! adapter it **panics**, so a machine without a working driver fails loudly
+//! instead of passing by skipping. `SKIP_GPU_TESTS=1` skips GPU tests
+//! deliberately (the one switch for the whole workspace): the build script
+//! turns it into the `skip_gpu_tests` cfg, under which `#[gpu_test]` marks
+//! every GPU test ignored, so a skip shows as `ignored` in the summary. A
+//! test's known failures on a driver are declared on its attribute
+//! (`#[gpu_test(expect_fail(driver = "llvmpipe", ...))]`), and outcomes that
+//! legitimately differ between drivers are asked of `gpu_test::expect`.
 
-use std::sync::OnceLock;
+use scheduler::{Capacities, ExecutorConfig, Gpu};
 
-use scheduler::{Capacities, DeviceRequest, ExecutorConfig, Gpu};
-
-/// The shared device for GPU tests.
+/// The shared device for GPU tests ([`gpu_test::gpu`]).
 ///
 /// # Panics
 /// When no adapter or device can be had, and when GPU tests are skipped
-/// (`SKIP_GPU_TESTS=1`) but the calling test was not marked ignored: a GPU
-/// test without the mark would otherwise pass without running.
+/// (`SKIP_GPU_TESTS=1`) but the calling test was not marked `#[gpu_test]`:
+/// a GPU test without the mark would otherwise pass without running.
 pub fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
     if cfg!(skip_gpu_tests) {
-        panic!(
-            "SKIP_GPU_TESTS=1, but this GPU test is not marked \
-             #[cfg_attr(skip_gpu_tests, ignore = \"SKIP_GPU_TESTS=1\")]"
-        );
+        panic!("SKIP_GPU_TESTS=1, but this GPU test is not marked #[gpu_test]");
     }
-    GPU.get_or_init(|| {
-        let request = DeviceRequest {
-            optional_features: scheduler::wgpu::Features::SHADER_INT64
-                | scheduler::wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX,
-            ..Default::default()
-        };
-        let gpu = Gpu::new(&request).unwrap_or_else(|e| {
-            panic!(
-                "GPU tests need an adapter ({e}); set SKIP_GPU_TESTS=1 to skip them deliberately"
-            )
-        });
-        eprintln!("GPU tests run on: {}", gpu.describe());
-        gpu
-    })
+    gpu_test::gpu()
 }
 
 /// A fresh random seed, printed so a failure can be replayed with

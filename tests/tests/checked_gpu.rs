@@ -7,6 +7,7 @@
 
 use std::time::Duration;
 
+use gpu_test::gpu_test;
 use scheduler::{
     Binding, CompileOptions, Executor, ExecutorConfig, Graph, Procedure, Resource, RunError, Seeds,
     Strategy,
@@ -31,8 +32,7 @@ fn checked_options(gpu: &scheduler::Gpu) -> CompileOptions {
     CompileOptions::with_features(scheduler::recommended_features(&gpu.device)).checked()
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn the_mandelbrot_example_is_exact_in_checked_mode() {
     let gpu = tests::gpu();
     let view = mandelbrot::View::whole_set(256, 256);
@@ -49,8 +49,7 @@ fn the_mandelbrot_example_is_exact_in_checked_mode() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn the_bfs_example_is_exact_in_checked_mode() {
     let gpu = tests::gpu();
     let problem = bfs::Problem::random(tests::seed("bfs checked"), 5_000, 3);
@@ -133,8 +132,7 @@ fn config() -> ExecutorConfig {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn an_index_past_the_end_is_reported_with_its_procedure_resource_and_index() {
     let gpu = tests::gpu();
     let (compiled, paint, fill) = off_by_an_image();
@@ -195,8 +193,7 @@ fn an_index_past_the_end_is_reported_with_its_procedure_resource_and_index() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn the_bound_is_the_bound_buffer_s_real_length() {
     let gpu = tests::gpu();
     let (compiled, paint, _) = off_by_an_image();

@@ -7,6 +7,7 @@
 
 use std::time::Duration;
 
+use gpu_test::gpu_test;
 use scheduler::ExecutorConfig;
 
 #[path = "../../scheduler/examples/quadrature.rs"]
@@ -73,50 +74,42 @@ fn bfs_at(name: &str, workgroups: u32, iteration_budget: Option<u32>) {
     assert_eq!(checked.report.workgroups, workgroups);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn quadrature_one_workgroup() {
     quadrature_at("quadrature_one_workgroup", 1, None);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn quadrature_two_workgroups() {
     quadrature_at("quadrature_two_workgroups", 2, None);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn quadrature_64_workgroups() {
     quadrature_at("quadrature_64_workgroups", 64, None);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn quadrature_with_iteration_budget() {
     quadrature_at("quadrature_with_iteration_budget", 2, Some(4));
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn bfs_one_workgroup() {
     bfs_at("bfs_one_workgroup", 1, None);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn bfs_two_workgroups() {
     bfs_at("bfs_two_workgroups", 2, None);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn bfs_64_workgroups() {
     bfs_at("bfs_64_workgroups", 64, None);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn bfs_with_iteration_budget() {
     bfs_at("bfs_with_iteration_budget", 2, Some(4));
 }
@@ -214,8 +207,7 @@ fn mandelbrot_at(name: &str, workgroups: u32, strategy: scheduler::Strategy) {
     assert_eq!(report.workgroups, workgroups);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn mandelbrot_one_workgroup() {
     mandelbrot_at(
         "mandelbrot_one_workgroup",
@@ -224,8 +216,7 @@ fn mandelbrot_one_workgroup() {
     );
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn mandelbrot_64_workgroups() {
     mandelbrot_at(
         "mandelbrot_64_workgroups",
@@ -234,16 +225,14 @@ fn mandelbrot_64_workgroups() {
     );
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn mandelbrot_rounds() {
     mandelbrot_at("mandelbrot_rounds", 64, scheduler::Strategy::rounds());
 }
 
 /// The example's own checked run (default workgroups), which also counts the
 /// pixels where Mariani–Silver differs from brute force.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn mandelbrot_example_run() {
     let gpu = tests::gpu();
     let view = mandelbrot::View::whole_set(MANDELBROT_SIZE, MANDELBROT_MAX_ITER);

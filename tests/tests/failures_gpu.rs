@@ -3,6 +3,7 @@
 //! lowering the iteration budget itself). On lavapipe in CI, where llvmpipe
 //! caps every invocation's loops at 65,535 iterations in all.
 
+use gpu_test::gpu_test;
 use scheduler::wgpu;
 use scheduler::{
     Atomic, CompileOptions, CompiledGraph, Executor, Graph, Procedure, ProcedureId, Resource,
@@ -10,12 +11,6 @@ use scheduler::{
 };
 use tests::config;
 use tests::graphs::{Node, binary_tree};
-
-/// Whether the adapter caps loops (llvmpipe): only there can a loop limit
-/// happen.
-fn caps_loops(gpu: &scheduler::Gpu) -> bool {
-    scheduler::Quirks::of(&gpu.adapter.get_info()).caps_loops()
-}
 
 /// `Spawn` enqueues four `Spin`s per item; every `Spin` loops 70,000 times,
 /// past llvmpipe's loop budget.
@@ -41,8 +36,7 @@ fn nodes(n: u32) -> Vec<Node> {
     (0..n).map(|id| Node { depth: 0, id }).collect()
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn an_overflow_in_a_run_that_also_hits_the_loop_limit_reports_the_overflow() {
     let gpu = tests::gpu();
     let (compiled, spawn, _) = spin_graph();
@@ -60,7 +54,7 @@ fn an_overflow_in_a_run_that_also_hits_the_loop_limit_reports_the_overflow() {
     };
     assert_eq!(procedure, "Spin");
     assert!(report.procedure_named("Spin").unwrap().dropped > 0);
-    if caps_loops(gpu) {
+    if gpu_test::expect(gpu).loops_capped() {
         assert!(
             also.iter().any(|a| a.contains("loop limit")),
             "the loop limit is named after the overflow: {also:?}"
@@ -73,8 +67,7 @@ fn an_overflow_in_a_run_that_also_hits_the_loop_limit_reports_the_overflow() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_loop_limit_carries_its_report_and_retry_lowers_the_budget() {
     let gpu = tests::gpu();
     let (compiled, _, spin) = spin_graph();
@@ -84,7 +77,7 @@ fn a_loop_limit_carries_its_report_and_retry_lowers_the_budget() {
             Executor::new(&gpu.device, &gpu.queue, &compiled, &config(2, 1024)).unwrap();
         executor.create_buffer("sink", 1).unwrap();
         let first = executor.run_with(strategy, &seeds, &[]);
-        if !caps_loops(gpu) {
+        if !gpu_test::expect(gpu).loops_capped() {
             // No loop budget on this driver: the run simply ends.
             assert_eq!(first.unwrap().procedure(&spin).unwrap().executed, 8);
             continue;
@@ -166,8 +159,7 @@ fn budgeted_executor(gpu: &scheduler::Gpu, compiled: &CompiledGraph) -> Executor
 /// on the first run, 1 on the second): `run_with_retry` treats that as a
 /// loop limit, halves the budget, resets the user's resources and succeeds
 /// on the third attempt with the results of one clean run.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn body_loops_reported_cut_are_retried_with_a_halved_budget() {
     let gpu = tests::gpu();
     let (compiled, count) = counting_graph();
@@ -209,8 +201,7 @@ fn body_loops_reported_cut_are_retried_with_a_halved_budget() {
 
 /// Bodies whose loops are cut in every run: once the attempts are spent the
 /// error is a loop limit that names the bodies' loops, with the attempts.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn body_loops_cut_in_every_attempt_end_in_a_loop_limit_naming_them() {
     let gpu = tests::gpu();
     let (compiled, count) = counting_graph();
@@ -246,8 +237,7 @@ fn body_loops_cut_in_every_attempt_end_in_a_loop_limit_naming_them() {
     );
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn over_seeding_is_grown_by_retry() {
     let gpu = tests::gpu();
     let tree = binary_tree(5);
@@ -292,8 +282,7 @@ fn long_chain() -> (CompiledGraph, ProcedureId<Node>) {
     (graph.compile(&CompileOptions::default()).unwrap(), step)
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_timeout_carries_the_report_of_the_completed_submissions_and_names_the_overflow() {
     let gpu = tests::gpu();
     let (compiled, step) = long_chain();
@@ -334,8 +323,7 @@ fn a_timeout_carries_the_report_of_the_completed_submissions_and_names_the_overf
     );
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn device_limits_are_checked_before_the_run() {
     let gpu = tests::gpu();
     let limits = gpu.device.limits();

@@ -4,6 +4,7 @@
 
 use std::time::Duration;
 
+use gpu_test::gpu_test;
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::{
     Binding, CompileOptions, CompiledGraph, Executor, Graph, Procedure, ProcedureId, Resource,
@@ -239,8 +240,7 @@ fn check_run(
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn reductions_and_broadcasts_match_the_cpu_for_every_thread_count() {
     let gpu = tests::gpu();
     let mut rng = StdRng::seed_from_u64(tests::seed("item_helpers"));

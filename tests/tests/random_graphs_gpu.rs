@@ -29,6 +29,7 @@
 
 use std::time::{Duration, Instant};
 
+use gpu_test::gpu_test;
 use scheduler::{
     Capacities, CompiledGraph, Executor, ExecutorConfig, Policy, RunError, RunReport, Strategy,
 };
@@ -165,8 +166,7 @@ fn count_mismatches(graph: &RandomGraph, expected: &Counts, report: &RunReport) 
     mismatches
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn random_graphs_give_the_cpu_counts() {
     const TEST: &str = "random_graphs_give_the_cpu_counts";
     tests::gpu();
@@ -236,8 +236,7 @@ fn random_graphs_give_the_cpu_counts() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn tiny_queues_give_the_cpu_counts_or_a_full_account_of_the_overflow() {
     const TEST: &str = "tiny_queues_give_the_cpu_counts_or_a_full_account_of_the_overflow";
     tests::gpu();

@@ -7,6 +7,7 @@
 
 use std::time::{Duration, Instant};
 
+use gpu_test::gpu_test;
 use scheduler::{
     Capacities, CompileOptions, Executor, ExecutorConfig, Policy, Retry, RunError, Seeds, Strategy,
 };
@@ -41,8 +42,7 @@ fn strategies() -> [Strategy; 2] {
     [Strategy::Megakernel, Strategy::rounds()]
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn mandelbrot_converges_within_two_extra_attempts() {
     let gpu = tests::gpu();
     let view = mandelbrot::View::whole_set(256, 256);
@@ -126,8 +126,7 @@ fn cases() -> usize {
     tests::random_graph::cases(2)
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn random_graphs_converge_within_two_extra_attempts() {
     const TEST: &str = "random_graphs_converge_within_two_extra_attempts";
     tests::gpu();

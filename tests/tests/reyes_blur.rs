@@ -19,6 +19,7 @@
 //! * invalid motion and lens settings are typed errors.
 
 use glam::Vec3;
+use gpu_test::gpu_test;
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
@@ -47,8 +48,7 @@ fn render_gpu(renderer: &mut GpuRenderer<'_>, scene: &PreparedScene) -> GpuRende
     rendered
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_still_sharp_frame_samples_alike_in_every_mode() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -95,8 +95,7 @@ fn spinning_defocused_teapot() -> Scene {
     scene
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -149,8 +148,7 @@ fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
 
 /// Interleave UVT with 3 x 3 and 4 x 4 tiles (and Adaptive, which uses
 /// them) agrees with the CPU reference, sample counts included.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn larger_interleave_tiles_match_the_cpu_reference() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -276,8 +274,7 @@ fn assert_streak(what: &str, coverage: &[bool], expected: (f32, f32, f32, f32)) 
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_moving_card_streaks_along_its_motion_vector() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -327,8 +324,7 @@ fn gradient_energy(rendered: &GpuRendered, x0: u32, x1: u32, y0: u32, y1: u32) -
     energy
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn depth_of_field_keeps_the_focal_plane_sharp_and_blurs_the_rest() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -394,8 +390,7 @@ fn depth_of_field_keeps_the_focal_plane_sharp_and_blurs_the_rest() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_card_moving_into_view_is_not_culled() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -433,8 +428,7 @@ fn a_card_moving_into_view_is_not_culled() {
 /// UVT, which does a bounded amount of work per micropolygon) renders the
 /// same scene as the CPU reference does. A GPU without the limit renders
 /// the bounding-box frame as the reference does.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_sample_loop_too_long_for_llvmpipe_is_a_typed_error_not_a_partial_image() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -454,7 +448,7 @@ fn a_sample_loop_too_long_for_llvmpipe_is_a_typed_error_not_a_partial_image() {
         "premise: {box_tests} tests per micropolygon"
     );
     let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
-    let on_llvmpipe = scheduler::Quirks::of(&gpu.adapter.get_info()).caps_loops();
+    let on_llvmpipe = gpu_test::expect(gpu).loops_capped();
     match renderer.render(&prepared) {
         Err(reyes::gpu::RenderError::LoopLimit(error)) if on_llvmpipe => {
             eprintln!("{error}");
@@ -527,8 +521,7 @@ fn a_moving_camera_is_the_world_moving_the_other_way() {
     );
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_panning_camera_streaks_still_cards_between_its_two_views() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();

@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 
 use glam::Vec3;
+use gpu_test::gpu_test;
 use image::RgbaImage;
 use reyes::aov::{Aov, grid_colors};
 use reyes::model::{Model, Patch};
@@ -42,8 +43,7 @@ fn with(mut scene: Scene, dicing: Dicing, shading_rate: f32) -> PreparedScene {
 
 /// At every shading rate the GPU dices, shades and samples like the CPU
 /// reference: the same grids of the same sizes, images within 2/255.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn rate_dicing_matches_the_reference_at_every_rate() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -89,8 +89,7 @@ fn rate_dicing_matches_the_reference_at_every_rate() {
 /// here: its counts are printed, not asserted
 /// (`smooth_shading_approaches_the_converged_picture` compares its colours
 /// at the benchmark's 800 x 600).
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn rate_dicing_draws_the_fixed_dicers_pictures() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -254,8 +253,7 @@ fn card_scene() -> (Scene, Vec<Model>) {
 /// closed teapot seen from outside draws nearly what the two-sided one
 /// does, with fewer micropolygons sampled; reversed, it shows its inside.
 /// On the GPU and the CPU alike.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn one_sided_objects_cull_their_back_faces() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -309,8 +307,7 @@ fn one_sided_objects_cull_their_back_faces() {
 /// The AOV pictures: the GPU's grids, depth and normal images equal the
 /// CPU reference's, and the grids picture uses only the palette (each
 /// size's colour and its checker) over the background.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn aov_pictures_match_the_reference() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();

@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use glam::Vec3;
+use gpu_test::gpu_test;
 use reyes::displacement::user_wgsl::UserWgslError;
 use reyes::displacement::{CpuHeight, DisplacementDesc, DisplacementError, HeightSource};
 use reyes::gpu::{GpuRendered, GpuRenderer, RenderError};
@@ -81,8 +82,7 @@ fn pinholes(coverage: &[bool], width: u32, reference: Option<&[bool]>) -> usize 
     count
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn displaced_teapot_matches_the_reference() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -111,8 +111,7 @@ fn displaced_teapot_matches_the_reference() {
 /// both renderers, while nearest-sample mode (which writes one sample per
 /// micropolygon) leaves holes in the same scene, so the pinhole count does
 /// detect holes.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn large_displacement_leaves_no_pinholes() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -198,8 +197,7 @@ fn wall_scene(bound: f32) -> PreparedScene {
 /// draw it (and agree); with a zero bound the bound test culls it, which is
 /// what the bound prevents; with a bound that is too small the renderers
 /// report the grid points that leave it.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn displacement_bound_keeps_surface_displaced_into_view() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -247,8 +245,7 @@ fn displacement_bound_keeps_surface_displaced_into_view() {
 /// A user WGSL function with a Rust twin renders like the twin on the CPU;
 /// a broken function is a typed error, and so is asking the CPU reference
 /// to run one without a twin.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn user_wgsl_displacement() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -305,8 +302,7 @@ fn user_wgsl_displacement() {
 
 /// The largest-micropolygon statistic is present and grows with the
 /// displacement, on both renderers.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn largest_micropolygon_grows_with_displacement() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();

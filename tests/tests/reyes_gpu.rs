@@ -6,6 +6,7 @@
 //! channel by one step.
 
 use glam::Vec3;
+use gpu_test::gpu_test;
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer, RenderError};
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, Rendered};
@@ -37,8 +38,7 @@ fn compare(renderer: &mut GpuRenderer<'_>, scene: &Scene) -> (GpuRendered, Rende
     (gpu, cpu, agreement)
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn teapot_matches_the_reference() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -64,8 +64,7 @@ fn teapot_matches_the_reference() {
     assert_eq!(g.overflow_retries, 0);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn renders_are_deterministic_across_runs_and_workgroup_counts() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -104,8 +103,7 @@ fn renders_are_deterministic_across_runs_and_workgroup_counts() {
 /// the near plane are culled, and those that still straddle it at the
 /// maximum depth are dropped (and counted). The run must finish, match the
 /// reference on what stays visible, and drop a bounded number of pieces.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn eye_inside_the_bounding_box() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -154,8 +152,7 @@ fn eye_inside_the_bounding_box() {
 /// the surface) beside a distant one: the GPU shades as the reference does.
 /// A GPU that took the point light for a distant one (or lost its falloff)
 /// would disagree on most pixels.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn point_lights_match_the_reference() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -201,8 +198,7 @@ fn point_lights_match_the_reference() {
 /// direction instead of the eye point on both sides. The picture must
 /// differ from the perspective one (the projection is applied), and the GPU
 /// must draw what the reference draws.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn orthographic_camera_matches_the_reference() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -228,8 +224,7 @@ fn orthographic_camera_matches_the_reference() {
     );
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn nearest_mode_runs_and_matches() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -244,8 +239,7 @@ fn nearest_mode_runs_and_matches() {
     assert!(a.iou >= 0.98, "coverage IoU {:.5}", a.iou);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn too_large_resolution_is_a_typed_error() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -271,8 +265,7 @@ fn reyes_megakernel_wgsl_snapshot() {
 /// The Rounds strategy renders the same frame as the megakernel, under both
 /// policies: the image does not depend on the order in which items run, and
 /// the per-procedure counts are equal.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn rounds_render_the_same_frame_as_the_megakernel() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();

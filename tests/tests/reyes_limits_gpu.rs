@@ -3,6 +3,7 @@
 //! error gives advice that follows from the frame's configuration.
 
 use glam::Vec3;
+use gpu_test::gpu_test;
 use reyes::gpu::renderer::RENDER_ATTEMPTS;
 use reyes::gpu::{GpuOptions, GpuRendered, LoopLimitHint, RenderError};
 use reyes::model::{Model, Patch};
@@ -94,8 +95,7 @@ fn assert_batches_compose(
     (whole, batched)
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn patches_beyond_the_batch_limit_render_the_unbatched_frame() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -130,8 +130,7 @@ fn patches_beyond_the_batch_limit_render_the_unbatched_frame() {
     agreement(&batched, &cpu).assert_at_least("batched", 0.99, 0.98);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn batches_compose_within_screen_tiles() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -150,8 +149,7 @@ fn batches_compose_within_screen_tiles() {
 /// restored before each retry and the framebuffer's depth test makes a
 /// repeated batch harmless, so the frame and its counters are those of an
 /// unforced render. The grown queues stay for the later batches.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn an_overflow_retried_within_batches_loses_and_doubles_nothing() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -238,7 +236,7 @@ fn loop_limit(
     gpu: &scheduler::Gpu,
     prepared: &PreparedScene,
 ) -> Option<reyes::gpu::LoopLimitError> {
-    let on_llvmpipe = scheduler::Quirks::of(&gpu.adapter.get_info()).caps_loops();
+    let on_llvmpipe = gpu_test::expect(gpu).loops_capped();
     match renderer(gpu, GpuOptions::default()).render(prepared) {
         Err(RenderError::LoopLimit(error)) if on_llvmpipe => {
             eprintln!("{error}");
@@ -269,8 +267,7 @@ fn loop_limit(
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn long_sample_loops_advise_fewer_samples() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -289,8 +286,7 @@ fn long_sample_loops_advise_fewer_samples() {
     assert!(!message.contains("LARGER"), "{message}");
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_small_dice_threshold_is_not_told_to_shrink() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -313,20 +309,15 @@ fn a_small_dice_threshold_is_not_told_to_shrink() {
 /// Issue 19, D6: a chunk count whose megakernel llvmpipe would compile for
 /// minutes (2 chunks: 96 s on a cold shader cache; 8: 324 s) is refused before any
 /// compile, with the most it accepts; other drivers take any count.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
-fn chunk_counts_llvmpipe_compiles_too_slowly_are_refused() {
-    let gpu = tests::gpu();
-    let quirks = scheduler::Quirks::of(&gpu.adapter.get_info());
+#[gpu_test(expect_fail(
+    adapter = "llvmpipe",
+    message = "TooManyChunks { chunks: 8, max: 4 }",
+    reason = "llvmpipe refuses more than 4 chunks per batch: it would compile that megakernel for minutes"
+))]
+fn chunk_counts_llvmpipe_compiles_too_slowly_are_refused(gpu: &scheduler::Gpu) {
     let options = GpuOptions {
-        chunks_per_batch: Some(quirks.max_chunks_per_batch().unwrap_or(4) + 4),
+        chunks_per_batch: Some(8),
         ..GpuOptions::default()
     };
-    let on_llvmpipe = quirks.caps_loops();
-    match reyes::gpu::GpuRenderer::new(gpu, options) {
-        Err(RenderError::TooManyChunks { chunks: 8, max: 4 }) if on_llvmpipe => {}
-        Ok(_) if !on_llvmpipe => {}
-        Err(e) => panic!("unexpected error: {e}"),
-        Ok(_) => panic!("llvmpipe accepted 8 chunks per batch"),
-    }
+    reyes::gpu::GpuRenderer::new(gpu, options).expect("the renderer takes 8 chunks per batch");
 }

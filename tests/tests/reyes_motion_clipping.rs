@@ -12,6 +12,7 @@
 //! reference.
 
 use glam::Vec3;
+use gpu_test::gpu_test;
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, Rendered};
@@ -77,8 +78,7 @@ fn covered(coverage: &[bool]) -> usize {
     coverage.iter().filter(|&&c| c).count()
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_teapot_receding_past_the_far_plane_streaks_while_in_view() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -112,8 +112,7 @@ fn a_teapot_receding_past_the_far_plane_streaks_while_in_view() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_teapot_moving_through_the_eye_streaks_while_in_front_of_it() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();

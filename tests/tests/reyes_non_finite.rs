@@ -2,6 +2,7 @@
 //! counts them by source (displacement, transform, camera) as the CPU
 //! reference does, on one scene per source. Renders are 64 x 48 at 1 spp.
 
+use gpu_test::gpu_test;
 use reyes::displacement::{CpuHeight, DisplacementDesc, HeightSource};
 use reyes::gpu::GpuRenderer;
 use reyes::prepare::PreparedScene;
@@ -71,8 +72,7 @@ fn nan_or_infinity(u: f32, v: f32) -> f32 {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_user_function_returning_nan_or_infinity_counts_as_displacement() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -97,8 +97,7 @@ fn a_user_function_returning_nan_or_infinity_counts_as_displacement() {
 
 /// Sines stay within their scale, so the points displaced by 1e38 are
 /// finite; a narrow field of view projects some beyond `f32`.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_displacement_beyond_the_projection_counts_as_camera() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -120,8 +119,7 @@ fn a_displacement_beyond_the_projection_counts_as_camera() {
 /// A valid scene (its control points are finite at close) whose displaced
 /// points the motion scales beyond `f32`: the GPU's `motion_close` loses
 /// them, so the transform is their source.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_motion_beyond_f32_counts_as_transform() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();

@@ -9,6 +9,7 @@
 use std::time::Duration;
 
 use glam::Vec3;
+use gpu_test::gpu_test;
 use reyes::gpu::renderer::{TILE_ALIGN, plan_tiles};
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer, RenderError};
 use reyes::prepare::PreparedScene;
@@ -53,8 +54,7 @@ fn assert_agrees(what: &str, a: &Agreement) {
     a.assert_at_least(what, 0.995, 0.99);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn tiled_frames_match_the_untiled_frame() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -116,8 +116,7 @@ fn tiled_frames_match_the_untiled_frame() {
 /// and their permutations follow absolute pixels), and jitter is
 /// hashed from them too: a spinning, defocused, jittered teapot renders
 /// alike tiled and untiled in every mode.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn tiled_frames_with_motion_and_depth_of_field_match_the_untiled_frame() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -167,8 +166,7 @@ fn tiled_frames_with_motion_and_depth_of_field_match_the_untiled_frame() {
 /// 800 x 600 at 64 spp needs a 234 MiB sample framebuffer, more than
 /// lavapipe's 128 MiB per buffer: it renders in tiles and agrees with the
 /// CPU reference.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_frame_over_the_device_limit_renders_in_tiles() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
@@ -201,8 +199,7 @@ fn a_frame_over_the_device_limit_renders_in_tiles() {
     assert_eq!(gpu_frame.overflow_retries, 0);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn frames_that_tiling_cannot_fix_are_too_large() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();

@@ -52,6 +52,7 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use glam::{Vec2, Vec3, Vec4};
+use gpu_test::gpu_test;
 use reyes::gpu::GpuRenderer;
 use reyes::model::Model;
 use reyes::params::{DEFAULT_DICE_THRESHOLD, NEAR_EPS};
@@ -437,8 +438,7 @@ fn dump(image: &image::RgbaImage, cracks: &[(u32, u32)], path: &std::path::Path)
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn rate_dicing_is_watertight() {
     let gpu = tests::gpu();
     let shots = shots();
@@ -481,8 +481,7 @@ fn rate_dicing_is_watertight() {
 /// it shows over 100 cracks in all, most at rates 16 and 64 on the grazing
 /// and pole views, and some in every scene; the test only asks for one, on
 /// each renderer.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn fixed_dicing_cracks_on_the_same_scenes() {
     let gpu = tests::gpu();
     let shots = shots();

@@ -10,6 +10,7 @@
 
 use std::path::PathBuf;
 
+use gpu_test::gpu_test;
 use reyes::reference;
 use reyes::rib::RibScene;
 use tests::reyes_support::{agreement, gpu_turn, patient_renderer};
@@ -30,8 +31,7 @@ const SCENES: [(&str, f64, f64); 6] = [
     ("camera_motion", 0.99, 0.98),
 ];
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn golden_rib_scenes_match_the_reference_on_the_gpu() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();

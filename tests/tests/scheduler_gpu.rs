@@ -3,6 +3,7 @@
 
 use std::time::Duration;
 
+use gpu_test::gpu_test;
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::{
     Binding, CompileOptions, CompiledGraph, Executor, ExecutorConfig, Gpu, Graph, Policy,
@@ -48,8 +49,7 @@ fn run(
     Executor::new(&gpu.device, &gpu.queue, compiled, &config)?.run(seeds, bindings)
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn binary_tree_counts_are_exact_for_any_workgroup_count() {
     let gpu = tests::gpu();
     let mut rng = StdRng::seed_from_u64(tests::seed("binary_tree_counts"));
@@ -82,8 +82,7 @@ fn binary_tree_counts_are_exact_for_any_workgroup_count() {
 
 /// Barriers in a body on a partially filled last batch: every thread reaches
 /// the barrier, with or without an item, and scratch is per item.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn scratch_and_barriers_with_a_partial_last_batch() {
     let gpu = tests::gpu();
     let mut rng = StdRng::seed_from_u64(tests::seed("scratch_and_barriers"));
@@ -132,8 +131,7 @@ fn scratch_and_barriers_with_a_partial_last_batch() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn cycles_across_procedures_match_a_cpu_simulation_under_both_policies() {
     let gpu = tests::gpu();
     let mut rng = StdRng::seed_from_u64(tests::seed("cycles"));
@@ -175,8 +173,7 @@ fn cycles_across_procedures_match_a_cpu_simulation_under_both_policies() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn iteration_budget_spreads_the_run_over_dispatches() {
     let gpu = tests::gpu();
     let tree = binary_tree(10);
@@ -203,8 +200,7 @@ fn iteration_budget_spreads_the_run_over_dispatches() {
 /// of 256 items, here: capped at 64 batches alone, it would run them all in
 /// one invocation, and its loops would pass llvmpipe's 65,535 iterations
 /// (1,024 x 150 hash rounds). With the cap, an invocation runs 256 chunks.
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn many_chunks_per_batch_stay_within_the_default_loop_budget() {
     let gpu = tests::gpu();
     let depth = 17;
@@ -240,8 +236,7 @@ fn many_chunks_per_batch_stay_within_the_default_loop_budget() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn overflow_is_a_typed_error_and_the_run_still_ends() {
     let gpu = tests::gpu();
     let tree = binary_tree(12);
@@ -284,8 +279,7 @@ fn overflow_is_a_typed_error_and_the_run_still_ends() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn exceeding_the_declared_fan_out_is_reported() {
     let gpu = tests::gpu();
     let mut graph = Graph::new("greedy");
@@ -318,8 +312,7 @@ fn exceeding_the_declared_fan_out_is_reported() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn seeding_and_binding_errors_are_typed() {
     let gpu = tests::gpu();
     let graph = ping_pong(3);
@@ -359,8 +352,7 @@ fn seeding_and_binding_errors_are_typed() {
     );
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn too_large_configurations_are_refused_before_allocating() {
     let gpu = tests::gpu();
     let compiled = binary_tree(3).compile(&CompileOptions::default()).unwrap();
@@ -374,8 +366,7 @@ fn too_large_configurations_are_refused_before_allocating() {
     assert_eq!(plan.queue_bytes, (1u64 << 31) * 16);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn reports_round_trip_through_json_and_print_a_table() {
     let gpu = tests::gpu();
     let tree = binary_tree(5);
@@ -397,8 +388,7 @@ fn reports_round_trip_through_json_and_print_a_table() {
     );
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_run_past_its_timeout_returns_a_typed_error() {
     tests::gpu();
     // Its own device: the slow kernel keeps running after the timeout.
@@ -438,8 +428,7 @@ if (valid && h == 7u) {
     let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_timeout_of_any_length_is_accepted() {
     let gpu = tests::gpu();
     // `start + timeout` overflowed `Instant` for `Duration::MAX`; the longest

@@ -4,6 +4,7 @@
 use std::cell::Cell;
 use std::time::Duration;
 
+use gpu_test::gpu_test;
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::{
     Binding, CompileOptions, Executor, Policy, Retry, RunError, Seeds, Strategy,
@@ -22,8 +23,7 @@ fn strategies() -> [Strategy; 3] {
     ]
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn rounds_run_one_tree_level_per_round_with_exact_counts() {
     let gpu = tests::gpu();
     let depth = StdRng::seed_from_u64(tests::seed("rounds_tree")).random_range(6..=12);
@@ -53,8 +53,7 @@ fn rounds_run_one_tree_level_per_round_with_exact_counts() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn both_strategies_and_policies_give_the_cpu_counts_on_a_cycle() {
     let gpu = tests::gpu();
     let mut rng = StdRng::seed_from_u64(tests::seed("strategies_cycle"));
@@ -92,8 +91,7 @@ fn both_strategies_and_policies_give_the_cpu_counts_on_a_cycle() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn rounds_keep_barriers_and_outputs_of_the_megakernel() {
     let gpu = tests::gpu();
     let count = StdRng::seed_from_u64(tests::seed("rounds_scratch")).random_range(65..3000u32) | 1;
@@ -130,8 +128,7 @@ fn rounds_keep_barriers_and_outputs_of_the_megakernel() {
     assert_eq!(outputs[0], outputs[1]);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn rounds_overflow_is_typed_and_loses_nothing_silently() {
     let gpu = tests::gpu();
     let tree = binary_tree(10);
@@ -160,8 +157,7 @@ fn rounds_overflow_is_typed_and_loses_nothing_silently() {
     }
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn retry_grows_the_queues_and_matches_a_large_enough_run() {
     let gpu = tests::gpu();
     let graph = binary_tree(9);

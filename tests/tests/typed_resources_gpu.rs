@@ -3,6 +3,7 @@
 //! random inputs; buffers below a declared minimum are refused before the
 //! run, and misuse gives typed errors.
 
+use gpu_test::gpu_test;
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::{
     Atomic, Binding, CompileOptions, CompiledGraph, Executor, Graph, Procedure, ProcedureId,
@@ -51,8 +52,7 @@ fn untyped_buffer(gpu: &scheduler::Gpu) -> wgpu::Buffer {
     })
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn typed_resources_are_created_written_cleared_and_read_back() {
     let gpu = tests::gpu();
     let mut rng = StdRng::seed_from_u64(tests::seed("typed_resources"));
@@ -106,8 +106,7 @@ fn typed_resources_are_created_written_cleared_and_read_back() {
     assert_eq!((params[0].scale, params[0].buckets), (scale, 16));
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn a_buffer_below_the_declared_minimum_is_refused_before_the_run() {
     let gpu = tests::gpu();
     let (compiled, job) = graph(64);
@@ -192,8 +191,7 @@ fn a_buffer_below_the_declared_minimum_is_refused_before_the_run() {
     assert_eq!(executor.read::<u32>("sums").unwrap(), vec![0; 16]);
 }
 
-#[test]
-#[cfg_attr(skip_gpu_tests, ignore = "SKIP_GPU_TESTS=1")]
+#[gpu_test]
 fn misuse_of_typed_buffers_gives_typed_errors() {
     let gpu = tests::gpu();
     let (compiled, job) = graph(4);
