@@ -11,11 +11,14 @@
 //! with the 1-based line number; text they quote is cut to
 //! [`crate::input::EXCERPT_CHARS`] characters. Use
 //! [`crate::model::Model::load`] to read a file by path (through
-//! [`crate::input`]: regular files only, at most 1 GiB by default).
+//! [`crate::input`]: regular files only, at most 1 GiB by default); it is
+//! defined here, in `sources`, so that [`crate::model`] imports nothing from
+//! this module.
 
 pub mod bez;
 pub mod bpt;
 mod error;
 mod lines;
+mod sources;
 
 pub use error::LoadError;

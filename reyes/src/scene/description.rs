@@ -1,0 +1,240 @@
+//! The scene itself: [`Scene`], its image size, and the constructors that
+//! build one from a model and load its objects' models.
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use crate::aov::Aov;
+use crate::model::Model;
+use crate::modes::{Dicing, Sampling, ShadingInterpolation};
+#[cfg(doc)]
+use crate::params::VALID_SPP;
+use crate::params::{DEFAULT_DICE_THRESHOLD, DEFAULT_MAX_SPLIT_DEPTH, DEFAULT_SHADING_RATE};
+
+use super::defaults::{
+    default_ambient, default_background, default_color, default_dice_threshold,
+    default_interleave_tile, default_lights, default_max_split_depth, default_one,
+    default_shading_rate, default_spp,
+};
+use super::framing::box_corners;
+use super::{
+    CameraDesc, CameraPose, Lens, Light, ModelSource, SceneError, SceneObject, Specular, Transform,
+};
+
+/// The model name that selects the embedded teapot instead of a file.
+pub const TEAPOT_MODEL: &str = "teapot";
+
+/// Image size in pixels (`[resolution]`, default 800 x 600).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Resolution {
+    /// Width in pixels (> 0).
+    pub width: u32,
+    /// Height in pixels (> 0).
+    pub height: u32,
+}
+
+impl Default for Resolution {
+    fn default() -> Self {
+        Resolution {
+            width: 800,
+            height: 600,
+        }
+    }
+}
+
+/// A scene: what to render and how. See the [module documentation](super) for
+/// the TOML format.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Samples per pixel (default 4); one of [`VALID_SPP`].
+    #[serde(default = "default_spp")]
+    pub spp: u32,
+    /// Sampling mode (default bbox).
+    #[serde(default)]
+    pub sampling: Sampling,
+    /// Side, in pixels, of Interleave UVT's tiles (default
+    /// [`crate::uvt::DEFAULT_INTERLEAVE_TILE`]); one of
+    /// [`crate::uvt::INTERLEAVE_TILES`]. Interleave UVT and Adaptive use it.
+    #[serde(default = "default_interleave_tile")]
+    pub interleave_tile: u32,
+    /// Jitter samples within their strata (default false).
+    #[serde(default)]
+    pub jitter: bool,
+    /// Fraction of the objects' open-to-close motion that happens while the
+    /// shutter is open, in [0, 1] (default 1): the objects are seen from
+    /// `transform` to the transform interpolated at this fraction.
+    #[serde(default = "default_one")]
+    pub shutter: f32,
+    /// The lens (default: a pinhole).
+    #[serde(default)]
+    pub lens: Lens,
+    /// Linear RGB background (default `[0.05, 0.05, 0.07]`).
+    #[serde(default = "default_background")]
+    pub background: Vec3,
+    /// Ambient term (default 0.1).
+    #[serde(default = "default_ambient")]
+    pub ambient: f32,
+    /// How pieces are diced (default [`Dicing::Rate`]).
+    #[serde(default)]
+    pub dicing: Dicing,
+    /// What the image shows (default the shaded surface; see [`Aov`]).
+    #[serde(default)]
+    pub aov: Aov,
+    /// How colour varies over a micropolygon (default
+    /// [`ShadingInterpolation::Smooth`]).
+    #[serde(default)]
+    pub shading_interpolation: ShadingInterpolation,
+    /// The target area of a micropolygon in pixels, RenderMan's
+    /// `ShadingRate` (default [`DEFAULT_SHADING_RATE`]); used by
+    /// [`Dicing::Rate`].
+    #[serde(default = "default_shading_rate")]
+    pub shading_rate: f32,
+    /// Dice threshold in pixels of [`Dicing::Fixed`] (default
+    /// [`DEFAULT_DICE_THRESHOLD`]).
+    #[serde(default = "default_dice_threshold")]
+    pub dice_threshold: f32,
+    /// Maximum split depth (default [`DEFAULT_MAX_SPLIT_DEPTH`]).
+    #[serde(default = "default_max_split_depth")]
+    pub max_split_depth: u32,
+    /// Image size (default 800 x 600).
+    #[serde(default)]
+    pub resolution: Resolution,
+    /// The camera; `None` frames the objects automatically.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<CameraDesc>,
+    /// The camera at shutter close (default: the camera does not move).
+    /// Needs a `[camera]`: the view moves from `[camera]` to this pose, the
+    /// eye linearly and the orientation by slerp (the shorter way), over
+    /// the same `shutter` fraction as the objects.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera_close: Option<CameraPose>,
+    /// Specular term.
+    #[serde(default)]
+    pub specular: Specular,
+    /// The objects (default none).
+    #[serde(default)]
+    pub objects: Vec<SceneObject>,
+    /// The lights (default: one [`Light::default`]; write `lights = []` for none).
+    #[serde(default = "default_lights")]
+    pub lights: Vec<Light>,
+    /// Directory against which relative model paths are resolved: the scene
+    /// file's directory for [`Scene::load`], `None` (the current directory)
+    /// otherwise. Not part of the TOML.
+    #[serde(skip)]
+    pub base_dir: Option<PathBuf>,
+}
+
+impl Default for Scene {
+    /// A scene with every default and no objects.
+    fn default() -> Self {
+        Scene {
+            spp: default_spp(),
+            sampling: Sampling::default(),
+            interleave_tile: default_interleave_tile(),
+            jitter: false,
+            shutter: 1.0,
+            lens: Lens::default(),
+            background: default_background(),
+            ambient: default_ambient(),
+            dicing: Dicing::default(),
+            aov: Aov::default(),
+            shading_interpolation: ShadingInterpolation::default(),
+            shading_rate: DEFAULT_SHADING_RATE,
+            dice_threshold: DEFAULT_DICE_THRESHOLD,
+            max_split_depth: DEFAULT_MAX_SPLIT_DEPTH,
+            resolution: Resolution::default(),
+            camera: None,
+            camera_close: None,
+            specular: Specular::default(),
+            objects: Vec::new(),
+            lights: default_lights(),
+            base_dir: None,
+        }
+    }
+}
+
+impl Scene {
+    /// The default scene: the embedded teapot, 800 x 600, spp 4, framed from
+    /// the front, a little to the right of the spout and above.
+    pub fn default_teapot() -> Scene {
+        let teapot = Model::teapot();
+        let mut scene = Scene::for_model(TEAPOT_MODEL, &teapot);
+        scene.objects[0].color = Vec3::new(0.80, 0.36, 0.18);
+        scene
+    }
+
+    /// A scene with one object, `model_name` (a path, or `"teapot"`), using
+    /// `model` (already loaded) to frame the camera around it
+    /// ([`CameraDesc::framing_points`] over its control points): z up, eye in
+    /// front of and above the model, the whole model in view with a margin; one light from over the camera's left shoulder. Other fields
+    /// are defaults.
+    ///
+    /// A model that cannot be framed (its bounds too large or too small for
+    /// `f32` view math) gets no camera and the default light: preparing the
+    /// scene then reports why automatic framing fails
+    /// ([`SceneError::Framing`]), naming the model's bounds.
+    pub fn for_model(model_name: impl Into<String>, model: &Model) -> Scene {
+        let resolution = Resolution::default();
+        let (lo, hi) = model.bounds();
+        let corners = box_corners(lo, hi);
+        let camera = CameraDesc::try_framing_points(
+            corners,
+            resolution.width as f32 / resolution.height as f32,
+        )
+        .ok();
+        let light = match &camera {
+            Some(camera) => Light {
+                direction: camera.shoulder_light_direction(),
+                ..Light::default()
+            },
+            None => Light::default(),
+        };
+        Scene {
+            resolution,
+            camera,
+            objects: vec![SceneObject {
+                model: model_name.into(),
+                transform: Transform::default(),
+                color: default_color(),
+                displacement: None,
+                transform_close: None,
+                sides: 2,
+                reverse_orientation: false,
+            }],
+            lights: vec![light],
+            ..Scene::default()
+        }
+    }
+
+    /// Where object `object`'s model comes from.
+    pub fn model_source(&self, object: &SceneObject) -> ModelSource {
+        if object.model == TEAPOT_MODEL {
+            return ModelSource::Teapot;
+        }
+        let path = Path::new(&object.model);
+        match &self.base_dir {
+            Some(dir) if path.is_relative() => ModelSource::File(dir.join(path)),
+            _ => ModelSource::File(path.to_path_buf()),
+        }
+    }
+
+    /// Loads every object's model, in object order.
+    pub fn load_models(&self) -> Result<Vec<Model>, SceneError> {
+        self.objects
+            .iter()
+            .enumerate()
+            .map(|(index, object)| match self.model_source(object) {
+                ModelSource::Teapot => Ok(Model::teapot()),
+                ModelSource::File(path) => Model::load(&path).map_err(|source| SceneError::Model {
+                    index,
+                    model: object.model.clone(),
+                    source,
+                }),
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,129 @@
+//! Objects as written: their model, placement and appearance.
+
+use std::path::PathBuf;
+
+use glam::{Mat4, Quat, Vec3};
+use serde::{Deserialize, Serialize};
+
+use crate::displacement::DisplacementDesc;
+#[cfg(doc)]
+use crate::model::Model;
+
+use super::defaults::{default_color, default_sides};
+
+/// A uniform or per-axis scale.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Scale {
+    /// The same factor on every axis: `scale = 2.0`.
+    Uniform(f32),
+    /// One factor per axis: `scale = [1.0, 1.0, 2.0]`.
+    PerAxis(Vec3),
+}
+
+impl Default for Scale {
+    fn default() -> Self {
+        Scale::Uniform(1.0)
+    }
+}
+
+impl Scale {
+    /// The per-axis factors.
+    pub fn to_vec3(self) -> Vec3 {
+        match self {
+            Scale::Uniform(s) => Vec3::splat(s),
+            Scale::PerAxis(v) => v,
+        }
+    }
+}
+
+/// An object's placement (`transform`): scale, then rotate about x, y, z
+/// (in that order, degrees), then translate.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Transform {
+    /// Translation (default zero).
+    pub translate: Vec3,
+    /// Euler angles in degrees, applied about x, then y, then z (default zero).
+    pub rotate_degrees: Vec3,
+    /// Scale (default 1).
+    pub scale: Scale,
+}
+
+impl Transform {
+    /// The rotation `Rz * Ry * Rx` as a quaternion.
+    pub fn rotation(&self) -> Quat {
+        let r = self.rotate_degrees;
+        Quat::from_rotation_z(r.z.to_radians())
+            * Quat::from_rotation_y(r.y.to_radians())
+            * Quat::from_rotation_x(r.x.to_radians())
+    }
+
+    /// The placement a fraction `t` of the way from `self` to `other`:
+    /// translation and scale interpolated linearly, rotation by slerp (the
+    /// shorter way, so rotations of less than 180 degrees between the two).
+    /// Interpolating the matrices instead would shrink a spinning object.
+    /// `t = 0` gives exactly [`Transform::matrix`].
+    pub fn interpolate(&self, other: &Transform, t: f32) -> Mat4 {
+        if t == 0.0 {
+            return self.matrix();
+        }
+        let translate = self.translate.lerp(other.translate, t);
+        let scale = self.scale.to_vec3().lerp(other.scale.to_vec3(), t);
+        let rotation = self.rotation().slerp(other.rotation(), t);
+        Mat4::from_scale_rotation_translation(scale, rotation, translate)
+    }
+
+    /// The model-to-world matrix `T * Rz * Ry * Rx * S`.
+    pub fn matrix(&self) -> Mat4 {
+        let r = self.rotate_degrees;
+        Mat4::from_translation(self.translate)
+            * Mat4::from_rotation_z(r.z.to_radians())
+            * Mat4::from_rotation_y(r.y.to_radians())
+            * Mat4::from_rotation_x(r.x.to_radians())
+            * Mat4::from_scale(self.scale.to_vec3())
+    }
+}
+
+/// One object (`[[objects]]`): a model, its placement and its colour.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneObject {
+    /// `"teapot"` for the embedded teapot, or a `.bpt`/`.bez` path (relative
+    /// paths are resolved against the scene file's directory).
+    pub model: String,
+    /// Placement (default identity).
+    #[serde(default)]
+    pub transform: Transform,
+    /// Linear RGB albedo (default 0.8 grey).
+    #[serde(default = "default_color")]
+    pub color: Vec3,
+    /// Displacement mapping (default none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement: Option<DisplacementDesc>,
+    /// Placement at shutter close (default: `transform`, not moving). The
+    /// object moves from `transform` to this one, interpolated as
+    /// translation, rotation (slerp) and scale.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform_close: Option<Transform>,
+    /// RenderMan's `Sides`: 2 (default) draws both faces; 1 draws only the
+    /// front, where `dP/du x dP/dv` points towards the eye (see
+    /// `reverse_orientation`): conservatively back-facing input patches are
+    /// culled in Bound, back-facing micropolygons when sampled.
+    #[serde(default = "default_sides")]
+    pub sides: u8,
+    /// RenderMan's `ReverseOrientation`: the front is the other side
+    /// (default false). Patch parametrizations are not consistent between
+    /// models.
+    #[serde(default)]
+    pub reverse_orientation: bool,
+}
+
+/// Where an object's model comes from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ModelSource {
+    /// The embedded teapot ([`Model::teapot`]).
+    Teapot,
+    /// A model file.
+    File(PathBuf),
+}

@@ -1,0 +1,200 @@
+//! [`UvtTables`]: the time/lens tables of one sample count and Interleave
+//! tile side, built on the host, and the lookups both renderers make in
+//! them.
+
+use glam::Vec2;
+
+use crate::sampling::{grid_size, hash};
+
+use super::tuples::{interleave_tuples, permutation, stratified_tuples, unit};
+use super::{
+    INTERLEAVE_PERIOD, INTERLEAVE_PERMUTATIONS, INTERLEAVE_TILES, PERMUTATION_CHANNEL, PixelTuples,
+    TABLE_SIDE, TimeLens, concentric_disk, lens_stratum_box,
+};
+
+/// The time/lens tables of one sample count and Interleave tile side.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UvtTables {
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Side, in pixels, of Interleave UVT's tiles (`K`).
+    pub tile: u32,
+    /// Simple UVT: tuple of sample `s` of every pixel.
+    pub simple: Vec<TimeLens>,
+    /// Interleave UVT: the `spp * K^2` tuples of a tile.
+    pub interleave: Vec<TimeLens>,
+    /// Interleave UVT: `inverse[p * N + n]` is the sample of a tile (with
+    /// permutation `p`) that carries tuple `n`.
+    pub inverse: Vec<u32>,
+    /// Interleave UVT: `pixel_slot[(y % PERIOD) * PERIOD + x % PERIOD]` is
+    /// the slot whose tuples pixel `(x, y)` takes, for `PERIOD` =
+    /// [`INTERLEAVE_PERIOD`].
+    pub pixel_slot: Vec<u32>,
+    /// Interleave UVT: `slot_sample[q * spp + s]` is the sample index, in its
+    /// pixel, of slot `q`'s tuple in time stratum `s` (tuple `s * K^2 + q`).
+    pub slot_sample: Vec<u32>,
+    /// The inverse of `slot_sample`: `slot_stratum[q * spp + i]` is the time
+    /// stratum of the tuple that sample `i` of slot `q`'s pixel carries.
+    pub slot_stratum: Vec<u32>,
+    /// The UV-T pairing: `pairing[i]` is the lens stratum (`row * k + col`)
+    /// of every pixel's sample in time stratum `i`.
+    pub pairing: Vec<u32>,
+    /// INTERVAL: the box `[lo, hi]` on the unit disk of the lens positions
+    /// of the samples in time stratum `i` (lens stratum `pairing[i]`).
+    pub interval_lens: Vec<[Vec2; 2]>,
+    /// Per-pixel table: entry `(py * TABLE_SIDE + px) * spp + s` is sample
+    /// `s` of table pixel `(px, py)`.
+    pub pixel: Vec<TimeLens>,
+    /// Per-pixel table: which sample of the pixel has its time in stratum
+    /// `s` (same indexing as `pixel`).
+    pub sample_in_stratum: Vec<u32>,
+}
+
+impl UvtTables {
+    /// Builds the tables for `spp` (a perfect square) samples per pixel and
+    /// Interleave tiles of `tile` pixels a side (one of [`INTERLEAVE_TILES`]).
+    pub fn new(spp: u32, tile: u32) -> UvtTables {
+        debug_assert!(INTERLEAVE_TILES.contains(&tile), "Interleave tile {tile}");
+        let k = grid_size(spp);
+        let slots = tile * tile;
+        let tuples = spp * slots;
+        // Tuple n = s * K^2 + q belongs to pixel slot q; its sample index in
+        // the pixel is a fixed per-slot permutation of s, so that a sample's
+        // screen stratum is not tied to its time stratum.
+        let slot_sample: Vec<u32> = (0..slots)
+            .flat_map(|q| permutation(spp, [q, 1, 5]))
+            .collect();
+        let mut slot_stratum = vec![0; slot_sample.len()];
+        for (i, &sample) in slot_sample.iter().enumerate() {
+            // Entry i is slot i / spp's sample of stratum i % spp.
+            slot_stratum[i - i % spp as usize + sample as usize] = i as u32 % spp;
+        }
+        let mut inverse = Vec::with_capacity((INTERLEAVE_PERMUTATIONS * tuples) as usize);
+        let mut slot_of_pixel = vec![0; (INTERLEAVE_PERMUTATIONS * slots) as usize];
+        for p in 0..INTERLEAVE_PERMUTATIONS {
+            // Only the pixel offsets are permuted: each pixel keeps one
+            // slot's stratified tuples.
+            let pixel_of_slot = permutation(slots, [p, 1, 1]);
+            for (q, &pixel) in pixel_of_slot.iter().enumerate() {
+                slot_of_pixel[(p * slots + pixel) as usize] = q as u32;
+            }
+            for s in 0..spp {
+                for q in 0..slots {
+                    inverse.push(
+                        pixel_of_slot[q as usize] * spp + slot_sample[(q * spp + s) as usize],
+                    );
+                }
+            }
+        }
+        let pixel_slot = (0..INTERLEAVE_PERIOD * INTERLEAVE_PERIOD)
+            .map(|i| {
+                let (x, y) = (i % INTERLEAVE_PERIOD, i / INTERLEAVE_PERIOD);
+                let p = Self::tile_permutation(x / tile, y / tile, tile);
+                slot_of_pixel[(p * slots + (y % tile) * tile + x % tile) as usize]
+            })
+            .collect();
+        let pairing = permutation(spp, [0, 0, 8]);
+        let interval_lens = pairing
+            .iter()
+            .map(|&lens| lens_stratum_box(lens % k, lens / k, k))
+            .collect();
+        let mut pixel = Vec::with_capacity((TABLE_SIDE * TABLE_SIDE * spp) as usize);
+        let mut sample_in_stratum = Vec::with_capacity(pixel.capacity());
+        for py in 0..TABLE_SIDE {
+            for px in 0..TABLE_SIDE {
+                let times = permutation(spp, [px, py, 2]);
+                let mut inverse_times = vec![0; spp as usize];
+                for s in 0..spp {
+                    let stratum = times[s as usize];
+                    inverse_times[stratum as usize] = s;
+                    let lens = pairing[stratum as usize];
+                    let jitter = |c| unit(hash(px, py, s, c));
+                    pixel.push(TimeLens {
+                        t: (stratum as f32 + jitter(2)) / spp as f32,
+                        lens: concentric_disk(
+                            ((lens % k) as f32 + jitter(3)) / k as f32,
+                            ((lens / k) as f32 + jitter(4)) / k as f32,
+                        ),
+                    });
+                }
+                sample_in_stratum.extend(inverse_times);
+            }
+        }
+        UvtTables {
+            spp,
+            tile,
+            simple: stratified_tuples(k, 5),
+            interleave: interleave_tuples(k, tile, &pairing),
+            inverse,
+            pixel_slot,
+            slot_sample,
+            slot_stratum,
+            pairing,
+            interval_lens,
+            pixel,
+            sample_in_stratum,
+        }
+    }
+
+    /// Number of Interleave UVT tuples (`spp * K^2`).
+    pub fn interleave_tuples(&self) -> u32 {
+        self.interleave.len() as u32
+    }
+
+    /// Index of sample `s` of screen pixel `(x, y)` in the per-pixel table.
+    pub fn pixel_index(&self, x: u32, y: u32, s: u32) -> usize {
+        (((y % TABLE_SIDE) * TABLE_SIDE + x % TABLE_SIDE) * self.spp + s) as usize
+    }
+
+    /// The permutation tile `(tx, ty)` of Interleave UVT with tiles of
+    /// `tile` pixels a side uses (tiles counted in absolute pixel
+    /// coordinates; the choice repeats every [`INTERLEAVE_PERIOD`] pixels).
+    pub fn tile_permutation(tx: u32, ty: u32, tile: u32) -> u32 {
+        let period = INTERLEAVE_PERIOD / tile;
+        hash(tx % period, ty % period, 0, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS
+    }
+
+    /// The sample of tile `(tx, ty)` that carries Interleave tuple `n`: its
+    /// pixel and its sample index in that pixel.
+    pub fn interleave_sample(&self, tx: u32, ty: u32, n: u32) -> (u32, u32, u32) {
+        let p = Self::tile_permutation(tx, ty, self.tile);
+        let j = self.inverse[(p * self.interleave_tuples() + n) as usize];
+        let q = j / self.spp;
+        (
+            tx * self.tile + q % self.tile,
+            ty * self.tile + q / self.tile,
+            j % self.spp,
+        )
+    }
+
+    /// The Interleave slot of pixel `(x, y)`: the slot whose tuples its
+    /// tile gives it.
+    pub fn interleave_slot(&self, x: u32, y: u32) -> u32 {
+        let period = INTERLEAVE_PERIOD;
+        self.pixel_slot[((y % period) * period + x % period) as usize]
+    }
+
+    /// The time and lens of sample `s` of pixel `(x, y)` for the bounding
+    /// box and INTERVAL.
+    pub fn pixel_tuple(&self, tuples: PixelTuples, x: u32, y: u32, s: u32) -> TimeLens {
+        match tuples {
+            PixelTuples::Table => self.pixel[self.pixel_index(x, y, s)],
+            PixelTuples::Interleave => {
+                let q = self.interleave_slot(x, y);
+                let stratum = self.slot_stratum[(q * self.spp + s) as usize];
+                self.interleave[(stratum * self.tile * self.tile + q) as usize]
+            }
+        }
+    }
+
+    /// The sample of pixel `(x, y)` whose time lies in stratum `i`, which
+    /// INTERVAL tests for time interval `i`.
+    pub fn pixel_sample_in_stratum(&self, tuples: PixelTuples, x: u32, y: u32, i: u32) -> u32 {
+        match tuples {
+            PixelTuples::Table => self.sample_in_stratum[self.pixel_index(x, y, i)],
+            PixelTuples::Interleave => {
+                self.slot_sample[(self.interleave_slot(x, y) * self.spp + i) as usize]
+            }
+        }
+    }
+}
