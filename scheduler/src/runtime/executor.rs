@@ -4,8 +4,8 @@
 use std::time::{Duration, Instant};
 
 use crate::codegen::bindings::{RESOURCE_GROUP, SCHEDULER_GROUP, resource_bindings, resource_kind};
-use crate::codegen::generate::{PREPARE_ENTRY_POINT, round_entry_point};
-use crate::compile::plan::control;
+use crate::naming::{PREPARE_ENTRY_POINT, round_entry_point};
+use crate::plan::control;
 use crate::readback::{LONGEST_WAIT, map_read};
 use crate::runtime::config::{DEFAULT_WORKGROUPS, ExecutorConfig};
 use crate::runtime::resources::OwnedBuffers;
@@ -525,7 +525,7 @@ fn procedure_pipeline(
 /// each round. Every round runs only the items queued before it started, so
 /// the order changes neither the counts nor the high-water marks, only the
 /// order in which bodies' writes land.
-fn round_order(plan: &crate::compile::plan::Plan, round: u32) -> Vec<usize> {
+fn round_order(plan: &crate::plan::Plan, round: u32) -> Vec<usize> {
     let n = plan.scan_order.len();
     let shift = match plan.policy {
         crate::Policy::Priority => 0,
