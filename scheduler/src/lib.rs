@@ -125,14 +125,13 @@ mod naming;
 mod options;
 mod plan;
 mod quirks;
-pub mod readback;
 mod resource;
 mod runtime;
 
 pub use adapter::{DeviceRequest, Gpu};
 pub use compile::CompiledGraph;
 pub use constant::ConstantValue;
-pub use error::{CompileError, DeviceError, RunError, SourceOrigin};
+pub use error::{CompileError, DeviceError, SourceOrigin};
 pub use graph::{Connection, DEFAULT_PRIORITY, Graph, Procedure};
 pub use handle::{ProcedureId, Untyped};
 pub use item::{Item, ItemType, WgslStructs, WgslType, layout as wgsl_layout};
@@ -143,7 +142,9 @@ pub use resource::{Access, Atomic, BufferContents, BufferShape, Resource, Resour
 pub use runtime::config::{
     Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
 };
+pub use runtime::error::RunError;
 pub use runtime::executor::{Binding, Executor};
+pub use runtime::readback;
 pub use runtime::report::{BoundsViolation, ProcedureStats, RetryCauses, RunReport};
 pub use runtime::retry::{LoopCheckFn, ResetFn, Retry};
 pub use runtime::seeds::Seeds;

@@ -2,6 +2,7 @@
 //! code generation, and naga validation of the result.
 
 pub(crate) mod checks;
+mod compiled;
 pub(crate) mod diagnostics;
 pub(crate) mod layout;
 pub(crate) mod workgroup;
@@ -12,61 +13,11 @@ use crate::codegen::bindings::{self, Kernels};
 use crate::codegen::generate::generate;
 use crate::codegen::graph_constants;
 use crate::codegen::module::{KernelModule, Rendered};
-use crate::naming::ENTRY_POINT;
 use crate::plan::layout::{ExtraStructs, ItemLayout};
-use crate::plan::{Plan, QueuePlan, build};
+use crate::plan::{Plan, build};
 use crate::{CompileError, CompileOptions, Graph, MAX_CHUNKS_PER_BATCH, SourceOrigin};
 
-/// A compiled graph: the WGSL megakernel plus everything the runtime needs.
-/// It holds no GPU objects; create an [`Executor`](crate::Executor) to run it.
-#[derive(Clone, Debug)]
-pub struct CompiledGraph {
-    pub(crate) plan: Plan,
-    pub(crate) wgsl: String,
-    pub(crate) module: naga::Module,
-    /// Workgroup memory, measured on `module`.
-    pub(crate) workgroup_bytes: u32,
-}
-
-impl CompiledGraph {
-    /// The generated WGSL (deterministic for a given graph and options).
-    pub fn wgsl(&self) -> &str {
-        &self.wgsl
-    }
-
-    /// The validated naga module.
-    pub fn naga_module(&self) -> &naga::Module {
-        &self.module
-    }
-
-    /// The name of the compute entry point.
-    pub fn entry_point(&self) -> &'static str {
-        ENTRY_POINT
-    }
-
-    /// Per-procedure queue plans, in declaration order.
-    pub fn queues(&self) -> &[QueuePlan] {
-        &self.plan.queues
-    }
-
-    /// The workgroup size compiled for.
-    pub fn workgroup_size(&self) -> u32 {
-        self.plan.workgroup_size
-    }
-
-    /// Bytes of workgroup memory, measured on the module: the scheduler's
-    /// variables, the shared scratch and every `var<workgroup>` of the
-    /// library, each rounded up to 16 bytes as WebGPU counts them. Compiling
-    /// checks it against `max_compute_workgroup_storage_size`.
-    pub fn workgroup_memory_bytes(&self) -> u32 {
-        self.workgroup_bytes
-    }
-
-    /// Features the module was compiled for (the device must have them).
-    pub fn features(&self) -> wgpu::Features {
-        self.plan.features
-    }
-}
+pub use compiled::CompiledGraph;
 
 fn is_identifier(name: &str) -> bool {
     let mut chars = name.chars();
