@@ -3,7 +3,7 @@
 //! instead of having them spliced into their text.
 
 use crate::CompileError;
-use crate::codegen::module::Constant;
+use crate::naming::RESERVED_PREFIXES;
 
 /// The value of a [`Graph::constant`](crate::Graph::constant): a `u32`,
 /// `i32`, `f32` or `bool`, each declared with its WGSL type.
@@ -74,8 +74,10 @@ impl ConstantValue {
 
 /// Why a constant cannot be declared, or `None` when it can.
 fn problem(name: &str, value: ConstantValue) -> Option<CompileError> {
-    let reserved = ["sched_", "SCHED_", "enqueue_"];
-    if reserved.iter().any(|prefix| name.starts_with(prefix)) {
+    if RESERVED_PREFIXES
+        .iter()
+        .any(|prefix| name.starts_with(prefix))
+    {
         return Some(CompileError::ReservedName {
             name: name.to_owned(),
         });
@@ -108,26 +110,6 @@ pub(crate) fn check(constants: &[(String, ConstantValue)]) -> Result<(), Compile
         }
     }
     Ok(())
-}
-
-/// The declarations of checked constants, in declaration order.
-pub(crate) fn declarations(constants: &[(String, ConstantValue)]) -> Vec<Constant> {
-    constants
-        .iter()
-        .enumerate()
-        .filter_map(|(i, (name, value))| {
-            Some(Constant {
-                name: name.clone(),
-                ty: value.wgsl_type().to_owned(),
-                value: value.wgsl_literal()?,
-                doc: if i == 0 {
-                    "Graph constants (`Graph::constant`).".to_owned()
-                } else {
-                    String::new()
-                },
-            })
-        })
-        .collect()
 }
 
 #[cfg(test)]

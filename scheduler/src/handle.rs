@@ -114,19 +114,3 @@ impl<T> Hash for ProcedureId<T> {
         self.name.hash(state);
     }
 }
-
-impl crate::CompiledGraph {
-    /// The handle of the procedure called `name`, if its items are `T` (the
-    /// same WGSL struct name and size): for code that gets a compiled graph
-    /// without the handles its graph returned.
-    pub fn procedure_id<T: crate::Item>(&self, name: &str) -> Option<ProcedureId<T>> {
-        self.queues()
-            .iter()
-            .find(|q| {
-                q.name == name
-                    && q.item == T::WGSL_NAME
-                    && q.item_words as usize * 4 == std::mem::size_of::<T>()
-            })
-            .map(|q| ProcedureId::new(Arc::from(q.name.as_str())))
-    }
-}

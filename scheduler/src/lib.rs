@@ -121,27 +121,30 @@ mod error;
 mod graph;
 mod handle;
 mod item;
+mod naming;
 mod options;
+mod plan;
 mod quirks;
-pub mod readback;
 mod resource;
 mod runtime;
 
 pub use adapter::{DeviceRequest, Gpu};
 pub use compile::CompiledGraph;
-pub use compile::plan::QueuePlan;
 pub use constant::ConstantValue;
-pub use error::{CompileError, DeviceError, RunError, SourceOrigin};
+pub use error::{CompileError, DeviceError, SourceOrigin};
 pub use graph::{Connection, DEFAULT_PRIORITY, Graph, Procedure};
 pub use handle::{ProcedureId, Untyped};
 pub use item::{Item, ItemType, WgslStructs, WgslType, layout as wgsl_layout};
 pub use options::{CompileOptions, MAX_CHUNKS_PER_BATCH, Policy, recommended_features};
+pub use plan::QueuePlan;
 pub use quirks::{CpuWorkgroups, LoopBudget, Quirks};
 pub use resource::{Access, Atomic, BufferContents, BufferShape, Resource, ResourceKind};
 pub use runtime::config::{
     Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
 };
+pub use runtime::error::RunError;
 pub use runtime::executor::{Binding, Executor};
+pub use runtime::readback;
 pub use runtime::report::{BoundsViolation, ProcedureStats, RetryCauses, RunReport};
 pub use runtime::retry::{LoopCheckFn, ResetFn, Retry};
 pub use runtime::seeds::Seeds;

@@ -4,8 +4,8 @@
 //! read from [`SCHEDULER_BINDINGS`] (group 0) and from the graph's resources
 //! (group 1, in declaration order).
 
-use crate::codegen::generate::{ENTRY_POINT, PREPARE_ENTRY_POINT, round_entry_point};
 use crate::codegen::uniform;
+use crate::naming::{ENTRY_POINT, PREPARE_ENTRY_POINT, round_entry_point};
 use crate::{Access, Resource, ResourceKind};
 
 /// Bind group of the scheduler's own buffers.

@@ -12,59 +12,12 @@
 //! not seen. Line breaks are kept, so diagnostics keep their line numbers.
 
 use crate::codegen::module::{Constant, Function, Global};
-use crate::compile::plan::{Plan, control};
-use crate::{Resource, ResourceKind};
-
-/// Control words per procedure and guarded resource: violations, the first
-/// offending index, the bound it was checked against.
-pub(crate) const WORDS_PER_CHECK: u32 = 3;
-
-/// Offsets within one check's words.
-pub(crate) const COUNT: u32 = 0;
-pub(crate) const FIRST_INDEX: u32 = 1;
-pub(crate) const BOUND: u32 = 2;
+use crate::naming::guard_name;
+use crate::plan::checked::{BOUND, COUNT, FIRST_INDEX, WORDS_PER_CHECK};
+use crate::plan::{Plan, control};
 
 /// The private variable holding the queue of the batch being run.
 pub(crate) const RUNNING: &str = "sched_running";
-
-/// Whether `resource` is guarded: a storage buffer of a runtime-sized array
-/// (`array<T>`), the resources whose length only the bound buffer knows.
-pub(crate) fn guarded(resource: &Resource) -> bool {
-    matches!(resource.kind(), ResourceKind::Storage(_)) && is_runtime_array(resource.wgsl_type())
-}
-
-/// `array<T>` without a length at its top level.
-fn is_runtime_array(ty: &str) -> bool {
-    let Some(inner) = ty
-        .trim()
-        .strip_prefix("array<")
-        .and_then(|t| t.strip_suffix('>'))
-    else {
-        return false;
-    };
-    let mut depth = 0i32;
-    for c in inner.chars() {
-        match c {
-            '<' | '(' => depth += 1,
-            '>' | ')' => depth -= 1,
-            ',' if depth == 0 => return false,
-            _ => {}
-        }
-    }
-    true
-}
-
-/// The first control word of the checks of queue `q` and guarded resource
-/// `r` (its index among the guarded resources).
-pub(crate) fn check_word(plan: &Plan, q: usize, r: usize) -> u32 {
-    control::words(plan.queues.len())
-        + WORDS_PER_CHECK * (q as u32 * plan.guarded_resources().len() as u32 + r as u32)
-}
-
-/// Name of the guard of resource `name`.
-fn guard_name(name: &str) -> String {
-    format!("sched_checked_{name}")
-}
 
 /// `text` with every index into one of `names` guarded (see the module
 /// documentation).
@@ -251,15 +204,5 @@ mod tests {
             rewrite("counts[\n  i\n] = 0u;", &names),
             "counts[sched_checked_counts(u32(\n  i\n))] = 0u;"
         );
-    }
-
-    #[test]
-    fn only_runtime_arrays_are_guarded() {
-        assert!(is_runtime_array("array<u32>"));
-        assert!(is_runtime_array("array<atomic<u32>>"));
-        assert!(is_runtime_array("array<vec4<f32>>"));
-        assert!(!is_runtime_array("array<u32, 4>"));
-        assert!(!is_runtime_array("array<vec4<f32>, 4>"));
-        assert!(!is_runtime_array("Frame"));
     }
 }

@@ -9,40 +9,17 @@ use crate::codegen::kernels::{
     round_entry, runner,
 };
 use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
-use crate::codegen::{checked, globals, helpers};
-use crate::compile::ExtraStructs;
-use crate::compile::layout::{ItemLayout, encode_name};
-use crate::compile::plan::{Plan, control};
+use crate::codegen::{checked, codec, globals, helpers};
 use crate::graph::Procedure;
+use crate::naming::{
+    ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, encode_name, enqueue_name, queue_constant_name,
+    queue_field_constant_name, scratch_name,
+};
+use crate::plan::layout::{ExtraStructs, ItemLayout};
+use crate::plan::{Plan, control};
 
 /// The queue protocol template shared by every module.
 const RUNTIME_WGSL: &str = include_str!("../../../shaders/scheduler/runtime.wgsl");
-
-/// Entry point name of the megakernel.
-pub(crate) const ENTRY_POINT: &str = "sched_main";
-
-/// Entry point of the Rounds strategy that prepares the next round.
-pub(crate) const PREPARE_ENTRY_POINT: &str = "sched_prepare_round";
-
-/// Entry point of the Rounds strategy that runs one round of a procedure.
-pub(crate) fn round_entry_point(procedure: &str) -> String {
-    format!("sched_round_{procedure}")
-}
-
-/// Name of the function holding a procedure's body.
-pub(crate) fn body_name(procedure: &str) -> String {
-    format!("sched_proc_{procedure}")
-}
-
-/// Name of the workgroup array holding a procedure's typed scratch.
-pub(crate) fn scratch_name(procedure: &str) -> String {
-    format!("sched_scratch_{procedure}")
-}
-
-/// Name of the enqueue function for a target procedure.
-pub(crate) fn enqueue_name(procedure: &str) -> String {
-    format!("enqueue_{procedure}")
-}
 
 fn constant(name: &str, ty: &str, value: impl ToString, doc: &str) -> Constant {
     Constant {
@@ -149,7 +126,7 @@ pub(crate) fn generate(
         ("ROUND_END", control::ROUND_END),
     ] {
         c.push(constant(
-            &format!("SCHED_Q_{name}"),
+            &queue_field_constant_name(name),
             "u32",
             format!("{value}u"),
             "",
@@ -157,7 +134,7 @@ pub(crate) fn generate(
     }
     for (q, queue) in plan.queues.iter().enumerate() {
         c.push(constant(
-            &format!("SCHED_QUEUE_{}", queue.name.to_uppercase()),
+            &queue_constant_name(&queue.name),
             "u32",
             format!("{q}u"),
             &format!("Queue of `{}`.", queue.name),
@@ -257,9 +234,9 @@ pub(crate) fn generate(
     }
     module.functions.push(policy_function(plan.policy));
     module.functions.extend(payload_functions(coherent));
-    for (_, layout) in items.values() {
-        module.functions.push(layout.decode.clone());
-        module.functions.push(layout.encode.clone());
+    for (name, (_, layout)) in items {
+        module.functions.push(codec::decode_function(name, layout));
+        module.functions.push(codec::encode_function(name, layout));
     }
     for queue in &plan.queues {
         module.functions.push(copy_out_function(queue));

@@ -3,7 +3,7 @@
 
 use crate::codegen::bindings::{self, Shape};
 use crate::codegen::module::Global;
-use crate::compile::plan::Plan;
+use crate::plan::Plan;
 
 /// The workgroup array that holds every procedure's scratch.
 pub(crate) const SCRATCH: &str = "sched_wg_scratch";

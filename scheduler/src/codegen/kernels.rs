@@ -2,15 +2,14 @@
 //! access, the queue policy, the runners and the entry points.
 
 use crate::Policy;
-use crate::codegen::generate::{ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, round_entry_point};
 use crate::codegen::module::Function;
-use crate::compile::layout::{PACKET_WORDS, decode_name};
-use crate::compile::plan::{Plan, QueuePlan};
-
-/// Name of the function that copies one staged item of `queue` into its slot.
-fn copy_out_name(queue: &str) -> String {
-    format!("sched_copy_out_{queue}")
-}
+use crate::codegen::{checked, helpers};
+use crate::naming::{
+    ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, copy_out_name, decode_name, flush_name,
+    round_entry_point, runner_name,
+};
+use crate::plan::layout::PACKET_WORDS;
+use crate::plan::{Plan, QueuePlan};
 
 /// Straight-line packet copy from the workgroup's region of the staging buffer
 /// into a queue slot. It is written out word by word on purpose: a loop here
@@ -80,7 +79,7 @@ pub(crate) fn policy_function(policy: Policy) -> Function {
 
 pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     let tpi = queue.threads_per_item;
-    let mut f = Function::new(format!("sched_run_{}", queue.name))
+    let mut f = Function::new(runner_name(&queue.name))
         .doc(format!("Runs one batch of `{}`: receive the items, run the body on every thread, publish the children.", queue.name))
         .param("lid", "u32")
         .param("first", "u32")
@@ -92,11 +91,11 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     if !plan.guarded_resources().is_empty() {
         f.line(format!(
             "{} = {q}u; // checked mode: the guards count violations for this procedure",
-            crate::codegen::checked::RUNNING
+            checked::RUNNING
         ));
     }
     if plan.item_helpers {
-        for line in crate::codegen::helpers::runner_lines(tpi) {
+        for line in helpers::runner_lines(tpi) {
             f.line(line);
         }
     }
@@ -147,7 +146,7 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
     for &(t, _) in &queue.targets {
         let target = &plan.queues[t];
-        let flush = format!("flush_{}", target.name);
+        let flush = flush_name(&target.name);
         f.line(format!(
             "// Publish the items staged for `{}`.",
             target.name
@@ -210,8 +209,8 @@ pub(crate) fn entry_point(plan: &Plan) -> Function {
     f.line("    switch pick.x {");
     for (q, queue) in plan.queues.iter().enumerate() {
         f.line(format!(
-            "        case {q}u: {{ sched_run_{}(lid, pick.y, pick.z); }}",
-            queue.name
+            "        case {q}u: {{ {}(lid, pick.y, pick.z); }}",
+            runner_name(&queue.name)
         ));
     }
     f.line("        default: {}");
@@ -263,8 +262,8 @@ pub(crate) fn round_entry(plan: &Plan, q: usize, queue: &QueuePlan) -> Function 
     f.line("var batch = workgroup.x;");
     f.line("for (; batch * per < range.y; batch += groups.x) {");
     f.line(format!(
-        "    sched_run_{}(lid, range.x + batch * per, min(per, range.y - batch * per));",
-        queue.name
+        "    {}(lid, range.x + batch * per, min(per, range.y - batch * per));",
+        runner_name(&queue.name)
     ));
     f.line("}");
     f.line("// A driver that cut a loop short (llvmpipe's loop limit) may have");

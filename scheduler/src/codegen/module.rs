@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use crate::SourceOrigin;
+use crate::{SourceOrigin, naming};
 
 /// One `const NAME: TYPE = VALUE;` declaration.
 #[derive(Clone, Debug)]
@@ -276,13 +276,13 @@ impl KernelModule {
 
 /// Groups generated functions under a heading by their name prefix.
 fn section_of(name: &str) -> &'static str {
-    if name.starts_with("sched_decode_") || name.starts_with("sched_encode_") {
+    if name.starts_with(naming::DECODE_PREFIX) || name.starts_with(naming::ENCODE_PREFIX) {
         "item codecs"
-    } else if name.starts_with("enqueue_") {
+    } else if name.starts_with(naming::ENQUEUE_PREFIX) {
         "enqueue functions"
-    } else if name.starts_with("sched_proc_") {
+    } else if name.starts_with(naming::BODY_PREFIX) {
         "procedure bodies"
-    } else if name.starts_with("sched_run_") {
+    } else if name.starts_with(naming::RUNNER_PREFIX) {
         "procedure runners"
     } else if name.starts_with("sched_item_") {
         "item-wide helpers"

@@ -6,12 +6,12 @@ use std::collections::{BTreeSet, HashMap};
 
 use naga::{Block, Function, Handle, Module, Statement};
 
-use crate::codegen::generate::{body_name, enqueue_name};
 use crate::codegen::module::Rendered;
-use crate::compile::plan::Plan;
+use crate::naming::{
+    BODY_PREFIX, RESERVED_PREFIXES, SCHEDULER_PREFIX, body_name, enqueue_name, scratch_name,
+};
+use crate::plan::Plan;
 use crate::{CompileError, Resource};
-
-const RESERVED_PREFIXES: [&str; 3] = ["sched_", "SCHED_", "enqueue_"];
 
 /// Rejects user declarations whose names start with a reserved prefix.
 /// `generated` lists every name the generator itself declared.
@@ -170,11 +170,11 @@ pub(crate) fn scheduler_state_private(
 ) -> Result<(), CompileError> {
     for (_, function) in module.functions.iter() {
         let name = function.name.as_deref().unwrap_or_default();
-        let body_of = name.strip_prefix("sched_proc_");
+        let body_of = name.strip_prefix(BODY_PREFIX);
         if generated.contains(name) && body_of.is_none() {
             continue;
         }
-        let own_scratch = body_of.map(|procedure| format!("sched_scratch_{procedure}"));
+        let own_scratch = body_of.map(scratch_name);
         for (handle, expression) in function.expressions.iter() {
             let naga::Expression::GlobalVariable(global) = expression else {
                 continue;
@@ -182,7 +182,9 @@ pub(crate) fn scheduler_state_private(
             let Some(global_name) = module.global_variables[*global].name.as_deref() else {
                 continue;
             };
-            if !global_name.starts_with("sched_") || Some(global_name) == own_scratch.as_deref() {
+            if !global_name.starts_with(SCHEDULER_PREFIX)
+                || Some(global_name) == own_scratch.as_deref()
+            {
                 continue;
             }
             let location = function

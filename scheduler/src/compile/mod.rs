@@ -2,70 +2,22 @@
 //! code generation, and naga validation of the result.
 
 pub(crate) mod checks;
+mod compiled;
 pub(crate) mod diagnostics;
 pub(crate) mod layout;
-pub(crate) mod plan;
 pub(crate) mod workgroup;
 
 use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
 
 use crate::codegen::bindings::{self, Kernels};
-use crate::codegen::generate::{ENTRY_POINT, generate};
+use crate::codegen::generate::generate;
+use crate::codegen::graph_constants;
 use crate::codegen::module::{KernelModule, Rendered};
+use crate::plan::layout::{ExtraStructs, ItemLayout};
+use crate::plan::{Plan, build};
 use crate::{CompileError, CompileOptions, Graph, MAX_CHUNKS_PER_BATCH, SourceOrigin};
-use layout::ItemLayout;
-use plan::{Plan, QueuePlan};
 
-/// A compiled graph: the WGSL megakernel plus everything the runtime needs.
-/// It holds no GPU objects; create an [`Executor`](crate::Executor) to run it.
-#[derive(Clone, Debug)]
-pub struct CompiledGraph {
-    pub(crate) plan: Plan,
-    pub(crate) wgsl: String,
-    pub(crate) module: naga::Module,
-    /// Workgroup memory, measured on `module`.
-    pub(crate) workgroup_bytes: u32,
-}
-
-impl CompiledGraph {
-    /// The generated WGSL (deterministic for a given graph and options).
-    pub fn wgsl(&self) -> &str {
-        &self.wgsl
-    }
-
-    /// The validated naga module.
-    pub fn naga_module(&self) -> &naga::Module {
-        &self.module
-    }
-
-    /// The name of the compute entry point.
-    pub fn entry_point(&self) -> &'static str {
-        ENTRY_POINT
-    }
-
-    /// Per-procedure queue plans, in declaration order.
-    pub fn queues(&self) -> &[QueuePlan] {
-        &self.plan.queues
-    }
-
-    /// The workgroup size compiled for.
-    pub fn workgroup_size(&self) -> u32 {
-        self.plan.workgroup_size
-    }
-
-    /// Bytes of workgroup memory, measured on the module: the scheduler's
-    /// variables, the shared scratch and every `var<workgroup>` of the
-    /// library, each rounded up to 16 bytes as WebGPU counts them. Compiling
-    /// checks it against `max_compute_workgroup_storage_size`.
-    pub fn workgroup_memory_bytes(&self) -> u32 {
-        self.workgroup_bytes
-    }
-
-    /// Features the module was compiled for (the device must have them).
-    pub fn features(&self) -> wgpu::Features {
-        self.plan.features
-    }
-}
+pub use compiled::CompiledGraph;
 
 fn is_identifier(name: &str) -> bool {
     let mut chars = name.chars();
@@ -168,49 +120,9 @@ impl Graph {
         crate::constant::check(&self.constants)?;
         let (items, extra_structs) = item_layouts(self)?;
 
-        // Queue plans: staging capacity of a queue is the most items any single
-        // source batch (all its chunks) may stage into it.
-        let mut queues: Vec<QueuePlan> = self
-            .procedures
-            .iter()
-            .enumerate()
-            .map(|(i, p)| QueuePlan {
-                name: p.name.clone(),
-                item: p.item.wgsl_name.clone(),
-                item_words: items[&p.item.wgsl_name].1.words,
-                slot_words: items[&p.item.wgsl_name].1.slot_words,
-                threads_per_item: p.threads_per_item,
-                items_per_workgroup: workgroup_size / p.threads_per_item,
-                items_per_batch: workgroup_size / p.threads_per_item * chunks,
-                priority: p.priority,
-                initial: p.initial,
-                scratch_words: p.scratch_bytes.div_ceil(4),
-                stage_offset: 0,
-                stage_capacity: 0,
-                targets: targets[i].iter().map(|(&t, &f)| (t, f)).collect(),
-            })
-            .collect();
-        for source in 0..queues.len() {
-            let batch = queues[source].items_per_batch;
-            for (t, fan_out) in queues[source].targets.clone() {
-                queues[t].stage_capacity =
-                    queues[t].stage_capacity.max(batch.saturating_mul(fan_out));
-            }
-        }
-        let mut stage_words = 0u32;
-        for queue in &mut queues {
-            queue.stage_offset = stage_words;
-            stage_words += queue.stage_capacity * queue.slot_words;
-        }
-
-        // One scratch region, sized by the largest procedure. Whether it fits
-        // is measured on the module, with every other workgroup variable.
-        let scratch_words = queues
-            .iter()
-            .map(|q| q.scratch_words.saturating_mul(q.items_per_workgroup))
-            .max()
-            .unwrap_or(0);
-
+        let (queues, stage_words) =
+            build::queue_plans(&self.procedures, &targets, &items, workgroup_size, chunks);
+        let scratch_words = build::shared_scratch_words(&queues);
         let scan_order = Plan::compute_scan_order(&queues, options.policy);
         let plan = Plan {
             graph_name: self.name.clone(),
@@ -236,7 +148,7 @@ impl Graph {
         );
         kernel
             .constants
-            .extend(crate::constant::declarations(&self.constants));
+            .extend(graph_constants::declarations(&self.constants));
         let rendered = kernel.render();
         let (module, _info) = diagnostics::parse_and_validate(&rendered, options.features)?;
         let generated = generated_names(&kernel);
@@ -317,18 +229,6 @@ fn check_resources(graph: &Graph, options: &CompileOptions) -> Result<(), Compil
 /// Item layouts by WGSL name, and the struct declarations that typed scratch
 /// and typed resources add.
 type Layouts = (BTreeMap<String, (String, ItemLayout)>, Vec<ExtraStructs>);
-
-/// Struct declarations a typed scratch or a typed resource needs and no item
-/// type declares.
-#[derive(Debug)]
-pub(crate) struct ExtraStructs {
-    /// The section title in the generated module.
-    pub(crate) title: String,
-    /// The procedure or resource that needs them (for error locations).
-    pub(crate) origin: String,
-    /// The declarations.
-    pub(crate) text: String,
-}
 
 /// Parses every distinct item declaration and checks its layout. Returns a
 /// sorted map so the generated module does not depend on declaration order of

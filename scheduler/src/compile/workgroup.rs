@@ -5,8 +5,8 @@
 use naga::{AddressSpace, Module};
 
 use crate::CompileError;
-use crate::codegen::generate::scratch_name;
-use crate::compile::plan::Plan;
+use crate::naming::scratch_name;
+use crate::plan::Plan;
 
 /// WebGPU counts each workgroup variable as its size rounded up to 16 bytes
 /// (the rule behind `maxComputeWorkgroupStorageSize`).

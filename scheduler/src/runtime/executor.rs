@@ -4,11 +4,11 @@
 use std::time::{Duration, Instant};
 
 use crate::codegen::bindings::{RESOURCE_GROUP, SCHEDULER_GROUP, resource_bindings, resource_kind};
-use crate::codegen::generate::{PREPARE_ENTRY_POINT, round_entry_point};
-use crate::compile::plan::control;
-use crate::readback::{LONGEST_WAIT, map_read};
+use crate::plan::control;
 use crate::runtime::config::{DEFAULT_WORKGROUPS, ExecutorConfig};
+use crate::runtime::readback::{LONGEST_WAIT, map_read};
 use crate::runtime::resources::OwnedBuffers;
+use crate::runtime::rounds::RoundPipelines;
 use crate::runtime::state::{Layouts, QueueState, Tuning};
 use crate::runtime::{limits, outcome};
 use crate::{CompiledGraph, Quirks, RunError, RunReport, Seeds, Strategy};
@@ -41,14 +41,6 @@ struct Timestamps {
     period_ns: f64,
 }
 
-/// The Rounds strategy's pipelines, created on its first use.
-#[derive(Debug)]
-struct RoundPipelines {
-    prepare: wgpu::ComputePipeline,
-    /// One per procedure, in declaration order.
-    procedures: Vec<wgpu::ComputePipeline>,
-}
-
 /// The GPU objects for one compiled graph and one configuration. Runs reuse
 /// them; each run starts from empty queues.
 #[derive(Debug)]
@@ -56,13 +48,13 @@ pub struct Executor {
     pub(super) device: wgpu::Device,
     pub(super) queue: wgpu::Queue,
     pub(super) compiled: CompiledGraph,
-    module: wgpu::ShaderModule,
+    pub(super) module: wgpu::ShaderModule,
     pub(super) layouts: Layouts,
     pub(super) resource_layout: Option<wgpu::BindGroupLayout>,
     /// Buffers created for typed resources.
     pub(super) owned: OwnedBuffers,
     megakernel: wgpu::ComputePipeline,
-    rounds: Option<RoundPipelines>,
+    pub(super) rounds: Option<RoundPipelines>,
     pub(super) state: QueueState,
     timestamps: Option<Timestamps>,
     pub(super) tuning: Tuning,
@@ -364,7 +356,7 @@ impl Executor {
     }
 
     /// Timestamp writes for a pass that is the first and/or last of a submission.
-    fn timestamp_writes(
+    pub(super) fn timestamp_writes(
         &self,
         first: bool,
         last: bool,
@@ -395,107 +387,10 @@ impl Executor {
         }
         pass.dispatch_workgroups(self.tuning.workgroups, 1, 1);
     }
-
-    /// A batch of rounds: per round, one indirect dispatch per procedure (in
-    /// the policy's order), then the prepare kernel that retires the round and
-    /// sizes the next. The first batch starts with a prepare of its own.
-    /// Prepare kernels run in their own passes: their bind group writes the
-    /// indirect arguments that the round dispatches read.
-    fn encode_rounds(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        resources: Option<&wgpu::BindGroup>,
-        first_batch: bool,
-        rounds: u32,
-        first_round: u32,
-    ) {
-        let pipelines = self
-            .rounds
-            .as_ref()
-            .expect("round pipelines are created before encoding rounds");
-        let prepare = |encoder: &mut wgpu::CommandEncoder, first: bool, last: bool| {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("prepare round"),
-                timestamp_writes: self.timestamp_writes(first, last),
-            });
-            pass.set_pipeline(&pipelines.prepare);
-            pass.set_bind_group(SCHEDULER_GROUP, &self.state.prepare_group, &[]);
-            pass.dispatch_workgroups(1, 1, 1);
-        };
-        if first_batch {
-            prepare(encoder, true, false);
-        }
-        let plan = &self.compiled.plan;
-        for r in 0..rounds {
-            {
-                let first = !first_batch && r == 0;
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("round"),
-                    timestamp_writes: self.timestamp_writes(first, false),
-                });
-                pass.set_bind_group(SCHEDULER_GROUP, &self.state.scheduler_group, &[]);
-                if let Some(group) = resources {
-                    pass.set_bind_group(RESOURCE_GROUP, group, &[]);
-                }
-                for q in round_order(plan, first_round + r) {
-                    pass.set_pipeline(&pipelines.procedures[q]);
-                    pass.dispatch_workgroups_indirect(&self.state.dispatch, 12 * q as u64);
-                }
-            }
-            prepare(encoder, false, r + 1 == rounds);
-        }
-    }
-
-    fn create_round_pipelines(&mut self) -> Result<(), RunError> {
-        if self.rounds.is_some() {
-            return Ok(());
-        }
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let prepare_layout = self
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(PREPARE_ENTRY_POINT),
-                bind_group_layouts: &[Some(&self.layouts.prepare)],
-                immediate_size: 0,
-            });
-        let prepare = self
-            .device
-            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(PREPARE_ENTRY_POINT),
-                layout: Some(&prepare_layout),
-                module: &self.module,
-                entry_point: Some(PREPARE_ENTRY_POINT),
-                compilation_options: Default::default(),
-                cache: None,
-            });
-        let procedures = self
-            .compiled
-            .plan
-            .queues
-            .iter()
-            .map(|q| {
-                procedure_pipeline(
-                    &self.device,
-                    &self.module,
-                    &self.layouts,
-                    self.resource_layout.as_ref(),
-                    &round_entry_point(&q.name),
-                )
-            })
-            .collect();
-        if let Some(error) = pollster::block_on(scope.pop()) {
-            return Err(RunError::Gpu(error.to_string()));
-        }
-        self.rounds = Some(RoundPipelines {
-            prepare,
-            procedures,
-        });
-        Ok(())
-    }
 }
 
 /// A pipeline over the scheduler's group 0 and the graph's resources.
-fn procedure_pipeline(
+pub(super) fn procedure_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     layouts: &Layouts,
@@ -518,18 +413,4 @@ fn procedure_pipeline(
         compilation_options: Default::default(),
         cache: None,
     })
-}
-
-/// The order of the per-procedure dispatches in round `round`: the scan order
-/// (priority, highest first) or, under round-robin, that order rotated by one
-/// each round. Every round runs only the items queued before it started, so
-/// the order changes neither the counts nor the high-water marks, only the
-/// order in which bodies' writes land.
-fn round_order(plan: &crate::compile::plan::Plan, round: u32) -> Vec<usize> {
-    let n = plan.scan_order.len();
-    let shift = match plan.policy {
-        crate::Policy::Priority => 0,
-        crate::Policy::RoundRobin => round as usize % n.max(1),
-    };
-    (0..n).map(|i| plan.scan_order[(i + shift) % n]).collect()
 }

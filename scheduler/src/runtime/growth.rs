@@ -2,7 +2,7 @@
 //! plus room for the children its refused items would have had, within what
 //! the device's buffer limits allow.
 
-use crate::compile::plan::Plan;
+use crate::plan::Plan;
 use crate::{RunError, RunReport};
 
 /// The largest queue capacity: slots are addressed with a `u32` mask.

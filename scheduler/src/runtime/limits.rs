@@ -4,7 +4,7 @@
 //! indirect dispatch the driver skips silently).
 
 use crate::codegen::bindings::{self, Kernels};
-use crate::compile::plan::Plan;
+use crate::plan::Plan;
 use crate::{ResourceKind, RunError};
 
 /// Fails when the device cannot run `plan` with `workgroups` persistent

@@ -1,13 +1,16 @@
 //! Running compiled graphs.
 
 pub(crate) mod config;
+pub(crate) mod error;
 pub(crate) mod executor;
 pub(crate) mod growth;
 pub(crate) mod limits;
 pub(crate) mod outcome;
+pub mod readback;
 pub(crate) mod report;
 pub(crate) mod resources;
 pub(crate) mod retry;
+pub(crate) mod rounds;
 pub(crate) mod seeds;
 pub(crate) mod state;
 pub(crate) mod strategy;

@@ -4,8 +4,7 @@
 
 use std::time::Duration;
 
-use crate::codegen::checked;
-use crate::compile::plan::{Plan, control};
+use crate::plan::{Plan, checked, control};
 use crate::{BoundsViolation, ProcedureStats, RunError, RunReport, Strategy};
 
 /// What a report is built from besides the control words.

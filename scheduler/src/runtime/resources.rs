@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 
 use crate::codegen::bindings::resource_bindings;
-use crate::readback::read_buffer;
+use crate::runtime::readback::read_buffer;
 use crate::{BufferShape, Executor, Resource, ResourceKind, RunError};
 
 use super::executor::Binding;

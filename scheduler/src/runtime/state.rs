@@ -4,7 +4,7 @@
 
 use crate::codegen::bindings::{Kernels, SCHEDULER_BINDINGS, SchedulerBuffer};
 use crate::codegen::uniform::{self, QueueConfig, RunConfig};
-use crate::compile::plan::{Plan, control};
+use crate::plan::{Plan, control};
 use crate::{CompiledGraph, ExecutorConfig, RunError, Seeds};
 
 /// Bind group layouts shared by every [`QueueState`] of an executor.
