@@ -266,8 +266,8 @@ pub fn try_render_samples(
     // Depth-first: a stack keeps at most about max_split_depth pending
     // pieces per input patch. The order does not change the result, because
     // the framebuffer keeps the minimum key per sample.
-    let side = scene.micropolygon_side;
-    let rate = scene.dicing == Dicing::Rate;
+    let side = scene.dicing.micropolygon_side();
+    let rate = scene.dicing.mode() == Dicing::Rate;
     let mut stack: Vec<WorkItem> = scene
         .patches
         .iter()
@@ -317,7 +317,7 @@ pub fn try_render_samples(
             item.split_depth,
             &view_proj,
             camera,
-            scene.dice_threshold,
+            scene.dicing.dice_threshold(),
             scene.max_split_depth,
             Growth {
                 displacement_bound: object.displacement_bound(),
@@ -390,7 +390,7 @@ fn dice_shade_sample(
     let object = &scene.objects[item.object as usize];
     let eye = scene.camera.homogeneous_eye();
     let patch = &scene.patches[item.patch as usize].points;
-    let edges = (scene.dicing == Dicing::Rate).then_some(&item.edges);
+    let edges = (scene.dicing.mode() == Dicing::Rate).then_some(&item.edges);
     let displacement = object.displacement.as_ref();
     let grid = dice(patch, item.uv, size, edges, eye, displacement)
         .or_else(|| dice(patch, item.uv, size, edges, eye, None))
