@@ -10,6 +10,8 @@ use super::stats::print_stats;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use crate::gpu::{GpuOptions, GpuRenderer};
 use crate::input::Limits;
+use crate::prepare::PreparedScene;
+use crate::stats::RenderStats;
 
 /// `reyes render`: prepares the scene, renders it on the GPU or with the CPU
 /// reference, and writes the image (and the statistics).
@@ -20,34 +22,14 @@ pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
     let output = output_path(args)?;
     let outputs = check_outputs(args, &output)?;
     let scene = prepare(args)?;
-    let (image, stats, backend) = if args.cpu {
-        // The reference's frame, work and time bounds; --timeout as on the GPU.
-        let mut options = crate::reference::ReferenceOptions::default();
-        if let Some(seconds) = args.timeout {
-            options.timeout = Some(std::time::Duration::from_secs(seconds.max(1)));
-        }
-        let rendered = crate::reference::try_render_with(&scene, &options)?;
-        (rendered.image, rendered.stats, "CPU wall".to_owned())
+    let Frame {
+        image,
+        stats,
+        backend,
+    } = if args.cpu {
+        render_cpu(args, &scene)?
     } else {
-        let gpu = crate::gpu::create_gpu()?;
-        let mut options = GpuOptions::default();
-        if let Some(seconds) = args.timeout {
-            options.timeout = std::time::Duration::from_secs(seconds.max(1));
-        }
-        options.chunks_per_batch = args.chunks;
-        let mut renderer = GpuRenderer::new(&gpu, options)?;
-        // Retries are reported as they happen, through the log.
-        let rendered = renderer.render(&scene)?;
-        let backend = if rendered.timings.megakernel_gpu_ms.is_some() {
-            "GPU megakernel"
-        } else {
-            "wall"
-        };
-        (
-            rendered.image,
-            rendered.stats,
-            format!("{backend}, {}", gpu.describe()),
-        )
+        render_gpu(args, &scene)?
     };
     // The image and the statistics are renamed into place together, or
     // neither is.
@@ -68,6 +50,52 @@ pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
         eprintln!("warning: {warning}");
     }
     Ok(())
+}
+
+/// A rendered frame and the renderer that timed it.
+struct Frame {
+    image: image::RgbaImage,
+    stats: RenderStats,
+    /// What the frame time measures, for the statistics table.
+    backend: String,
+}
+
+/// The frame of the CPU reference, within its frame, work and time bounds
+/// (`--timeout` as on the GPU).
+fn render_cpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxError> {
+    let mut options = crate::reference::ReferenceOptions::default();
+    if let Some(seconds) = args.timeout {
+        options.timeout = Some(std::time::Duration::from_secs(seconds.max(1)));
+    }
+    let rendered = crate::reference::try_render_with(scene, &options)?;
+    Ok(Frame {
+        image: rendered.image,
+        stats: rendered.stats,
+        backend: "CPU wall".to_owned(),
+    })
+}
+
+/// The frame of the GPU renderer; retries are reported as they happen,
+/// through the log.
+fn render_gpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxError> {
+    let gpu = crate::gpu::create_gpu()?;
+    let mut options = GpuOptions::default();
+    if let Some(seconds) = args.timeout {
+        options.timeout = std::time::Duration::from_secs(seconds.max(1));
+    }
+    options.chunks_per_batch = args.chunks;
+    let mut renderer = GpuRenderer::new(&gpu, options)?;
+    let rendered = renderer.render(scene)?;
+    let timer = if rendered.timings.megakernel_gpu_ms.is_some() {
+        "GPU megakernel"
+    } else {
+        "wall"
+    };
+    Ok(Frame {
+        image: rendered.image,
+        stats: rendered.stats,
+        backend: format!("{timer}, {}", gpu.describe()),
+    })
 }
 
 /// The image's path: `-o`, else a RIB scene's `Display` file (read up to

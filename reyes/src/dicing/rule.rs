@@ -27,15 +27,16 @@ impl DicingRule {
     /// micropolygon), with `fixed_threshold` (pixels) the dice threshold
     /// of fixed dicing; rate dicing derives its own threshold.
     pub fn new(mode: Dicing, shading_rate: f32, fixed_threshold: f32) -> Self {
-        let micropolygon_side = shading_rate.sqrt();
+        // The one square root of the frame: every consumer reads this side.
+        let side = shading_rate.sqrt();
         let dice_threshold = match mode {
             Dicing::Fixed => fixed_threshold,
-            Dicing::Rate => MAX_GRID_QUADS as f32 * micropolygon_side,
+            Dicing::Rate => MAX_GRID_QUADS as f32 * side,
         };
         Self {
             mode,
             shading_rate,
-            micropolygon_side,
+            micropolygon_side: side,
             dice_threshold,
         }
     }
@@ -58,7 +59,7 @@ impl DicingRule {
 
     /// Dice when the projected bound's larger side is `<=` this (pixels):
     /// the scene's `dice_threshold` for fixed dicing, the largest grid's
-    /// side at the shading rate (`MAX_GRID_QUADS * micropolygon_side`) for
+    /// side at the shading rate (`MAX_GRID_QUADS` micropolygon sides) for
     /// rate dicing, where it only bounds a piece's box with its
     /// displacement (see [`crate::reference::bound::fits`]).
     pub fn dice_threshold(self) -> f32 {
