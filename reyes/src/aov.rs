@@ -19,10 +19,16 @@ pub enum Aov {
     #[default]
     Shaded,
     /// Each micropolygon in the colour of its grid's size ([`grid_color`]).
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Each micropolygon in the colour of its grid's size")
+    )]
     Grids,
     /// Grey by view depth ([`depth_color`]).
+    #[cfg_attr(feature = "cli", value(help = "Grey by view depth"))]
     Depth,
     /// The shading normal as a colour ([`normal_color`]).
+    #[cfg_attr(feature = "cli", value(help = "The shading normal as a colour"))]
     Normal,
 }
 

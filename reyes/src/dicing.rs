@@ -20,6 +20,9 @@ use glam::{Vec2, Vec3};
 use crate::bezier;
 use crate::params::MAX_GRID_QUADS;
 
+mod rule;
+pub use rule::DicingRule;
+
 /// The four edges of a piece, in the order of [`PieceEdges`]: the `v = v0`
 /// row, the `v = v1` row (both along u), the `u = u0` column and the
 /// `u = u1` column (both along v).

@@ -17,7 +17,8 @@
 //!   pipeline shares;
 //! * [`reference`](mod@reference): the CPU reference renderer;
 //! * [`stats`]: render statistics; [`output`]: PNG output;
-//! * `view` (feature `viewer`, on by default): the interactive viewer.
+//! * `view` (feature `viewer`, on by default): the interactive viewer;
+//! * `cli` (feature `cli`, on by default): the `reyes` command line.
 //!
 //! The pipeline and its conventions are described in `docs/reyes.md`, the
 //! scene format in `docs/reyes-scene.md`.
@@ -25,6 +26,8 @@
 pub mod aov;
 pub mod bezier;
 pub mod camera;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod color;
 pub mod dicing;
 pub mod displacement;

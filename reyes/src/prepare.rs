@@ -6,13 +6,12 @@ use glam::Vec3;
 
 use crate::aov::Aov;
 use crate::camera::Camera;
+use crate::dicing::DicingRule;
 use crate::displacement::PreparedDisplacement;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
-use crate::params::{DEGENERATE_NORMAL_REL_EPS, MAX_GRID_QUADS};
-use crate::scene::{
-    CameraDesc, Dicing, FramingError, Sampling, Scene, SceneError, ShadingInterpolation,
-};
+use crate::params::DEGENERATE_NORMAL_REL_EPS;
+use crate::scene::{CameraDesc, FramingError, Sampling, Scene, SceneError, ShadingInterpolation};
 
 /// Largest RGBA image of a frame, in bytes, for both renderers: 128 MiB,
 /// WebGPU's default `max_storage_buffer_binding_size`, which is also what
@@ -134,17 +133,9 @@ pub struct PreparedScene {
     pub jitter: bool,
     /// Linear RGB background.
     pub background: Vec3,
-    /// How pieces are diced.
-    pub dicing: Dicing,
-    /// The side of a micropolygon at the shading rate, `sqrt(shading_rate)`
-    /// pixels (rate dicing).
-    pub micropolygon_side: f32,
-    /// Dice when the projected bound's larger side is `<=` this (pixels):
-    /// the scene's `dice_threshold` for fixed dicing, the largest grid's
-    /// side at the shading rate (`MAX_GRID_QUADS * micropolygon_side`) for
-    /// rate dicing, where it only bounds a piece's box with its
-    /// displacement (see [`crate::reference::bound::fits`]).
-    pub dice_threshold: f32,
+    /// How pieces are diced, with the shading rate, the micropolygon side
+    /// and the dice threshold that follow.
+    pub dicing: DicingRule,
     /// Drop patches that still need a split at this depth.
     pub max_split_depth: u32,
     /// Input patches left out because they have no area
@@ -297,7 +288,6 @@ impl PreparedScene {
             });
         }
         let lens = PreparedLens::new(&camera, scene.lens.aperture, scene.lens.focus_distance);
-        let micropolygon_side = scene.shading_rate.sqrt();
         Ok(PreparedScene {
             lens,
             camera,
@@ -320,12 +310,7 @@ impl PreparedScene {
             interleave_tile: scene.interleave_tile,
             jitter: scene.jitter,
             background: scene.background,
-            dicing: scene.dicing,
-            micropolygon_side,
-            dice_threshold: match scene.dicing {
-                Dicing::Fixed => scene.dice_threshold,
-                Dicing::Rate => MAX_GRID_QUADS as f32 * micropolygon_side,
-            },
+            dicing: DicingRule::new(scene.dicing, scene.shading_rate, scene.dice_threshold),
             max_split_depth: scene.max_split_depth,
             skipped_degenerate_patches,
             aov: scene.aov,
@@ -340,14 +325,9 @@ impl PreparedScene {
     }
 
     /// The side of a micropolygon, in pixels, that Adaptive sampling's cost
-    /// model assumes: the side at the shading rate with rate dicing; with
-    /// fixed dicing, the side of a fixed grid's micropolygon in a piece as
-    /// large as `dice_threshold` allows.
+    /// model assumes ([`DicingRule::nominal_micropolygon_px`]).
     pub fn nominal_micropolygon_px(&self) -> f32 {
-        match self.dicing {
-            Dicing::Rate => self.micropolygon_side,
-            Dicing::Fixed => self.dice_threshold / crate::dicing::GridSize::FIXED.nu as f32,
-        }
+        self.dicing.nominal_micropolygon_px()
     }
 
     /// Whether samples carry a time and a lens position: with motion, with a

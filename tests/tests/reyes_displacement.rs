@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 use gpu_test::gpu_test;
+use reyes::dicing::DicingRule;
 use reyes::displacement::user_wgsl::UserWgslError;
 use reyes::displacement::{CpuHeight, DisplacementDesc, DisplacementError, HeightSource};
 use reyes::gpu::{GpuRendered, GpuRenderer, RenderError};
@@ -224,8 +225,11 @@ fn displacement_bound_keeps_surface_displaced_into_view() {
     // reported on both sides (fixed dicing: 256 points per grid; rate
     // dicing: as many on both sides).
     let mut fixed = wall_scene(0.9);
-    fixed.dicing = Dicing::Fixed;
-    fixed.dice_threshold = DEFAULT_DICE_THRESHOLD;
+    fixed.dicing = DicingRule::new(
+        Dicing::Fixed,
+        fixed.dicing.shading_rate(),
+        DEFAULT_DICE_THRESHOLD,
+    );
     let (g, c, _) = compare(&mut renderer, &fixed);
     assert_eq!(c.stats.culled_patches, 0);
     let points = c.stats.grids_diced * 256;

@@ -130,7 +130,7 @@ fn dice_piece(scene: &PreparedScene, item: &WorkItem, size: GridSize) -> Grid {
     let object = &scene.objects[item.object as usize];
     let eye = scene.camera.homogeneous_eye();
     let patch = &scene.patches[item.patch as usize].points;
-    let edges = (scene.dicing == Dicing::Rate).then_some(&item.edges);
+    let edges = (scene.dicing.mode() == Dicing::Rate).then_some(&item.edges);
     let displacement = object.displacement.as_ref();
     dice(patch, item.uv, size, edges, eye, displacement)
         .or_else(|| dice(patch, item.uv, size, edges, eye, None))

@@ -261,8 +261,8 @@ pub fn try_render_samples(
     // Depth-first: a stack keeps at most about max_split_depth pending
     // pieces per input patch. The order does not change the result, because
     // the framebuffer keeps the minimum key per sample.
-    let side = scene.micropolygon_side;
-    let rate = scene.dicing == Dicing::Rate;
+    let side = scene.dicing.micropolygon_side();
+    let rate = scene.dicing.mode() == Dicing::Rate;
     let mut stack: Vec<WorkItem> = scene
         .patches
         .iter()
@@ -319,7 +319,7 @@ pub fn try_render_samples(
             item.split_depth,
             &view_proj,
             camera,
-            scene.dice_threshold,
+            scene.dicing.dice_threshold(),
             scene.max_split_depth,
             Growth {
                 displacement_bound: object.displacement_bound(),

@@ -12,11 +12,10 @@ use std::thread::JoinHandle;
 use image::RgbaImage;
 
 use crate::camera::Camera;
+use crate::dicing::DicingRule;
 use crate::gpu::{GpuOptions, GpuRenderer};
 use crate::motion::PreparedLens;
-use crate::params::MAX_GRID_QUADS;
 use crate::prepare::PreparedScene;
-use crate::scene::Dicing;
 use crate::stats::RenderStats;
 
 use super::controls::Settings;
@@ -190,13 +189,8 @@ pub fn scene_for(base: &PreparedScene, spec: &FrameSpec) -> PreparedScene {
     };
     scene.sampling = s.sampling;
     scene.aov = s.aov;
-    match s.dicing {
-        Dicing::Rate => {
-            scene.micropolygon_side = s.shading_rate.sqrt();
-            scene.dice_threshold = MAX_GRID_QUADS as f32 * scene.micropolygon_side;
-        }
-        Dicing::Fixed => scene.dice_threshold = s.dice_threshold,
-    }
+    // The same rule as the scene's preparation, from the view's settings.
+    scene.dicing = DicingRule::new(s.dicing, s.shading_rate, s.dice_threshold);
     if !s.motion_blur {
         for object in &mut scene.objects {
             object.motion = None;
@@ -210,9 +204,9 @@ pub fn settings_of(scene: &PreparedScene) -> Settings {
     Settings {
         spp: scene.spp,
         sampling: scene.sampling,
-        dicing: scene.dicing,
-        shading_rate: scene.micropolygon_side * scene.micropolygon_side,
-        dice_threshold: scene.dice_threshold,
+        dicing: scene.dicing.mode(),
+        shading_rate: scene.dicing.shading_rate(),
+        dice_threshold: scene.dicing.dice_threshold(),
         motion_blur: true,
         aperture: scene.lens.aperture,
         aov: scene.aov,
@@ -237,8 +231,7 @@ mod tests {
         assert_eq!(scene.camera, base.camera);
         assert_eq!(scene.lens, base.lens);
         assert_eq!(scene.spp, base.spp);
-        assert!((scene.micropolygon_side - base.micropolygon_side).abs() < 1e-6);
-        assert!((scene.dice_threshold - base.dice_threshold).abs() < 1e-4);
+        assert_eq!(scene.dicing, base.dicing);
         let preview = scene_for(
             &base,
             &FrameSpec {

@@ -1,0 +1,167 @@
+//! The arguments of `reyes render` (and of `reyes view`, which flattens
+//! them in): the scene, the frame's overrides, the outputs and the limits.
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+
+use super::parse::{parse_bytes, parse_pan, parse_vec3};
+use crate::aov::Aov;
+use crate::modes::{Dicing, Sampling, ShadingInterpolation};
+
+/// The arguments of `reyes render`, which `reyes view` shares.
+#[derive(Debug, clap::Args)]
+pub(crate) struct RenderArgs {
+    /// A scene file (.toml) or a bare model (.bpt/.bez, framed automatically
+    /// with a default light). Default: the embedded teapot.
+    pub(crate) scene: Option<PathBuf>,
+    /// Output image; the extension chooses the format: `.png` (8-bit sRGB)
+    /// or `.exr` (OpenEXR, float linear RGBA), case-insensitive. Missing
+    /// directories are created. Checked before rendering, written through a
+    /// temporary file renamed over it, so a failure leaves no partial file.
+    /// Default: a RIB scene's `Display` file (relative to the current
+    /// directory), else `reyes.png`.
+    #[arg(short, long)]
+    pub(crate) output: Option<PathBuf>,
+    /// Image width in pixels (default: the scene's, 800).
+    #[arg(long)]
+    pub(crate) width: Option<u32>,
+    /// Image height in pixels (default: the scene's, 600).
+    #[arg(long)]
+    pub(crate) height: Option<u32>,
+    /// Samples per pixel: 1, 4, 9, 16, 25, 36, 49 or 64 (default: the scene's, 4).
+    #[arg(long)]
+    pub(crate) spp: Option<u32>,
+    /// Sampling mode (default: the scene's, bbox).
+    #[arg(long, value_enum)]
+    pub(crate) sampling: Option<Sampling>,
+    /// Side, in pixels, of Interleave UVT's tiles: 2, 3 or 4 (default: the
+    /// scene's, 2). Interleave UVT and Adaptive use it.
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(2..=4))]
+    pub(crate) interleave_tile: Option<u32>,
+    /// How pieces are diced (default: the scene's, rate).
+    #[arg(long, value_enum)]
+    pub(crate) dicing: Option<Dicing>,
+    /// Target micropolygon area in pixels for rate dicing (default: the
+    /// scene's, 1).
+    #[arg(long, value_name = "R")]
+    pub(crate) shading_rate: Option<f32>,
+    /// How colour varies over a micropolygon (default: the scene's, smooth).
+    #[arg(long, value_enum)]
+    pub(crate) shading_interpolation: Option<ShadingInterpolation>,
+    /// One colour per micropolygon, the mean of its corners' (the same as
+    /// `--shading-interpolation constant`).
+    #[arg(long, conflicts_with = "shading_interpolation")]
+    pub(crate) flat_shading: bool,
+    /// What the image shows: the shaded surface, each micropolygon coloured
+    /// by its grid's size (checkered), the view depth or the shading normal.
+    #[arg(long, value_enum)]
+    pub(crate) aov: Option<Aov>,
+    /// 1: draw only the front of every object (RenderMan's `Sides 1`;
+    /// default: the scene's, 2).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
+    pub(crate) sides: Option<u8>,
+    /// The front of every object is the other side (RenderMan's
+    /// `ReverseOrientation`).
+    #[arg(long)]
+    pub(crate) reverse_orientation: bool,
+    /// Print the statistics table.
+    #[arg(long)]
+    pub(crate) stats: bool,
+    /// Write the statistics as JSON to FILE (any name but the image's;
+    /// missing directories are created, as for `-o`). The image and FILE
+    /// are replaced together, or neither is.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) stats_json: Option<PathBuf>,
+    /// Camera position, e.g. `4,-12,7`.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub(crate) eye: Option<Vec3>,
+    /// Point the camera looks at.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub(crate) target: Option<Vec3>,
+    /// Camera up direction.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub(crate) up: Option<Vec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long)]
+    pub(crate) fov: Option<f32>,
+    /// Render with the CPU reference instead of the GPU. It refuses frames
+    /// whose RGBA image exceeds 128 MiB (as the GPU does) or whose sample
+    /// framebuffer exceeds 2 GiB, and stops after 2^26 work items, 2^30
+    /// micropolygons or the --timeout.
+    #[arg(long)]
+    pub(crate) cpu: bool,
+    /// Displace every object: `bumps` (the embedded height map), `sines`
+    /// (built-in procedural bumps), a grey PNG height map, or a `.wgsl` file
+    /// defining `fn displacement_user(u: f32, v: f32) -> f32` (GPU only;
+    /// needs --displace-bound). Replaces any displacement of the scene.
+    #[arg(long, value_name = "SOURCE", requires = "displace_scale")]
+    pub(crate) displace: Option<String>,
+    /// World units of displacement per unit of height (negative: inwards).
+    #[arg(
+        long,
+        value_name = "S",
+        requires = "displace",
+        allow_hyphen_values = true
+    )]
+    pub(crate) displace_scale: Option<f32>,
+    /// Displacement bound in world units (default: |scale| * max height).
+    #[arg(
+        long,
+        value_name = "B",
+        requires = "displace",
+        allow_hyphen_values = true
+    )]
+    pub(crate) displace_bound: Option<f32>,
+    /// Repetitions of the displacement source per patch (default 1).
+    #[arg(long, value_name = "T", requires = "displace")]
+    pub(crate) displace_tiling: Option<f32>,
+    /// Longest a frame may take, in seconds (default 600), on the GPU or
+    /// with --cpu. On the GPU it includes the driver's first compile of the
+    /// megakernel, which takes longer than a minute on lavapipe when its
+    /// shader cache is cold (e.g. for a new `--displace FILE.wgsl` function).
+    #[arg(long, value_name = "SECONDS")]
+    pub(crate) timeout: Option<u64>,
+    /// Chunks per batch of the megakernel, 1 to 64: how many workgroup-fulls
+    /// of items one batch claims (default 4 on CPU adapters, else 1). The
+    /// image is the same for any value. On lavapipe at most 4: its compile
+    /// of the megakernel grows with the count (96 s at 2 chunks on a cold
+    /// shader cache, 324 s at 8).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(scheduler::MAX_CHUNKS_PER_BATCH)))]
+    pub(crate) chunks: Option<u32>,
+    /// Motion blur: spin every object by DEG degrees about its vertical
+    /// (model z) axis between shutter open and close.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub(crate) spin: Option<f32>,
+    /// Motion blur: move every object by this world-space vector between
+    /// shutter open and close, e.g. `0.5,0,0`.
+    #[arg(long = "move", value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub(crate) move_by: Option<Vec3>,
+    /// Motion blur from camera motion: move the eye and the target by this
+    /// world-space vector between shutter open and close, e.g. `0.2,0,0`.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub(crate) camera_move: Option<Vec3>,
+    /// Motion blur from camera motion: pan the camera by DEG degrees about
+    /// its up axis through the eye between shutter open and close (positive
+    /// turns left, so the scene sweeps right), in (-180, 180); combines with
+    /// `--camera-move`.
+    #[arg(long, value_name = "DEG", value_parser = parse_pan, allow_hyphen_values = true)]
+    pub(crate) camera_pan: Option<f32>,
+    /// Fraction of the open-to-close motion the shutter sees, in [0, 1]
+    /// (default: the scene's, 1).
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    pub(crate) shutter: Option<f32>,
+    /// Depth of field: lens radius in world units (default: the scene's, 0).
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub(crate) aperture: Option<f32>,
+    /// Depth of field: distance in focus (default: the scene's, or the
+    /// distance from the eye to the camera target).
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
+    pub(crate) focus: Option<f32>,
+    /// Largest input file read, in bytes, for every kind of input: models,
+    /// scenes, .wgsl functions and height-map PNGs (suffixes K, M, G, T:
+    /// KiB, MiB, GiB, TiB). Default: 1G for models, 16M for scenes and
+    /// .wgsl files, 64M for height maps. Only regular files are read.
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub(crate) max_input_bytes: Option<u64>,
+}

@@ -1,0 +1,34 @@
+//! `reyes convert`: a RenderMan RIB scene to a TOML scene plus `.bpt`
+//! models.
+
+use std::path::PathBuf;
+
+use super::BoxError;
+
+/// The arguments of `reyes convert`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct ConvertArgs {
+    /// The ASCII RIB file.
+    pub(crate) input: PathBuf,
+    /// The TOML scene to write.
+    #[arg(short, long)]
+    pub(crate) output: PathBuf,
+}
+
+/// `reyes convert`: RIB to TOML plus `.bpt` files.
+pub(crate) fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
+    let rib = crate::rib::RibScene::load(&args.input)?;
+    for warning in &rib.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let written = rib.write(&args.output)?;
+    for path in &written {
+        println!("wrote {}", path.display());
+    }
+    if let Some(display) = &rib.display {
+        println!(
+            "the RIB's Display file is {display}: reyes render writes the image there unless -o is given"
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,94 @@
+//! The `reyes` command line (feature `cli`): render a scene or a Bezier
+//! patch model on the GPU, convert a RIB scene, or view one.
+//!
+//! ```text
+//! reyes render [SCENE] -o out.png [--width W] [--height H] [--spp N]
+//!              [--sampling bbox|simple|interleave|interval|adaptive|nearest] [--interleave-tile 2|3|4]
+//!              [--stats] [--stats-json FILE]
+//!              [--spin DEG] [--move x,y,z] [--camera-move x,y,z] [--camera-pan DEG]
+//!              [--shutter F] [--aperture R] [--focus D]
+//!              [--eye x,y,z] [--target x,y,z] [--up x,y,z] [--fov DEG] [--cpu]
+//!              [--displace bumps|sines|FILE.png|FILE.wgsl --displace-scale S
+//!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
+//!              [--chunks N] [--dicing rate|fixed] [--shading-rate R] [--shading-interpolation smooth|constant] [--flat-shading]
+//!              [--aov shaded|grids|depth|normal] [--sides 1|2] [--reverse-orientation]
+//!              [--max-input-bytes BYTES]
+//! reyes view [SCENE] [the options of render] [--frames N --screenshot PNG] [--hide-overlay]
+//! ```
+//!
+//! The binary parses [`Cli`], hands it to [`run`] and reports the error
+//! [`run`] returns with [`print_error`].
+
+mod args;
+mod convert;
+mod input;
+mod parse;
+mod prepare;
+mod render;
+mod stats;
+#[cfg(feature = "viewer")]
+mod view;
+
+use clap::{Parser, Subcommand};
+
+/// Any error of a command, with its causes.
+pub type BoxError = Box<dyn std::error::Error>;
+
+/// The parsed command line.
+#[derive(Debug, Parser)]
+#[command(
+    name = "reyes",
+    version,
+    about = "A Reyes renderer for bicubic Bezier patches on the GPU"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+// `allow`, not `expect`: whether the lint fires depends on the features
+// (with `viewer`, two variants are large).
+#[allow(
+    clippy::large_enum_variant,
+    reason = "one command is parsed once per process"
+)]
+enum Command {
+    /// Render a scene (.toml or RenderMan .rib), a model (.bpt/.bez) or,
+    /// without SCENE, the teapot.
+    Render(args::RenderArgs),
+    /// Convert a RenderMan RIB scene to a TOML scene plus `.bpt` models
+    /// (written beside the TOML as `<stem>-<i>.bpt`).
+    Convert(convert::ConvertArgs),
+    /// Open a window on a scene (the inputs and options of `render`), orbit
+    /// it with the mouse and re-render as the view changes. `-o` names the
+    /// PNG that `P` saves (default `reyes-view.png`).
+    #[cfg(feature = "viewer")]
+    View(view::ViewArgs),
+}
+
+/// Runs the command `cli` names.
+pub fn run(cli: &Cli) -> Result<(), BoxError> {
+    match &cli.command {
+        Command::Render(args) => render::render(args),
+        Command::Convert(args) => convert::convert(args),
+        #[cfg(feature = "viewer")]
+        Command::View(args) => view::view(args),
+    }
+}
+
+/// Prints `error` to stderr, followed by the causes its message does not
+/// already include.
+pub fn print_error(error: &dyn std::error::Error) {
+    eprintln!("error: {error}");
+    let mut shown = error.to_string();
+    let mut source = error.source();
+    while let Some(cause) = source {
+        let text = cause.to_string();
+        if !shown.contains(&text) {
+            eprintln!("  caused by: {text}");
+            shown.push_str(&text);
+        }
+        source = cause.source();
+    }
+}

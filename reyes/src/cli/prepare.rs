@@ -1,0 +1,181 @@
+//! The scene `reyes render` and `reyes view` draw: the scene named on the
+//! command line with the command line's overrides, prepared.
+
+use glam::Vec3;
+
+use super::BoxError;
+use super::args::RenderArgs;
+use super::input::{base_scene, displacement};
+use crate::model::Model;
+use crate::modes::ShadingInterpolation;
+use crate::prepare::{PreparedScene, far_plane_covering_motion};
+use crate::scene::{CameraDesc, Scene};
+
+/// Loads the scene, applies the command-line overrides and prepares it.
+pub(crate) fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
+    let (mut scene, in_memory) = base_scene(args.scene.as_deref())?;
+    let prepared = |scene: &Scene| match &in_memory {
+        Some(models) => PreparedScene::new(scene, models),
+        None => PreparedScene::load(scene),
+    };
+    if let Some(desc) = displacement(args)? {
+        for object in &mut scene.objects {
+            object.displacement = Some(desc.clone());
+        }
+    }
+    override_frame(&mut scene, args);
+    override_objects(&mut scene, args);
+    override_lens(&mut scene, args);
+    reframe_model(&mut scene, args)?;
+    if camera_overridden(args) || camera_moves(args) {
+        // Start from the camera the scene would use (framed if absent).
+        let camera = match scene.camera {
+            Some(desc) => desc,
+            None => framed_camera(&prepared(&scene)?),
+        };
+        override_camera(&mut scene, args, camera);
+    }
+    Ok(prepared(&scene)?)
+}
+
+/// The image and how it is sampled, diced and shaded.
+fn override_frame(scene: &mut Scene, args: &RenderArgs) {
+    if let Some(width) = args.width {
+        scene.resolution.width = width;
+    }
+    if let Some(height) = args.height {
+        scene.resolution.height = height;
+    }
+    if let Some(spp) = args.spp {
+        scene.spp = spp;
+    }
+    if let Some(sampling) = args.sampling {
+        scene.sampling = sampling;
+    }
+    if let Some(dicing) = args.dicing {
+        scene.dicing = dicing;
+    }
+    if let Some(rate) = args.shading_rate {
+        scene.shading_rate = rate;
+    }
+    if let Some(interpolation) = args.shading_interpolation {
+        scene.shading_interpolation = interpolation;
+    }
+    if args.flat_shading {
+        scene.shading_interpolation = ShadingInterpolation::Constant;
+    }
+    if let Some(tile) = args.interleave_tile {
+        scene.interleave_tile = tile;
+    }
+    if let Some(aov) = args.aov {
+        scene.aov = aov;
+    }
+}
+
+/// Every object's sides and orientation, and the motion `--spin` and
+/// `--move` add at shutter close.
+fn override_objects(scene: &mut Scene, args: &RenderArgs) {
+    for object in &mut scene.objects {
+        if let Some(sides) = args.sides {
+            object.sides = sides;
+        }
+        object.reverse_orientation |= args.reverse_orientation;
+    }
+    if objects_move(args) {
+        for object in &mut scene.objects {
+            let mut close = object.transform_close.unwrap_or(object.transform);
+            close.rotate_degrees.z += args.spin.unwrap_or(0.0);
+            close.translate += args.move_by.unwrap_or(Vec3::ZERO);
+            object.transform_close = Some(close);
+        }
+    }
+}
+
+/// The shutter and the thin lens.
+fn override_lens(scene: &mut Scene, args: &RenderArgs) {
+    if let Some(shutter) = args.shutter {
+        scene.shutter = shutter;
+    }
+    if let Some(aperture) = args.aperture {
+        scene.lens.aperture = aperture;
+    }
+    if let Some(focus) = args.focus {
+        scene.lens.focus_distance = Some(focus);
+    }
+}
+
+/// A bare model or the teapot was framed for 800x600: frames it again for
+/// the requested aspect ratio (through the same helper), unless the user
+/// places the camera. Scene files (TOML, RIB) keep their own camera.
+fn reframe_model(scene: &mut Scene, args: &RenderArgs) -> Result<(), BoxError> {
+    let is_model = args
+        .scene
+        .as_deref()
+        .and_then(|p| p.extension())
+        .is_none_or(|e| !(e.eq_ignore_ascii_case("toml") || e.eq_ignore_ascii_case("rib")));
+    let resized = args.width.is_some() || args.height.is_some();
+    let moved = objects_move(args);
+    if !(is_model && (resized || moved) && scene.camera.is_some()) {
+        return Ok(());
+    }
+    let models: Vec<Model> = scene.load_models()?;
+    if resized {
+        let (lo, hi) = models[0].bounds();
+        let aspect = scene.resolution.width as f32 / scene.resolution.height.max(1) as f32;
+        scene.camera = Some(CameraDesc::framing(lo, hi, aspect));
+    }
+    // The framing sees the model at open: its far plane must also cover
+    // where `--move` and `--spin` take it.
+    if let Some(mut camera) = scene.camera.filter(|_| moved && !camera_overridden(args)) {
+        camera.far = far_plane_covering_motion(&camera, scene, &models);
+        scene.camera = Some(camera);
+    }
+    Ok(())
+}
+
+/// The description of the camera `prepared` framed automatically.
+fn framed_camera(prepared: &PreparedScene) -> CameraDesc {
+    let framed = prepared.camera;
+    CameraDesc {
+        eye: framed.eye,
+        target: framed.target,
+        up: framed.up,
+        fov_y_degrees: framed.fov_y_radians.to_degrees(),
+        near: framed.near,
+        far: framed.far,
+        projection: framed.projection,
+        ortho_height: (!framed.projection.is_perspective()).then_some(framed.ortho_height),
+    }
+}
+
+/// `camera` with the command line's placement, and its pose at shutter
+/// close when the command line moves it.
+fn override_camera(scene: &mut Scene, args: &RenderArgs, camera: CameraDesc) {
+    let camera = CameraDesc {
+        eye: args.eye.unwrap_or(camera.eye),
+        target: args.target.unwrap_or(camera.target),
+        up: args.up.unwrap_or(camera.up),
+        fov_y_degrees: args.fov.unwrap_or(camera.fov_y_degrees),
+        ..camera
+    };
+    scene.camera = Some(camera);
+    if camera_moves(args) {
+        let by = args.camera_move.unwrap_or(Vec3::ZERO);
+        scene.camera_close = Some(camera.moved(by, args.camera_pan.unwrap_or(0.0)));
+    }
+}
+
+/// Whether the command line places the camera.
+fn camera_overridden(args: &RenderArgs) -> bool {
+    args.eye.is_some() || args.target.is_some() || args.up.is_some() || args.fov.is_some()
+}
+
+/// Whether the command line moves the camera during the shutter.
+fn camera_moves(args: &RenderArgs) -> bool {
+    args.camera_move.is_some() || args.camera_pan.is_some()
+}
+
+/// Whether the command line moves the objects during the shutter.
+fn objects_move(args: &RenderArgs) -> bool {
+    args.spin.is_some() || args.move_by.is_some()
+}

@@ -1,0 +1,141 @@
+//! `reyes render`: one frame on the GPU or with the CPU reference, written
+//! as an image with optional statistics.
+
+use std::path::{Path, PathBuf};
+
+use super::BoxError;
+use super::args::RenderArgs;
+use super::prepare::prepare;
+use super::stats::print_stats;
+use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
+use crate::gpu::{GpuOptions, GpuRenderer};
+use crate::input::Limits;
+use crate::prepare::PreparedScene;
+use crate::stats::RenderStats;
+
+/// `reyes render`: prepares the scene, renders it on the GPU or with the CPU
+/// reference, and writes the image (and the statistics).
+pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
+    if let Some(bytes) = args.max_input_bytes {
+        crate::input::set_limits(Limits::all(bytes));
+    }
+    let output = output_path(args)?;
+    let outputs = check_outputs(args, &output)?;
+    let scene = prepare(args)?;
+    let Frame {
+        image,
+        stats,
+        backend,
+    } = if args.cpu {
+        render_cpu(args, &scene)?
+    } else {
+        render_gpu(args, &scene)?
+    };
+    // The image and the statistics are renamed into place together, or
+    // neither is.
+    outputs.write(&image, &stats)?;
+    println!(
+        "wrote {} ({}x{}, {} spp)",
+        output.display(),
+        scene.camera.width,
+        scene.camera.height,
+        scene.spp
+    );
+    if args.stats {
+        print_stats(&stats, &backend, &scene);
+    }
+    let warnings =
+        crate::output::frame_warnings(&stats, scene.objects.len(), scene.max_split_depth);
+    for warning in warnings {
+        eprintln!("warning: {warning}");
+    }
+    Ok(())
+}
+
+/// A rendered frame and the renderer that timed it.
+struct Frame {
+    image: image::RgbaImage,
+    stats: RenderStats,
+    /// What the frame time measures, for the statistics table.
+    backend: String,
+}
+
+/// The frame of the CPU reference, within its frame, work and time bounds
+/// (`--timeout` as on the GPU).
+fn render_cpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxError> {
+    let mut options = crate::reference::ReferenceOptions::default();
+    if let Some(seconds) = args.timeout {
+        options.timeout = Some(std::time::Duration::from_secs(seconds.max(1)));
+    }
+    let rendered = crate::reference::try_render_with(scene, &options)?;
+    Ok(Frame {
+        image: rendered.image,
+        stats: rendered.stats,
+        backend: "CPU wall".to_owned(),
+    })
+}
+
+/// The frame of the GPU renderer; retries are reported as they happen,
+/// through the log.
+fn render_gpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxError> {
+    let gpu = crate::gpu::create_gpu()?;
+    let mut options = GpuOptions::default();
+    if let Some(seconds) = args.timeout {
+        options.timeout = std::time::Duration::from_secs(seconds.max(1));
+    }
+    options.chunks_per_batch = args.chunks;
+    let mut renderer = GpuRenderer::new(&gpu, options)?;
+    let rendered = renderer.render(scene)?;
+    let timer = if rendered.timings.megakernel_gpu_ms.is_some() {
+        "GPU megakernel"
+    } else {
+        "wall"
+    };
+    Ok(Frame {
+        image: rendered.image,
+        stats: rendered.stats,
+        backend: format!("{timer}, {}", gpu.describe()),
+    })
+}
+
+/// The image's path: `-o`, else a RIB scene's `Display` file (read up to
+/// `WorldBegin`; a relative name is relative to the current directory, as in
+/// RenderMan), else `reyes.png`.
+fn output_path(args: &RenderArgs) -> Result<PathBuf, BoxError> {
+    if let Some(output) = &args.output {
+        return Ok(output.clone());
+    }
+    let rib = args
+        .scene
+        .as_deref()
+        .filter(|s| s.extension().is_some_and(|e| e.eq_ignore_ascii_case("rib")));
+    if let Some(scene) = rib
+        && let Some(display) = crate::rib::RibScene::display_of(scene)?
+    {
+        return Ok(PathBuf::from(display));
+    }
+    Ok(PathBuf::from("reyes.png"))
+}
+
+/// Checks the output paths before any work (see
+/// [`crate::output::OutputPlan::check`]): a render must not run for minutes
+/// towards an output it cannot write, or overwrite its own inputs.
+fn check_outputs(args: &RenderArgs, output: &Path) -> Result<crate::output::OutputPlan, BoxError> {
+    let mut inputs: Vec<(&str, &Path)> = Vec::new();
+    if let Some(scene) = &args.scene {
+        inputs.push(("scene", scene));
+    }
+    // A height map or .wgsl function; the built-in sources are no file.
+    if let Some(source) = args.displace.as_deref()
+        && source != SOURCE_BUMPS
+        && source != SOURCE_SINES
+        && source != SOURCE_WGSL
+    {
+        inputs.push(("displacement", Path::new(source)));
+    }
+    Ok(crate::output::OutputPlan::check(
+        output,
+        args.stats_json.as_deref(),
+        &inputs,
+    )?)
+}
