@@ -94,7 +94,8 @@ impl Bump {
 pub struct Problem {
     /// The integrand: the sum of these bumps.
     pub bumps: Vec<Bump>,
-    /// Accept when |T_l + T_r - 2 T| <= threshold (see [`classify`]).
+    /// Accept when |T_l + T_r - 2 T| <= threshold (see `classify`, the
+    /// decision [`cpu_reference`] takes).
     pub threshold: u32,
 }
 

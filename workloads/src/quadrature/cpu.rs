@@ -6,7 +6,7 @@ use super::{Bump, GRID, Interval, MAX_DEPTH, Problem, ROOT_WIDTH, VALUE_SCALE};
 
 /// The integrand at grid point `x` (fixed point, scale [`VALUE_SCALE`]).
 /// Integer arithmetic with one truncation per bump, so it is exact and the
-/// WGSL `f` in [`WGSL_LIBRARY`] (which forms the 45-bit product from 16-bit
+/// WGSL `f` in `WGSL_LIBRARY` (which forms the 45-bit product from 16-bit
 /// halves) returns the same value on every device.
 pub fn f(bumps: &[Bump], x: u32) -> u32 {
     let mut total = 0u32;
