@@ -1,9 +1,9 @@
-//! The Mandelbrot set by Mariani–Silver subdivision
-//! (`scheduler/examples/mandelbrot.rs`) against a flat dispatch of the same
-//! per-pixel function: one thread per pixel, one dispatch, every pixel
-//! iterated.
+//! The Mandelbrot set by Mariani–Silver subdivision (`workloads::mandelbrot`,
+//! the workload of `scheduler/examples/mandelbrot.rs`) against a flat
+//! dispatch of the same per-pixel function: one thread per pixel, one
+//! dispatch, every pixel iterated.
 //!
-//! The megakernel renders the image with the example's graph (`Tile` checks
+//! The megakernel renders the image with the workload's graph (`Tile` checks
 //! borders and fills, splits or hands squares to `Block`), under the
 //! persistent megakernel and under the Rounds strategy; every variant's image
 //! is verified: the flat dispatch's against the CPU brute force, the
@@ -20,21 +20,14 @@ use crate::BenchError;
 use crate::flat::{BoundKernel, Timestamps, dispatch_timed};
 use crate::timing::{TimeSource, Timings};
 
-#[path = "../../scheduler/examples/mandelbrot.rs"]
-#[allow(
-    dead_code,
-    reason = "the example's `main` and the helpers only its binary uses"
-)]
-mod example;
-
-pub use example::{
+pub use workloads::mandelbrot::{
     ESCAPE_WGSL, Mandelbrot, Subdivision, UNWRITTEN, View, cpu_brute_force, cpu_mariani_silver,
 };
 
 /// Threads per workgroup of the flat kernel (8 × 8 pixels).
 pub const FLAT_TILE: u32 = 8;
 
-/// The flat kernel's entry point; the constants and the example's
+/// The flat kernel's entry point; the constants and the workload's
 /// `escape_count` go in front.
 const FLAT_MANDELBROT_WGSL: &str = "
 @group(0) @binding(0) var<storage, read_write> counts: array<u32>;
@@ -99,7 +92,7 @@ pub struct MandelbrotReport {
     pub rows: Vec<MandelbrotRow>,
 }
 
-/// The flat dispatch: the example's `escape_count` for every pixel.
+/// The flat dispatch: the workload's `escape_count` for every pixel.
 #[derive(Debug)]
 pub struct FlatMandelbrot {
     device: wgpu::Device,
@@ -204,7 +197,7 @@ fn measure_scheduled(
     };
     let executor_config = ExecutorConfig {
         workgroups: Some(workgroups),
-        ..example::config(gpu, &view, chunks)
+        ..workloads::mandelbrot::config(gpu, &view, chunks)
     };
     let mut mandelbrot = Mandelbrot::new(gpu, view, &options, &executor_config).map_err(boxed)?;
     let verify = |mandelbrot: &Mandelbrot, report: &scheduler::RunReport| {
@@ -266,11 +259,11 @@ pub fn run_mandelbrot(
             "at least one timed run is needed".into(),
         ));
     }
-    if !config.size.is_power_of_two() || config.size < example::ROOT_SIZE {
+    if !config.size.is_power_of_two() || config.size < workloads::mandelbrot::ROOT_SIZE {
         return Err(BenchError::Config(format!(
             "the Mandelbrot size {} is not a power of two of at least {}",
             config.size,
-            example::ROOT_SIZE
+            workloads::mandelbrot::ROOT_SIZE
         )));
     }
     let view = View::whole_set(config.size, config.max_iter);

@@ -14,19 +14,7 @@ use scheduler::{
 };
 use tests::graphs::Node;
 
-#[path = "../../scheduler/examples/mandelbrot.rs"]
-#[allow(
-    dead_code,
-    reason = "the example's `main` and helpers only its binary uses"
-)]
-mod mandelbrot;
-
-#[path = "../../scheduler/examples/bfs.rs"]
-#[allow(
-    dead_code,
-    reason = "the example's `main` and helpers only its binary uses"
-)]
-mod bfs;
+use workloads::{bfs, mandelbrot};
 
 fn checked_options(gpu: &scheduler::Gpu) -> CompileOptions {
     CompileOptions::with_features(scheduler::recommended_features(&gpu.device)).checked()

@@ -10,19 +10,7 @@ use std::time::Duration;
 use gpu_test::gpu_test;
 use scheduler::ExecutorConfig;
 
-#[path = "../../scheduler/examples/quadrature.rs"]
-#[allow(
-    dead_code,
-    reason = "the example's `main` and helpers only its binary uses"
-)]
-mod quadrature;
-
-#[path = "../../scheduler/examples/bfs.rs"]
-#[allow(
-    dead_code,
-    reason = "the example's `main` and helpers only its binary uses"
-)]
-mod bfs;
+use workloads::{bfs, quadrature};
 
 /// Bumps per quadrature problem, as in the example.
 const BUMPS: usize = 100;
@@ -163,12 +151,7 @@ fn snapshots_of_the_example_graphs() {
     insta::assert_snapshot!("bfs_megakernel", bfs.wgsl());
 }
 
-#[path = "../../scheduler/examples/mandelbrot.rs"]
-#[allow(
-    dead_code,
-    reason = "the example's `main` and helpers only its binary uses"
-)]
-mod mandelbrot;
+use workloads::mandelbrot;
 
 /// Side of the Mandelbrot test image, and its iteration limit: lavapipe
 /// renders it in well under a second.

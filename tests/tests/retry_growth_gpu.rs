@@ -13,12 +13,7 @@ use scheduler::{
 };
 use tests::random_graph::{GenerateOptions, RandomGraph, SplitMix64};
 
-#[path = "../../scheduler/examples/mandelbrot.rs"]
-#[allow(
-    dead_code,
-    reason = "the example's `main` and helpers only its binary uses"
-)]
-mod mandelbrot;
+use workloads::mandelbrot;
 
 /// Attempts the test accepts: the first and two retries.
 const ATTEMPTS: u32 = 3;
