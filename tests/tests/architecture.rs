@@ -205,7 +205,10 @@ fn module_graph(src: &Path) -> ModuleGraph {
     let modules: BTreeSet<String> = files.iter().filter_map(|f| module_of(f)).collect();
     let lib = fs::read_to_string(src.join("lib.rs")).unwrap_or_default();
     let reexports = root_reexports(&lib, &modules);
-    let mut graph: ModuleGraph = modules.iter().map(|m| (m.clone(), BTreeSet::new())).collect();
+    let mut graph: ModuleGraph = modules
+        .iter()
+        .map(|m| (m.clone(), BTreeSet::new()))
+        .collect();
     for file in &files {
         let Some(from) = module_of(file) else {
             continue;
@@ -354,7 +357,10 @@ fn the_module_graph_sees_cycles_and_group_imports() {
 fn no_source_file_is_longer_than_the_limit() {
     let root = workspace_root();
     let mut too_long = Vec::new();
-    for dir in fs::read_dir(&root).expect("the workspace is readable").flatten() {
+    for dir in fs::read_dir(&root)
+        .expect("the workspace is readable")
+        .flatten()
+    {
         let dir = dir.path();
         let name = dir.file_name().and_then(|n| n.to_str()).unwrap_or("");
         // The `tests` crate and dot-folders (git, CI) are tests and tooling;
