@@ -60,7 +60,7 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), BoxError> {
     let command = crate::view::save::CommandBase {
         prefix: render_prefix(std::env::args().collect()),
         shutter: render.shutter,
-        dice_threshold: scene.dicing.dice_threshold(),
+        dice_threshold: scene.dicing.fixed_threshold(),
     };
     let config = crate::view::ViewConfig {
         frames: args.frames,

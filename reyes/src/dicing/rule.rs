@@ -20,6 +20,7 @@ pub struct DicingRule {
     shading_rate: f32,
     micropolygon_side: f32,
     dice_threshold: f32,
+    fixed_threshold: f32,
 }
 
 impl DicingRule {
@@ -38,6 +39,7 @@ impl DicingRule {
             shading_rate,
             micropolygon_side: side,
             dice_threshold,
+            fixed_threshold,
         }
     }
 
@@ -61,9 +63,15 @@ impl DicingRule {
     /// the scene's `dice_threshold` for fixed dicing, the largest grid's
     /// side at the shading rate (`MAX_GRID_QUADS` micropolygon sides) for
     /// rate dicing, where it only bounds a piece's box with its
-    /// displacement (see [`crate::reference::bound::fits`]).
+    /// displacement (see `crate::reference::bound::fits`).
     pub fn dice_threshold(self) -> f32 {
         self.dice_threshold
+    }
+
+    /// The scene's dice threshold for fixed dicing (pixels), kept in both
+    /// modes so that a switch to fixed dicing (the viewer's) uses it.
+    pub fn fixed_threshold(self) -> f32 {
+        self.fixed_threshold
     }
 
     /// The side of a micropolygon, in pixels, that Adaptive sampling's cost
@@ -106,6 +114,7 @@ mod tests {
     fn rate_dicing_bounds_pieces_by_the_largest_grid() {
         let rule = DicingRule::new(Dicing::Rate, 4.0, 8.0);
         assert_eq!(rule.dice_threshold(), MAX_GRID_QUADS as f32 * 2.0);
+        assert_eq!(rule.fixed_threshold(), 8.0);
         assert_eq!(rule.nominal_micropolygon_px(), 2.0);
         assert_eq!(rule.to_string(), "rate, shading rate 4");
     }

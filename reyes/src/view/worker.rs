@@ -206,7 +206,7 @@ pub fn settings_of(scene: &PreparedScene) -> Settings {
         sampling: scene.sampling,
         dicing: scene.dicing.mode(),
         shading_rate: scene.dicing.shading_rate(),
-        dice_threshold: scene.dicing.dice_threshold(),
+        dice_threshold: scene.dicing.fixed_threshold(),
         motion_blur: true,
         aperture: scene.lens.aperture,
         aov: scene.aov,
