@@ -62,7 +62,7 @@ pub(crate) fn trusted_pipeline(
     label: &str,
     wgsl: String,
 ) -> wgpu::ComputePipeline {
-    #[allow(
+    #[expect(
         unsafe_code,
         reason = "same runtime checks as the megakernel: bounds checks on, loop bounding off; the flat kernels' loops are bounded"
     )]

@@ -18,7 +18,7 @@
 //!   [`expect`] which one to check (`expect(gpu).loops_capped()`) instead of
 //!   deciding from adapter names itself.
 //!
-//! ```ignore
+//! ```text
 //! use gpu_test::gpu_test;
 //!
 //! #[gpu_test]

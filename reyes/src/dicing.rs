@@ -317,12 +317,12 @@ pub fn border_point(
         };
         let along_u = k < EDGE_U0;
         let q = if along_u { u } else { v };
-        let scaled = q * exp2i(e as i32);
+        let scaled = q * exp2i(e.cast_signed());
         let below = scaled.floor();
         if below == scaled {
             continue;
         }
-        let h = exp2i(-(e as i32));
+        let h = exp2i(-e.cast_signed());
         let (q0, q1) = (below * h, (below + 1.0) * h);
         let f = scaled - below;
         let (a, b) = if along_u {

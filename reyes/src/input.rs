@@ -63,13 +63,13 @@ pub enum InputKind {
 }
 
 impl InputKind {
-    /// The cap used unless [`set_limits`] changes it.
+    /// The cap used unless `set_limits` changes it.
     ///
     /// * models: 1 GiB. The parser needs the whole text, and a 1 GiB `.bpt`
     ///   holds about 10 million patches, far more than one frame renders;
     /// * scenes and WGSL: 16 MiB, thousands of times a hand-written file;
     /// * height maps: 64 MiB. The largest accepted map
-    ///   ([`crate::params::MAX_HEIGHT_MAP_SIDE`]² texels of 16 bits) is 32 MiB
+    ///   (`crate::params::MAX_HEIGHT_MAP_SIDE`² texels of 16 bits) is 32 MiB
     ///   of pixel data even stored uncompressed.
     pub const fn default_limit(self) -> u64 {
         match self {
@@ -79,7 +79,7 @@ impl InputKind {
         }
     }
 
-    /// The cap in force now: [`limits`] for this kind.
+    /// The cap in force now: `limits` for this kind.
     pub fn limit(self) -> u64 {
         limits().get(self)
     }
@@ -235,6 +235,7 @@ fn show_bytes(bytes: u64) -> String {
 
 /// Why an input file could not be read.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum InputError {
     /// The operating system could not stat, open or read the file.
     #[error("cannot read {kind} {}: {source}", path.display())]

@@ -1,55 +1,121 @@
-//! A Reyes renderer for bicubic Bezier patch models.
+//! A Reyes renderer for bicubic Bezier patch models, built on the
+//! `scheduler` megakernel.
 //!
-//! This crate holds the renderer's CPU side:
+//! A frame goes from a [`Scene`] (a TOML scene, a RenderMan RIB file or a
+//! bare `.bpt`/`.bez` model) through [`PreparedScene`] (world-space patches,
+//! the camera, the lights and the [`DicingRule`], all computed once) to an
+//! image, on the GPU with a [`GpuRenderer`] or on the CPU with the reference
+//! renderer ([`reference::render`]). Both return the image and the same
+//! [`RenderStats`].
 //!
-//! * [`model`] and [`load`]: patch models and the `.bpt`/`.bez` loaders;
-//! * [`input`]: the one way input files are read (regular files only, with a
-//!   size cap);
-//! * [`scene`]: the TOML scene description; [`modes`]: its sampling,
-//!   dicing and shading-interpolation modes;
-//! * [`displacement`]: displacement sources (height maps, procedural and
-//!   user WGSL heights) and their preparation;
-//! * [`prepare`]: host preparation (world-space patches, camera, lights);
-//! * [`dicing`]: grid sizes from the shading rate and the canonical edge
-//!   vertices that keep neighbouring grids watertight;
-//! * [`camera`], [`color`], [`sampling`], [`bezier`], [`params`]: the
-//!   conventions and building blocks that every implementation of the
-//!   pipeline shares;
-//! * [`reference`](mod@reference): the CPU reference renderer;
-//! * [`stats`]: render statistics; [`output`]: PNG output;
+//! ```no_run
+//! use reyes::{GpuOptions, GpuRenderer, PreparedScene, Scene};
+//!
+//! let gpu = reyes::gpu::create_gpu()?;
+//! let mut renderer = GpuRenderer::new(&gpu, GpuOptions::default())?;
+//! let scene = PreparedScene::load(&Scene::load("scene.toml")?)?;
+//! let rendered = renderer.render(&scene)?;
+//! reyes::output::write_png(&rendered.image, "scene.png")?;
+//! println!("{} micropolygons", rendered.stats.micropolygons);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! The modules:
+//!
+//! * [`scene`]: the scene description, its TOML format and its validation;
+//!   [`modes`]: the sampling, dicing and shading-interpolation modes;
+//!   [`aov`]: what the image shows;
+//! * [`model`] and [`load`]: patch models and their loaders; [`rib`]:
+//!   RenderMan RIB input; [`displacement`]: displacement sources;
+//! * [`prepare`]: host preparation of a frame;
+//! * [`gpu`]: the GPU renderer; [`reference`](mod@reference): the CPU
+//!   reference renderer;
+//! * [`stats`]: render statistics; [`output`]: PNG and EXR output;
 //! * `view` (feature `viewer`, on by default): the interactive viewer;
 //! * `cli` (feature `cli`, on by default): the `reyes` command line.
 //!
+//! The renderer's building blocks (the Bezier and dicing arithmetic, the
+//! camera, sample positions and tables, the GPU data layouts, the
+//! reference's stages) are internal. The `internals` feature makes them
+//! public, undocumented and unstable, for the workspace's own tests and
+//! benchmarks, which check them one by one.
+//!
 //! The pipeline and its conventions are described in `docs/reyes.md`, the
-//! scene format in `docs/reyes-scene.md`.
+//! scene format in `docs/reyes-scene.md`, the layers of the crate in
+//! `docs/architecture.md`.
+
+// Without `internals`, the items that only the workspace's tests and
+// benchmarks reach are unused (and so are their re-exports), `pub` items
+// in internal modules are unreachable, and clippy judges their names as
+// private API: none of it is a defect of that build.
+#![cfg_attr(
+    not(feature = "internals"),
+    expect(
+        dead_code,
+        unused_imports,
+        unreachable_pub,
+        clippy::wrong_self_convention,
+        reason = "the internal modules are public only with the `internals` feature"
+    )
+)]
+
+/// Declares internal modules: public, but hidden from the documentation,
+/// with the `internals` feature (the workspace's tests and benchmarks
+/// enable it); visible to this crate alone without it.
+macro_rules! internal_modules {
+    ($($name:ident;)*) => {$(
+        #[cfg(feature = "internals")]
+        #[doc(hidden)]
+        pub mod $name;
+        #[cfg(not(feature = "internals"))]
+        pub(crate) mod $name;
+    )*};
+}
 
 pub mod aov;
-pub mod bezier;
-pub mod camera;
 #[cfg(feature = "cli")]
 pub mod cli;
-pub mod color;
-pub mod dicing;
 pub mod displacement;
-pub mod input;
+pub mod gpu;
 pub mod load;
 pub mod model;
 pub mod modes;
-pub mod motion;
-pub mod nonfinite;
 pub mod output;
-pub mod params;
 pub mod prepare;
 pub mod reference;
 pub mod rib;
-pub mod sampling;
 pub mod scene;
 pub mod stats;
-pub mod uvt;
 #[cfg(feature = "viewer")]
 pub mod view;
+
+internal_modules! {
+    bezier;
+    camera;
+    color;
+    dicing;
+    input;
+    motion;
+    nonfinite;
+    params;
+    sampling;
+    uvt;
+}
 
 #[cfg(test)]
 mod test_random;
 
-pub mod gpu;
+pub use aov::Aov;
+pub use dicing::DicingRule;
+pub use displacement::{DisplacementDesc, DisplacementError};
+pub use gpu::{GpuOptions, GpuRendered, GpuRenderer, RenderError};
+pub use input::{InputError, InputKind};
+pub use load::LoadError;
+pub use model::{Model, Patch};
+pub use modes::{Dicing, Sampling, ShadingInterpolation};
+pub use output::OutputError;
+pub use prepare::PreparedScene;
+pub use reference::{ReferenceError, ReferenceOptions, Rendered};
+pub use rib::RibError;
+pub use scene::{FramingError, Scene, SceneError};
+pub use stats::RenderStats;

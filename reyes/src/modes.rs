@@ -2,7 +2,7 @@
 //! are diced and how colour varies over a micropolygon.
 //!
 //! They sit below both the scene description ([`crate::scene`]) and the
-//! sample tables ([`crate::uvt`]), which both read them. With the `cli`
+//! sample tables (`crate::uvt`), which both read them. With the `cli`
 //! feature each derives `clap::ValueEnum`, so the command line takes the
 //! same names as scene files.
 
@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 /// How micropolygons are sampled. Every mode but `Nearest` handles motion
 /// blur and depth of field: a sample then has a time and a lens position as
-/// well as a screen position (see [`crate::uvt`] and `docs/reyes.md`).
+/// well as a screen position (see `crate::uvt` and `docs/reyes.md`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]

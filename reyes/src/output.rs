@@ -26,6 +26,7 @@ pub const IMAGE_EXTENSIONS: &str = ".png (8-bit sRGB PNG) or .exr (float linear 
 /// Why an output could not be checked or written. Every variant names the
 /// file concerned.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum OutputError {
     /// The path is empty or ends in `/` or `..`.
     #[error("{}: names no file", path.display())]

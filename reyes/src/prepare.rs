@@ -17,11 +17,11 @@ use crate::scene::{CameraDesc, FramingError, Sampling, Scene, SceneError, Shadin
 /// WebGPU's default `max_storage_buffer_binding_size`, which is also what
 /// lavapipe binds. The GPU path refuses a frame whose image exceeds its
 /// device's buffer limit; the CPU reference, which has no device, takes
-/// this one (see [`crate::reference::limits`]).
+/// this one (see `crate::reference::limits`).
 pub const MAX_IMAGE_BYTES: u64 = wgpu::Limits::defaults().max_storage_buffer_binding_size;
 
 /// Whether a patch has no area: all control points equal, or all on one
-/// line (up to [`DEGENERATE_NORMAL_REL_EPS`] relative to their spread).
+/// line (up to `DEGENERATE_NORMAL_REL_EPS` relative to their spread).
 /// Such a patch has no normal anywhere; rendered, it is float noise.
 /// The points must be finite.
 pub fn degenerate_patch(points: &[Vec3; 16]) -> bool {
@@ -93,7 +93,7 @@ pub struct PreparedLight {
 impl PreparedLight {
     /// The unit vector from `position` towards the light, and the factor its
     /// radiance is scaled by there: 1 for a distant light, the inverse square
-    /// distance (at most [`crate::params::POINT_LIGHT_MIN_DISTANCE_SQUARED`]'s
+    /// distance (at most `crate::params::POINT_LIGHT_MIN_DISTANCE_SQUARED`'s
     /// inverse) for a point light. The WGSL `light_at` mirrors it.
     pub fn at(&self, position: Vec3) -> (Vec3, f32) {
         if !self.point {

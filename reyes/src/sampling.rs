@@ -31,7 +31,7 @@ pub fn hash(x: u32, y: u32, s: u32, c: u32) -> u32 {
 
 /// `k = sqrt(spp)` for a valid (perfect-square) sample count.
 pub fn grid_size(spp: u32) -> u32 {
-    let k = (spp as f64).sqrt().round() as u32;
+    let k = f64::from(spp).sqrt().round() as u32;
     debug_assert_eq!(k * k, spp, "spp must be a perfect square");
     k
 }

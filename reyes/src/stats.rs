@@ -21,7 +21,7 @@ pub struct RenderStats {
     /// Micropolygons produced: the sum of every grid's `nu * nv` (225 per
     /// grid with fixed dicing).
     pub micropolygons: u64,
-    /// Grids diced by each dice procedure, in [`crate::dicing::GridClass::ALL`]
+    /// Grids diced by each dice procedure, in `crate::dicing::GridClass::ALL`
     /// order (small: 16 threads, medium: 64, large: 256).
     #[serde(default)]
     pub grids_by_class: [u64; 3],
@@ -52,17 +52,17 @@ pub struct RenderStats {
     /// Grid points whose position the displacement turned infinite or NaN
     /// (height times scale beyond `f32`, or a user function returning NaN
     /// or infinity), counted once per diced point (see
-    /// [`crate::nonfinite`]; 0 in a healthy frame).
+    /// `crate::nonfinite`; 0 in a healthy frame).
     #[serde(default)]
     pub non_finite_displacement: u64,
     /// Grid points whose position the object's transform turned infinite or
     /// NaN (the shutter-close motion, or a placement near the `f32` limit),
-    /// counted once per diced point (see [`crate::nonfinite`]).
+    /// counted once per diced point (see `crate::nonfinite`).
     #[serde(default)]
     pub non_finite_transform: u64,
     /// Grid points with a finite world position whose clip or pixel
     /// position (at open or close) is infinite or NaN, counted once per
-    /// diced point (see [`crate::nonfinite`]).
+    /// diced point (see `crate::nonfinite`).
     #[serde(default)]
     pub non_finite_camera: u64,
     /// Grids that Adaptive sampling (or Interleave UVT itself) sampled

@@ -7,7 +7,7 @@ use rand::{Rng, SeedableRng};
 
 /// A generator seeded afresh for `test` (or from `TEST_SEED`, to replay a
 /// failure), and its seed (printed, and for the failure messages).
-pub fn fresh_rng(test: &str) -> (u64, StdRng) {
+pub(crate) fn fresh_rng(test: &str) -> (u64, StdRng) {
     let seed: u64 = std::env::var("TEST_SEED")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -17,7 +17,7 @@ pub fn fresh_rng(test: &str) -> (u64, StdRng) {
 }
 
 /// A vector with each coordinate uniform in `(-range, range)`.
-pub fn random_vec3(rng: &mut StdRng, range: f32) -> Vec3 {
+pub(crate) fn random_vec3(rng: &mut StdRng, range: f32) -> Vec3 {
     Vec3::new(
         rng.random_range(-range..range),
         rng.random_range(-range..range),

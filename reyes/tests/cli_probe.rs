@@ -848,7 +848,7 @@ fn kill(child: &mut Child, meter: Meter) {
 /// `wait4(pid, WNOHANG)`: `Some((exit code or None for a signal, peak KB))`
 /// once the child has exited. Safe std has no per-child rusage.
 #[cfg(unix)]
-#[allow(unsafe_code, reason = "libc::wait4 for the child's own peak memory")]
+#[expect(unsafe_code, reason = "libc::wait4 for the child's own peak memory")]
 fn wait4_nohang(pid: u32) -> Option<(Option<i32>, u64)> {
     let mut status = 0;
     // SAFETY: rusage is plain old data; all zeros is a valid value.

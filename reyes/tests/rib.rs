@@ -190,7 +190,6 @@ fn fmt_nums(v: impl IntoIterator<Item = f64>) -> String {
 
 /// A mesh of random points and the RIB for it; checks the Bezier patches
 /// made from it against direct evaluation of the spline.
-#[allow(clippy::too_many_arguments)]
 fn check_mesh(
     rng: &mut StdRng,
     basis_rib: &str,
@@ -772,7 +771,7 @@ fn points_polygons_cube_lies_on_the_cube() {
                 (got - want).length() < 1e-5,
                 "{face:?} ({u}, {v}): {got} != {want}"
             );
-            let local = DVec3::new(-got.x as f64, got.y as f64, got.z as f64 - 10.0);
+            let local = DVec3::new(f64::from(-got.x), f64::from(got.y), f64::from(got.z) - 10.0);
             assert!((local[axis].abs() - 1.0).abs() < 1e-5, "{local}");
             assert!(local.abs().max_element() < 1.0 + 1e-5, "{local}");
         }

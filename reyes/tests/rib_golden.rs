@@ -137,7 +137,7 @@ fn handedness_matches_the_hand_written_scene() {
     let (w, h) = from_rib.image.dimensions();
     let lower_right = (0..h as usize)
         .flat_map(|y| (0..w as usize).map(move |x| (x, y)))
-        .filter(|&(x, y)| x as f64 > 0.6 * w as f64 && y as f64 > 0.6 * h as f64)
+        .filter(|&(x, y)| x as f64 > 0.6 * f64::from(w) && y as f64 > 0.6 * f64::from(h))
         .filter(|&(x, y)| from_rib.coverage[y * w as usize + x])
         .count();
     assert_eq!(lower_right, 0, "the back-facing one-sided square is drawn");

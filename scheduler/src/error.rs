@@ -27,6 +27,7 @@ impl std::fmt::Display for SourceOrigin {
 
 /// Why a graph did not compile.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum CompileError {
     /// Two procedures share a name.
     #[error("duplicate procedure name `{0}`")]
@@ -189,6 +190,7 @@ pub enum CompileError {
 
 /// Why no device could be created.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum DeviceError {
     /// No adapter matched.
     #[error(

@@ -248,7 +248,7 @@ impl RandomGraph {
             .map(|i| ProcedureSpec {
                 name: format!("P{i}"),
                 threads_per_item: rng.pick(&[1, 1, 2, 4, 8, 16, 32]).min(workgroup_size),
-                priority: rng.range(0, 6) as i32 - 3,
+                priority: rng.range(0, 6).cast_signed() - 3,
                 initial: i == 0 || rng.chance(1, 4),
                 depth_limit: 0,
                 barrier: rng.chance(1, 3),

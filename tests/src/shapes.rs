@@ -71,7 +71,7 @@ pub fn bezier_sphere() -> Model {
         for patch_v in 0..2 {
             for patch_u in 0..2 {
                 let key =
-                    |u: usize, v: usize| lattice(3 * patch_u + u as i32, 3 * patch_v + v as i32);
+                    |u: usize, v: usize| lattice(3 * patch_u + small(u), 3 * patch_v + small(v));
                 let samples: [[[f64; 3]; 4]; 4] =
                     std::array::from_fn(|v| std::array::from_fn(|u| cube_to_sphere(key(u, v))));
                 let controls = interpolating_controls(&samples);
@@ -173,7 +173,7 @@ pub fn bezier_sphere_with_poles() -> Model {
         for quarter in 0..4 {
             let points: [[f32; 3]; 16] = std::array::from_fn(|index| {
                 let (u, v) = (index % 4, index / 4);
-                let row = if north { v as i32 } else { -(v as i32) };
+                let row = if north { small(v) } else { -small(v) };
                 point(3 * quarter + u, row)
             });
             patches.push(Patch {
@@ -228,6 +228,11 @@ pub fn collapsed_edges(model: &Model) -> usize {
         .flat_map(|patch| (0..4).map(move |edge| edge_bits(patch, edge)))
         .filter(|bits| bits.iter().all(|b| *b == bits[0]))
         .count()
+}
+
+/// A lattice index as a signed coordinate (the lattices here are small).
+fn small(index: usize) -> i32 {
+    i32::try_from(index).expect("lattice indices are small")
 }
 
 #[cfg(test)]

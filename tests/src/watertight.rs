@@ -284,7 +284,7 @@ pub fn exclude_edges(
     radius_px: f32,
 ) {
     let camera = &prepared.camera;
-    let (width, height) = (camera.width as i64, camera.height as i64);
+    let (width, height) = (i64::from(camera.width), i64::from(camera.height));
     assert_eq!(
         reference.len(),
         (width * height) as usize,

@@ -144,13 +144,13 @@ mod derived {
     use scheduler::{CompileOptions, Graph, Item, ItemType, Procedure, WgslType, glam::Vec4};
 
     #[scheduler::item]
-    pub struct Inner {
+    pub(crate) struct Inner {
         pub weight: f32,
         pub tag: u32,
     }
 
     #[scheduler::item]
-    pub struct Particle {
+    pub(crate) struct Particle {
         pub position: Vec4,
         pub pair: [Inner; 2],
         pub id: u32,
@@ -158,7 +158,7 @@ mod derived {
     }
 
     #[scheduler::item]
-    pub struct Spark {
+    pub(crate) struct Spark {
         pub inner: Inner,
         pub id: i32,
     }

@@ -105,7 +105,7 @@ fn tree<T: Copy>(values: &[T], op: impl Fn(T, T) -> T) -> T {
 
 /// The CPU's results for one item, in the order of the body's `r`.
 fn expected(words: &[u32], reals: &[f32]) -> [u32; RESULTS] {
-    let signed: Vec<i32> = words.iter().map(|&w| w as i32).collect();
+    let signed: Vec<i32> = words.iter().map(|&w| w.cast_signed()).collect();
     let bool_word = |b: bool| u32::from(b);
     [
         *words.iter().min().unwrap(),

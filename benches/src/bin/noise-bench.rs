@@ -72,7 +72,7 @@ fn configs() -> [BlurConfig; 3] {
 }
 
 fn srgb_to_linear(v: u8) -> f64 {
-    let c = v as f64 / 255.0;
+    let c = f64::from(v) / 255.0;
     if c <= 0.04045 {
         c / 12.92
     } else {
@@ -112,7 +112,7 @@ fn rmse(image: &RgbaImage, converged: &[[f64; 3]]) -> f64 {
     let mut sum = 0.0;
     for (p, q) in image.pixels().zip(converged) {
         for c in 0..3 {
-            let d = p[c] as f64 - q[c];
+            let d = f64::from(p[c]) - q[c];
             sum += d * d;
         }
     }
@@ -123,7 +123,7 @@ fn rmse(image: &RgbaImage, converged: &[[f64; 3]]) -> f64 {
 fn error_image(image: &RgbaImage, converged: &[[f64; 3]]) -> image::GrayImage {
     let mut out = image::GrayImage::new(image.width(), image.height());
     for ((p, q), e) in image.pixels().zip(converged).zip(out.pixels_mut()) {
-        let sum: f64 = (0..3).map(|c| (p[c] as f64 - q[c]).powi(2)).sum();
+        let sum: f64 = (0..3).map(|c| (f64::from(p[c]) - q[c]).powi(2)).sum();
         let level = (sum / 3.0).sqrt() / ERROR_WHITE * 255.0;
         e[0] = level.clamp(0.0, 255.0) as u8;
     }

@@ -100,7 +100,7 @@ impl Camera {
     /// Builds a camera. The caller is responsible for sensible values (the
     /// scene validation checks them: `near > 0`, `far > near`, fov in (0, pi),
     /// `eye != target`, `up` not parallel to the view direction).
-    #[allow(
+    #[expect(
         clippy::too_many_arguments,
         reason = "a camera is exactly these eight independent quantities"
     )]

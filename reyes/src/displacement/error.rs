@@ -14,6 +14,7 @@ fn shown(path: &std::path::Path) -> String {
 /// map, checking its bound). Scene-level value errors (NaN, negative bound,
 /// ...) are [`crate::scene::SceneError`]s found by [`crate::scene::Scene::validate`].
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum DisplacementError {
     /// The height-map file could not be opened or read (missing, no permission, ...).
     #[error("cannot read height map {}: {source}", shown(path))]
@@ -49,7 +50,7 @@ pub enum DisplacementError {
         /// The image's colour type, e.g. `Rgb8`.
         color: String,
     },
-    /// The image is larger than [`crate::params::MAX_HEIGHT_MAP_SIDE`] on a
+    /// The image is larger than `crate::params::MAX_HEIGHT_MAP_SIDE` on a
     /// side (found from the PNG header, before anything is decoded).
     #[error(
         "height map {} is {width}x{height}; at most {max}x{max} texels are supported",

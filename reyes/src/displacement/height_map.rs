@@ -65,7 +65,7 @@ impl HeightMap {
     }
 
     /// Reads and decodes a greyscale PNG (8 or 16 bits, no alpha). The file
-    /// is read through [`crate::input`]: a regular file of at most the
+    /// is read through `crate::input`: a regular file of at most the
     /// height-map cap ([`InputKind::HeightMap`]`.limit()`, 64 MiB by
     /// default), else [`DisplacementError::Input`].
     pub fn load(path: &Path) -> Result<HeightMap, DisplacementError> {
@@ -177,7 +177,7 @@ impl HeightMap {
 
 /// `i` modulo `n`, in `0..n` also for negative `i`.
 fn wrap(i: i32, n: u32) -> u32 {
-    let n = n as i32;
+    let n = n.cast_signed();
     (((i % n) + n) % n) as u32
 }
 

@@ -1,11 +1,11 @@
 //! Displacement mapping: grid points move along the exact normal of the
 //! undisplaced surface by `height(u, v) * scale`.
 //!
-//! * [`desc`]: the `[objects.displacement]` table of a scene and its checks;
-//! * [`height_map`]: grey PNG height maps and their bilinear wrap-around lookup;
-//! * [`sines`]: the built-in procedural source;
-//! * [`error`]: why a source cannot be prepared ([`DisplacementError`]);
-//! * [`user_wgsl`]: the checks on a user WGSL function, on its own IR.
+//! * `desc`: the `[objects.displacement]` table of a scene and its checks;
+//! * `height_map`: grey PNG height maps and their bilinear wrap-around lookup;
+//! * `sines`: the built-in procedural source;
+//! * `error`: why a source cannot be prepared ([`DisplacementError`]);
+//! * `user_wgsl`: the checks on a user WGSL function, on its own IR.
 //!
 //! `(u, v)` are the parameters of the *input* patch: every split carries
 //! its piece's rectangle of them (`WorkItem::uv` on the CPU, `PatchItem::uv`
@@ -14,11 +14,13 @@
 //! Each source is evaluated at `(tiling * u, tiling * v)`. How the pipeline
 //! uses the result (the bound, the normals) is described in `docs/reyes.md`.
 
-pub mod desc;
-pub mod error;
-pub mod height_map;
-pub mod sines;
-pub mod user_wgsl;
+internal_modules! {
+    desc;
+    error;
+    height_map;
+    sines;
+    user_wgsl;
+}
 
 use std::fmt;
 use std::sync::Arc;
@@ -68,7 +70,7 @@ pub struct UserFunction {
 pub enum HeightSource {
     /// A grey height map, heights in `[0, 1]`.
     Image(Arc<HeightMap>),
-    /// The built-in [`sines::sines`], heights in `[-1, 1]`.
+    /// The built-in `sines::sines`, heights in `[-1, 1]`.
     Sines,
     /// A user WGSL function.
     User(UserFunction),
@@ -121,7 +123,7 @@ impl PreparedDisplacement {
 
     /// Whether a displacement `offset = height * scale` leaves the bound
     /// (beyond a relative tolerance for rounding, see
-    /// [`crate::params::DISPLACEMENT_BOUND_TOLERANCE`]).
+    /// `crate::params::DISPLACEMENT_BOUND_TOLERANCE`).
     pub fn exceeds_bound(&self, offset: f32) -> bool {
         offset.abs() > self.bound * (1.0 + crate::params::DISPLACEMENT_BOUND_TOLERANCE)
     }

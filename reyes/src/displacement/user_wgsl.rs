@@ -14,6 +14,7 @@ use crate::input::excerpt;
 
 /// Why a user displacement function is refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum UserWgslError {
     /// naga cannot parse or validate the source.
     #[error("line {line}, column {column} of the function's source: {message}")]

@@ -92,11 +92,11 @@ pub mod dicing {
 
 /// Bound decisions, as the WGSL `decide` returns them.
 pub(super) mod decide {
-    pub const CULL: u32 = 0;
-    pub const DICE: u32 = 1;
-    pub const SPLIT_U: u32 = 2;
-    pub const SPLIT_V: u32 = 3;
-    pub const DROP: u32 = 4;
+    pub(crate) const CULL: u32 = 0;
+    pub(crate) const DICE: u32 = 1;
+    pub(crate) const SPLIT_U: u32 = 2;
+    pub(crate) const SPLIT_V: u32 = 3;
+    pub(crate) const DROP: u32 = 4;
 }
 
 /// Sampling modes, as the frame uniform encodes them.

@@ -1,19 +1,19 @@
 //! The GPU renderer: the Reyes pipeline as one scheduler megakernel.
 //!
-//! * [`graph`]: the procedure graph (Bound, SplitU, SplitV,
+//! * `graph`: the procedure graph (Bound, SplitU, SplitV,
 //!   DiceShadeSample) and its WGSL (`shaders/reyes/`);
-//! * [`abi`]: the codes the WGSL and the host agree on (statistics words,
+//! * `abi`: the codes the WGSL and the host agree on (statistics words,
 //!   mode codes), below the data layouts and the graph;
-//! * [`buffers`]: the frame uniform, scene buffers, framebuffer and statistics;
-//! * [`objects`]: the per-object table (albedo, displacement) and the
+//! * `buffers`: the frame uniform, scene buffers, framebuffer and statistics;
+//! * `objects`: the per-object table (albedo, displacement) and the
 //!   height-map texels' layout;
-//! * [`loop_limit`]: [`LoopLimitError`], the advice when llvmpipe's loop
+//! * `loop_limit`: [`LoopLimitError`], the advice when llvmpipe's loop
 //!   limit still cut loops short after the scheduler's retries;
-//! * [`resolve`]: the clear and resolve passes (a plain compute shader);
-//! * [`renderer`]: [`GpuRenderer`], which runs a frame and returns the image
+//! * `resolve`: the clear and resolve passes (a plain compute shader);
+//! * `renderer`: [`GpuRenderer`], which runs a frame and returns the image
 //!   and [`crate::stats::RenderStats`]; its options and results, its error,
 //!   the screen tiles and the batches of input patches are private modules
-//!   beside it, re-exported from [`renderer`]. Per-driver defaults come from
+//!   beside it, re-exported from `renderer`. Per-driver defaults come from
 //!   [`scheduler::Quirks`].
 //!
 //! ```no_run
@@ -28,13 +28,15 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-pub mod abi;
-pub mod buffers;
-pub mod graph;
-pub mod loop_limit;
-pub mod objects;
-pub mod renderer;
-pub mod resolve;
+internal_modules! {
+    abi;
+    buffers;
+    graph;
+    loop_limit;
+    objects;
+    renderer;
+    resolve;
+}
 
 mod batches;
 mod counters;
@@ -48,7 +50,7 @@ pub use loop_limit::{LoopLimitContext, LoopLimitError, LoopLimitHint};
 pub use renderer::{DEFAULT_RENDER_TIMEOUT, GpuOptions, GpuRendered, GpuRenderer, RenderError};
 
 /// Creates a device with the features the renderer needs
-/// ([`graph::REQUIRED_FEATURES`]); fails with a clear message when the
+/// (`graph::REQUIRED_FEATURES`); fails with a clear message when the
 /// adapter lacks them.
 pub fn create_gpu() -> Result<scheduler::Gpu, RenderError> {
     scheduler::Gpu::new(&scheduler::DeviceRequest {

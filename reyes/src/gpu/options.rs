@@ -46,7 +46,7 @@ pub struct GpuOptions {
     /// Most samples the framebuffer of one screen tile may hold (`None`: as
     /// many as the device's buffers and the shaders' u32 sample index
     /// allow). A frame with more samples is rendered in tiles (see
-    /// [`plan_tiles`](super::renderer::plan_tiles)); a small cap forces
+    /// `plan_tiles`); a small cap forces
     /// tiling on small frames.
     pub max_tile_samples: Option<u64>,
     /// Most input patches seeded into one run of the megakernel (`None`: as

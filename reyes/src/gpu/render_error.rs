@@ -6,6 +6,7 @@ use super::loop_limit::LoopLimitError;
 
 /// Why a frame could not be rendered.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RenderError {
     /// No device with the features the renderer needs could be created.
     #[error(
@@ -85,7 +86,7 @@ pub enum RenderError {
         other: usize,
     },
     /// The scheduler could not run the megakernel (after its retries, up to
-    /// [`super::renderer::RENDER_ATTEMPTS`] attempts, when a queue
+    /// `super::renderer::RENDER_ATTEMPTS` attempts, when a queue
     /// overflowed).
     #[error("the Reyes megakernel failed: {0}")]
     Run(#[from] RunError),

@@ -68,7 +68,7 @@ pub struct GpuRenderer<'a> {
 
 impl<'a> GpuRenderer<'a> {
     /// Compiles the megakernel for `gpu`'s device, which must have
-    /// [`REQUIRED_FEATURES`] (see [`super::create_gpu`]).
+    /// `REQUIRED_FEATURES` (see [`super::create_gpu`]).
     pub fn new(gpu: &'a Gpu, options: GpuOptions) -> Result<Self, RenderError> {
         let missing = REQUIRED_FEATURES - gpu.device.features();
         if !missing.is_empty() {
@@ -193,8 +193,8 @@ impl<'a> GpuRenderer<'a> {
     ///
     /// A frame whose sample framebuffer exceeds the device's limits (or
     /// [`GpuOptions::max_tile_samples`]) is rendered as screen tiles (see
-    /// [`plan_tiles`]), one after another, each through a camera cropped to
-    /// the tile ([`crate::camera::Camera::crop`]); their pixels are pasted
+    /// `plan_tiles`), one after another, each through a camera cropped to
+    /// the tile (`crate::camera::Camera::crop`); their pixels are pasted
     /// into the frame and their counters added up. A frame that fits is one
     /// tile and is rendered exactly as without tiling.
     ///
@@ -207,7 +207,7 @@ impl<'a> GpuRenderer<'a> {
     ///
     /// Each run goes through the scheduler's
     /// [`Executor::run_with_retry`](scheduler::Executor::run_with_retry), up
-    /// to [`RENDER_ATTEMPTS`] attempts: a queue overflow grows the queues to
+    /// to `RENDER_ATTEMPTS` attempts: a queue overflow grows the queues to
     /// the measured need, and a run whose loops llvmpipe cut short (the
     /// scheduler's waits, or the rasterization loops the renderer counts and
     /// reports through [`scheduler::Retry::check_loops`]) runs again with

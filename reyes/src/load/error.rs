@@ -6,8 +6,9 @@ use crate::input::InputError;
 
 /// Why a model file could not be loaded. Parse errors carry the 1-based line
 /// number where the problem was found and say what was expected there; text
-/// they quote from the file is cut to [`crate::input::EXCERPT_CHARS`] characters.
+/// they quote from the file is cut to `crate::input::EXCERPT_CHARS` characters.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum LoadError {
     /// The file could not be opened or read (missing, no permission, ...).
     #[error("cannot read model file {}: {source}", path.display())]

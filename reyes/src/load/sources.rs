@@ -24,7 +24,7 @@ impl Model {
     /// Loads a model file, choosing the parser by extension: `.bpt` or `.bez`
     /// (case-insensitive). Any other extension is [`LoadError::UnknownExtension`].
     ///
-    /// The file is read through [`crate::input`]: it must be a regular file
+    /// The file is read through `crate::input`: it must be a regular file
     /// of at most the model cap ([`InputKind::Model`]`.limit()`, 1 GiB by
     /// default), else [`LoadError::Input`].
     pub fn load(path: impl AsRef<Path>) -> Result<Model, LoadError> {

@@ -19,7 +19,7 @@ const MAX_LINKS: usize = 40;
 ///
 /// The file itself is never opened, so a FIFO or a device is safe to name.
 /// `None` when the path names no file (empty, `/`, or ending in `..`).
-pub fn resolve(path: &Path) -> io::Result<Option<PathBuf>> {
+pub(super) fn resolve(path: &Path) -> io::Result<Option<PathBuf>> {
     if path.as_os_str().is_empty() {
         return Ok(None);
     }
@@ -82,7 +82,7 @@ fn resolve_dir(dir: &Path) -> PathBuf {
 /// Checks that files can be created in `dir` by creating (and removing)
 /// an empty one, so that a render never starts towards a directory that
 /// would refuse its result (`/proc`, read-only media, no permission).
-pub fn probe_writable(dir: &Path, name: &str) -> io::Result<()> {
+pub(super) fn probe_writable(dir: &Path, name: &str) -> io::Result<()> {
     for attempt in 0..16u32 {
         let probe = dir.join(format!(
             ".{name}.reyes-probe-{}-{attempt}",

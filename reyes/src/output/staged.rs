@@ -13,7 +13,7 @@ use super::OutputError;
 /// A complete temporary file waiting to replace its target; dropped
 /// without [`Staged::commit`], it is removed.
 #[derive(Debug)]
-pub struct Staged {
+pub(super) struct Staged {
     /// The temporary file, in the target's directory (so the rename stays
     /// on one file system and is atomic).
     temp: PathBuf,
@@ -27,7 +27,7 @@ impl Staged {
     /// Writes a temporary file beside `target` with `write`, flushed and
     /// synced to disk (some file systems report a full disk only then).
     /// On any error the temporary file is removed and `target` untouched.
-    pub fn write(
+    pub(super) fn write(
         target: &Path,
         write: impl FnOnce(&mut BufWriter<File>) -> Result<(), OutputError>,
     ) -> Result<Staged, OutputError> {
@@ -54,7 +54,7 @@ impl Staged {
     }
 
     /// Renames the temporary file over the target.
-    pub fn commit(mut self) -> Result<(), OutputError> {
+    pub(super) fn commit(mut self) -> Result<(), OutputError> {
         fs::rename(&self.temp, &self.target).map_err(|source| OutputError::Rename {
             path: self.target.clone(),
             source,
@@ -110,7 +110,7 @@ fn keep_permissions(target: &Path, temp: &Path) {
 
 /// Writes `bytes` to `target` through a temporary file, replacing it only
 /// when the whole content is on disk.
-pub fn write_bytes(target: &Path, bytes: &[u8]) -> Result<Staged, OutputError> {
+pub(super) fn write_bytes(target: &Path, bytes: &[u8]) -> Result<Staged, OutputError> {
     Staged::write(target, |writer| {
         writer
             .write_all(bytes)

@@ -307,7 +307,7 @@ pub fn back_facing(points: &[Vec3; 16], eye: HomogeneousEye, front: f32) -> bool
 ///    dicing, [`rate_grid`] has a grid in both directions), else split (or
 ///    drop): for rate dicing across the one direction that has no grid, if
 ///    only one lacks it, else by the points' pixel-space extents.
-#[allow(
+#[expect(
     clippy::too_many_arguments,
     reason = "the reference mirrors the GPU's `decide`, input for input"
 )]

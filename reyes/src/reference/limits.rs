@@ -51,16 +51,16 @@ pub struct ReferenceOptions {
     /// Largest RGBA image, in bytes (default [`MAX_IMAGE_BYTES`]).
     pub max_image_bytes: u64,
     /// Largest sample framebuffer (8 bytes per sample), in bytes (default
-    /// [`DEFAULT_MAX_FRAMEBUFFER_BYTES`]).
+    /// `DEFAULT_MAX_FRAMEBUFFER_BYTES`).
     pub max_framebuffer_bytes: u64,
     /// Most work items (input patches and split pieces) processed (default
-    /// [`DEFAULT_MAX_ITEMS`]).
+    /// `DEFAULT_MAX_ITEMS`).
     pub max_items: u64,
-    /// Most micropolygons diced (default [`DEFAULT_MAX_MICROPOLYGONS`]).
+    /// Most micropolygons diced (default `DEFAULT_MAX_MICROPOLYGONS`).
     pub max_micropolygons: u64,
     /// Rasterize a still frame's bbox-sampled micropolygons as two
     /// triangles with a box each, over whole pixels
-    /// ([`super::raster::raster_triangle`]), as the renderer did before
+    /// (`super::raster::raster_triangle`), as the renderer did before
     /// its quad boxes (default `false`): the same image, with more sample
     /// tests. For measuring what the quad boxes save (`reyes-bench ste`).
     pub triangle_boxes: bool,

@@ -13,19 +13,21 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-pub mod bound;
-pub mod dice;
+internal_modules! {
+    bound;
+    dice;
+    displace;
+    framebuffer;
+    limits;
+    quad;
+    raster;
+    raster5d;
+    resolve;
+    shade;
+    work;
+}
 mod dice_shade_sample;
-pub mod displace;
-pub mod framebuffer;
-pub mod limits;
-pub mod quad;
-pub mod raster;
-pub mod raster5d;
-pub mod resolve;
-pub mod shade;
 mod shutter;
-pub mod work;
 
 use std::time::{Duration, Instant};
 
@@ -63,6 +65,7 @@ pub struct Rendered {
 
 /// Why the reference cannot render a scene.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ReferenceError {
     /// An object is displaced by a user WGSL function without a Rust twin
     /// ([`crate::displacement::UserFunction::cpu`]): only the GPU can run it.

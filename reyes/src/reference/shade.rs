@@ -28,7 +28,7 @@ pub fn shade(position: Vec3, normal: Vec3, albedo: Vec3, scene: &PreparedScene) 
 }
 
 /// [`shade`] with every input explicit.
-#[allow(
+#[expect(
     clippy::too_many_arguments,
     reason = "the shading formula's inputs, kept explicit so tests can vary each"
 )]

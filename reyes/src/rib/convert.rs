@@ -14,7 +14,7 @@ use crate::scene::{
 };
 
 /// Builds the scene of a finished interpreter run of `file`.
-pub fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
+pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
     let lights = interp.scene_lights();
     let mut warnings = std::mem::take(&mut interp.warnings);
     if interp.more_warnings > 0 {

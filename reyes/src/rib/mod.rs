@@ -1,7 +1,7 @@
 //! RenderMan RIB input (ASCII RIB; see `docs/rib.md` for what each request
 //! does here).
 //!
-//! [`RibScene::load`] reads a `.rib` file (through [`crate::input`]: regular
+//! [`RibScene::load`] reads a `.rib` file (through `crate::input`: regular
 //! files only, at most the scene cap over the file and all its archives),
 //! interprets it and gives a [`Scene`] with its [`Model`]s in memory, plus
 //! the warnings for what was ignored. All geometry is baked into the
@@ -9,28 +9,30 @@
 //! mirrored (camera space is left-handed; the renderer's world is
 //! right-handed): the camera sits at the origin looking down +z with +y up.
 //!
-//! * [`lexer`]: tokens with line and column; [`parser`]: requests and their
-//!   values; [`state`]: graphics state and parameter lists;
-//!   [`basis`]: spline bases and the change of basis to Bezier;
-//!   [`interp`]: the interpreter (`options`: its option requests;
+//! * `lexer`: tokens with line and column; `parser`: requests and their
+//!   values; `state`: graphics state and parameter lists;
+//!   `basis`: spline bases and the change of basis to Bezier;
+//!   `interp`: the interpreter (`options`: its option requests;
 //!   `geometry`: its transform, motion, basis and geometry requests;
-//!   [`quadrics`]: the quadrics as Bezier patches; `polygons`:
+//!   `quadrics`: the quadrics as Bezier patches; `polygons`:
 //!   `PointsPolygons` and `GeneralPolygon`; `spaces`: coordinate systems
 //!   and `Skew`); `convert`: the [`Scene`] it makes.
 
 mod attributes;
-pub mod basis;
+internal_modules! {
+    basis;
+    interp;
+    lexer;
+    lights;
+    parser;
+    quadrics;
+    state;
+}
 mod convert;
 mod geometry;
-pub mod interp;
-pub mod lexer;
-pub mod lights;
 mod options;
-pub mod parser;
 mod polygons;
-pub mod quadrics;
 mod spaces;
-pub mod state;
 mod surfaces;
 
 use std::path::{Path, PathBuf};
@@ -41,6 +43,7 @@ use crate::scene::{Scene, SceneError};
 
 /// Why a RIB file could not be read.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RibError {
     /// A tokenizer, parser or request error at a position of a file.
     #[error("{}:{line}:{col}: {message}", file.display())]
@@ -54,7 +57,7 @@ pub enum RibError {
         /// What is wrong.
         message: String,
     },
-    /// The file was refused or could not be read (see [`crate::input`]).
+    /// The file was refused or could not be read (see `crate::input`).
     #[error(transparent)]
     Input(InputError),
     /// The scene made from the RIB is not valid for the renderer.

@@ -15,7 +15,7 @@ fn counts(args: &[Value], i: usize, what: &str) -> Result<Vec<usize>, String> {
     state::arg_nums(args, i, what)?
         .into_iter()
         .map(|n| {
-            if n < 0.0 || n.fract() != 0.0 || n > u32::MAX as f64 {
+            if n < 0.0 || n.fract() != 0.0 || n > f64::from(u32::MAX) {
                 Err(format!("{what}: {n} is not a non-negative integer"))
             } else {
                 Ok(n as usize)

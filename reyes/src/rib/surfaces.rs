@@ -185,7 +185,7 @@ impl Interp {
 
 /// The albedo of a primitive with colour `cs` and surface `surface`: the
 /// weight of its diffuse term.
-pub fn albedo(cs: DVec3, surface: Surface) -> DVec3 {
+pub(super) fn albedo(cs: DVec3, surface: Surface) -> DVec3 {
     match surface {
         Surface::Constant => cs,
         Surface::Matte { kd, .. } | Surface::Plastic { kd, .. } => cs * kd,
@@ -209,7 +209,7 @@ fn ambient_scale(surface: Surface) -> Option<f64> {
 
 /// The scene-wide shading the surfaces of `prims` ask for.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SceneShading {
+pub(super) struct SceneShading {
     /// The factor on the sum of the ambient lights (`Ka / Kd`).
     pub ambient_scale: f64,
     /// The specular term.
@@ -259,7 +259,7 @@ fn specular_of(cs: DVec3, surface: Surface) -> (Specular, Option<String>) {
 }
 
 /// The scene-wide ambient scale and specular term of `prims`' surfaces.
-pub fn scene_shading(prims: &[Prim]) -> SceneShading {
+pub(super) fn scene_shading(prims: &[Prim]) -> SceneShading {
     let mut warnings = Vec::new();
     let mut tints = HashSet::new();
     let mut specular = None;
@@ -307,6 +307,6 @@ pub fn scene_shading(prims: &[Prim]) -> SceneShading {
 }
 
 /// [`albedo`] of a primitive, as the object's colour.
-pub fn object_color(prim: &Prim) -> Vec3 {
+pub(super) fn object_color(prim: &Prim) -> Vec3 {
     albedo(prim.attrs.color, prim.attrs.surface).as_vec3()
 }

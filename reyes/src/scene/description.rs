@@ -50,15 +50,15 @@ impl Default for Resolution {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
-    /// Samples per pixel (default 4); one of [`VALID_SPP`].
+    /// Samples per pixel (default 4); one of `VALID_SPP`.
     #[serde(default = "default_spp")]
     pub spp: u32,
     /// Sampling mode (default bbox).
     #[serde(default)]
     pub sampling: Sampling,
     /// Side, in pixels, of Interleave UVT's tiles (default
-    /// [`crate::uvt::DEFAULT_INTERLEAVE_TILE`]); one of
-    /// [`crate::uvt::INTERLEAVE_TILES`]. Interleave UVT and Adaptive use it.
+    /// `crate::uvt::DEFAULT_INTERLEAVE_TILE`); one of
+    /// `crate::uvt::INTERLEAVE_TILES`. Interleave UVT and Adaptive use it.
     #[serde(default = "default_interleave_tile")]
     pub interleave_tile: u32,
     /// Jitter samples within their strata (default false).
@@ -89,15 +89,15 @@ pub struct Scene {
     #[serde(default)]
     pub shading_interpolation: ShadingInterpolation,
     /// The target area of a micropolygon in pixels, RenderMan's
-    /// `ShadingRate` (default [`DEFAULT_SHADING_RATE`]); used by
+    /// `ShadingRate` (default `DEFAULT_SHADING_RATE`); used by
     /// [`Dicing::Rate`].
     #[serde(default = "default_shading_rate")]
     pub shading_rate: f32,
     /// Dice threshold in pixels of [`Dicing::Fixed`] (default
-    /// [`DEFAULT_DICE_THRESHOLD`]).
+    /// `DEFAULT_DICE_THRESHOLD`).
     #[serde(default = "default_dice_threshold")]
     pub dice_threshold: f32,
-    /// Maximum split depth (default [`DEFAULT_MAX_SPLIT_DEPTH`]).
+    /// Maximum split depth (default `DEFAULT_MAX_SPLIT_DEPTH`).
     #[serde(default = "default_max_split_depth")]
     pub max_split_depth: u32,
     /// Image size (default 800 x 600).

@@ -15,6 +15,7 @@ use super::framing::FramingError;
 
 /// Why a scene could not be loaded or is invalid.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SceneError {
     /// The scene file could not be opened or read (missing, no permission, ...).
     #[error("cannot read scene file {}: {source}", path.display())]
@@ -26,7 +27,7 @@ pub enum SceneError {
         source: std::io::Error,
     },
     /// The scene file was refused before parsing: not a regular file, larger
-    /// than the scene cap, or not UTF-8 (see [`crate::input`]).
+    /// than the scene cap, or not UTF-8 (see `crate::input`).
     #[error(transparent)]
     Input(InputError),
     /// The text is not valid TOML or does not match the scene format.

@@ -21,13 +21,14 @@ pub(super) fn box_corners(lo: Vec3, hi: Vec3) -> impl Iterator<Item = Vec3> + Cl
 }
 
 /// The smallest view depth at which automatic framing places a point
-/// (twice [`NEAR_EPS`], the clip `w` below which the renderers cannot project
+/// (twice `NEAR_EPS`, the clip `w` below which the renderers cannot project
 /// a point): a model framed closer is too small for `f32` view math.
 pub const MIN_FRAMED_DEPTH: f32 = 2.0 * NEAR_EPS;
 
 /// Why points cannot be framed automatically
 /// ([`CameraDesc::try_framing_points`]).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum FramingError {
     /// The bounds are too large (or not finite) for `f32` view math.
     #[error(

@@ -36,7 +36,7 @@ impl Scene {
 
     /// Reads, parses and validates a TOML scene file; relative model paths are
     /// resolved against the file's directory. The file is read through
-    /// [`crate::input`]: a regular file of at most the scene cap (16 MiB by
+    /// `crate::input`: a regular file of at most the scene cap (16 MiB by
     /// default), else [`SceneError::Input`].
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();

@@ -17,7 +17,7 @@ use super::error::{finite, invalid};
 use super::{CameraDesc, Light, Resolution, Scene, SceneError, SceneObject, Transform};
 
 impl Scene {
-    /// Checks every value: resolution > 0, spp in [`VALID_SPP`], all numbers
+    /// Checks every value: resolution > 0, spp in `VALID_SPP`, all numbers
     /// finite, `near > 0`, `far > near`, fov in (0, 180), `eye != target`,
     /// `up` not parallel to the view direction (at open, and at close for a
     /// `camera_close`, which needs a `camera`), no motion or lens with
@@ -30,9 +30,9 @@ impl Scene {
     /// the eye's and target's squared lengths and the squared distance
     /// between them must fit `f32` without overflow or underflow, so that
     /// the view direction can be normalized
-    /// ([`crate::camera::pose_problem`]), and the view, projection and
+    /// (`crate::camera::pose_problem`), and the view, projection and
     /// world-to-clip matrices must be finite
-    /// ([`Camera::matrix_problem`]). What depends on the models (the
+    /// (`Camera::matrix_problem`). What depends on the models (the
     /// transformed control points, an automatically framed camera) is
     /// checked when the scene is prepared ([`crate::prepare::PreparedScene::new`]).
     pub fn validate(&self) -> Result<(), SceneError> {

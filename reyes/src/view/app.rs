@@ -54,7 +54,7 @@ struct Running {
 
 /// The application handed to winit.
 #[derive(Debug)]
-pub struct App {
+pub(super) struct App {
     config: ViewConfig,
     scene: Arc<PreparedScene>,
     proxy: EventLoopProxy<WorkerEvent>,
@@ -74,7 +74,7 @@ pub struct App {
 
 impl App {
     /// The viewer of `scene`.
-    pub fn new(
+    pub(super) fn new(
         scene: PreparedScene,
         config: ViewConfig,
         proxy: EventLoopProxy<WorkerEvent>,

@@ -5,6 +5,7 @@ use thiserror::Error;
 
 /// Why the viewer could not start or had to stop.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum ViewError {
     /// No window system to open a window on.
     #[error(

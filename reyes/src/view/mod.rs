@@ -1,36 +1,38 @@
 //! `reyes view`: an interactive viewer of a scene.
 //!
-//! * [`controls`] maps input events to camera and settings (a pure state
+//! * `controls` maps input events to camera and settings (a pure state
 //!   machine);
-//! * [`events`] turns window events into those inputs;
-//! * [`worker`] is the render thread, which owns the renderer;
-//! * [`present`] holds the surface, the composite texture and the screenshot;
-//! * [`overlay`] draws the statistics with egui;
-//! * [`save`] is `P`: the PNG and the equivalent `reyes render` command;
-//! * [`script`] reads scripted input (`--script`) for tests;
-//! * [`log`] is what `--log-json` writes;
+//! * `events` turns window events into those inputs;
+//! * `worker` is the render thread, which owns the renderer;
+//! * `present` holds the surface, the composite texture and the screenshot;
+//! * `overlay` draws the statistics with egui;
+//! * `save` is `P`: the PNG and the equivalent `reyes render` command;
+//! * `script` reads scripted input (`--script`) for tests;
+//! * `log` is what `--log-json` writes;
 //! * [`error`] has [`ViewError`].
 //!
 //! The event loop (`app`) never waits on a render: the worker renders the
 //! newest requested view and sends the frame back as a user event.
 
 mod app;
-pub mod controls;
+internal_modules! {
+    controls;
+    events;
+    log;
+    overlay;
+    present;
+    save;
+    script;
+    worker;
+}
 pub mod error;
-pub mod events;
-pub mod log;
-pub mod overlay;
-pub mod present;
-pub mod save;
-pub mod script;
-pub mod worker;
 
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Duration;
 
+pub use self::log::ViewLog;
 pub use error::ViewError;
-pub use log::ViewLog;
 
 use crate::gpu::GpuOptions;
 use crate::prepare::PreparedScene;

@@ -5,14 +5,14 @@
 use std::path::PathBuf;
 
 /// `shared/data` next to the workspace (`<workspace>/../shared/data`).
-pub fn shared_data(name: &str) -> PathBuf {
+pub(crate) fn shared_data(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../shared/data")
         .join(name)
 }
 
 /// The Killeroo model path, or `None` (with a printed notice) when absent.
-pub fn killeroo_path() -> Option<PathBuf> {
+pub(crate) fn killeroo_path() -> Option<PathBuf> {
     let path = shared_data("killeroo.bpt");
     if path.exists() {
         Some(path)
@@ -26,6 +26,6 @@ pub fn killeroo_path() -> Option<PathBuf> {
 }
 
 /// `<workspace>/target`.
-pub fn target_dir() -> PathBuf {
+pub(crate) fn target_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target")
 }

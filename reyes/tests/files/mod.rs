@@ -8,14 +8,14 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 /// How long one read may take before the test calls it a hang.
-pub const READ_BOUND: Duration = Duration::from_secs(30);
+pub(crate) const READ_BOUND: Duration = Duration::from_secs(30);
 
 /// A fresh directory under the system temp directory, removed on drop.
-pub struct TempDir(PathBuf);
+pub(crate) struct TempDir(PathBuf);
 
 impl TempDir {
     /// A new empty directory whose name includes `name` and the process id.
-    pub fn new(name: &str) -> TempDir {
+    pub(crate) fn new(name: &str) -> TempDir {
         let dir = std::env::temp_dir().join(format!("reyes-input-{}-{name}", std::process::id()));
         // Left over from an earlier run with the same process id.
         let _ = std::fs::remove_dir_all(&dir);
@@ -24,7 +24,7 @@ impl TempDir {
     }
 
     /// `name` inside the directory.
-    pub fn path(&self, name: &str) -> PathBuf {
+    pub(crate) fn path(&self, name: &str) -> PathBuf {
         self.0.join(name)
     }
 }
@@ -37,7 +37,7 @@ impl Drop for TempDir {
 
 /// Creates a FIFO with the `mkfifo` tool; `false` (with a notice) where
 /// the system has none.
-pub fn mkfifo(path: &Path) -> bool {
+pub(crate) fn mkfifo(path: &Path) -> bool {
     match std::process::Command::new("mkfifo").arg(path).status() {
         Ok(status) if status.success() => true,
         outcome => {
@@ -49,7 +49,7 @@ pub fn mkfifo(path: &Path) -> bool {
 
 /// Creates a symbolic link `link` -> `target`; `false` (with a notice)
 /// where links are not supported.
-pub fn symlink(target: &Path, link: &Path) -> bool {
+pub(crate) fn symlink(target: &Path, link: &Path) -> bool {
     #[cfg(unix)]
     {
         std::os::unix::fs::symlink(target, link).unwrap();
@@ -69,7 +69,7 @@ pub fn symlink(target: &Path, link: &Path) -> bool {
 ///
 /// On a hang, `unblock` is opened for writing from another thread: a reader
 /// stuck opening a FIFO then gets a writer, and end of file when it goes.
-pub fn bounded<T: Send + 'static>(
+pub(crate) fn bounded<T: Send + 'static>(
     what: &str,
     unblock: &Path,
     f: impl FnOnce() -> T + Send + 'static,
@@ -90,7 +90,7 @@ pub fn bounded<T: Send + 'static>(
 }
 
 /// The CRC-32 (ISO 3309, as PNG chunks use) of `bytes`.
-pub fn crc32(bytes: &[u8]) -> u32 {
+pub(crate) fn crc32(bytes: &[u8]) -> u32 {
     let mut crc = 0xFFFF_FFFFu32;
     for &byte in bytes {
         crc ^= u32::from(byte);
@@ -108,7 +108,7 @@ pub fn crc32(bytes: &[u8]) -> u32 {
 /// Runs the `reyes` binary with `args` and a stdin pipe that stays open
 /// (and empty) while it runs, killing it if it runs longer than
 /// [`READ_BOUND`]. Returns (success, stderr).
-pub fn run_cli(args: &[&str]) -> (bool, String) {
+pub(crate) fn run_cli(args: &[&str]) -> (bool, String) {
     let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_reyes"));
     command.args(args);
     run_command(command)
@@ -123,7 +123,7 @@ fn crc32_matches_the_reference_value() {
 /// Runs `command` (a `reyes` invocation the caller set up: another working
 /// directory, a shell with resource limits...) like [`run_cli`]: stdin an
 /// open empty pipe, killed past [`READ_BOUND`]. Returns (success, stderr).
-pub fn run_command(mut command: std::process::Command) -> (bool, String) {
+pub(crate) fn run_command(mut command: std::process::Command) -> (bool, String) {
     use std::io::Read;
     use std::process::Stdio;
     let mut child = command

@@ -26,7 +26,7 @@ pub(crate) enum BufferKind {
 
 impl BufferKind {
     /// The address space between `var<` and `>`.
-    pub fn address_space(self) -> &'static str {
+    pub(crate) fn address_space(self) -> &'static str {
         match self {
             Self::Storage { read_only: false } => "storage, read_write",
             Self::Storage { read_only: true } => "storage, read",
@@ -35,7 +35,7 @@ impl BufferKind {
     }
 
     /// The layout entry for a buffer of this kind at `binding`.
-    pub fn layout_entry(self, binding: u32) -> wgpu::BindGroupLayoutEntry {
+    pub(crate) fn layout_entry(self, binding: u32) -> wgpu::BindGroupLayoutEntry {
         let ty = match self {
             Self::Storage { read_only } => wgpu::BufferBindingType::Storage { read_only },
             Self::Uniform => wgpu::BufferBindingType::Uniform,
@@ -66,10 +66,10 @@ pub(crate) enum Kernels {
 }
 
 impl Kernels {
-    pub const ALL: [Self; 2] = [Self::Procedures, Self::Prepare];
+    pub(crate) const ALL: [Self; 2] = [Self::Procedures, Self::Prepare];
 
     /// Whether these kernels bind the graph's resources.
-    pub fn bind_resources(self) -> bool {
+    pub(crate) fn bind_resources(self) -> bool {
         self == Self::Procedures
     }
 
@@ -121,11 +121,11 @@ pub(crate) struct SchedulerBinding {
 }
 
 impl SchedulerBinding {
-    pub fn binding(&self) -> u32 {
+    pub(crate) fn binding(&self) -> u32 {
         self.buffer as u32
     }
 
-    pub fn bound_to(&self, kernels: Kernels) -> bool {
+    pub(crate) fn bound_to(&self, kernels: Kernels) -> bool {
         self.kernels.contains(&kernels)
     }
 }
@@ -225,7 +225,7 @@ pub(crate) struct Declaration {
 
 impl Declaration {
     /// `@group(g) @binding(b)`, after any decoration.
-    pub fn attributes(&self) -> String {
+    pub(crate) fn attributes(&self) -> String {
         let place = format!("@group({}) @binding({})", self.group, self.binding);
         match self.decoration {
             Some(decoration) => format!("{decoration} {place}"),
@@ -236,7 +236,7 @@ impl Declaration {
 
 impl SchedulerBinding {
     /// The declaration of this binding in a module of `shape`.
-    pub fn declaration(&self, shape: Shape) -> Declaration {
+    pub(crate) fn declaration(&self, shape: Shape) -> Declaration {
         let (decoration, ty, note) = match self.contents {
             Contents::Payload if shape.coherent => (
                 Some("@coherent"),

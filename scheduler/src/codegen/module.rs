@@ -42,7 +42,7 @@ pub(crate) struct Function {
 }
 
 impl Function {
-    pub fn new(name: impl Into<String>) -> Self {
+    pub(crate) fn new(name: impl Into<String>) -> Self {
         Self {
             doc: Vec::new(),
             attributes: Vec::new(),
@@ -55,22 +55,22 @@ impl Function {
         }
     }
 
-    pub fn doc(mut self, line: impl Into<String>) -> Self {
+    pub(crate) fn doc(mut self, line: impl Into<String>) -> Self {
         self.doc.push(line.into());
         self
     }
 
-    pub fn param(mut self, name: &str, ty: &str) -> Self {
+    pub(crate) fn param(mut self, name: &str, ty: &str) -> Self {
         self.params.push((name.to_owned(), ty.to_owned()));
         self
     }
 
-    pub fn returns(mut self, ty: &str) -> Self {
+    pub(crate) fn returns(mut self, ty: &str) -> Self {
         self.ret = Some(ty.to_owned());
         self
     }
 
-    pub fn line(&mut self, line: impl Into<String>) {
+    pub(crate) fn line(&mut self, line: impl Into<String>) {
         self.body.push(line.into());
     }
 }
@@ -119,7 +119,7 @@ pub(crate) struct Rendered {
 
 impl Rendered {
     /// Maps a 1-based module line/column to (origin, line in that source, column).
-    pub fn locate(&self, line: u32, column: u32) -> (SourceOrigin, u32, u32) {
+    pub(crate) fn locate(&self, line: u32, column: u32) -> (SourceOrigin, u32, u32) {
         for region in &self.regions {
             if (region.first_line..=region.last_line).contains(&line) {
                 return (
@@ -211,7 +211,7 @@ impl Writer {
 
 impl KernelModule {
     /// Renders the module and the map of user regions.
-    pub fn render(&self) -> Rendered {
+    pub(crate) fn render(&self) -> Rendered {
         let mut w = Writer {
             text: String::new(),
             line: 0,

@@ -1,46 +1,46 @@
 //! Layout of the control buffer (atomic u32 words). Mirrored as WGSL constants.
 
 /// Outstanding work: items reserved and not yet finished.
-pub const PENDING: u32 = 0;
+pub(crate) const PENDING: u32 = 0;
 /// Spin-waits that a driver's loop limiter ended early (llvmpipe).
-pub const LOOPS_CUT: u32 = 1;
+pub(crate) const LOOPS_CUT: u32 = 1;
 /// Rounds strategy: rounds that found work.
-pub const ROUNDS: u32 = 2;
+pub(crate) const ROUNDS: u32 = 2;
 /// First per-queue block.
-pub const QUEUE_BASE: u32 = 4;
+pub(crate) const QUEUE_BASE: u32 = 4;
 /// Words per queue block.
-pub const QUEUE_STRIDE: u32 = 12;
+pub(crate) const QUEUE_STRIDE: u32 = 12;
 /// Consumer ticket counter.
-pub const HEAD: u32 = 0;
+pub(crate) const HEAD: u32 = 0;
 /// Producer ticket counter.
-pub const TAIL: u32 = 1;
+pub(crate) const TAIL: u32 = 1;
 /// Reserved and unclaimed items (tested against the capacity).
-pub const FILL: u32 = 2;
+pub(crate) const FILL: u32 = 2;
 /// Highest fill seen.
-pub const HIGH_WATER: u32 = 3;
+pub(crate) const HIGH_WATER: u32 = 3;
 /// Items executed.
-pub const EXECUTED: u32 = 4;
+pub(crate) const EXECUTED: u32 = 4;
 /// Items accepted into the queue by enqueues.
-pub const ENQUEUED: u32 = 5;
+pub(crate) const ENQUEUED: u32 = 5;
 /// Items that did not fit.
-pub const DROPPED: u32 = 6;
+pub(crate) const DROPPED: u32 = 6;
 /// Largest fill an overflowing flush asked for.
-pub const NEEDED: u32 = 7;
+pub(crate) const NEEDED: u32 = 7;
 /// Enqueues beyond the staging room (declared fan-out).
-pub const FANOUT_OVERFLOW: u32 = 8;
+pub(crate) const FANOUT_OVERFLOW: u32 = 8;
 /// Every ticket below it holds a complete item.
-pub const PUBLISHED: u32 = 9;
+pub(crate) const PUBLISHED: u32 = 9;
 /// Every ticket below it has been copied out (its slot is free).
-pub const RELEASED: u32 = 10;
+pub(crate) const RELEASED: u32 = 10;
 /// Rounds strategy: end of the running round's tickets (it starts at `HEAD`).
-pub const ROUND_END: u32 = 11;
+pub(crate) const ROUND_END: u32 = 11;
 
 /// Number of control words for `queues` queues.
-pub fn words(queues: usize) -> u32 {
+pub(crate) fn words(queues: usize) -> u32 {
     QUEUE_BASE + QUEUE_STRIDE * queues as u32
 }
 
 /// Index of `field` of queue `q`.
-pub fn index(q: usize, field: u32) -> usize {
+pub(crate) fn index(q: usize, field: u32) -> usize {
     (QUEUE_BASE + QUEUE_STRIDE * q as u32 + field) as usize
 }

@@ -46,7 +46,7 @@ pub(crate) struct ItemLayout {
 
 impl ItemLayout {
     /// The layout of an item of `words` words with these fields.
-    pub fn new(words: u32, leaves: Vec<Leaf>) -> Self {
+    pub(crate) fn new(words: u32, leaves: Vec<Leaf>) -> Self {
         Self {
             words,
             slot_words: words.div_ceil(PACKET_WORDS) * PACKET_WORDS,
@@ -55,7 +55,7 @@ impl ItemLayout {
     }
 
     /// Packets of one slot.
-    pub fn packets(&self) -> u32 {
+    pub(crate) fn packets(&self) -> u32 {
         self.slot_words / PACKET_WORDS
     }
 }

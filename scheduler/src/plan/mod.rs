@@ -70,7 +70,7 @@ pub(crate) struct Plan {
 impl Plan {
     /// The resources checked mode guards (none without it), in declaration
     /// order; a guard's number is its position here.
-    pub fn guarded_resources(&self) -> Vec<&str> {
+    pub(crate) fn guarded_resources(&self) -> Vec<&str> {
         if !self.checked {
             return Vec::new();
         }
@@ -83,18 +83,18 @@ impl Plan {
 
     /// Control words the host reads back: the counters, then checked mode's
     /// words per procedure and guarded resource.
-    pub fn control_words(&self) -> u32 {
+    pub(crate) fn control_words(&self) -> u32 {
         control::words(self.queues.len())
             + checked::WORDS_PER_CHECK * (self.queues.len() * self.guarded_resources().len()) as u32
     }
 
-    pub fn queue_index(&self, name: &str) -> Option<usize> {
+    pub(crate) fn queue_index(&self, name: &str) -> Option<usize> {
         self.queues.iter().position(|q| q.name == name)
     }
 
     /// Fixed order in which workgroups scan queues. Priority: highest first,
     /// ties by declaration. Round-robin: declaration order (rotated at run time).
-    pub fn compute_scan_order(queues: &[QueuePlan], policy: Policy) -> Vec<usize> {
+    pub(crate) fn compute_scan_order(queues: &[QueuePlan], policy: Policy) -> Vec<usize> {
         let mut order: Vec<usize> = (0..queues.len()).collect();
         if policy == Policy::Priority {
             order.sort_by_key(|&q| (std::cmp::Reverse(queues[q].priority), q));

@@ -7,6 +7,7 @@ use crate::RunReport;
 /// Why a run failed. Every variant that happens after the kernel ran carries
 /// the run's report, so statistics are never lost.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RunError {
     /// The named procedure does not exist or does not accept initial items.
     #[error("cannot seed `{procedure}`: {reason}")]

@@ -109,7 +109,7 @@ impl Executor {
         // can switch checks off. We keep bounds checks on and switch off only
         // naga's loop bounding: the persistent loop is bounded by its iteration
         // budget and every spin-wait ends (docs/scheduler.md, "Progress").
-        #[allow(
+        #[expect(
             unsafe_code,
             reason = "keeps bounds checks; only drops loop bounding, see comment above"
         )]

@@ -17,7 +17,7 @@ pub(crate) struct Layouts {
 }
 
 impl Layouts {
-    pub fn new(device: &wgpu::Device) -> Self {
+    pub(crate) fn new(device: &wgpu::Device) -> Self {
         Self {
             scheduler: group_layout(device, Kernels::Procedures, "scheduler state"),
             prepare: group_layout(device, Kernels::Prepare, "scheduler round preparation"),
@@ -63,7 +63,7 @@ pub(crate) struct QueueState {
 impl QueueState {
     /// Allocates the buffers for `capacities` (allocated sizes, powers of
     /// two), failing with [`RunError::TooLarge`] beyond the device's limits.
-    pub fn new(
+    pub(crate) fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         compiled: &CompiledGraph,
@@ -218,7 +218,7 @@ impl QueueState {
 
     /// Empties every queue, then writes the seeds and the matching counters.
     /// Returns the number of items seeded per queue.
-    pub fn seed(
+    pub(crate) fn seed(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,

@@ -80,7 +80,7 @@ fn classify(problem: &Problem, item: &Interval) -> Decision {
     let t = item.fa + 4 * item.fm + item.fb;
     let tl = item.fa + 4 * fl + item.fm;
     let tr = item.fm + 4 * fr + item.fb;
-    let diff = (tl + tr) as i32 - 2 * t as i32;
+    let diff = (tl + tr).cast_signed() - 2 * t.cast_signed();
     let ok = diff.unsigned_abs() <= problem.threshold;
     if ok || item.depth == MAX_DEPTH {
         Decision::Accept {
