@@ -11,14 +11,17 @@
 //! ```no_run
 //! use reyes::{GpuOptions, GpuRenderer, PreparedScene, Scene};
 //!
+//! let scene = Scene::load("scene.toml")?;        // or Scene::default_teapot()
+//! let prepared = PreparedScene::load(&scene)?;   // models, camera, lights, the dicing rule
 //! let gpu = reyes::gpu::create_gpu()?;
-//! let mut renderer = GpuRenderer::new(&gpu, GpuOptions::default())?;
-//! let scene = PreparedScene::load(&Scene::load("scene.toml")?)?;
-//! let rendered = renderer.render(&scene)?;
+//! let rendered = GpuRenderer::new(&gpu, GpuOptions::default())?.render(&prepared)?;
 //! reyes::output::write_png(&rendered.image, "scene.png")?;
-//! println!("{} micropolygons", rendered.stats.micropolygons);
+//! let cpu = reyes::reference::render(&prepared);  // the CPU reference, same picture
+//! println!("{} micropolygons on the GPU, {} on the CPU", rendered.stats.micropolygons, cpu.stats.micropolygons);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! (The README shows the same lines; this copy is compiled as a doctest.)
 //!
 //! The modules:
 //!
