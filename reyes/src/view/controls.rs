@@ -18,16 +18,9 @@ pub const ZOOM_PER_LINE: f32 = 0.9;
 /// up vector would become parallel to the view direction.
 const POLE_MARGIN: f32 = 0.01;
 /// The sample counts the renderer accepts (perfect squares up to 64).
-pub const SPP_STEPS: [u32; 8] = [1, 4, 9, 16, 25, 36, 49, 64];
+pub const SPP_STEPS: [u32; 8] = crate::params::VALID_SPP;
 /// The sampling modes, in the order the `M` key cycles through them.
-pub const SAMPLING_MODES: [Sampling; 6] = [
-    Sampling::Bbox,
-    Sampling::Simple,
-    Sampling::Interleave,
-    Sampling::Interval,
-    Sampling::Adaptive,
-    Sampling::Nearest,
-];
+pub const SAMPLING_MODES: [Sampling; 6] = Sampling::ALL;
 /// The AOVs, in the order the `V` key cycles through them.
 pub const AOVS: [Aov; 4] = [Aov::Shaded, Aov::Grids, Aov::Depth, Aov::Normal];
 
