@@ -24,8 +24,9 @@ use std::collections::VecDeque;
 
 use rand::{Rng, SeedableRng, rngs::StdRng};
 
+pub use crate::Checked;
 pub use graph::{BfsGraph, capacities, graph};
-pub use run::{Checked, run};
+pub use run::run;
 
 /// Level of a node no source reaches.
 pub const UNREACHED: u32 = u32::MAX;

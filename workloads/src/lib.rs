@@ -10,11 +10,9 @@
 //! * [`bfs`]: breadth-first search levels, two procedures enqueueing each
 //!   other.
 
-#![warn(
-    missing_docs,
-    reason = "the workloads are shared by examples, tests and benchmarks"
-)]
-
 pub mod bfs;
+mod checked;
 pub mod mandelbrot;
 pub mod quadrature;
+
+pub use checked::Checked;

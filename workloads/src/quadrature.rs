@@ -25,8 +25,9 @@ mod wgsl;
 
 use rand::{Rng, SeedableRng, rngs::StdRng};
 
+pub use crate::Checked;
 pub use cpu::{Tally, cpu_reference, dense_simpson, f, roots};
-pub use run::{Checked, QuadratureGraph, graph, run};
+pub use run::{QuadratureGraph, graph, run};
 
 /// Grid points per unit length: x = k / 2^20, the domain is [0, 1].
 pub const GRID: u32 = 1 << 20;

@@ -4,21 +4,10 @@
 use std::error::Error;
 use std::fmt::Write as _;
 
-use scheduler::{CompileOptions, Executor, ExecutorConfig, Gpu, RunReport, Seeds};
+use scheduler::{CompileOptions, Executor, ExecutorConfig, Gpu, Seeds};
 
 use super::{BfsGraph, COUNTER_WORDS, Counters, Hop, Problem, UNREACHED, cpu_levels, graph};
-
-/// A checked run: the report and every disagreement with the CPU (none when
-/// the run is correct).
-#[derive(Debug)]
-pub struct Checked {
-    /// The scheduler's report of the run.
-    pub report: RunReport,
-    /// Every disagreement with the CPU, empty when the run is correct.
-    pub mismatches: Vec<String>,
-    /// A human-readable summary of the result.
-    pub summary: String,
-}
+use crate::Checked;
 
 /// Builds the graph, runs it on `gpu` with `config`, and compares the levels
 /// with a CPU BFS exactly and the scheduler's counters with the bodies'.

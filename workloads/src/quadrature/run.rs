@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 
 use scheduler::{
     Atomic, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Procedure, ProcedureId, Resource,
-    RunReport, Seeds,
+    Seeds,
 };
 
 use super::wgsl::{REFINE_BODY, WGSL_LIBRARY};
@@ -15,6 +15,7 @@ use super::{
     Bump, GRID, Interval, MAX_DEPTH, Problem, ROOT_WIDTH, TALLY_STRIDE, Tally, cpu_reference,
     dense_simpson, roots,
 };
+use crate::Checked;
 
 /// The graph of [`graph`], with the handle of its procedure.
 #[derive(Debug)]
@@ -47,18 +48,6 @@ pub fn graph(problem: &Problem) -> QuadratureGraph {
     );
     graph.connect_with_fan_out(&refine, &refine, 2);
     QuadratureGraph { graph, refine }
-}
-
-/// A checked run: the report and every disagreement with the CPU (none when
-/// the run is correct).
-#[derive(Debug)]
-pub struct Checked {
-    /// The scheduler's report of the run.
-    pub report: RunReport,
-    /// Every disagreement with the CPU, empty when the run is correct.
-    pub mismatches: Vec<String>,
-    /// A human-readable summary of the result.
-    pub summary: String,
 }
 
 /// Builds the graph, runs it on `gpu` with `config`, and compares the tally
