@@ -129,7 +129,7 @@ mod resource;
 mod runtime;
 
 pub use adapter::{DeviceRequest, Gpu};
-pub use compile::CompiledGraph;
+pub use compile::{CompiledGraph, Specialization};
 pub use constant::ConstantValue;
 pub use error::{CompileError, DeviceError, SourceOrigin};
 pub use graph::{Connection, DEFAULT_PRIORITY, Graph, Procedure};

@@ -43,6 +43,12 @@ pub struct CompileOptions {
     /// branch per access (docs/scheduler.md, "Checked mode"). Without it,
     /// such an access is undefined behaviour.
     pub checked: bool,
+    /// Specialization: fold every `if` whose condition is a constant
+    /// expression (graph constants make a caller's switches constant) and
+    /// drop the functions no entry point reaches any more, so the driver
+    /// compiles only what can run (docs/scheduler.md, "Specialization").
+    /// Default on; off keeps the module as generated, for debugging.
+    pub specialize: bool,
 }
 
 /// Largest [`CompileOptions::chunks_per_batch`]. Staging memory grows with it
@@ -51,7 +57,7 @@ pub const MAX_CHUNKS_PER_BATCH: u32 = 64;
 
 impl Default for CompileOptions {
     /// 256 threads, priority policy, WebGPU default limits, no features, one
-    /// chunk per batch.
+    /// chunk per batch, specialized.
     fn default() -> Self {
         Self {
             workgroup_size: 256,
@@ -60,6 +66,7 @@ impl Default for CompileOptions {
             features: wgpu::Features::empty(),
             chunks_per_batch: 1,
             checked: false,
+            specialize: true,
         }
     }
 }

@@ -15,12 +15,37 @@ pub struct CompiledGraph {
     pub(crate) module: naga::Module,
     /// Workgroup memory, measured on `module`.
     pub(crate) workgroup_bytes: u32,
+    pub(crate) specialization: Specialization,
+}
+
+/// What specialization ([`CompileOptions::specialize`](crate::CompileOptions::specialize))
+/// removed from the generated module.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Specialization {
+    /// `if` statements whose constant condition chose one branch.
+    pub folded_branches: usize,
+    /// Functions no entry point reaches any more, dropped, in module order.
+    pub dropped_functions: Vec<String>,
 }
 
 impl CompiledGraph {
     /// The generated WGSL (deterministic for a given graph and options).
     pub fn wgsl(&self) -> &str {
         &self.wgsl
+    }
+
+    /// What specialization removed (nothing when it was off).
+    pub fn specialization(&self) -> &Specialization {
+        &self.specialization
+    }
+
+    /// Lines and functions (entry points included) of the module: what
+    /// the driver compiles.
+    pub fn module_size(&self) -> (usize, usize) {
+        (
+            self.wgsl.lines().count(),
+            self.module.functions.len() + self.module.entry_points.len(),
+        )
     }
 
     /// The validated naga module.

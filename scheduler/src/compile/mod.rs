@@ -5,6 +5,7 @@ pub(crate) mod checks;
 mod compiled;
 pub(crate) mod diagnostics;
 pub(crate) mod layout;
+pub(crate) mod prune;
 pub(crate) mod workgroup;
 
 use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
@@ -17,7 +18,7 @@ use crate::plan::layout::{ExtraStructs, ItemLayout};
 use crate::plan::{Plan, build};
 use crate::{CompileError, CompileOptions, Graph, MAX_CHUNKS_PER_BATCH, SourceOrigin};
 
-pub use compiled::CompiledGraph;
+pub use compiled::{CompiledGraph, Specialization};
 
 fn is_identifier(name: &str) -> bool {
     let mut chars = name.chars();
@@ -161,13 +162,47 @@ impl Graph {
             &plan,
             options.limits.max_compute_workgroup_storage_size,
         )?;
+        let (wgsl, module, specialization) = if options.specialize {
+            specialize(&rendered.text, &module, options.features)?
+        } else {
+            (rendered.text, module, Specialization::default())
+        };
         Ok(CompiledGraph {
             plan,
-            wgsl: rendered.text,
+            wgsl,
             module,
             workgroup_bytes,
+            specialization,
         })
     }
+}
+
+/// The module `text` (parsed as `module`, already validated and checked)
+/// specialized by [`prune::prune`], parsed and validated again. Errors there
+/// are the scheduler's own: the user's sources were checked before.
+fn specialize(
+    text: &str,
+    module: &naga::Module,
+    features: wgpu::Features,
+) -> Result<(String, naga::Module, Specialization), CompileError> {
+    let internal = |message: String| CompileError::Wgsl {
+        origin: SourceOrigin::Generated,
+        line: 0,
+        column: 0,
+        message: format!("specializing the module: {message}"),
+    };
+    let pruned = prune::prune(text, module).map_err(|e| internal(e.emit_to_string(text)))?;
+    let rendered = Rendered {
+        text: pruned.text,
+        regions: Vec::new(),
+    };
+    let (module, _info) = diagnostics::parse_and_validate(&rendered, features)
+        .map_err(|e| internal(e.to_string()))?;
+    let specialization = Specialization {
+        folded_branches: pruned.folded_branches,
+        dropped_functions: pruned.dropped_functions,
+    };
+    Ok((rendered.text, module, specialization))
 }
 
 /// Names the generator declared: functions, constants, globals and those of the
