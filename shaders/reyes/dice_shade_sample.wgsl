@@ -40,18 +40,18 @@ if (valid) {
         // displaced_point, with the bound check.
         let patch_point = patch_position(&q, u, v);
         var moved = patch_point;
-        if (object.displace_kind != DISPLACE_NONE) {
-            let offset = displacement_height(object, u, v) * object.displace_scale;
-            if (abs(offset) > object.displace_bound * DISPLACEMENT_BOUND_SLACK) {
-                atomicAdd(&stats[STAT_DISPLACEMENT_BOUND_EXCEEDED], 1u);
-            }
-            moved = moved + displacement_normal(&q, u, v) * offset;
-        }
         var normal = vec3<f32>(0.0);
-        if (object.displace_kind != DISPLACE_NONE) {
-            normal = displaced_grid_normal(&q, object, item.uv, nu, nv, i, j);
-            if (dot3(normal, towards_eye(moved)) < 0.0) {
-                normal = -normal;
+        if (VARIANT_DISPLACED) {
+            if (object.displace_kind != DISPLACE_NONE) {
+                let offset = displacement_height(object, u, v) * object.displace_scale;
+                if (abs(offset) > object.displace_bound * DISPLACEMENT_BOUND_SLACK) {
+                    atomicAdd(&stats[STAT_DISPLACEMENT_BOUND_EXCEEDED], 1u);
+                }
+                moved = moved + displacement_normal(&q, u, v) * offset;
+                normal = displaced_grid_normal(&q, object, item.uv, nu, nv, i, j);
+                if (dot3(normal, towards_eye(moved)) < 0.0) {
+                    normal = -normal;
+                }
             }
         }
         if (all(normal == vec3<f32>(0.0))) {
@@ -84,7 +84,7 @@ if (valid) {
             }
         }
         scratch_store_u32(slot, w + 4u, pack_rgb10(color));
-        if (frame.time_lens != 0u) {
+        if (VARIANT_BLURRED) {
             var close_position = moved;
             if (object.moving != 0u) {
                 close_position = motion_close(object, moved);
@@ -145,7 +145,7 @@ if (valid && thread < nu * nv) {
     // A one-sided object's back-facing triangles are culled.
     let front = objects[item.object].front;
     var counts = SampleCounts(0u, 0u, 0u);
-    if (frame.time_lens != 0u) {
+    if (VARIANT_BLURRED) {
         let mode = mode_for_grid(bitcast<f32>(atomicLoad(&grid_extent[2u * slot])), bitcast<f32>(atomicLoad(&grid_extent[2u * slot + 1u])));
         if (thread == 0u && mode == SAMPLING_INTERLEAVE) {
             atomicAdd(&stats[STAT_INTERLEAVE_GRIDS], 1u);
@@ -177,7 +177,7 @@ if (valid && thread == 0u) {
     atomicAdd(&stats[STAT_GRIDS_BY_CLASS + grid_class(nu, nv)], 1u);
     stat_add64(STAT_DICE_THREADS, DICE_THREADS);
 }
-if (frame.time_lens != 0u) {
+if (VARIANT_BLURRED) {
     // Every thread has read the grid's extents: clear them for the next
     // batch (workgroup memory starts zeroed).
     workgroupBarrier();

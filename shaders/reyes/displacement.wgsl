@@ -91,11 +91,13 @@ fn lerp_param(a: f32, b: f32, s: f32) -> f32 {
 // object is displaced.
 fn displaced_point(q: ptr<function, array<f32, 48>>, object: Object, u: f32, v: f32) -> vec3<f32> {
     let position = patch_position(q, u, v);
-    if (object.displace_kind == DISPLACE_NONE) {
-        return position;
+    if (VARIANT_DISPLACED) {
+        if (object.displace_kind != DISPLACE_NONE) {
+            let offset = displacement_height(object, u, v) * object.displace_scale;
+            return position + displacement_normal(q, u, v) * offset;
+        }
     }
-    let offset = displacement_height(object, u, v) * object.displace_scale;
-    return position + displacement_normal(q, u, v) * offset;
+    return position;
 }
 
 // reyes::reference::displace::grid_normal at point (i, j) of a grid of nu x

@@ -26,6 +26,7 @@ use super::abi::POINT_WORDS;
 use super::buffers::{FrameUniform, LightData};
 use super::objects::ObjectData;
 use super::shared_constants::{grid_colors_wgsl, shared_constants};
+use super::variant::KernelVariant;
 use crate::dicing::GridClass;
 
 pub use super::abi::{dicing, displace, non_finite, sampling, stat};
@@ -81,25 +82,31 @@ pub const REQUIRED_FEATURES: wgpu::Features =
 const BOUND_SCRATCH_WORDS: u32 = 5 * 16;
 const SPLIT_SCRATCH_WORDS: u32 = 4 + 7 * 8;
 
-/// The Reyes procedure graph, with the default (zero) user displacement function.
+/// The Reyes procedure graph of the default variant (the teapot's), with
+/// the default (zero) user displacement function.
 pub fn reyes_graph() -> Graph {
-    reyes_graph_with(None)
+    reyes_graph_with(KernelVariant::default(), None)
 }
 
-/// The Reyes procedure graph with the scene's user displacement function
-/// (WGSL defining `fn displacement_user(u: f32, v: f32) -> f32`), or the
-/// default one for `None`.
+/// The Reyes procedure graph of `variant` (its switches are graph
+/// constants, so that specialization keeps only the code it runs) with the
+/// scene's user displacement function (WGSL defining `fn
+/// displacement_user(u: f32, v: f32) -> f32`), or the default one for
+/// `None`.
 ///
 /// Priorities make the scheduler work depth-first (leaves first), which
 /// keeps the split queues short: DiceShadeSample > SplitU = SplitV > Bound.
 /// Fan-outs: Bound routes its one patch to exactly one target; a split
 /// routes each of its two halves to one target, so at most 2 per target.
-pub fn reyes_graph_with(user_displacement: Option<&str>) -> Graph {
+pub fn reyes_graph_with(variant: KernelVariant, user_displacement: Option<&str>) -> Graph {
     // The renderer compiles with the default workgroup size
     // ([`compile_options`]); the dice slots follow from it.
     let workgroup_size = CompileOptions::default().workgroup_size;
     let mut graph = Graph::new("reyes");
     for (name, value) in shared_constants(workgroup_size) {
+        graph.constant(name, value);
+    }
+    for (name, value) in variant.constants() {
         graph.constant(name, value);
     }
     graph.library(&grid_colors_wgsl());
@@ -179,26 +186,28 @@ pub fn compile_options(recommended: wgpu::Features) -> CompileOptions {
     CompileOptions::with_features(recommended | REQUIRED_FEATURES)
 }
 
-/// Compiles the Reyes graph with [`compile_options`].
+/// Compiles the Reyes graph of the default variant with [`compile_options`].
 pub fn compile(recommended: wgpu::Features) -> Result<CompiledGraph, CompileError> {
-    compile_with(recommended, None)
+    compile_variant(recommended, KernelVariant::default(), None)
 }
 
-/// Compiles the Reyes graph with a user displacement function (see
-/// [`reyes_graph_with`]).
-pub fn compile_with(
+/// Compiles the Reyes graph of `variant` with a user displacement function
+/// (see [`reyes_graph_with`]).
+pub fn compile_variant(
     recommended: wgpu::Features,
+    variant: KernelVariant,
     user_displacement: Option<&str>,
 ) -> Result<CompiledGraph, CompileError> {
-    compile_for(recommended, user_displacement, Policy::Priority, 1)
+    compile_for(recommended, variant, user_displacement, Policy::Priority, 1)
 }
 
-/// Like [`compile_with`], with the given queue policy and chunks per batch
-/// ([`CompileOptions::chunks_per_batch`]). The graph's priorities
+/// Like [`compile_variant`], with the given queue policy and chunks per
+/// batch ([`CompileOptions::chunks_per_batch`]). The graph's priorities
 /// (DiceShadeSample > SplitU = SplitV > Bound) count under
 /// [`Policy::Priority`] only.
 pub fn compile_for(
     recommended: wgpu::Features,
+    variant: KernelVariant,
     user_displacement: Option<&str>,
     policy: Policy,
     chunks_per_batch: u32,
@@ -208,5 +217,5 @@ pub fn compile_for(
         chunks_per_batch,
         ..compile_options(recommended)
     };
-    reyes_graph_with(user_displacement).compile(&options)
+    reyes_graph_with(variant, user_displacement).compile(&options)
 }

@@ -45,9 +45,11 @@ mod patch_item;
 mod render_error;
 mod shared_constants;
 mod tiles;
+mod variant;
 
 pub use loop_limit::{LoopLimitContext, LoopLimitError, LoopLimitHint};
 pub use renderer::{DEFAULT_RENDER_TIMEOUT, GpuOptions, GpuRendered, GpuRenderer, RenderError};
+pub use variant::KernelVariant;
 
 /// Creates a device with the features the renderer needs
 /// (`graph::REQUIRED_FEATURES`); fails with a clear message when the

@@ -22,6 +22,7 @@ use super::buffers::{FrameBuffers, GpuCounters};
 use super::graph::{self, REQUIRED_FEATURES};
 use super::loop_limit::{LoopLimitContext, LoopLimitError};
 use super::resolve::{ResolveTarget, Resolver};
+use super::variant::KernelVariant;
 use crate::prepare::PreparedScene;
 
 pub use super::options::{
@@ -57,6 +58,8 @@ pub struct GpuRenderer<'a> {
     gpu: &'a Gpu,
     options: GpuOptions,
     compiled: CompiledGraph,
+    /// The variant `compiled` was specialized to.
+    compiled_variant: KernelVariant,
     /// The user displacement function compiled into `compiled`, if any.
     compiled_user: Option<String>,
     /// The chunks per batch `compiled` was compiled with.
@@ -82,6 +85,7 @@ impl<'a> GpuRenderer<'a> {
         }
         let compiled = graph::compile_for(
             scheduler::recommended_features(&gpu.device),
+            KernelVariant::default(),
             None,
             options.policy,
             chunks,
@@ -97,6 +101,7 @@ impl<'a> GpuRenderer<'a> {
             gpu,
             options,
             compiled,
+            compiled_variant: KernelVariant::default(),
             compiled_user: None,
             compiled_chunks: chunks,
             resolver: Resolver::new(&gpu.device),
@@ -105,15 +110,21 @@ impl<'a> GpuRenderer<'a> {
         })
     }
 
-    /// The compiled megakernel (of the last scene's user displacement
-    /// function, if it had one).
+    /// The compiled megakernel (of the last scene's variant and user
+    /// displacement function, if it had one).
     pub fn compiled(&self) -> &CompiledGraph {
         &self.compiled
     }
 
-    /// Compiles the megakernel again when `scene` needs a different user
-    /// displacement function, or chunks per batch, than the one compiled in
-    /// (the executor, which holds the pipeline, is then rebuilt).
+    /// The variant the megakernel is specialized to (the last scene's).
+    pub fn variant(&self) -> KernelVariant {
+        self.compiled_variant
+    }
+
+    /// Compiles the megakernel again when `scene` needs a different variant
+    /// ([`KernelVariant::of`]), user displacement function, or chunks per
+    /// batch than the one compiled in (the executor, which holds the
+    /// pipeline, is then rebuilt).
     fn prepare_megakernel(&mut self, scene: &PreparedScene) -> Result<(), RenderError> {
         let mut users = scene.objects.iter().enumerate().filter_map(|(i, o)| {
             o.displacement
@@ -129,14 +140,19 @@ impl<'a> GpuRenderer<'a> {
         }
         let user = user.map(|(_, w)| w);
         let chunks = chunks_per_batch(self.gpu, &self.options, scene.samples_time_and_lens());
-        if user == self.compiled_user.as_deref() && chunks == self.compiled_chunks {
+        let variant = KernelVariant::of(scene);
+        if variant == self.compiled_variant
+            && user == self.compiled_user.as_deref()
+            && chunks == self.compiled_chunks
+        {
             return Ok(());
         }
         if let Some(wgsl) = user {
             crate::displacement::user_wgsl::check(wgsl)?;
         }
         let features = scheduler::recommended_features(&self.gpu.device);
-        let compiled = graph::compile_for(features, user, self.options.policy, chunks).map_err(
+        let compiled = graph::compile_for(features, variant, user, self.options.policy, chunks)
+            .map_err(
             |e| match user {
                 Some(_) => RenderError::UserDisplacement(e),
                 None => RenderError::Compile(e),
@@ -146,7 +162,7 @@ impl<'a> GpuRenderer<'a> {
         // enough on lavapipe (minutes for a module its shader cache lacks)
         // that a silent wait looks like a hang.
         log::info!(
-            "new megakernel ({chunks} chunk(s) per batch{}): the driver compiles it at the first dispatch, which takes minutes on lavapipe when its shader cache lacks it",
+            "new megakernel for {variant} ({chunks} chunk(s) per batch{}): the driver compiles it at the first dispatch, which takes minutes on lavapipe when its shader cache lacks it",
             if user.is_some() {
                 ", with the scene's displacement function"
             } else {
@@ -155,6 +171,7 @@ impl<'a> GpuRenderer<'a> {
         );
         self.executor = None;
         self.compiled = compiled;
+        self.compiled_variant = variant;
         self.compiled_user = user.map(str::to_owned);
         self.compiled_chunks = chunks;
         Ok(())

@@ -1,0 +1,110 @@
+//! The variant of the megakernel a frame needs: the switches that select
+//! large amounts of code, as WGSL constants, so that the scheduler's
+//! specialization ([`scheduler::CompileOptions::specialize`]) compiles only
+//! the code the frame can run.
+//!
+//! Each specialized switch multiplies the modules the driver compiles (and
+//! caches) separately, so only those whose code is large are switches here
+//! (docs/performance.md, "Specialization"):
+//! - time and lens sampling: the five 5D rasterizers and the motion and
+//!   lens paths, about half of the module, inlined into each of the three
+//!   dice procedures;
+//! - displacement: the height sources, the displaced normals and the
+//!   displaced border chords.
+//!
+//! The sampling mode, the dicer and the AOV stay run-time switches in the
+//! frame uniform: their code is small, and a frame's mode can change (as in
+//! the viewer) without a new module. The WGSL tests the constants
+//! (`VARIANT_*`) in plain `if` conditions without `&&` or `||`, which naga
+//! lowers into statements of their own, so they would not fold.
+
+use std::fmt;
+
+use scheduler::ConstantValue;
+
+use crate::prepare::PreparedScene;
+
+/// The switches of a frame that select code in the megakernel. Two frames
+/// with the same variant (and the same user displacement function) run the
+/// same module.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct KernelVariant {
+    /// Samples carry a time and a lens position
+    /// ([`PreparedScene::samples_time_and_lens`]): the 5D rasterizers.
+    pub blurred: bool,
+    /// Some object is displaced.
+    pub displaced: bool,
+}
+
+impl KernelVariant {
+    /// Every variant, in a fixed order.
+    pub const ALL: [Self; 4] = [
+        Self::new(false, false),
+        Self::new(false, true),
+        Self::new(true, false),
+        Self::new(true, true),
+    ];
+
+    const fn new(blurred: bool, displaced: bool) -> Self {
+        Self { blurred, displaced }
+    }
+
+    /// The variant `scene` needs.
+    pub fn of(scene: &PreparedScene) -> Self {
+        Self {
+            blurred: scene.samples_time_and_lens(),
+            displaced: scene.objects.iter().any(|o| o.displacement.is_some()),
+        }
+    }
+
+    /// The WGSL constants that state this variant, declared as graph
+    /// constants.
+    pub fn constants(self) -> [(&'static str, ConstantValue); 2] {
+        [
+            ("VARIANT_BLURRED", self.blurred.into()),
+            ("VARIANT_DISPLACED", self.displaced.into()),
+        ]
+    }
+
+    /// A stable 64-bit hash of the variant (FNV-1a of its name), the same
+    /// on every machine and build.
+    pub fn stable_hash(self) -> u64 {
+        self.to_string()
+            .bytes()
+            .fold(0xcbf2_9ce4_8422_2325, |h, b| {
+                (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+            })
+    }
+}
+
+impl fmt::Display for KernelVariant {
+    /// A short name: `still`, `blurred`, `still-displaced` or
+    /// `blurred-displaced`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(if self.blurred { "blurred" } else { "still" })?;
+        if self.displaced {
+            f.write_str("-displaced")?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_and_hashes_are_stable() {
+        let names: Vec<String> = KernelVariant::ALL.iter().map(|v| v.to_string()).collect();
+        assert_eq!(
+            names,
+            ["still", "still-displaced", "blurred", "blurred-displaced"]
+        );
+        // FNV-1a of "still", computed independently, fixed here so that a
+        // change of the name or of the hash shows up.
+        assert_eq!(
+            KernelVariant::default().stable_hash(),
+            0x3327_dbad_6c7e_a411
+        );
+    }
+}

@@ -1,0 +1,111 @@
+//! The Reyes megakernel specialized per frame ([`KernelVariant`]): every
+//! variant compiles, validates and is deterministic, and each one holds the
+//! code its frames run and nothing of the switched-off features.
+
+use reyes::gpu::KernelVariant;
+use reyes::gpu::graph::{compile_variant, reyes_graph_with};
+use scheduler::CompileOptions;
+use scheduler::wgpu::Features;
+
+/// A user displacement function, as a scene would give it.
+const USER: &str =
+    "fn displacement_user(u: f32, v: f32) -> f32 {\n    return 0.1 * sin(6.0 * u) * v;\n}\n";
+
+/// Functions that only the 5D rasterizers and the motion and lens paths use.
+const BLURRED_ONLY: [&str; 6] = [
+    "raster_quad_5d",
+    "raster_interleave",
+    "raster_interval",
+    "raster_simple",
+    "adaptive_choice",
+    "moving_point",
+];
+
+/// Functions that only displacement uses.
+const DISPLACED_ONLY: [&str; 4] = [
+    "displacement_height",
+    "displaced_grid_normal",
+    "height_sines",
+    "height_image",
+];
+
+fn declares(wgsl: &str, function: &str) -> bool {
+    wgsl.contains(&format!("\nfn {function}("))
+}
+
+#[test]
+fn every_variant_holds_what_it_runs_and_nothing_it_does_not() {
+    for variant in KernelVariant::ALL {
+        for user in [None, Some(USER)] {
+            let compiled = compile_variant(Features::empty(), variant, user)
+                .unwrap_or_else(|e| panic!("{variant} compiles: {e}"));
+            let wgsl = compiled.wgsl();
+            for function in BLURRED_ONLY {
+                assert_eq!(
+                    declares(wgsl, function),
+                    variant.blurred,
+                    "{variant}: {function}"
+                );
+            }
+            for function in DISPLACED_ONLY {
+                assert_eq!(
+                    declares(wgsl, function),
+                    variant.displaced,
+                    "{variant}: {function}"
+                );
+            }
+            // The user's function is compiled in only where displacement is.
+            assert_eq!(
+                declares(wgsl, "displacement_user"),
+                variant.displaced,
+                "{variant} with user function {}",
+                user.is_some()
+            );
+            // The same inputs give the same text.
+            let again = compile_variant(Features::empty(), variant, user).unwrap();
+            assert_eq!(wgsl, again.wgsl(), "{variant} is deterministic");
+        }
+    }
+}
+
+#[test]
+fn specialization_shrinks_every_variant() {
+    let mut rows = Vec::new();
+    for variant in KernelVariant::ALL {
+        let graph = reyes_graph_with(variant, None);
+        let full = graph
+            .compile(&CompileOptions {
+                specialize: false,
+                ..reyes::gpu::graph::compile_options(Features::empty())
+            })
+            .unwrap();
+        let specialized = graph
+            .compile(&reyes::gpu::graph::compile_options(Features::empty()))
+            .unwrap();
+        let (full_lines, full_functions) = full.module_size();
+        let (lines, functions) = specialized.module_size();
+        rows.push(format!(
+            "{variant}: {lines} lines, {functions} functions (unspecialized {full_lines}, {full_functions})"
+        ));
+        assert!(lines < full_lines, "{variant}");
+        assert!(functions < full_functions, "{variant}");
+        // The unspecialized module is the same for every variant but the
+        // constants' values: it holds every feature.
+        assert!(declares(full.wgsl(), "raster_interleave"));
+        assert!(declares(full.wgsl(), "displaced_grid_normal"));
+    }
+    println!("{}", rows.join("\n"));
+}
+
+/// The megakernel of a blurred, displaced frame, for review (the default,
+/// still variant is `reyes_gpu`'s snapshot).
+#[test]
+fn blurred_displaced_megakernel_wgsl_snapshot() {
+    let variant = KernelVariant {
+        blurred: true,
+        displaced: true,
+    };
+    let compiled =
+        compile_variant(Features::empty(), variant, None).expect("the Reyes graph compiles");
+    insta::assert_snapshot!(compiled.wgsl());
+}
