@@ -6,7 +6,9 @@
 //! The line is drawn only on a terminal and without `--quiet`; it is
 //! written as `\r<text>` padded with spaces over the last one and ends with
 //! `\r`, so that a log line printed meanwhile starts at the left edge, and
-//! it is blanked when the frame ends. No ANSI escape is used.
+//! it is blanked when the frame ends. It is written again only when its
+//! text changes (at least every second while something goes on, as the
+//! seconds count). No ANSI escape is used.
 
 use std::io::Write;
 use std::sync::{Arc, Condvar, Mutex, Once, PoisonError};
@@ -100,8 +102,8 @@ impl Status {
 struct Line<W: Write> {
     out: W,
     status: Status,
-    /// Characters of the line on screen (0: none).
-    drawn: usize,
+    /// The text on screen (empty: none).
+    drawn: String,
 }
 
 impl<W: Write> Line<W> {
@@ -109,7 +111,7 @@ impl<W: Write> Line<W> {
         Self {
             out,
             status: Status::default(),
-            drawn: 0,
+            drawn: String::new(),
         }
     }
 
@@ -117,31 +119,42 @@ impl<W: Write> Line<W> {
     /// is going on. A failed write is ignored: progress is no output.
     fn draw(&mut self, now: Instant) {
         let text = self.status.line(now).unwrap_or_default();
-        let width = text.chars().count();
-        if width == 0 && self.drawn == 0 {
+        if text == self.drawn {
             return;
         }
-        let pad = self.drawn.saturating_sub(width);
+        let pad = self
+            .drawn
+            .chars()
+            .count()
+            .saturating_sub(text.chars().count());
         let _ = write!(self.out, "\r{text}{:pad$}\r", "");
         let _ = self.out.flush();
-        self.drawn = width;
+        self.drawn = text;
     }
 
     /// Blanks the line.
     fn clear(&mut self) {
-        if self.drawn > 0 {
-            let _ = write!(self.out, "\r{:width$}\r", "", width = self.drawn);
+        if !self.drawn.is_empty() {
+            let width = self.drawn.chars().count();
+            let _ = write!(self.out, "\r{:width$}\r", "");
             let _ = self.out.flush();
-            self.drawn = 0;
+            self.drawn.clear();
         }
     }
 }
 
-/// The line and whether the ticker should stop.
-#[derive(Debug)]
+/// The line and whether the ticker should stop, and the clock both the
+/// ticker and the observer read.
 struct Shared<W: Write> {
     state: Mutex<(Line<W>, bool)>,
     wake: Condvar,
+    clock: Box<dyn Fn() -> Instant + Send + Sync>,
+}
+
+impl<W: Write> std::fmt::Debug for Shared<W> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Shared").finish_non_exhaustive()
+    }
 }
 
 /// The ticker thread that redraws the line every [`TICK`], and the
@@ -162,16 +175,22 @@ impl Ticker<std::io::Stderr> {
             return None;
         }
         // A ticker that cannot start leaves the frame without a line.
-        Self::start(std::io::stderr(), TICK).ok()
+        Self::start(std::io::stderr(), TICK, Box::new(Instant::now)).ok()
     }
 }
 
 impl<W: Write + Send + 'static> Ticker<W> {
-    /// Starts the thread that redraws the line on `out` every `tick`.
-    fn start(out: W, tick: Duration) -> std::io::Result<Self> {
+    /// Starts the thread that redraws the line on `out` every `tick`, at
+    /// the times `clock` tells.
+    fn start(
+        out: W,
+        tick: Duration,
+        clock: Box<dyn Fn() -> Instant + Send + Sync>,
+    ) -> std::io::Result<Self> {
         let shared = Arc::new(Shared {
             state: Mutex::new((Line::new(out), false)),
             wake: Condvar::new(),
+            clock,
         });
         let thread_shared = shared.clone();
         let thread = std::thread::Builder::new()
@@ -180,7 +199,7 @@ impl<W: Write + Send + 'static> Ticker<W> {
                 let shared = thread_shared;
                 let mut state = shared.state.lock().unwrap_or_else(PoisonError::into_inner);
                 while !state.1 {
-                    state.0.draw(Instant::now());
+                    state.0.draw((shared.clock)());
                     state = shared
                         .wake
                         .wait_timeout(state, tick)
@@ -199,7 +218,7 @@ impl<W: Write + Send + 'static> Ticker<W> {
     pub(crate) fn progress(&self) -> Progress {
         let shared = self.shared.clone();
         Progress::new(move |event| {
-            let now = Instant::now();
+            let now = (shared.clock)();
             let mut state = shared.state.lock().unwrap_or_else(PoisonError::into_inner);
             state.0.status.follow(event, now);
             state.0.draw(now);
@@ -344,6 +363,7 @@ mod tests {
         };
         line.status.follow(&frame, t0);
         line.draw(t0);
+        line.draw(t0 + Duration::from_millis(900));
         line.status
             .follow(&ProgressEvent::TileStarted { tile: 1, tiles: 2 }, t0);
         line.draw(t0 + Duration::from_secs(3));
@@ -352,6 +372,7 @@ mod tests {
         line.draw(t0 + Duration::from_secs(4));
         line.clear();
         line.clear();
+        // The same text (0 s at 900 ms) is not written again.
         let first = "rendering 8x6 at 1 spp … 0 s";
         let second = "rendering 8x6 at 1 spp, tile 1/2 … 3 s";
         let third = "rendering 8x6 at 1 spp … 4 s";
@@ -365,34 +386,49 @@ mod tests {
 
     #[test]
     fn the_ticker_redraws_and_leaves_no_partial_line() {
+        use std::sync::atomic::{AtomicU64, Ordering};
+
+        // A clock that moves a second at every reading: the text changes at
+        // every tick, a millisecond apart.
+        let start = Instant::now();
+        let seconds = AtomicU64::new(0);
+        let clock = move || start + Duration::from_secs(seconds.fetch_add(1, Ordering::Relaxed));
         let sink = Sink::default();
-        let ticker = Ticker::start(sink.clone(), Duration::from_millis(1)).unwrap();
-        let progress = ticker.progress();
-        progress.send(|| ProgressEvent::FrameStarted {
+        let ticker =
+            Ticker::start(sink.clone(), Duration::from_millis(1), Box::new(clock)).unwrap();
+        ticker.progress().send(|| ProgressEvent::FrameStarted {
             width: 8,
             height: 6,
             spp: 1,
         });
-        // The thread redraws without events (a few ms, not seconds).
+        let lines = |text: &str| -> Vec<String> {
+            text.split('\r')
+                .filter(|s| !s.is_empty())
+                .map(str::to_owned)
+                .collect()
+        };
+        // The thread redraws without events.
         let deadline = Instant::now() + Duration::from_secs(5);
-        while sink.text().matches("\r\r").count() < 2 && Instant::now() < deadline {
+        while lines(&sink.text()).len() < 3 && Instant::now() < deadline {
             std::thread::sleep(Duration::from_millis(1));
         }
-        assert!(
-            sink.text().matches("\r\r").count() >= 2,
-            "{:?}",
-            sink.text()
-        );
         drop(ticker);
         let text = sink.text();
-        let width = "rendering 8x6 at 1 spp … 0 s".chars().count();
-        let blank = format!("\r{}\r", " ".repeat(width));
-        assert!(text.ends_with(&blank), "{text:?}");
-        // Events after the ticker stopped still draw (the observer owns the
-        // line) but nothing ticks any more.
-        let after = sink.text().len();
+        let lines = lines(&text);
+        assert!(lines.len() >= 4, "{text:?}");
+        assert!(
+            lines[0].starts_with("rendering 8x6 at 1 spp … "),
+            "{text:?}"
+        );
+        // The last line blanks the one before it, and ends at its start.
+        let (last, blank) = (&lines[lines.len() - 2], &lines[lines.len() - 1]);
+        assert!(last.trim_end().ends_with(" s"), "{text:?}");
+        assert!(blank.trim().is_empty(), "{text:?}");
+        assert_eq!(blank.len(), last.trim_end().chars().count(), "{text:?}");
+        assert!(text.ends_with('\r'));
+        // Nothing ticks after the ticker is dropped.
         std::thread::sleep(Duration::from_millis(5));
-        assert_eq!(sink.text().len(), after);
+        assert_eq!(sink.text(), text);
     }
 
     #[test]
