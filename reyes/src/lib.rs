@@ -34,6 +34,7 @@
 //! * [`gpu`]: the GPU renderer; [`reference`](mod@reference): the CPU
 //!   reference renderer;
 //! * [`stats`]: render statistics; [`output`]: PNG and EXR output;
+//!   [`progress`]: what the GPU renderer is doing while a caller waits;
 //! * `view` (feature `viewer`, on by default): the interactive viewer;
 //! * `cli` (feature `cli`, on by default): the `reyes` command line.
 //!
@@ -85,6 +86,7 @@ pub mod model;
 pub mod modes;
 pub mod output;
 pub mod prepare;
+pub mod progress;
 pub mod reference;
 pub mod rib;
 pub mod scene;

@@ -68,6 +68,11 @@ pub(crate) struct RenderArgs {
     /// Print the statistics table.
     #[arg(long)]
     pub(crate) stats: bool,
+    /// Draw no progress line and print no notice about the adapter (the
+    /// line is drawn only when stderr is a terminal); errors, warnings and
+    /// the `wrote` line stay.
+    #[arg(short, long)]
+    pub(crate) quiet: bool,
     /// Write the statistics as JSON to FILE (any name but the image's;
     /// missing directories are created, as for `-o`). The image and FILE
     /// are replaced together, or neither is.

@@ -4,7 +4,7 @@
 //! ```text
 //! reyes render [SCENE] -o out.png [--width W] [--height H] [--spp N]
 //!              [--sampling bbox|simple|interleave|interval|adaptive|nearest] [--interleave-tile 2|3|4]
-//!              [--stats] [--stats-json FILE]
+//!              [--stats] [--stats-json FILE] [--quiet]
 //!              [--spin DEG] [--move x,y,z] [--camera-move x,y,z] [--camera-pan DEG]
 //!              [--shutter F] [--aperture R] [--focus D]
 //!              [--eye x,y,z] [--target x,y,z] [--up x,y,z] [--fov DEG] [--cpu]
@@ -24,6 +24,7 @@ mod convert;
 mod input;
 mod parse;
 mod prepare;
+mod progress;
 mod render;
 mod stats;
 #[cfg(feature = "viewer")]

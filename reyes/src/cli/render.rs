@@ -6,11 +6,13 @@ use std::path::{Path, PathBuf};
 use super::BoxError;
 use super::args::RenderArgs;
 use super::prepare::prepare;
+use super::progress::{Ticker, print_software_notice};
 use super::stats::print_stats;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use crate::gpu::{GpuOptions, GpuRenderer};
 use crate::input::Limits;
 use crate::prepare::PreparedScene;
+use crate::progress::AdapterSummary;
 use crate::stats::RenderStats;
 
 /// `reyes render`: prepares the scene, renders it on the GPU or with the CPU
@@ -76,10 +78,20 @@ fn render_cpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxErro
 }
 
 /// The frame of the GPU renderer; retries are reported as they happen,
-/// through the log.
+/// through the log. Unless `--quiet`, a software adapter is named once, and
+/// on a terminal a progress line follows the compile and the frame.
 fn render_gpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxError> {
     let gpu = crate::gpu::create_gpu()?;
+    if !args.quiet {
+        print_software_notice(&AdapterSummary::of(&gpu.adapter.get_info()));
+    }
+    // Declared before the renderer, dropped after it: the line is blanked
+    // before anything else is printed, error or not.
+    let ticker = Ticker::on_terminal(args.quiet);
     let mut options = GpuOptions::default();
+    if let Some(ticker) = &ticker {
+        options.progress = ticker.progress();
+    }
     if let Some(seconds) = args.timeout {
         options.timeout = std::time::Duration::from_secs(seconds.max(1));
     }

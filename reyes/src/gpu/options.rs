@@ -6,6 +6,7 @@ use std::time::Duration;
 use image::RgbaImage;
 use scheduler::{Policy, RunReport, Strategy};
 
+use crate::progress::Progress;
 use crate::stats::RenderStats;
 
 /// Default capacity (items) of the split and dice queues. With the
@@ -56,6 +57,10 @@ pub struct GpuOptions {
     /// [`GpuRenderer::render`](super::renderer::GpuRenderer::render)); a
     /// small value forces batches on small scenes.
     pub max_batch_patches: Option<u32>,
+    /// Who hears what the renderer is doing ([`crate::progress`]): the
+    /// frames, the driver's compile of the megakernel, tiles and batches.
+    /// Default: nobody, at no cost.
+    pub progress: Progress,
 }
 
 pub use crate::params::DEFAULT_RENDER_TIMEOUT;
@@ -72,6 +77,7 @@ impl Default for GpuOptions {
             policy: Policy::Priority,
             max_tile_samples: None,
             max_batch_patches: None,
+            progress: Progress::none(),
         }
     }
 }

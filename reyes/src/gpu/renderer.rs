@@ -233,7 +233,15 @@ impl<'a> GpuRenderer<'a> {
     /// sample, so a repeated batch changes nothing there. The grown queues
     /// and the lowered budget stay for later batches, tiles and frames; the
     /// result counts the retries.
+    ///
+    /// [`GpuOptions::progress`] hears the frame start and finish, the
+    /// driver's compile of the megakernel, and the tiles and batches.
     pub fn render(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
+        self.observed_frame(scene, Self::render_frame)
+    }
+
+    /// [`Self::render`] without the observer's frame events.
+    fn render_frame(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
         let tiles = self.plan(scene)?;
         self.prepare_megakernel(scene)?;
         if let [_] = tiles[..] {

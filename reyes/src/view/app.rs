@@ -7,7 +7,7 @@
 //! [`ViewConfig::settle`] (and no button is held), the full frame is.
 
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use image::RgbaImage;
 use winit::application::ApplicationHandler;
@@ -21,7 +21,7 @@ use super::log::{FrameRecord, ViewLog};
 use super::overlay::{FrameInfo, Overlay, OverlayInfo};
 use super::present::{COMPOSITE_FORMAT, Presenter};
 use super::script::Step;
-use super::worker::{Frame, FrameSpec, Quality, RenderWorker, WorkerEvent, settings_of};
+use super::worker::{Compiling, Frame, FrameSpec, Quality, RenderWorker, WorkerEvent, settings_of};
 use super::{ViewConfig, events, open_gpu, save};
 use crate::prepare::PreparedScene;
 
@@ -50,6 +50,9 @@ struct Running {
     refined: Option<(FrameSpec, RgbaImage)>,
     /// `P` was pressed before the view was refined.
     save_pending: bool,
+    /// The driver's compile of the megakernel, while it lasts, and when
+    /// the overlay next counts a second of it.
+    compiling: Option<(Compiling, Instant)>,
 }
 
 /// The application handed to winit.
@@ -155,6 +158,7 @@ impl App {
             presented: true,
             refined: None,
             save_pending: false,
+            compiling: None,
         };
         self.log.adapter = gpu_description;
         request(&mut running, Quality::Full, &self.config);
@@ -251,6 +255,7 @@ impl App {
             controls,
             info,
             adapter,
+            compiling,
             ..
         } = running;
         let size = presenter.size();
@@ -261,6 +266,7 @@ impl App {
             frame: info.as_ref(),
             settings: &controls.settings,
             status: &status,
+            compiling: compiling.as_ref().map(|(c, _)| c),
         };
         let start = Instant::now();
         let mut again = false;
@@ -426,6 +432,15 @@ impl ApplicationHandler<WorkerEvent> for App {
         match event {
             WorkerEvent::Frame(frame) => self.frame(event_loop, *frame),
             WorkerEvent::Failed(message) => self.fail(event_loop, ViewError::Render(message)),
+            WorkerEvent::Compile(compiling) => {
+                if let Some(running) = &mut self.running {
+                    running.compiling = compiling.map(|c| {
+                        let tick = c.since + Duration::from_secs(1);
+                        (c, tick)
+                    });
+                    running.presenter.window.request_redraw();
+                }
+            }
         }
     }
 
@@ -489,6 +504,20 @@ impl ApplicationHandler<WorkerEvent> for App {
             }
         } else {
             event_loop.set_control_flow(ControlFlow::Wait);
+        }
+        // While the driver compiles, the overlay counts the seconds.
+        if let Some((compiling, tick)) = &mut running.compiling {
+            let now = Instant::now();
+            if now >= *tick {
+                running.presenter.window.request_redraw();
+                let seconds = now.saturating_duration_since(compiling.since).as_secs();
+                *tick = compiling.since + Duration::from_secs(seconds + 1);
+            }
+            let wake = match event_loop.control_flow() {
+                ControlFlow::WaitUntil(due) => due.min(*tick),
+                _ => *tick,
+            };
+            event_loop.set_control_flow(ControlFlow::WaitUntil(wake));
         }
     }
 }

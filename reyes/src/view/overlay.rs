@@ -1,11 +1,15 @@
 //! The overlay: frame times, the renderer's counters, the settings and the
-//! keys, drawn with egui onto the composite texture.
+//! keys, drawn with egui onto the composite texture. While the driver
+//! compiles the megakernel it says so, with the seconds it has taken.
+
+use std::time::Instant;
 
 use winit::event::WindowEvent;
 use winit::window::Window;
 
 use super::controls::Settings;
-use super::worker::{Frame, Quality};
+use super::worker::{Compiling, Frame, Quality};
+use crate::progress::elapsed_label;
 use crate::scene::Dicing;
 use crate::stats::RenderStats;
 
@@ -54,6 +58,19 @@ pub struct OverlayInfo<'a> {
     pub settings: &'a Settings,
     /// What the worker is doing (e.g. "rendering preview").
     pub status: &'a str,
+    /// The driver's compile of the megakernel, while it lasts: shown
+    /// instead of `status`.
+    pub compiling: Option<&'a Compiling>,
+}
+
+/// The overlay's line for `compiling` at `now`:
+/// `compiling the GPU program for llvmpipe (...) … 12 s`.
+pub fn compiling_line(compiling: &Compiling, now: Instant) -> String {
+    format!(
+        "{} … {}",
+        compiling.label,
+        elapsed_label(now.saturating_duration_since(compiling.since))
+    )
 }
 
 /// The egui context, its window-event translation and its renderer.
@@ -176,7 +193,10 @@ fn panel(ui: &mut egui::Ui, info: &OverlayInfo<'_>) {
         .resizable(false)
         .show(ui.ctx(), |ui| {
             ui.label(info.adapter);
-            ui.label(info.status);
+            match info.compiling {
+                Some(compiling) => ui.label(compiling_line(compiling, Instant::now())),
+                None => ui.label(info.status),
+            };
             ui.separator();
             match info.frame {
                 Some(frame) => frame_rows(ui, frame),
@@ -232,4 +252,25 @@ fn frame_rows(ui: &mut egui::Ui, frame: &FrameInfo) {
         stats.samples_hit,
         stats.sample_test_efficiency()
     ));
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use super::*;
+
+    #[test]
+    fn the_compile_line_counts_whole_seconds() {
+        let since = Instant::now();
+        let compiling = Compiling {
+            label: "compiling the GPU program for llvmpipe (cached after the first run)".into(),
+            since,
+        };
+        assert_eq!(
+            compiling_line(&compiling, since + Duration::from_millis(12_400)),
+            "compiling the GPU program for llvmpipe (cached after the first run) … 12 s"
+        );
+        assert!(compiling_line(&compiling, since).ends_with("… 0 s"));
+    }
 }

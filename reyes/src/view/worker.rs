@@ -3,11 +3,15 @@
 //!
 //! Requests queue in a channel; the worker drains it and renders only the
 //! newest one (older views are already stale). Every finished frame, and
-//! any error, goes back through a callback that wakes the event loop.
+//! any error, goes back through a callback that wakes the event loop; so
+//! do the start and end of the driver's compile of the megakernel (through
+//! the renderer's [`Progress`] observer), which the overlay shows while it
+//! lasts.
 
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, channel};
 use std::thread::JoinHandle;
+use std::time::Instant;
 
 use image::RgbaImage;
 
@@ -16,6 +20,7 @@ use crate::dicing::DicingRule;
 use crate::gpu::{GpuOptions, GpuRenderer};
 use crate::motion::PreparedLens;
 use crate::prepare::PreparedScene;
+use crate::progress::{Progress, ProgressEvent, compile_label};
 use crate::stats::RenderStats;
 
 use super::controls::Settings;
@@ -58,11 +63,24 @@ pub struct Frame {
     pub wall_ms: f64,
 }
 
+/// The driver's compile of the megakernel, while it lasts.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Compiling {
+    /// What is compiled for which adapter
+    /// ([`compile_label`]).
+    pub label: String,
+    /// When it started.
+    pub since: Instant,
+}
+
 /// What the worker reports.
 #[derive(Debug)]
 pub enum WorkerEvent {
     /// A frame is ready.
     Frame(Box<Frame>),
+    /// The driver started compiling the megakernel (`Some`) or finished
+    /// (`None`).
+    Compile(Option<Compiling>),
     /// The renderer could not be created or a frame failed; the message is
     /// the error's, with its causes.
     Failed(String),
@@ -82,12 +100,17 @@ impl RenderWorker {
         gpu: scheduler::Gpu,
         options: GpuOptions,
         scene: Arc<PreparedScene>,
-        report: impl Fn(WorkerEvent) + Send + 'static,
+        report: impl Fn(WorkerEvent) + Send + Sync + 'static,
     ) -> std::io::Result<RenderWorker> {
         let (requests, receiver) = channel();
+        let report = Arc::new(report);
+        let options = GpuOptions {
+            progress: compile_reports(options.progress.clone(), report.clone()),
+            ..options
+        };
         let thread = std::thread::Builder::new()
             .name("reyes-view-render".into())
-            .spawn(move || run(&gpu, options, &scene, &receiver, &report))?;
+            .spawn(move || run(&gpu, options, &scene, &receiver, &*report))?;
         Ok(RenderWorker {
             requests: Some(requests),
             thread: Some(thread),
@@ -117,6 +140,25 @@ impl Drop for RenderWorker {
             let _ = thread.join();
         }
     }
+}
+
+/// An observer that passes every event to `caller` (the options' own) and
+/// reports the start and end of the driver's compile through `report`.
+fn compile_reports(
+    caller: Progress,
+    report: Arc<impl Fn(WorkerEvent) + Send + Sync + 'static>,
+) -> Progress {
+    Progress::new(move |event| {
+        caller.send(|| event.clone());
+        if let ProgressEvent::CompileStarted { adapter } = event {
+            report(WorkerEvent::Compile(Some(Compiling {
+                label: compile_label(adapter),
+                since: Instant::now(),
+            })));
+        } else if let ProgressEvent::CompileFinished { .. } = event {
+            report(WorkerEvent::Compile(None));
+        }
+    })
 }
 
 fn run(
@@ -217,6 +259,58 @@ pub fn settings_of(scene: &PreparedScene) -> Settings {
 mod tests {
     use super::*;
     use crate::scene::Scene;
+
+    #[test]
+    fn the_compile_is_reported_and_every_event_passed_on() {
+        use std::sync::Mutex;
+
+        use crate::progress::AdapterSummary;
+
+        let passed = Arc::new(Mutex::new(Vec::new()));
+        let sink = passed.clone();
+        let caller = Progress::new(move |e| sink.lock().unwrap().push(e.clone()));
+        let reported = Arc::new(Mutex::new(Vec::new()));
+        let sink = reported.clone();
+        let progress = compile_reports(
+            caller,
+            Arc::new(move |e: WorkerEvent| match e {
+                WorkerEvent::Compile(c) => sink.lock().unwrap().push(c.map(|c| c.label)),
+                other => panic!("unexpected {other:?}"),
+            }),
+        );
+        let adapter = AdapterSummary::of(&wgpu::AdapterInfo {
+            name: "llvmpipe (LLVM 15.0.6, 256 bits)".into(),
+            ..wgpu::AdapterInfo::new(
+                wgpu::DeviceType::Cpu,
+                wgpu::Backend::Vulkan,
+            )
+        });
+        let events = [
+            ProgressEvent::FrameStarted {
+                width: 8,
+                height: 6,
+                spp: 1,
+            },
+            ProgressEvent::CompileStarted {
+                adapter: adapter.clone(),
+            },
+            ProgressEvent::CompileFinished {
+                adapter,
+                elapsed: std::time::Duration::from_secs(3),
+            },
+        ];
+        for event in &events {
+            progress.send(|| event.clone());
+        }
+        assert_eq!(*passed.lock().unwrap(), events);
+        assert_eq!(
+            *reported.lock().unwrap(),
+            [
+                Some("compiling the GPU program for llvmpipe (cached after the first run)".into()),
+                None
+            ]
+        );
+    }
 
     #[test]
     fn the_scene_settings_round_trip_through_a_full_frame() {

@@ -13,8 +13,10 @@ use super::GpuRenderer;
 use crate::gpu::batches::{TileRuns, batch_ranges};
 use crate::gpu::buffers::GpuCounters;
 use crate::gpu::graph::{BOUND, PatchItem};
+use crate::gpu::options::GpuRendered;
 use crate::gpu::render_error::RenderError;
 use crate::prepare::PreparedScene;
+use crate::progress::{AdapterSummary, ProgressEvent};
 
 /// Attempts at each batch of input patches, the first included: the
 /// scheduler's queue growth converged within two extra attempts in every
@@ -84,15 +86,65 @@ impl GpuRenderer<'_> {
         if stale {
             // Drop the old queues before allocating new ones.
             self.executor = None;
+            let compile = self.compile_started();
             let executor = Executor::new(
                 &self.gpu.device,
                 &self.gpu.queue,
                 &self.compiled,
                 &self.config(capacities.clone(), budget),
             )?;
+            self.compile_finished(compile);
             self.executor = Some((capacities.clone(), budget, executor));
         }
         Ok(&mut self.executor.as_mut().expect("just created").2)
+    }
+
+    /// Tells the observer that the executor's pipeline is being created (the
+    /// driver compiles the megakernel); returns what
+    /// [`Self::compile_finished`] reports, `None` without an observer.
+    fn compile_started(&self) -> Option<(AdapterSummary, Instant)> {
+        let progress = &self.options.progress;
+        progress.is_observed().then(|| {
+            let adapter = AdapterSummary::of(&self.gpu.device.adapter_info());
+            progress.send(|| ProgressEvent::CompileStarted {
+                adapter: adapter.clone(),
+            });
+            (adapter, Instant::now())
+        })
+    }
+
+    /// Tells the observer that the pipeline [`Self::compile_started`]
+    /// announced is created.
+    fn compile_finished(&self, compile: Option<(AdapterSummary, Instant)>) {
+        if let Some((adapter, start)) = compile {
+            self.options
+                .progress
+                .send(|| ProgressEvent::CompileFinished {
+                    adapter,
+                    elapsed: start.elapsed(),
+                });
+        }
+    }
+
+    /// Renders a frame with `render` between the observer's
+    /// [`ProgressEvent::FrameStarted`] and, when it succeeds,
+    /// [`ProgressEvent::FrameFinished`].
+    pub(super) fn observed_frame(
+        &mut self,
+        scene: &PreparedScene,
+        render: impl FnOnce(&mut Self, &PreparedScene) -> Result<GpuRendered, RenderError>,
+    ) -> Result<GpuRendered, RenderError> {
+        let start = Instant::now();
+        self.options.progress.send(|| ProgressEvent::FrameStarted {
+            width: scene.camera.width,
+            height: scene.camera.height,
+            spp: scene.spp,
+        });
+        let rendered = render(self, scene)?;
+        self.options.progress.send(|| ProgressEvent::FrameFinished {
+            elapsed: start.elapsed(),
+        });
+        Ok(rendered)
     }
 
     /// Runs the megakernel once per batch of `batch` input patches of
@@ -179,6 +231,10 @@ impl GpuRenderer<'_> {
                 Err(e) => return (Err(e), runs),
             }
             if count > 1 {
+                self.options.progress.send(|| ProgressEvent::BatchFinished {
+                    batch: runs.batches,
+                    batches: u32::try_from(count).unwrap_or(u32::MAX),
+                });
                 log::info!(
                     "batch {}/{count} of input patches ({}..{}) done",
                     runs.batches,

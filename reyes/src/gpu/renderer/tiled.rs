@@ -10,6 +10,7 @@ use crate::gpu::options::{FrameTimings, GpuRendered};
 use crate::gpu::render_error::RenderError;
 use crate::gpu::tiles::Tile;
 use crate::prepare::PreparedScene;
+use crate::progress::ProgressEvent;
 use crate::stats::RenderStats;
 
 /// Adds a tile's counters to a frame's: counts are summed, the largest
@@ -86,6 +87,10 @@ impl GpuRenderer<'_> {
         let mut megakernel_wall_ms = 0.0;
         for (index, tile) in tiles.iter().enumerate() {
             tile_scene.camera = scene.camera.crop(tile.x0, tile.y0, tile.width, tile.height);
+            self.options.progress.send(|| ProgressEvent::TileStarted {
+                tile: index as u32 + 1,
+                tiles: tiles.len() as u32,
+            });
             let rendered = self.render_tile(&tile_scene)?;
             // Progress: a tiled frame is the longest work the renderer does.
             log::info!(
