@@ -54,6 +54,7 @@ impl GpuRenderer<'_> {
             }),
             iteration_budget,
             timeout: self.options.timeout,
+            ..ExecutorConfig::default()
         };
         // Every workgroup stages up to a batch's children for each of the
         // six queues; fewer workgroups (Rounds launch up to 1,024) keep that
