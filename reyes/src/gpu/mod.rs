@@ -42,11 +42,15 @@ mod batches;
 mod counters;
 mod options;
 mod patch_item;
+mod pipeline_cache;
 mod render_error;
 mod shared_constants;
 mod tiles;
 
 pub use loop_limit::{LoopLimitContext, LoopLimitError, LoopLimitHint};
+pub use pipeline_cache::{
+    CACHE_DIR_ENV, PipelineInfo, default_pipeline_cache_dir, pipeline_cache_dir,
+};
 pub use renderer::{DEFAULT_RENDER_TIMEOUT, GpuOptions, GpuRendered, GpuRenderer, RenderError};
 
 /// Creates a device with the features the renderer needs

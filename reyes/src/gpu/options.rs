@@ -1,6 +1,7 @@
 //! How the renderer runs the megakernel ([`GpuOptions`]) and what a frame
 //! gives back ([`GpuRendered`], [`FrameTimings`]).
 
+use std::path::PathBuf;
 use std::time::Duration;
 
 use image::RgbaImage;
@@ -56,6 +57,11 @@ pub struct GpuOptions {
     /// [`GpuRenderer::render`](super::renderer::GpuRenderer::render)); a
     /// small value forces batches on small scenes.
     pub max_batch_patches: Option<u32>,
+    /// A directory for the compiled megakernel pipelines, kept across runs
+    /// of the program (`None`, the default: nothing is written). See
+    /// [`scheduler::ExecutorConfig::pipeline_cache_dir`]; the command line
+    /// uses [`default_pipeline_cache_dir`](crate::gpu::default_pipeline_cache_dir).
+    pub pipeline_cache_dir: Option<PathBuf>,
 }
 
 pub use crate::params::DEFAULT_RENDER_TIMEOUT;
@@ -72,6 +78,7 @@ impl Default for GpuOptions {
             policy: Policy::Priority,
             max_tile_samples: None,
             max_batch_patches: None,
+            pipeline_cache_dir: None,
         }
     }
 }
