@@ -26,7 +26,8 @@ pub struct DeviceRequest {
 impl Gpu {
     /// Picks an adapter and creates a device with the adapter's own limits
     /// (larger buffers than the WebGPU defaults where the hardware allows),
-    /// plus `TIMESTAMP_QUERY` and `MEMORY_DECORATION_COHERENT` when available,
+    /// plus `TIMESTAMP_QUERY`, `MEMORY_DECORATION_COHERENT` and
+    /// `PIPELINE_CACHE` when available,
     /// plus what `request` asks for.
     ///
     /// `WGPU_BACKEND` (e.g. `vulkan`) restricts the backends searched;
@@ -77,7 +78,8 @@ impl Gpu {
         let wanted = request.required_features
             | ((request.optional_features
                 | wgpu::Features::TIMESTAMP_QUERY
-                | wgpu::Features::MEMORY_DECORATION_COHERENT)
+                | wgpu::Features::MEMORY_DECORATION_COHERENT
+                | wgpu::Features::PIPELINE_CACHE)
                 & available);
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {

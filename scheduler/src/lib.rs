@@ -144,6 +144,7 @@ pub use runtime::config::{
 };
 pub use runtime::error::RunError;
 pub use runtime::executor::{Binding, Executor};
+pub use runtime::pipeline_cache::{self, CompileTimings, PipelineCacheState};
 pub use runtime::readback;
 pub use runtime::report::{BoundsViolation, ProcedureStats, RetryCauses, RunReport};
 pub use runtime::retry::{LoopCheckFn, ResetFn, Retry};

@@ -200,6 +200,7 @@ fn random_graphs_give_the_cpu_counts() {
                     capacities: capacities.clone(),
                     iteration_budget: budget,
                     timeout: TIMEOUT,
+                    ..ExecutorConfig::default()
                 };
                 let mut executor = executor(&compiled, &config);
                 for strategy in strategies {
@@ -274,6 +275,7 @@ fn tiny_queues_give_the_cpu_counts_or_a_full_account_of_the_overflow() {
             capacities,
             iteration_budget: budget,
             timeout: TIMEOUT,
+            ..ExecutorConfig::default()
         };
         let mut executor = executor(&compiled, &config);
         // Queues that can hold everything that ever enters them cannot

@@ -153,6 +153,7 @@ fn random_graphs_converge_within_two_extra_attempts() {
                     capacities: Capacities::uniform(capacity),
                     iteration_budget: None,
                     timeout: TIMEOUT,
+                    ..ExecutorConfig::default()
                 };
                 let mut executor =
                     Executor::new(&gpu.device, &gpu.queue, &compiled, &config).unwrap();

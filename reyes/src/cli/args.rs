@@ -169,4 +169,9 @@ pub(crate) struct RenderArgs {
     /// .wgsl files, 64M for height maps. Only regular files are read.
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
     pub(crate) max_input_bytes: Option<u64>,
+    /// Neither read nor write compiled pipelines in the cache directory
+    /// (`$REYES_CACHE_DIR`, else the platform's, e.g.
+    /// `~/.cache/reyes/pipelines`; see `reyes cache info`).
+    #[arg(long)]
+    pub(crate) no_pipeline_cache: bool,
 }

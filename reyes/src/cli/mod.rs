@@ -12,7 +12,8 @@
 //!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
 //!              [--chunks N] [--dicing rate|fixed] [--shading-rate R] [--shading-interpolation smooth|constant] [--flat-shading]
 //!              [--aov shaded|grids|depth|normal] [--sides 1|2] [--reverse-orientation]
-//!              [--max-input-bytes BYTES]
+//!              [--max-input-bytes BYTES] [--no-pipeline-cache]
+//! reyes cache info|clear
 //! reyes view [SCENE] [the options of render] [--frames N --screenshot PNG] [--hide-overlay]
 //! ```
 //!
@@ -20,6 +21,7 @@
 //! [`run`] returns with [`print_error`].
 
 mod args;
+mod cache;
 mod convert;
 mod input;
 mod parse;
@@ -64,6 +66,10 @@ enum Command {
     /// Convert a RenderMan RIB scene to a TOML scene plus `.bpt` models
     /// (written beside the TOML as `<stem>-<i>.bpt`).
     Convert(convert::ConvertArgs),
+    /// Show (`info`) or empty (`clear`) the directory of compiled pipelines
+    /// (`$REYES_CACHE_DIR`, else the platform's cache directory). Only its
+    /// pipeline files are touched, never the driver's shader cache.
+    Cache(cache::CacheArgs),
     /// Open a window on a scene (the inputs and options of `render`), orbit
     /// it with the mouse and re-render as the view changes. `-o` names the
     /// PNG that `P` saves (default `reyes-view.png`).
@@ -76,6 +82,7 @@ pub fn run(cli: &Cli) -> Result<(), BoxError> {
     match &cli.command {
         Command::Render(args) => render::render(args),
         Command::Convert(args) => convert::convert(args),
+        Command::Cache(args) => cache::cache(args),
         #[cfg(feature = "viewer")]
         Command::View(args) => view::view(args),
     }

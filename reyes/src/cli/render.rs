@@ -96,6 +96,7 @@ fn render_gpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxErro
         options.timeout = std::time::Duration::from_secs(seconds.max(1));
     }
     options.chunks_per_batch = args.chunks;
+    options.pipeline_cache_dir = args.pipeline_cache_dir();
     let mut renderer = GpuRenderer::new(&gpu, options)?;
     let rendered = renderer.render(scene)?;
     let timer = if rendered.timings.megakernel_gpu_ms.is_some() {

@@ -57,6 +57,7 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), BoxError> {
         gpu_options.timeout = std::time::Duration::from_secs(seconds.max(1));
     }
     gpu_options.chunks_per_batch = render.chunks;
+    gpu_options.pipeline_cache_dir = render.pipeline_cache_dir();
     let command = crate::view::save::CommandBase {
         prefix: render_prefix(std::env::args().collect()),
         shutter: render.shutter,

@@ -42,12 +42,16 @@ mod batches;
 mod counters;
 mod options;
 mod patch_item;
+mod pipeline_cache;
 mod render_error;
 mod shared_constants;
 mod tiles;
 mod variant;
 
 pub use loop_limit::{LoopLimitContext, LoopLimitError, LoopLimitHint};
+pub use pipeline_cache::{
+    CACHE_DIR_ENV, PipelineInfo, default_pipeline_cache_dir, pipeline_cache_dir,
+};
 pub use renderer::{DEFAULT_RENDER_TIMEOUT, GpuOptions, GpuRendered, GpuRenderer, RenderError};
 pub use variant::KernelVariant;
 

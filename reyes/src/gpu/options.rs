@@ -1,6 +1,7 @@
 //! How the renderer runs the megakernel ([`GpuOptions`]) and what a frame
 //! gives back ([`GpuRendered`], [`FrameTimings`]).
 
+use std::path::PathBuf;
 use std::time::Duration;
 
 use image::RgbaImage;
@@ -61,6 +62,11 @@ pub struct GpuOptions {
     /// frames, the driver's compile of the megakernel, tiles and batches.
     /// Default: nobody, at no cost.
     pub progress: Progress,
+    /// A directory for the compiled megakernel pipelines, kept across runs
+    /// of the program (`None`, the default: nothing is written). See
+    /// [`scheduler::ExecutorConfig::pipeline_cache_dir`]; the command line
+    /// uses [`default_pipeline_cache_dir`](crate::gpu::default_pipeline_cache_dir).
+    pub pipeline_cache_dir: Option<PathBuf>,
 }
 
 pub use crate::params::DEFAULT_RENDER_TIMEOUT;
@@ -78,6 +84,7 @@ impl Default for GpuOptions {
             max_tile_samples: None,
             max_batch_patches: None,
             progress: Progress::none(),
+            pipeline_cache_dir: None,
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Run-time configuration of an executor and the memory it will allocate.
 
 use std::collections::BTreeMap;
+use std::path::PathBuf;
 use std::time::Duration;
 
 use crate::CompiledGraph;
@@ -77,6 +78,14 @@ pub struct ExecutorConfig {
     pub iteration_budget: Option<u32>,
     /// Host-side limit on one run.
     pub timeout: Duration,
+    /// A directory for compiled pipelines kept across runs of the program
+    /// (`None`, the default: nothing is read or written). One file per
+    /// adapter, driver and module; at most
+    /// [`pipeline_cache::MAX_FILES`](crate::pipeline_cache::MAX_FILES) files and
+    /// [`pipeline_cache::MAX_BYTES`](crate::pipeline_cache::MAX_BYTES) bytes, the
+    /// least recently used evicted. See
+    /// [`Executor::pipeline_cache`](crate::Executor::pipeline_cache).
+    pub pipeline_cache_dir: Option<PathBuf>,
 }
 
 impl Default for ExecutorConfig {
@@ -86,6 +95,7 @@ impl Default for ExecutorConfig {
             workgroups: None,
             iteration_budget: None,
             timeout: DEFAULT_TIMEOUT,
+            pipeline_cache_dir: None,
         }
     }
 }

@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 use crate::codegen::bindings::{RESOURCE_GROUP, SCHEDULER_GROUP, resource_bindings, resource_kind};
 use crate::plan::control;
 use crate::runtime::config::{DEFAULT_WORKGROUPS, ExecutorConfig};
+use crate::runtime::pipeline_cache::{self, CompileTimings, DiskCache, PipelineCacheState};
 use crate::runtime::readback::{LONGEST_WAIT, map_read};
 use crate::runtime::resources::OwnedBuffers;
 use crate::runtime::rounds::RoundPipelines;
@@ -53,12 +54,17 @@ pub struct Executor {
     pub(super) resource_layout: Option<wgpu::BindGroupLayout>,
     /// Buffers created for typed resources.
     pub(super) owned: OwnedBuffers,
-    megakernel: wgpu::ComputePipeline,
+    pub(super) megakernel: wgpu::ComputePipeline,
     pub(super) rounds: Option<RoundPipelines>,
     pub(super) state: QueueState,
     timestamps: Option<Timestamps>,
     pub(super) tuning: Tuning,
     pub(super) timeout: Duration,
+    /// The pipeline cache and its file, when one is configured and the
+    /// device has the feature.
+    pub(super) disk_cache: Option<DiskCache>,
+    cache_state: PipelineCacheState,
+    compile_timings: CompileTimings,
 }
 
 impl Executor {
@@ -104,6 +110,9 @@ impl Executor {
         let layouts = Layouts::new(device);
         let state = QueueState::new(device, queue, compiled, &layouts, capacities, tuning)?;
 
+        let (cache_state, mut disk_cache) =
+            pipeline_cache::open(device, config.pipeline_cache_dir.as_deref(), &compiled.wgsl);
+        let creation = Instant::now();
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         // SAFETY-free: `create_shader_module_trusted` is unsafe only because it
         // can switch checks off. We keep bounds checks on and switch off only
@@ -141,9 +150,14 @@ impl Executor {
             &layouts,
             resource_layout.as_ref(),
             compiled.entry_point(),
+            disk_cache.as_ref().map(|d| &d.cache),
         );
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(RunError::Gpu(error.to_string()));
+        }
+        let pipeline_creation = creation.elapsed();
+        if let Some(disk) = &mut disk_cache {
+            disk.save();
         }
 
         let timestamps = device
@@ -170,7 +184,7 @@ impl Executor {
                 period_ns: f64::from(queue.get_timestamp_period()),
             });
 
-        Ok(Self {
+        let mut executor = Self {
             device: device.clone(),
             queue: queue.clone(),
             compiled: compiled.clone(),
@@ -184,7 +198,41 @@ impl Executor {
             timestamps,
             tuning,
             timeout: config.timeout,
-        })
+            disk_cache,
+            cache_state,
+            compile_timings: CompileTimings {
+                pipeline_creation,
+                first_dispatch: None,
+            },
+        };
+        executor.compile_timings.first_dispatch = executor.first_dispatch();
+        // Drivers that compile at the first dispatch may add to the cache
+        // then.
+        if let Some(disk) = &mut executor.disk_cache
+            && disk.save()
+        {
+            log::debug!("pipeline cache: its data changed at the first dispatch");
+        }
+        log::info!(
+            "megakernel `{}`: pipeline {:.2?}, first dispatch {:?}, cache {:?}",
+            compiled.plan.graph_name,
+            executor.compile_timings.pipeline_creation,
+            executor.compile_timings.first_dispatch,
+            executor.cache_state
+        );
+        Ok(executor)
+    }
+
+    /// What became of the pipeline cache: off (no directory configured),
+    /// unsupported by the device, a hit, a miss, or a rejected file.
+    pub fn pipeline_cache(&self) -> &PipelineCacheState {
+        &self.cache_state
+    }
+
+    /// How long creating the megakernel pipeline and its first dispatch
+    /// took (see [`CompileTimings`]).
+    pub fn compile_timings(&self) -> CompileTimings {
+        self.compile_timings
     }
 
     /// Workgroups launched per megakernel dispatch, and the most launched per
@@ -396,6 +444,7 @@ pub(super) fn procedure_pipeline(
     layouts: &Layouts,
     resources: Option<&wgpu::BindGroupLayout>,
     entry_point: &str,
+    cache: Option<&wgpu::PipelineCache>,
 ) -> wgpu::ComputePipeline {
     // In group order: SCHEDULER_GROUP, then RESOURCE_GROUP.
     let groups = [Some(&layouts.scheduler), resources];
@@ -411,6 +460,6 @@ pub(super) fn procedure_pipeline(
         module,
         entry_point: Some(entry_point),
         compilation_options: Default::default(),
-        cache: None,
+        cache,
     })
 }

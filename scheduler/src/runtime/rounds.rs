@@ -71,6 +71,7 @@ impl Executor {
             return Ok(());
         }
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let cache = self.disk_cache.as_ref().map(|d| &d.cache);
         let prepare_layout = self
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -86,7 +87,7 @@ impl Executor {
                 module: &self.module,
                 entry_point: Some(PREPARE_ENTRY_POINT),
                 compilation_options: Default::default(),
-                cache: None,
+                cache,
             });
         let procedures = self
             .compiled
@@ -100,11 +101,16 @@ impl Executor {
                     &self.layouts,
                     self.resource_layout.as_ref(),
                     &round_entry_point(&q.name),
+                    cache,
                 )
             })
             .collect();
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(RunError::Gpu(error.to_string()));
+        }
+        // The file then holds the Rounds pipelines too.
+        if let Some(disk) = &mut self.disk_cache {
+            disk.save();
         }
         self.rounds = Some(RoundPipelines {
             prepare,

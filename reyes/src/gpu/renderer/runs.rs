@@ -14,6 +14,7 @@ use crate::gpu::batches::{TileRuns, batch_ranges};
 use crate::gpu::buffers::GpuCounters;
 use crate::gpu::graph::{BOUND, PatchItem};
 use crate::gpu::options::GpuRendered;
+use crate::gpu::pipeline_cache::PipelineInfo;
 use crate::gpu::render_error::RenderError;
 use crate::prepare::PreparedScene;
 use crate::progress::{AdapterSummary, ProgressEvent};
@@ -56,6 +57,7 @@ impl GpuRenderer<'_> {
             }),
             iteration_budget,
             timeout: self.options.timeout,
+            pipeline_cache_dir: self.options.pipeline_cache_dir.clone(),
         };
         // Every workgroup stages up to a batch's children for each of the
         // six queues; fewer workgroups (Rounds launch up to 1,024) keep that
@@ -68,6 +70,14 @@ impl GpuRenderer<'_> {
             config.workgroups = Some(u32::try_from((limit / per_workgroup).max(1)).unwrap_or(1));
         }
         config
+    }
+
+    /// The pipeline of the current executor: whether it came from the
+    /// pipeline cache, and the driver's compile times. `None` before the
+    /// first frame (and after a recompile, until the next).
+    pub fn last_pipeline(&self) -> Option<PipelineInfo> {
+        let (_, _, executor) = self.executor.as_ref()?;
+        Some(PipelineInfo::of(executor))
     }
 
     /// Creates the executor unless the cached one was created for these
