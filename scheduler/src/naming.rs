@@ -74,12 +74,6 @@ pub(crate) fn copy_out_name(queue: &str) -> String {
     format!("sched_copy_out_{queue}")
 }
 
-/// Name of the runner's local that holds the reservation of a flush into
-/// `target`.
-pub(crate) fn flush_name(target: &str) -> String {
-    format!("flush_{target}")
-}
-
 /// Name of the checked-mode guard of resource `resource`.
 pub(crate) fn guard_name(resource: &str) -> String {
     format!("sched_checked_{resource}")

@@ -190,59 +190,73 @@ fn sched_receive_done(lid: u32, q: u32, first: u32, count: u32) {
     }
 }
 
-// Producer side, all threads: reserves queue slots for the items this
-// workgroup staged for queue q and returns (first ticket, count), the same in
-// every thread. Called at the top level of the generated runner.
-fn sched_flush_reserve(lid: u32, q: u32, stage_capacity: u32) -> vec2<u32> {
+// Producer side, all threads, once per batch for all the queues it enqueues
+// into: every thread's staging is done, and the consumers' releases seen so
+// far are visible. The generated runner then has thread 0 reserve the slots
+// of every target queue (sched_reserve), shares the reservations
+// (sched_flush_share), copies the staged items and publishes them
+// (sched_publish). One set of barriers serves all targets: each barrier is a
+// suspension point that llvmpipe compiles at a cost that grows with the code
+// around it.
+fn sched_flush_begin() {
     workgroupBarrier();
     storageBarrier();
-    if (lid == 0u) {
-        let staged = min(atomicLoad(&sched_wg_staged[q]), stage_capacity);
-        var first = 0u;
-        var accepted = 0u;
-        if (staged > 0u) {
-            let cap = sched_capacity(q);
-            let old = atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_FILL)], staged);
-            if (old < cap) {
-                accepted = min(staged, cap - old);
-            }
-            if (accepted < staged) {
-                // Overflow: record it, give the reservation back and never
-                // count the dropped items as outstanding work.
-                atomicSub(&sched_control[sched_ctrl(q, SCHED_Q_FILL)], staged - accepted);
-                atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_DROPPED)], staged - accepted);
-                atomicMax(&sched_control[sched_ctrl(q, SCHED_Q_NEEDED)], old + staged);
-            }
-            if (accepted > 0u) {
-                atomicAdd(&sched_control[SCHED_CTRL_PENDING], accepted);
-                first = atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_TAIL)], accepted);
-                atomicMax(&sched_control[sched_ctrl(q, SCHED_Q_HIGH_WATER)], old + accepted);
-                atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_ENQUEUED)], accepted);
-                // Our slots last held tickets up to first + accepted - capacity.
-                // The capacity test above guarantees those were claimed, and
-                // their consumers release them without waiting on producers.
-                // In rounds, `fill` keeps counting the running round's items
-                // until the next prepare, so those slots are free already.
-                if (!sched_rounds) {
-                    sched_wait_released(q, first + accepted - cap);
-                }
-            }
-        }
-        atomicStore(&sched_wg_staged[q], 0u);
-        sched_wg_flush = vec2<u32>(first, accepted);
-    }
-    let flush = workgroupUniformLoad(&sched_wg_flush);
-    // Acquire: the consumers' reads of these slots happen before our writes.
-    storageBarrier();
-    return flush;
 }
 
-// Producer side, all threads, after the runner copied the staged items into
-// their slots: publish them. Release: the payload is complete before
-// `published` covers it.
-fn sched_flush_publish(lid: u32, q: u32, flush: vec2<u32>) {
+// Thread 0 only: reserves slots of queue q for the items this workgroup
+// staged for it and returns (first ticket, count).
+fn sched_reserve(q: u32, stage_capacity: u32) -> vec2<u32> {
+    let staged = min(atomicLoad(&sched_wg_staged[q]), stage_capacity);
+    var first = 0u;
+    var accepted = 0u;
+    if (staged > 0u) {
+        let cap = sched_capacity(q);
+        let old = atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_FILL)], staged);
+        if (old < cap) {
+            accepted = min(staged, cap - old);
+        }
+        if (accepted < staged) {
+            // Overflow: record it, give the reservation back and never
+            // count the dropped items as outstanding work.
+            atomicSub(&sched_control[sched_ctrl(q, SCHED_Q_FILL)], staged - accepted);
+            atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_DROPPED)], staged - accepted);
+            atomicMax(&sched_control[sched_ctrl(q, SCHED_Q_NEEDED)], old + staged);
+        }
+        if (accepted > 0u) {
+            atomicAdd(&sched_control[SCHED_CTRL_PENDING], accepted);
+            first = atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_TAIL)], accepted);
+            atomicMax(&sched_control[sched_ctrl(q, SCHED_Q_HIGH_WATER)], old + accepted);
+            atomicAdd(&sched_control[sched_ctrl(q, SCHED_Q_ENQUEUED)], accepted);
+            // Our slots last held tickets up to first + accepted - capacity.
+            // The capacity test above guarantees those were claimed, and
+            // their consumers release them without waiting on producers (nor
+            // on this workgroup's reservations in other queues, which it
+            // publishes only after all of them).
+            // In rounds, `fill` keeps counting the running round's items
+            // until the next prepare, so those slots are free already.
+            if (!sched_rounds) {
+                sched_wait_released(q, first + accepted - cap);
+            }
+        }
+    }
+    atomicStore(&sched_wg_staged[q], 0u);
+    return vec2<u32>(first, accepted);
+}
+
+// All threads, after thread 0 wrote the reservations into sched_wg_flushes:
+// the same (first ticket, count) per target in every thread.
+fn sched_flush_share() -> array<vec2<u32>, SCHED_MAX_TARGETS> {
+    let flushes = workgroupUniformLoad(&sched_wg_flushes);
+    // Acquire: the consumers' reads of these slots happen before our writes.
     storageBarrier();
-    if (lid == 0u && !sched_rounds) {
+    return flushes;
+}
+
+// Thread 0 only, after a storageBarrier that follows the copies (release:
+// the payload is complete before `published` covers it): publishes the
+// reservation `flush` of queue q.
+fn sched_publish(q: u32, flush: vec2<u32>) {
+    if (flush.y > 0u && !sched_rounds) {
         sched_complete_range(q, SCHED_Q_PUBLISHED, 0u, flush.x, flush.x + flush.y);
     }
 }

@@ -63,6 +63,18 @@ pub(crate) fn generate(
         format!("{n}u"),
         "One queue per procedure.",
     ));
+    let max_targets = plan
+        .queues
+        .iter()
+        .map(|q| q.targets.len())
+        .max()
+        .unwrap_or(0);
+    c.push(constant(
+        "SCHED_MAX_TARGETS",
+        "u32",
+        format!("{}u", max_targets.max(1)),
+        "The most queues one procedure enqueues into (at least 1).",
+    ));
     c.push(constant(
         "SCHED_WORKGROUP_WORDS",
         "u32",

@@ -50,9 +50,9 @@ pub(crate) fn globals(plan: &Plan) -> Vec<Global> {
         ),
         state(
             "workgroup",
-            "sched_wg_flush",
-            "vec2<u32>".into(),
-            "First ticket and count of the flush in progress.",
+            "sched_wg_flushes",
+            "array<vec2<u32>, SCHED_MAX_TARGETS>".into(),
+            "First ticket and count of the flush into each target of the running batch.",
         ),
         state(
             "workgroup",

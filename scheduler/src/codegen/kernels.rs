@@ -5,8 +5,8 @@ use crate::Policy;
 use crate::codegen::module::Function;
 use crate::codegen::{checked, helpers};
 use crate::naming::{
-    ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, copy_out_name, decode_name, flush_name,
-    round_entry_point, runner_name,
+    ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, copy_out_name, decode_name, round_entry_point,
+    runner_name,
 };
 use crate::plan::layout::PACKET_WORDS;
 use crate::plan::{Plan, QueuePlan};
@@ -144,36 +144,8 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     }
     f.line("// Every item was read: release the slots.");
     f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
-    for &(t, _) in &queue.targets {
-        let target = &plan.queues[t];
-        let flush = flush_name(&target.name);
-        f.line(format!(
-            "// Publish the items staged for `{}`.",
-            target.name
-        ));
-        f.line(format!(
-            "let {flush} = sched_flush_reserve(lid, {t}u, {}u);",
-            target.stage_capacity
-        ));
-        f.line(format!("if ({flush}.y > 0u) {{"));
-        let per_thread = target.stage_capacity.div_ceil(plan.workgroup_size);
-        for j in 0..per_thread {
-            let k = if j == 0 {
-                "lid".to_owned()
-            } else {
-                format!("lid + {}u", j * plan.workgroup_size)
-            };
-            f.line(format!("    if ({k} < {flush}.y) {{"));
-            f.line(format!(
-                "        {}(sched_stage_word({}u, {}u, {k}), sched_slot_word({t}u, {flush}.x + {k}));",
-                copy_out_name(&target.name),
-                target.stage_offset,
-                target.slot_words
-            ));
-            f.line("    }");
-        }
-        f.line(format!("    sched_flush_publish(lid, {t}u, {flush});"));
-        f.line("}");
+    if !queue.targets.is_empty() {
+        flush_lines(&mut f, plan, queue);
     }
     f.line("if (lid == 0u) {");
     f.line(format!(
@@ -184,6 +156,53 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     f.line("    atomicSub(&sched_control[SCHED_CTRL_PENDING], count);");
     f.line("}");
     f
+}
+
+/// The flush of a batch into all its procedure's targets: thread 0 reserves
+/// slots in each target queue, every thread copies staged items into them,
+/// thread 0 publishes them, with one set of barriers for all targets
+/// (`sched_flush_begin` in the runtime says why).
+fn flush_lines(f: &mut Function, plan: &Plan, queue: &QueuePlan) {
+    f.line("// Publish the items staged for the targets: thread 0 reserves their");
+    f.line("// slots, every thread copies, thread 0 publishes.");
+    f.line("sched_flush_begin();");
+    f.line("if (lid == 0u) {");
+    for (i, &(t, _)) in queue.targets.iter().enumerate() {
+        let target = &plan.queues[t];
+        f.line(format!(
+            "    sched_wg_flushes[{i}] = sched_reserve({t}u, {}u); // {}",
+            target.stage_capacity, target.name
+        ));
+    }
+    f.line("}");
+    f.line("let flushes = sched_flush_share();");
+    for (i, &(t, _)) in queue.targets.iter().enumerate() {
+        let target = &plan.queues[t];
+        f.line(format!("// The items staged for `{}`.", target.name));
+        let per_thread = target.stage_capacity.div_ceil(plan.workgroup_size);
+        for j in 0..per_thread {
+            let k = if j == 0 {
+                "lid".to_owned()
+            } else {
+                format!("lid + {}u", j * plan.workgroup_size)
+            };
+            f.line(format!("if ({k} < flushes[{i}].y) {{"));
+            f.line(format!(
+                "    {}(sched_stage_word({}u, {}u, {k}), sched_slot_word({t}u, flushes[{i}].x + {k}));",
+                copy_out_name(&target.name),
+                target.stage_offset,
+                target.slot_words
+            ));
+            f.line("}");
+        }
+    }
+    f.line("// Release: the copies are complete before `published` covers them.");
+    f.line("storageBarrier();");
+    f.line("if (lid == 0u) {");
+    for (i, &(t, _)) in queue.targets.iter().enumerate() {
+        f.line(format!("    sched_publish({t}u, flushes[{i}]);"));
+    }
+    f.line("}");
 }
 
 pub(crate) fn entry_point(plan: &Plan) -> Function {
