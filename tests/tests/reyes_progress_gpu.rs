@@ -107,3 +107,43 @@ fn frames_report_the_compile_once_and_their_tiles_and_batches_in_order() {
         "{events:#?}"
     );
 }
+
+/// A renderer that alternates between two variants of the megakernel (a
+/// still frame and one that samples time and lens, as the viewer does when
+/// motion blur is toggled) compiles each variant once: the second frame of
+/// each variant takes its parked program back.
+#[gpu_test]
+fn alternating_variants_compile_each_once() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let seen = Arc::new(Mutex::new(Vec::new()));
+    let sink = seen.clone();
+    let options = GpuOptions {
+        timeout: Duration::from_secs(900),
+        progress: Progress::new(move |event| sink.lock().unwrap().push(event.clone())),
+        ..GpuOptions::default()
+    };
+    let mut renderer = renderer(gpu, options);
+    let still = PreparedScene::load(&framed_teapot(64, 48, 1)).expect("scene prepares");
+    let mut blurred_scene = framed_teapot(64, 48, 1);
+    blurred_scene.sampling = reyes::modes::Sampling::Interleave;
+    let blurred = PreparedScene::load(&blurred_scene).expect("scene prepares");
+    assert_ne!(
+        reyes::gpu::KernelVariant::of(&still),
+        reyes::gpu::KernelVariant::of(&blurred)
+    );
+    let mut images = Vec::new();
+    for scene in [&still, &blurred, &still, &blurred] {
+        images.push(renderer.render(scene).expect("frame renders").image);
+        assert_eq!(renderer.variant(), reyes::gpu::KernelVariant::of(scene));
+    }
+    let compiles = seen
+        .lock()
+        .unwrap()
+        .iter()
+        .filter(|e| matches!(e, ProgressEvent::CompileStarted { .. }))
+        .count();
+    assert_eq!(compiles, 2, "one compile per variant");
+    // The programs taken back render what they rendered before.
+    assert!(images[0] == images[2] && images[1] == images[3]);
+}

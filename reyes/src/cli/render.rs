@@ -99,6 +99,18 @@ fn render_gpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxErro
     options.pipeline_cache_dir = args.pipeline_cache_dir();
     let mut renderer = GpuRenderer::new(&gpu, options)?;
     let rendered = renderer.render(scene)?;
+    if let Some(pipeline) = renderer.last_pipeline() {
+        let (lines, functions) = renderer.compiled().module_size();
+        let first_dispatch = pipeline.timings.first_dispatch.unwrap_or_default();
+        log::info!(
+            "GPU program `{}` ({lines} lines, {functions} functions): pipeline creation {:.3} s, first dispatch {:.3} s, driver compile {:.3} s, pipeline cache {:?}",
+            renderer.variant(),
+            pipeline.timings.pipeline_creation.as_secs_f64(),
+            first_dispatch.as_secs_f64(),
+            (pipeline.timings.pipeline_creation + first_dispatch).as_secs_f64(),
+            pipeline.cache
+        );
+    }
     let timer = if rendered.timings.megakernel_gpu_ms.is_some() {
         "GPU megakernel"
     } else {

@@ -50,6 +50,26 @@ fn chunks_per_batch(gpu: &Gpu, options: &GpuOptions, blurred: bool) -> u32 {
     })
 }
 
+/// Programs of other variants a renderer keeps (with their executors,
+/// which hold queue buffers) besides the current one.
+const MAX_PARKED_PROGRAMS: usize = 3;
+
+/// What selects a megakernel module.
+#[derive(Debug, PartialEq)]
+struct ProgramKey {
+    variant: KernelVariant,
+    user: Option<String>,
+    chunks: u32,
+}
+
+/// A compiled megakernel not in use, with its executor if one was made.
+#[derive(Debug)]
+struct ParkedProgram {
+    key: ProgramKey,
+    compiled: CompiledGraph,
+    executor: Option<(Capacities, Option<u32>, Executor)>,
+}
+
 /// Renders prepared scenes with the Reyes megakernel. Pipelines, the
 /// executor (for a given queue sizing) and the frame buffers (for a given
 /// resolution) are created on first use and reused by later frames.
@@ -66,6 +86,10 @@ pub struct GpuRenderer<'a> {
     compiled_chunks: u32,
     resolver: Resolver,
     executor: Option<(Capacities, Option<u32>, Executor)>,
+    /// Megakernels of other variants compiled before, with their executors
+    /// (most recently used last), so that a program that alternates between
+    /// variants (the viewer toggling motion blur) compiles each once.
+    parked: Vec<ParkedProgram>,
     frame: Option<(FrameBuffers, ResolveTarget)>,
 }
 
@@ -106,6 +130,7 @@ impl<'a> GpuRenderer<'a> {
             compiled_chunks: chunks,
             resolver: Resolver::new(&gpu.device),
             executor: None,
+            parked: Vec::new(),
             frame: None,
         })
     }
@@ -123,8 +148,11 @@ impl<'a> GpuRenderer<'a> {
 
     /// Compiles the megakernel again when `scene` needs a different variant
     /// ([`KernelVariant::of`]), user displacement function, or chunks per
-    /// batch than the one compiled in (the executor, which holds the
-    /// pipeline, is then rebuilt).
+    /// batch than the one compiled in. The current program is parked, and
+    /// one parked before is taken back when it fits (up to
+    /// `MAX_PARKED_PROGRAMS`, least recently used first out), so that
+    /// alternating frames compile each module and create each pipeline
+    /// once.
     fn prepare_megakernel(&mut self, scene: &PreparedScene) -> Result<(), RenderError> {
         let mut users = scene.objects.iter().enumerate().filter_map(|(i, o)| {
             o.displacement
@@ -147,34 +175,65 @@ impl<'a> GpuRenderer<'a> {
         {
             return Ok(());
         }
+        let key = ProgramKey {
+            variant,
+            user: user.map(str::to_owned),
+            chunks,
+        };
+        let program = match self.parked.iter().position(|p| p.key == key) {
+            Some(index) => self.parked.remove(index),
+            None => self.compile_program(key)?,
+        };
+        let current = ParkedProgram {
+            key: ProgramKey {
+                variant: self.compiled_variant,
+                user: self.compiled_user.take(),
+                chunks: self.compiled_chunks,
+            },
+            compiled: std::mem::replace(&mut self.compiled, program.compiled),
+            executor: std::mem::replace(&mut self.executor, program.executor),
+        };
+        self.parked.push(current);
+        if self.parked.len() > MAX_PARKED_PROGRAMS {
+            self.parked.remove(0);
+        }
+        self.compiled_variant = program.key.variant;
+        self.compiled_user = program.key.user;
+        self.compiled_chunks = program.key.chunks;
+        Ok(())
+    }
+
+    /// Compiles the megakernel of `key` (the driver compiles it when its
+    /// executor is created).
+    fn compile_program(&self, key: ProgramKey) -> Result<ParkedProgram, RenderError> {
+        let ProgramKey {
+            variant,
+            ref user,
+            chunks,
+        } = key;
+        let user = user.as_deref();
         if let Some(wgsl) = user {
             crate::displacement::user_wgsl::check(wgsl)?;
         }
         let features = scheduler::recommended_features(&self.gpu.device);
         let compiled = graph::compile_for(features, variant, user, self.options.policy, chunks)
-            .map_err(
-            |e| match user {
+            .map_err(|e| match user {
                 Some(_) => RenderError::UserDisplacement(e),
                 None => RenderError::Compile(e),
-            },
-        )?;
-        // The driver compiles the new module at its first dispatch: long
-        // enough on lavapipe (minutes for a module its shader cache lacks)
-        // that a silent wait looks like a hang.
+            })?;
         log::info!(
-            "new megakernel for {variant} ({chunks} chunk(s) per batch{}): the driver compiles it at the first dispatch, which takes minutes on lavapipe when its shader cache lacks it",
+            "new megakernel for {variant} ({chunks} chunk(s) per batch{}): the driver compiles it when the executor is created, which takes minutes on lavapipe when its shader cache lacks it",
             if user.is_some() {
                 ", with the scene's displacement function"
             } else {
                 ""
             }
         );
-        self.executor = None;
-        self.compiled = compiled;
-        self.compiled_variant = variant;
-        self.compiled_user = user.map(str::to_owned);
-        self.compiled_chunks = chunks;
-        Ok(())
+        Ok(ParkedProgram {
+            key,
+            compiled,
+            executor: None,
+        })
     }
 
     /// Prepares the frame buffers for `scene` (reused when the sizes match).
