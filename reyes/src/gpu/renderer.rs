@@ -118,7 +118,7 @@ impl<'a> GpuRenderer<'a> {
             // A chosen chunk count is likely a module the driver has not
             // cached (see `prepare_megakernel`).
             log::info!(
-                "megakernel with {chunks} chunk(s) per batch: the driver compiles it at the first dispatch, which takes minutes on lavapipe when its shader cache lacks it"
+                "megakernel with {chunks} chunk(s) per batch: the driver compiles it when the renderer creates its executor, which takes minutes on lavapipe when its shader cache lacks it"
             );
         }
         Ok(Self {
