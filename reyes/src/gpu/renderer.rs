@@ -78,12 +78,9 @@ pub struct GpuRenderer<'a> {
     gpu: &'a Gpu,
     options: GpuOptions,
     compiled: CompiledGraph,
-    /// The variant `compiled` was specialized to.
-    compiled_variant: KernelVariant,
-    /// The user displacement function compiled into `compiled`, if any.
-    compiled_user: Option<String>,
-    /// The chunks per batch `compiled` was compiled with.
-    compiled_chunks: u32,
+    /// What `compiled` was compiled for: its variant, the user
+    /// displacement function, the chunks per batch.
+    compiled_key: ProgramKey,
     resolver: Resolver,
     executor: Option<(Capacities, Option<u32>, Executor)>,
     /// Megakernels of other variants compiled before, with their executors
@@ -125,9 +122,11 @@ impl<'a> GpuRenderer<'a> {
             gpu,
             options,
             compiled,
-            compiled_variant: KernelVariant::default(),
-            compiled_user: None,
-            compiled_chunks: chunks,
+            compiled_key: ProgramKey {
+                variant: KernelVariant::default(),
+                user: None,
+                chunks,
+            },
             resolver: Resolver::new(&gpu.device),
             executor: None,
             parked: Vec::new(),
@@ -143,7 +142,7 @@ impl<'a> GpuRenderer<'a> {
 
     /// The variant the megakernel is specialized to (the last scene's).
     pub fn variant(&self) -> KernelVariant {
-        self.compiled_variant
+        self.compiled_key.variant
     }
 
     /// Compiles the megakernel again when `scene` needs a different variant
@@ -168,28 +167,20 @@ impl<'a> GpuRenderer<'a> {
         }
         let user = user.map(|(_, w)| w);
         let chunks = chunks_per_batch(self.gpu, &self.options, scene.samples_time_and_lens());
-        let variant = KernelVariant::of(scene);
-        if variant == self.compiled_variant
-            && user == self.compiled_user.as_deref()
-            && chunks == self.compiled_chunks
-        {
-            return Ok(());
-        }
         let key = ProgramKey {
-            variant,
+            variant: KernelVariant::of(scene),
             user: user.map(str::to_owned),
             chunks,
         };
+        if key == self.compiled_key {
+            return Ok(());
+        }
         let program = match self.parked.iter().position(|p| p.key == key) {
             Some(index) => self.parked.remove(index),
             None => self.compile_program(key)?,
         };
         let current = ParkedProgram {
-            key: ProgramKey {
-                variant: self.compiled_variant,
-                user: self.compiled_user.take(),
-                chunks: self.compiled_chunks,
-            },
+            key: std::mem::replace(&mut self.compiled_key, program.key),
             compiled: std::mem::replace(&mut self.compiled, program.compiled),
             executor: std::mem::replace(&mut self.executor, program.executor),
         };
@@ -197,9 +188,6 @@ impl<'a> GpuRenderer<'a> {
         if self.parked.len() > MAX_PARKED_PROGRAMS {
             self.parked.remove(0);
         }
-        self.compiled_variant = program.key.variant;
-        self.compiled_user = program.key.user;
-        self.compiled_chunks = program.key.chunks;
         Ok(())
     }
 

@@ -69,11 +69,7 @@ impl KernelVariant {
     /// A stable 64-bit hash of the variant (FNV-1a of its name), the same
     /// on every machine and build.
     pub fn stable_hash(self) -> u64 {
-        self.to_string()
-            .bytes()
-            .fold(0xcbf2_9ce4_8422_2325, |h, b| {
-                (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
-            })
+        scheduler::pipeline_cache::fnv1a_64(self.to_string().as_bytes())
     }
 }
 

@@ -93,7 +93,8 @@ pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), Com
     Ok(())
 }
 
-fn collect_calls(block: &Block, out: &mut Vec<Handle<Function>>) {
+/// Every function `block` calls, pushed onto `out`.
+pub(crate) fn collect_calls(block: &Block, out: &mut Vec<Handle<Function>>) {
     for statement in block.iter() {
         match statement {
             Statement::Call { function, .. } => out.push(*function),

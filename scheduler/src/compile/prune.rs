@@ -17,6 +17,7 @@
 use std::collections::BTreeSet;
 use std::ops::Range;
 
+use super::checks::collect_calls;
 use text::{IfShape, Otherwise, delete_ranges, whole_lines, with_leading_comments};
 
 use naga::{BinaryOperator, Block, Expression, Handle, Literal, Module, Statement, UnaryOperator};
@@ -253,28 +254,22 @@ fn evaluate(
             Value::Int(_) => None,
         },
         Expression::Binary { op, left, right } => {
+            // `false && x` and `true || x` are decided by one side, and so
+            // are `x && false` and `x || true`: WGSL expressions in
+            // conditions have no side effects once naga has lowered calls
+            // into statements of their own.
+            let decides = |value: Option<Value>| match (op, value) {
+                (BinaryOperator::LogicalAnd, Some(Value::Bool(false)))
+                | (BinaryOperator::LogicalOr, Some(Value::Bool(true))) => value,
+                _ => None,
+            };
             let left_value = recurse(*left);
-            match (op, left_value) {
-                (BinaryOperator::LogicalAnd, Some(Value::Bool(false))) => {
-                    return Some(Value::Bool(false));
-                }
-                (BinaryOperator::LogicalOr, Some(Value::Bool(true))) => {
-                    return Some(Value::Bool(true));
-                }
-                _ => {}
+            if let Some(decided) = decides(left_value) {
+                return Some(decided);
             }
             let right_value = recurse(*right);
-            match (op, right_value) {
-                // `x && false` and `x || true` are decided too: WGSL
-                // expressions in conditions have no side effects once naga
-                // has lowered calls into statements of their own.
-                (BinaryOperator::LogicalAnd, Some(Value::Bool(false))) => {
-                    return Some(Value::Bool(false));
-                }
-                (BinaryOperator::LogicalOr, Some(Value::Bool(true))) => {
-                    return Some(Value::Bool(true));
-                }
-                _ => {}
+            if let Some(decided) = decides(right_value) {
+                return Some(decided);
             }
             binary(*op, left_value?, right_value?)
         }
@@ -323,11 +318,11 @@ fn drop_unreachable_functions(source: &str, module: &Module) -> (String, Vec<Str
     let mut reached = BTreeSet::new();
     let mut stack: Vec<Handle<naga::Function>> = Vec::new();
     for entry in &module.entry_points {
-        calls(&entry.function.body, &mut stack);
+        collect_calls(&entry.function.body, &mut stack);
     }
     while let Some(function) = stack.pop() {
         if reached.insert(function) {
-            calls(&module.functions[function].body, &mut stack);
+            collect_calls(&module.functions[function].body, &mut stack);
         }
     }
     let mut deletions = Vec::new();
@@ -346,32 +341,6 @@ fn drop_unreachable_functions(source: &str, module: &Module) -> (String, Vec<Str
         dropped.push(function.name.clone().unwrap_or_default());
     }
     (delete_ranges(source, deletions), dropped)
-}
-
-/// Every function `block` calls, pushed onto `out`.
-fn calls(block: &Block, out: &mut Vec<Handle<naga::Function>>) {
-    for statement in block.iter() {
-        match statement {
-            Statement::Call { function, .. } => out.push(*function),
-            Statement::Block(inner) => calls(inner, out),
-            Statement::If { accept, reject, .. } => {
-                calls(accept, out);
-                calls(reject, out);
-            }
-            Statement::Loop {
-                body, continuing, ..
-            } => {
-                calls(body, out);
-                calls(continuing, out);
-            }
-            Statement::Switch { cases, .. } => {
-                for case in cases {
-                    calls(&case.body, out);
-                }
-            }
-            _ => {}
-        }
-    }
 }
 
 mod text;

@@ -39,7 +39,7 @@ impl GpuRenderer<'_> {
     pub(super) fn iteration_budget(&self) -> Option<u32> {
         self.options.iteration_budget.or_else(|| {
             self.quirks()
-                .long_body_iteration_budget(self.compiled_chunks)
+                .long_body_iteration_budget(self.compiled_key.chunks)
         })
     }
 
