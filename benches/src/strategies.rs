@@ -58,7 +58,7 @@ impl Measured {
                 .max()
                 .unwrap_or(0),
             high_water_sum: report.procedures.iter().map(|p| p.high_water).sum(),
-            submissions: report.dispatches,
+            submissions: report.submissions,
             rounds: report.rounds,
         }
     }

@@ -137,7 +137,7 @@ pub use handle::{ProcedureId, Untyped};
 pub use item::{Item, ItemType, WgslStructs, WgslType, layout as wgsl_layout};
 pub use options::{CompileOptions, MAX_CHUNKS_PER_BATCH, Policy, recommended_features};
 pub use plan::QueuePlan;
-pub use quirks::{CpuWorkgroups, LoopBudget, Quirks};
+pub use quirks::{CpuWorkgroups, DEFAULT_SPIN_LIMIT, LoopBudget, PersistentThreads, Quirks};
 pub use resource::{Access, Atomic, BufferContents, BufferShape, Resource, ResourceKind};
 pub use runtime::config::{
     Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
@@ -147,6 +147,7 @@ pub use runtime::executor::{Binding, Executor};
 pub use runtime::pipeline_cache::{self, CompileTimings, PipelineCacheState};
 pub use runtime::readback;
 pub use runtime::report::{BoundsViolation, ProcedureStats, RetryCauses, RunReport};
+pub use runtime::reset::ResetContext;
 pub use runtime::retry::{LoopCheckFn, ResetFn, Retry};
 pub use runtime::seeds::Seeds;
 pub use runtime::strategy::{DEFAULT_ROUNDS_PER_BATCH, Strategy};

@@ -34,7 +34,8 @@ pub struct CompileOptions {
     /// so the per-batch work (claiming, reserving and publishing children,
     /// releasing slots) is shared by more items. Fewer chunks keep batches
     /// small, so that more workgroups share a short queue. Default 1; on
-    /// llvmpipe 4 is markedly faster (docs/performance.md, "Chunks per batch").
+    /// llvmpipe 4 is markedly faster (docs/performance.md, "Chunks per batch"),
+    /// which [`CompileOptions::for_adapter`] takes.
     pub chunks_per_batch: u32,
     /// Checked mode: every index into a runtime-sized array resource made by
     /// a body or the library is compared with the bound buffer's length, and
@@ -80,6 +81,18 @@ impl CompileOptions {
         }
     }
 
+    /// Default options with the chunks per batch worth compiling for on the
+    /// adapter `info` describes ([`Quirks::chunks_per_batch`](crate::Quirks::chunks_per_batch):
+    /// 4 on llvmpipe, 1 elsewhere). The generated WGSL still depends only on
+    /// the options: the adapter is named here, explicitly, and the same
+    /// adapter gives the same module. Set fields afterwards to override.
+    pub fn for_adapter(info: &wgpu::AdapterInfo) -> Self {
+        Self {
+            chunks_per_batch: crate::Quirks::of(info).chunks_per_batch(),
+            ..Self::default()
+        }
+    }
+
     /// Default options with the given features enabled.
     pub fn with_features(features: wgpu::Features) -> Self {
         Self {
@@ -99,4 +112,22 @@ impl CompileOptions {
 /// docs/scheduler.md, "Hand-off").
 pub fn recommended_features(device: &wgpu::Device) -> wgpu::Features {
     device.features() & wgpu::Features::MEMORY_DECORATION_COHERENT
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn options_for_an_adapter_take_its_chunks_per_batch() {
+        let lavapipe = wgpu::AdapterInfo {
+            name: "llvmpipe (LLVM 15.0.6, 256 bits)".into(),
+            driver: "llvmpipe".into(),
+            ..wgpu::AdapterInfo::new(wgpu::DeviceType::Cpu, wgpu::Backend::Vulkan)
+        };
+        assert_eq!(CompileOptions::for_adapter(&lavapipe).chunks_per_batch, 4);
+        let gpu = wgpu::AdapterInfo::new(wgpu::DeviceType::DiscreteGpu, wgpu::Backend::Vulkan);
+        assert_eq!(CompileOptions::for_adapter(&gpu).chunks_per_batch, 1);
+        assert!(CompileOptions::for_adapter(&gpu).specialize);
+    }
 }

@@ -74,6 +74,90 @@ const LLVMPIPE_LOOP_BUDGET: LoopBudget = LoopBudget {
     long_body_batches: 16,
 };
 
+/// Spin-wait iterations after which a workgroup leaves, on drivers without a
+/// loop budget of their own: a wait or an idle workgroup never holds a
+/// dispatch for ever, and the host dispatches again while work is
+/// outstanding (docs/scheduler.md, "Progress").
+pub const DEFAULT_SPIN_LIMIT: u32 = 1 << 16;
+
+/// Whether persistent workgroups (the megakernel) are known to be safe on a
+/// platform, and why: [`Strategy::Auto`](crate::Strategy::Auto) runs the
+/// megakernel only where they are (docs/scheduler.md, "Driver quirks").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PersistentThreads {
+    /// The platform, in words.
+    pub platform: &'static str,
+    /// Whether the megakernel is known to be safe there.
+    pub safe: bool,
+    /// Why.
+    pub reason: &'static str,
+}
+
+/// One row of [`PERSISTENT_THREADS`]: the adapters it covers and its verdict.
+struct Platform {
+    covers: fn(&wgpu::AdapterInfo) -> bool,
+    verdict: PersistentThreads,
+}
+
+/// PCI vendor ids of the discrete GPUs known to run persistent workgroups.
+const NVIDIA: u32 = 0x10de;
+const AMD: u32 = 0x1002;
+
+/// Where persistent workgroups are known to be safe, first match wins. A
+/// platform not listed gets Rounds, which needs no forward-progress guarantee
+/// at all.
+const PERSISTENT_THREADS: &[Platform] = &[
+    Platform {
+        covers: is_llvmpipe,
+        verdict: PersistentThreads {
+            platform: "llvmpipe (lavapipe)",
+            safe: true,
+            reason: "each workgroup runs on a CPU thread that the operating system schedules preemptively, so every launched workgroup runs in turn; the megakernel launches one per CPU thread (`Quirks::megakernel_workgroups`) and the loop budget bounds every wait",
+        },
+    },
+    Platform {
+        covers: |info| info.backend == wgpu::Backend::Metal,
+        verdict: PersistentThreads {
+            platform: "Metal",
+            safe: false,
+            reason: "Metal gives no forward-progress guarantee between threadgroups, and persistent-thread kernels have been reported to lose the device on macOS",
+        },
+    },
+    Platform {
+        covers: |info| info.device_type == wgpu::DeviceType::IntegratedGpu,
+        verdict: PersistentThreads {
+            platform: "integrated GPUs",
+            safe: false,
+            reason: "some (AMD integrated GPUs among them) have been reported to lose the device under persistent-thread kernels, and they share the display's watchdog",
+        },
+    },
+    Platform {
+        covers: |info| {
+            info.device_type == wgpu::DeviceType::DiscreteGpu
+                && matches!(info.backend, wgpu::Backend::Vulkan | wgpu::Backend::Dx12)
+                && matches!(info.vendor, NVIDIA | AMD)
+        },
+        verdict: PersistentThreads {
+            platform: "NVIDIA and AMD discrete GPUs on Vulkan or DX12",
+            safe: true,
+            reason: "their hardware schedulers run a resident workgroup until it ends, and workgroups beyond residency start as others leave; the protocol waits only on running workgroups (docs/scheduler.md, \"Progress\"), and every wait is bounded by the spin limit",
+        },
+    },
+];
+
+/// The verdict for adapters no row of [`PERSISTENT_THREADS`] covers.
+const UNKNOWN_PLATFORM: PersistentThreads = PersistentThreads {
+    platform: "other adapters",
+    safe: false,
+    reason: "no forward progress between workgroups is known; Rounds needs none (vkd3d-proton emulates D3D12 work graphs level by level for the same reason)",
+};
+
+/// Whether `info` describes llvmpipe: `driver` on Vulkan, `name` on GL.
+fn is_llvmpipe(info: &wgpu::AdapterInfo) -> bool {
+    info.driver.eq_ignore_ascii_case("llvmpipe")
+        || info.name.to_ascii_lowercase().starts_with("llvmpipe")
+}
+
 /// What the scheduler works around on one adapter.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Quirks {
@@ -86,6 +170,10 @@ pub struct Quirks {
     /// (llvmpipe): see [`Quirks::megakernel_workgroups`] and
     /// [`CpuWorkgroups`].
     pub cpu_workgroups: Option<CpuWorkgroups>,
+    /// Whether persistent workgroups are known to be safe here, and why
+    /// ([`Strategy::Auto`](crate::Strategy::Auto) takes the megakernel only
+    /// where they are).
+    pub persistent_threads: PersistentThreads,
 }
 
 impl Quirks {
@@ -93,12 +181,25 @@ impl Quirks {
     /// llvmpipe (`driver` on Vulkan, `name` on GL) caps loops. Other CPU
     /// drivers (WARP, SwiftShader) are not assumed to.
     pub fn of(info: &wgpu::AdapterInfo) -> Self {
-        let llvmpipe = info.driver.eq_ignore_ascii_case("llvmpipe")
-            || info.name.to_ascii_lowercase().starts_with("llvmpipe");
+        let llvmpipe = is_llvmpipe(info);
         Self {
             loop_budget: llvmpipe.then_some(LLVMPIPE_LOOP_BUDGET),
             cpu_workgroups: llvmpipe.then_some(LLVMPIPE_WORKGROUPS),
+            persistent_threads: PERSISTENT_THREADS
+                .iter()
+                .find(|platform| (platform.covers)(info))
+                .map_or(UNKNOWN_PLATFORM, |platform| platform.verdict),
         }
+    }
+
+    /// Every row of the table [`Strategy::Auto`](crate::Strategy::Auto)
+    /// decides by, in the order it is searched, then the verdict for
+    /// adapters none covers.
+    pub fn persistent_threads_table() -> impl Iterator<Item = PersistentThreads> {
+        PERSISTENT_THREADS
+            .iter()
+            .map(|platform| platform.verdict)
+            .chain([UNKNOWN_PLATFORM])
     }
 
     /// The quirks of the adapter behind `device`.
@@ -163,11 +264,32 @@ impl Quirks {
         self.cpu_workgroups.map(|cpu| cpu.max_chunks_per_batch)
     }
 
-    /// Spin-wait iterations after which a workgroup leaves (`u32::MAX`:
-    /// never).
+    /// Spin-wait iterations (waits for free slots and idle picks) after
+    /// which a workgroup leaves at its next batch boundary: the loop
+    /// budget's on drivers that cap loops, [`DEFAULT_SPIN_LIMIT`]
+    /// elsewhere. Every wait is bounded on every adapter.
     pub fn spin_limit(&self) -> u32 {
         self.loop_budget
-            .map_or(u32::MAX, |budget| budget.spin_limit)
+            .map_or(DEFAULT_SPIN_LIMIT, |budget| budget.spin_limit)
+    }
+
+    /// Persistent workgroups per megakernel dispatch when the configuration
+    /// names none: [`Quirks::megakernel_workgroups`] on drivers that run
+    /// workgroups on CPU threads, [`DEFAULT_WORKGROUPS`](crate::DEFAULT_WORKGROUPS)
+    /// elsewhere.
+    pub fn default_megakernel_workgroups(&self) -> u32 {
+        self.megakernel_workgroups()
+            .unwrap_or(crate::DEFAULT_WORKGROUPS)
+    }
+
+    /// Most workgroups per round dispatch when the configuration names
+    /// none: [`DEFAULT_WORKGROUPS`](crate::DEFAULT_WORKGROUPS) on every
+    /// adapter. Each round workgroup strides over the round's batches within
+    /// one loop, so on llvmpipe few workgroups would spend the loop budget
+    /// (2 workgroups ran into it even at 1 chunk per batch); many share the
+    /// batches out, and none waits on another.
+    pub fn default_round_workgroups(&self) -> u32 {
+        crate::DEFAULT_WORKGROUPS
     }
 }
 
@@ -213,13 +335,128 @@ mod tests {
             info("Microsoft Basic Render Driver", "", wgpu::DeviceType::Cpu),
         ] {
             let quirks = Quirks::of(&other);
-            assert_eq!(quirks, Quirks::default(), "{}", other.name);
+            assert_eq!(quirks.loop_budget, None, "{}", other.name);
+            assert_eq!(quirks.cpu_workgroups, None, "{}", other.name);
             assert_eq!(quirks.default_iteration_budget(4), None);
-            assert_eq!(quirks.spin_limit(), u32::MAX);
+            assert_eq!(quirks.spin_limit(), DEFAULT_SPIN_LIMIT);
+            assert_eq!(
+                quirks.default_megakernel_workgroups(),
+                crate::DEFAULT_WORKGROUPS
+            );
             assert_eq!(quirks.long_body_iteration_budget(4), None);
             assert_eq!(quirks.megakernel_workgroups(), None);
             assert_eq!(quirks.chunks_per_batch(), 1);
             assert_eq!(quirks.max_chunks_per_batch(), None);
         }
+    }
+
+    fn adapter(
+        name: &str,
+        vendor: u32,
+        device_type: wgpu::DeviceType,
+        backend: wgpu::Backend,
+    ) -> wgpu::AdapterInfo {
+        wgpu::AdapterInfo {
+            name: name.into(),
+            vendor,
+            ..wgpu::AdapterInfo::new(device_type, backend)
+        }
+    }
+
+    #[test]
+    fn auto_runs_the_megakernel_only_where_persistent_workgroups_are_known_safe() {
+        use crate::Strategy;
+        use wgpu::{Backend, DeviceType};
+        let lavapipe = info(
+            "llvmpipe (LLVM 15.0.6, 256 bits)",
+            "llvmpipe",
+            DeviceType::Cpu,
+        );
+        let cases = [
+            (lavapipe, Strategy::Megakernel),
+            (
+                adapter(
+                    "NVIDIA H200",
+                    NVIDIA,
+                    DeviceType::DiscreteGpu,
+                    Backend::Vulkan,
+                ),
+                Strategy::Megakernel,
+            ),
+            (
+                adapter(
+                    "AMD Radeon RX 7900",
+                    AMD,
+                    DeviceType::DiscreteGpu,
+                    Backend::Dx12,
+                ),
+                Strategy::Megakernel,
+            ),
+            // The same GPUs elsewhere, and every other platform: Rounds.
+            (
+                adapter("NVIDIA H200", NVIDIA, DeviceType::DiscreteGpu, Backend::Gl),
+                Strategy::rounds(),
+            ),
+            (
+                adapter(
+                    "AMD Radeon Pro",
+                    AMD,
+                    DeviceType::DiscreteGpu,
+                    Backend::Metal,
+                ),
+                Strategy::rounds(),
+            ),
+            (
+                adapter("Apple M2", 0, DeviceType::IntegratedGpu, Backend::Metal),
+                Strategy::rounds(),
+            ),
+            (
+                adapter(
+                    "AMD Radeon 780M",
+                    AMD,
+                    DeviceType::IntegratedGpu,
+                    Backend::Vulkan,
+                ),
+                Strategy::rounds(),
+            ),
+            (
+                adapter(
+                    "Intel Arc A770",
+                    0x8086,
+                    DeviceType::DiscreteGpu,
+                    Backend::Vulkan,
+                ),
+                Strategy::rounds(),
+            ),
+            (
+                info("SwiftShader Device", "SwiftShader driver", DeviceType::Cpu),
+                Strategy::rounds(),
+            ),
+            (
+                adapter(
+                    "Microsoft Basic Render Driver",
+                    0x1414,
+                    DeviceType::Cpu,
+                    Backend::Dx12,
+                ),
+                Strategy::rounds(),
+            ),
+        ];
+        for (adapter, expected) in cases {
+            let quirks = Quirks::of(&adapter);
+            assert_eq!(
+                Strategy::Auto.resolve(&quirks),
+                expected,
+                "{} on {:?}: {:?}",
+                adapter.name,
+                adapter.backend,
+                quirks.persistent_threads
+            );
+            // An explicit strategy is never changed.
+            assert_eq!(Strategy::Megakernel.resolve(&quirks), Strategy::Megakernel);
+            assert_eq!(Strategy::rounds().resolve(&quirks), Strategy::rounds());
+        }
+        // Every row says why.
+        assert!(Quirks::persistent_threads_table().all(|row| !row.reason.is_empty()));
     }
 }

@@ -151,13 +151,32 @@ fn sched_check_left_in_step(ended_by_condition: bool) {
     }
 }
 
+// All threads, right after each body call: whether the driver's loop budget
+// (llvmpipe, docs/scheduler.md "Loop limits") ran out inside the body. The
+// budget is checked at each loop's back edge, so this loop of two turns (its
+// count comes from the uniform, so it cannot be unrolled) runs its second
+// turn only while budget is left. The scheduler's own loops around the body
+// spend none between the body's start and here, so a cut found here is the
+// body's: counted apart from the scheduler's waits.
+fn sched_check_body_loops() {
+    let turns = sched_config[SCHED_NUM_QUEUES].w;
+    var ran = 0u;
+    for (var i = 0u; i < turns; i += 1u) {
+        ran += 1u;
+    }
+    if (ran < turns) {
+        atomicAdd(&sched_control[SCHED_CTRL_BODY_LOOPS_CUT], 1u);
+    }
+}
+
 // Thread 0 only: choose the next batch. Returns (queue, first ticket, count, _),
 // or SCHED_IDLE / SCHED_EXIT in .x.
 fn sched_pick(workgroup: u32, iteration: u32) -> vec4<u32> {
-    // A workgroup that spun a lot leaves at this batch boundary, so that on
-    // llvmpipe its shared loop budget is not spent (docs/scheduler.md, "Loop
-    // limits"). The host dispatches again while work is outstanding. The
-    // limit is u32::MAX on other adapters.
+    // A workgroup that spun (waited for slots, or idled) a lot leaves at this
+    // batch boundary, so that on llvmpipe its shared loop budget is not spent
+    // (docs/scheduler.md, "Loop limits") and elsewhere no wait holds the
+    // dispatch for ever. The host dispatches again while work is
+    // outstanding, and fails the run when a dispatch makes no progress.
     if (sched_spins > sched_config[SCHED_NUM_QUEUES].y) {
         return vec4<u32>(SCHED_EXIT, 0u, 0u, 0u);
     }
@@ -175,6 +194,9 @@ fn sched_pick(workgroup: u32, iteration: u32) -> vec4<u32> {
     if (atomicLoad(&sched_control[SCHED_CTRL_PENDING]) == 0u) {
         return vec4<u32>(SCHED_EXIT, 0u, 0u, 0u);
     }
+    // Idling is waiting too: it counts against the spin limit, so that no
+    // workgroup polls for ever for work that never comes.
+    sched_spins += 1u;
     return vec4<u32>(SCHED_IDLE, 0u, 0u, 0u);
 }
 

@@ -93,6 +93,7 @@ fn a_loop_limit_carries_its_report_and_retry_lowers_the_budget() {
                 "{advice}"
             ),
             Strategy::Rounds { .. } => assert!(advice.contains("Under Rounds"), "{advice}"),
+            other => panic!("an unresolved strategy ran: {other}"),
         }
         // Retry halves the budget down to 1, then says the bodies are at
         // fault; every attempt is bounded.

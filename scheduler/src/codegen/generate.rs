@@ -106,6 +106,12 @@ pub(crate) fn generate(
         "Control word: spin-waits the driver cut short (llvmpipe loop limit).",
     ));
     c.push(constant(
+        "SCHED_CTRL_BODY_LOOPS_CUT",
+        "u32",
+        format!("{}u", control::BODY_LOOPS_CUT),
+        "Control word: body calls that spent the driver's loop budget (llvmpipe loop limit).",
+    ));
+    c.push(constant(
         "SCHED_CTRL_ROUNDS",
         "u32",
         format!("{}u", control::ROUNDS),

@@ -116,6 +116,7 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
             ),
             "}".to_owned(),
             format!("{}(item, valid, thread, slot);", body_name(&queue.name)),
+            "sched_check_body_loops();".to_owned(),
         ]
     };
     if plan.chunks_per_batch == 1 {

@@ -27,6 +27,11 @@ pub(crate) struct RunConfig {
     pub round_workgroups: u32,
 }
 
+/// Turns of the loop that checks, after each body call, whether the driver's
+/// loop budget ran out in the body (`sched_check_body_loops`): two, from the
+/// uniform so that the compiler cannot unroll the loop.
+pub(crate) const CANARY_TURNS: u32 = 2;
+
 /// One component of a row: what it holds, and how the host computes it.
 pub(crate) struct Component<T> {
     pub meaning: &'static str,
@@ -69,8 +74,8 @@ pub(crate) const RUN_ROW: [Component<RunConfig>; 4] = [
         value: |r| r.round_workgroups,
     },
     Component {
-        meaning: "0",
-        value: |_| 0,
+        meaning: "turns of the body loop check (2)",
+        value: |_| CANARY_TURNS,
     },
 ];
 
@@ -128,13 +133,13 @@ mod tests {
         };
         assert_eq!(
             words(&queues, &run),
-            [7, 0, 28, 0, 3, 64, 44, 0, 64, 8192, 256, 0]
+            [7, 0, 28, 0, 3, 64, 44, 0, 64, 8192, 256, 2]
         );
         assert_eq!(bytes(queues.len()), 4 * words(&queues, &run).len() as u64);
         assert_eq!(
             describe(),
             "Per queue (capacity - 1, first slot word, first range marker word in sched_control, 0); \
-             last: (iteration budget, spin limit, workgroups per round dispatch, 0)."
+             last: (iteration budget, spin limit, workgroups per round dispatch, turns of the body loop check (2))."
         );
     }
 }

@@ -6,6 +6,9 @@ pub(crate) const PENDING: u32 = 0;
 pub(crate) const LOOPS_CUT: u32 = 1;
 /// Rounds strategy: rounds that found work.
 pub(crate) const ROUNDS: u32 = 2;
+/// Body calls after which the driver's loop budget was found spent: the
+/// bodies' own loops were cut (llvmpipe).
+pub(crate) const BODY_LOOPS_CUT: u32 = 3;
 /// First per-queue block.
 pub(crate) const QUEUE_BASE: u32 = 4;
 /// Words per queue block.

@@ -10,11 +10,15 @@ use crate::codegen::uniform;
 /// Default queue capacity in items.
 pub const DEFAULT_CAPACITY: u32 = 1 << 16;
 
-/// Default number of persistent workgroups. WebGPU cannot tell how many
-/// workgroups are resident at once, so this is a fixed guess that fills a large
-/// GPU (4 x 256-thread workgroups on each of ~64 compute units). Launching more
-/// than are resident is safe (see docs/scheduler.md) but wastes a little; fewer
-/// leave the GPU partly idle. Tune it with [`ExecutorConfig::workgroups`].
+/// Default number of persistent workgroups, and of workgroups per round
+/// dispatch. WebGPU cannot tell how many workgroups are resident at once, so
+/// this is a fixed guess that fills a large GPU (4 x 256-thread workgroups on
+/// each of ~64 compute units). Launching more than are resident is safe (see
+/// docs/scheduler.md) but wastes a little; fewer leave the GPU partly idle.
+/// Drivers that run workgroups on CPU threads get fewer persistent ones
+/// ([`Quirks::default_megakernel_workgroups`](crate::Quirks::default_megakernel_workgroups)).
+/// Tune it with [`ExecutorConfig::workgroups`] and
+/// [`ExecutorConfig::round_workgroups`].
 pub const DEFAULT_WORKGROUPS: u32 = 256;
 
 /// Default host-side timeout of one run.
@@ -69,8 +73,17 @@ impl Capacities {
 pub struct ExecutorConfig {
     /// Queue capacities.
     pub capacities: Capacities,
-    /// Persistent workgroups per dispatch ([`DEFAULT_WORKGROUPS`] if `None`).
+    /// Persistent workgroups per megakernel dispatch. `None`: the adapter's
+    /// default ([`Quirks::default_megakernel_workgroups`](crate::Quirks::default_megakernel_workgroups):
+    /// one per CPU thread on llvmpipe, [`DEFAULT_WORKGROUPS`] elsewhere). A
+    /// value set here is also the most workgroups per round dispatch unless
+    /// [`ExecutorConfig::round_workgroups`] names its own.
     pub workgroups: Option<u32>,
+    /// Most workgroups per round dispatch (Rounds strategy). `None`:
+    /// [`ExecutorConfig::workgroups`] if set, else the adapter's default
+    /// ([`Quirks::default_round_workgroups`](crate::Quirks::default_round_workgroups),
+    /// [`DEFAULT_WORKGROUPS`] everywhere).
+    pub round_workgroups: Option<u32>,
     /// Batches after which each workgroup leaves; the host then dispatches
     /// again until the work is done. `None`: no budget (one dispatch), except
     /// on drivers that cap loops, which get their default budget
@@ -93,6 +106,7 @@ impl Default for ExecutorConfig {
         Self {
             capacities: Capacities::default(),
             workgroups: None,
+            round_workgroups: None,
             iteration_budget: None,
             timeout: DEFAULT_TIMEOUT,
             pipeline_cache_dir: None,
@@ -116,9 +130,17 @@ pub struct MemoryPlan {
 }
 
 impl CompiledGraph {
-    /// The device memory `config` will allocate for this graph.
+    /// The device memory `config` will allocate for this graph. Staging
+    /// serves the larger of the two strategies' workgroup counts; a count
+    /// left to the adapter is taken as [`DEFAULT_WORKGROUPS`], the most any
+    /// adapter's default is.
     pub fn memory_plan(&self, config: &ExecutorConfig) -> MemoryPlan {
-        let workgroups = u64::from(config.workgroups.unwrap_or(DEFAULT_WORKGROUPS));
+        let megakernel = config.workgroups.unwrap_or(DEFAULT_WORKGROUPS);
+        let rounds = config
+            .round_workgroups
+            .or(config.workgroups)
+            .unwrap_or(DEFAULT_WORKGROUPS);
+        let workgroups = u64::from(megakernel.max(rounds));
         let queue_words: u64 = self
             .plan
             .queues

@@ -101,24 +101,43 @@ pub enum RunError {
     },
     /// A loop of the megakernel or of a body ran out of the driver's loop
     /// budget (llvmpipe caps every invocation's loops), so the run's results
-    /// cannot be trusted. The scheduler finds its own cut waits; cuts of the
-    /// bodies' own loops only the bodies can count, and a caller reports
-    /// them with [`Retry::check_loops`](crate::Retry::check_loops).
-    /// `advice` fits the strategy and configuration the run used.
+    /// cannot be trusted. The scheduler finds its own cut waits, and checks
+    /// after every body call whether the budget ran out inside the body
+    /// (`body_loops`); a caller can add the cuts its bodies count with
+    /// [`Retry::check_loops`](crate::Retry::check_loops). Off llvmpipe,
+    /// `waits` are waits for free slots that expired. `advice` fits the
+    /// strategy, configuration and driver the run used.
     #[error(
         "the driver's loop limit cut {} short (llvmpipe); the results are not trustworthy. {advice}",
         cut_loops(*waits, *body_loops)
     )]
     LoopLimit {
-        /// Spin-waits and invocations that found a loop cut.
+        /// The scheduler's spin-waits and loops that found themselves cut
+        /// (after a body spent the budget, these follow from it).
         waits: u32,
-        /// Loops of the bodies that the caller's
-        /// [`Retry::check_loops`](crate::Retry::check_loops) reported cut
-        /// (0 without a check).
+        /// Body calls that spent the driver's loop budget, found by the
+        /// check after each body call, plus the cuts the caller's
+        /// [`Retry::check_loops`](crate::Retry::check_loops) reported.
         body_loops: u32,
         /// What to change, for this run's strategy and configuration.
         advice: String,
         /// The report of the run up to the submission that found the cut.
+        report: Box<RunReport>,
+    },
+    /// Work remained, but submissions in a row executed no item: the
+    /// workgroups made no progress (their bounded waits ended without the
+    /// work they waited for moving). Ends the run instead of a device loss
+    /// or a host timeout; persistent workgroups are not safe on this
+    /// adapter, Rounds need no progress guarantee.
+    #[error(
+        "no progress: {submissions} submission(s) in a row executed no item while {pending} item(s) were outstanding; the workgroups made no progress, so run with `Strategy::Rounds` on this adapter"
+    )]
+    NoProgress {
+        /// Submissions in a row that executed nothing.
+        submissions: u32,
+        /// Outstanding items after the last of them.
+        pending: u32,
+        /// The report of the run so far.
         report: Box<RunReport>,
     },
     /// The host-side timeout elapsed before the GPU finished. The report
@@ -234,7 +253,8 @@ impl RunError {
             Self::QueueOverflow { report, .. }
             | Self::FanOutExceeded { report, .. }
             | Self::OutOfBounds { report, .. }
-            | Self::LoopLimit { report, .. } => Some(report),
+            | Self::LoopLimit { report, .. }
+            | Self::NoProgress { report, .. } => Some(report),
             Self::Timeout { report, .. }
             | Self::DeviceFailed { report, .. }
             | Self::QueueExceedsDevice { report, .. } => report.as_deref(),
@@ -248,11 +268,9 @@ impl RunError {
 fn cut_loops(waits: u32, body_loops: u32) -> String {
     match (waits, body_loops) {
         (waits, 0) => format!("{waits} loop(s)"),
-        (0, body) => {
-            format!("{body} of the bodies' own loop(s) (reported by `Retry::check_loops`)")
-        }
+        (0, body) => format!("the bodies' own loops ({body} cut)"),
         (waits, body) => format!(
-            "{waits} of the scheduler's loop(s) and {body} of the bodies' own loop(s) (reported by `Retry::check_loops`)"
+            "the bodies' own loops ({body} cut), and after them {waits} of the scheduler's loop(s)"
         ),
     }
 }
@@ -265,7 +283,7 @@ fn partial_note(report: Option<&RunReport>, also: &[String]) -> String {
         Some(report) => {
             let mut note = format!(
                 "The report holds the counters after {} completed submission(s)",
-                report.dispatches
+                report.submissions
             );
             if also.is_empty() {
                 note.push('.');

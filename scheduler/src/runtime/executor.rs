@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use crate::codegen::bindings::{RESOURCE_GROUP, SCHEDULER_GROUP, resource_bindings, resource_kind};
 use crate::plan::control;
-use crate::runtime::config::{DEFAULT_WORKGROUPS, ExecutorConfig};
+use crate::runtime::config::ExecutorConfig;
 use crate::runtime::pipeline_cache::{self, CompileTimings, DiskCache, PipelineCacheState};
 use crate::runtime::readback::{LONGEST_WAIT, map_read};
 use crate::runtime::resources::OwnedBuffers;
@@ -59,6 +59,8 @@ pub struct Executor {
     pub(super) state: QueueState,
     timestamps: Option<Timestamps>,
     pub(super) tuning: Tuning,
+    /// What the scheduler works around on this adapter.
+    pub(super) quirks: Quirks,
     pub(super) timeout: Duration,
     /// The pipeline cache and its file, when one is configured and the
     /// device has the feature.
@@ -69,7 +71,9 @@ pub struct Executor {
 
 impl Executor {
     /// Creates the megakernel pipeline and allocates the queues for `config`.
-    /// The Rounds strategy's pipelines are created on its first run.
+    /// The Rounds strategy's pipelines are created on its first run. What
+    /// `config` leaves to the adapter (workgroups per strategy, iteration
+    /// budget, spin limit) comes from [`Quirks::of_device`].
     ///
     /// Fails with [`RunError::ExceedsDeviceLimit`] when the graph or the
     /// workgroup count exceeds one of the device's limits (the module may
@@ -88,14 +92,22 @@ impl Executor {
                 "the device lacks features the graph was compiled for: {missing:?}"
             )));
         }
-        let workgroups = config.workgroups.unwrap_or(DEFAULT_WORKGROUPS).max(1);
-        limits::check_plan(plan, &device.limits(), workgroups)?;
+        let quirks = Quirks::of_device(device);
+        let workgroups = config
+            .workgroups
+            .unwrap_or_else(|| quirks.default_megakernel_workgroups())
+            .max(1);
+        let round_workgroups = config
+            .round_workgroups
+            .or(config.workgroups)
+            .unwrap_or_else(|| quirks.default_round_workgroups())
+            .max(1);
+        limits::check_plan(plan, &device.limits(), workgroups.max(round_workgroups))?;
         let capacities: Vec<u32> = plan
             .queues
             .iter()
             .map(|q| config.capacities.of(&q.name))
             .collect();
-        let quirks = Quirks::of_device(device);
         let iteration_budget = match config.iteration_budget {
             Some(budget) => budget.max(1),
             None => quirks
@@ -104,6 +116,7 @@ impl Executor {
         };
         let tuning = Tuning {
             workgroups,
+            round_workgroups,
             iteration_budget,
             spin_limit: quirks.spin_limit(),
         };
@@ -197,6 +210,7 @@ impl Executor {
             state,
             timestamps,
             tuning,
+            quirks,
             timeout: config.timeout,
             disk_cache,
             cache_state,
@@ -235,10 +249,25 @@ impl Executor {
         self.compile_timings
     }
 
-    /// Workgroups launched per megakernel dispatch, and the most launched per
-    /// round dispatch.
+    /// Workgroups launched per megakernel dispatch.
     pub fn workgroups(&self) -> u32 {
         self.tuning.workgroups
+    }
+
+    /// The most workgroups launched per round dispatch (Rounds strategy).
+    pub fn round_workgroups(&self) -> u32 {
+        self.tuning.round_workgroups
+    }
+
+    /// What the scheduler works around on this executor's adapter.
+    pub fn quirks(&self) -> &Quirks {
+        &self.quirks
+    }
+
+    /// The strategy a run with `strategy` uses on this adapter
+    /// ([`Strategy::Auto`] resolved, see [`Strategy::resolve`]).
+    pub fn resolve(&self, strategy: Strategy) -> Strategy {
+        strategy.resolve(&self.quirks)
     }
 
     /// Iterations after which a workgroup leaves (`u32::MAX`: no budget).
@@ -251,15 +280,18 @@ impl Executor {
         &self.state.capacities
     }
 
-    /// Runs the graph from `seeds` with the megakernel until no work is left.
+    /// Runs the graph from `seeds` with [`Strategy::Auto`] (the megakernel
+    /// where persistent workgroups are known to be safe, Rounds elsewhere)
+    /// until no work is left.
     ///
     /// `bindings` must name every declared resource. Returns the report, or an
     /// error that carries it (overflow) or explains why there is none.
     pub fn run(&mut self, seeds: &Seeds, bindings: &[Binding<'_>]) -> Result<RunReport, RunError> {
-        self.run_with(Strategy::Megakernel, seeds, bindings)
+        self.run_with(Strategy::Auto, seeds, bindings)
     }
 
-    /// Runs the graph from `seeds` with the given strategy.
+    /// Runs the graph from `seeds` with the given strategy
+    /// ([`Strategy::Auto`] resolved for the adapter).
     pub fn run_with(
         &mut self,
         strategy: Strategy,
@@ -277,6 +309,7 @@ impl Executor {
         seeds: &Seeds,
         resources: Option<&wgpu::BindGroup>,
     ) -> Result<RunReport, RunError> {
+        let strategy = strategy.resolve(&self.quirks);
         if let Strategy::Rounds { .. } = strategy {
             self.create_round_pipelines()?;
         }
@@ -289,26 +322,33 @@ impl Executor {
         let deadline = start.checked_add(self.timeout);
         let mut gpu_time = self.timestamps.as_ref().map(|_| Duration::ZERO);
         let mut submissions = 0u32;
-        // What the report is built from; `submissions` and the times are
+        let mut dispatches = 0u32;
+        let mut progress = outcome::ProgressWatch::default();
+        let workgroups = match strategy {
+            Strategy::Rounds { .. } => self.tuning.round_workgroups,
+            Strategy::Megakernel | Strategy::Auto => self.tuning.workgroups,
+        };
+        // What the report is built from; the counts and the times are
         // filled in when it is.
-        let facts = |submissions, gpu_time| outcome::RunFacts {
+        let facts = |(submissions, dispatches), gpu_time| outcome::RunFacts {
             plan: &self.compiled.plan,
             strategy,
             capacities: &self.state.capacities,
             seeded: &seeded,
-            workgroups: self.tuning.workgroups,
+            workgroups,
             submissions,
+            dispatches,
             wall_time: start.elapsed(),
             gpu_time,
         };
         // The control words of the last submission read back, for the
         // partial report of a run that does not finish.
         let mut last: Option<Vec<u32>> = None;
-        let partial = |last: &Option<Vec<u32>>, submissions, gpu_time| {
+        let partial = |last: &Option<Vec<u32>>, counts, gpu_time| {
             last.as_ref().map(|counters| {
                 (
-                    outcome::report(&facts(submissions, gpu_time), counters),
-                    counters[control::LOOPS_CUT as usize],
+                    outcome::report(&facts(counts, gpu_time), counters),
+                    outcome::Cuts::of(counters),
                 )
             })
         };
@@ -319,7 +359,6 @@ impl Executor {
                     label: Some("scheduler run"),
                 });
             match strategy {
-                Strategy::Megakernel => self.encode_megakernel(&mut encoder, resources),
                 Strategy::Rounds { rounds_per_batch } => self.encode_rounds(
                     &mut encoder,
                     resources,
@@ -327,7 +366,11 @@ impl Executor {
                     rounds_per_batch.max(1),
                     submissions * rounds_per_batch.max(1),
                 ),
+                Strategy::Megakernel | Strategy::Auto => {
+                    self.encode_megakernel(&mut encoder, resources);
+                }
             }
+            dispatches += outcome::dispatches(&self.compiled.plan, strategy, submissions == 0);
             let control = &self.state.control;
             encoder.copy_buffer_to_buffer(
                 control,
@@ -354,7 +397,11 @@ impl Executor {
                 remaining,
             )
             .map_err(|error| {
-                outcome::interrupted(error, self.timeout, partial(&last, submissions, gpu_time))
+                outcome::interrupted(
+                    error,
+                    self.timeout,
+                    partial(&last, (submissions, dispatches), gpu_time),
+                )
             })?;
             submissions += 1;
             let counters: Vec<u32> = bytemuck::cast_slice(&bytes).to_vec();
@@ -366,7 +413,11 @@ impl Executor {
                         outcome::interrupted(
                             error,
                             self.timeout,
-                            partial(&Some(counters.clone()), submissions, Some(*total)),
+                            partial(
+                                &Some(counters.clone()),
+                                (submissions, dispatches),
+                                Some(*total),
+                            ),
                         )
                     },
                 )?;
@@ -376,9 +427,20 @@ impl Executor {
             }
             // A cut loop ends the run: its counters are still read into the
             // report, and an overflow among them is named first.
-            if counters[control::LOOPS_CUT as usize] > 0 || counters[control::PENDING as usize] == 0
-            {
+            if outcome::Cuts::of(&counters).any() || counters[control::PENDING as usize] == 0 {
                 break counters;
+            }
+            // Every wait is bounded, so a dispatch whose workgroups made no
+            // progress ends; a run of them is a typed error, not a hang.
+            if let Some(stalled) = progress.after(&self.compiled.plan, &counters) {
+                return Err(RunError::NoProgress {
+                    submissions: stalled,
+                    pending: counters[control::PENDING as usize],
+                    report: Box::new(outcome::report(
+                        &facts((submissions, dispatches), gpu_time),
+                        &counters,
+                    )),
+                });
             }
             // Work remains: the megakernel's workgroups spent their iteration
             // budget (or a driver ended the persistent loop early, between
@@ -393,13 +455,13 @@ impl Executor {
                         also: Vec::new(),
                     },
                     self.timeout,
-                    partial(&last, submissions, gpu_time),
+                    partial(&last, (submissions, dispatches), gpu_time),
                 ));
             }
         };
-        let report = outcome::report(&facts(submissions, gpu_time), &counters);
-        outcome::judge(report, counters[control::LOOPS_CUT as usize], || {
-            self.loop_limit_advice(strategy, 0)
+        let report = outcome::report(&facts((submissions, dispatches), gpu_time), &counters);
+        outcome::judge(report, outcome::Cuts::of(&counters), |body_loops| {
+            self.loop_limit_advice(strategy, body_loops)
         })
     }
 

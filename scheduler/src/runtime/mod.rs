@@ -1,5 +1,6 @@
 //! Running compiled graphs.
 
+pub(crate) mod advice;
 pub(crate) mod config;
 pub(crate) mod error;
 pub(crate) mod executor;
@@ -9,6 +10,7 @@ pub(crate) mod outcome;
 pub mod pipeline_cache;
 pub mod readback;
 pub(crate) mod report;
+pub(crate) mod reset;
 pub(crate) mod resources;
 pub(crate) mod retry;
 pub(crate) mod rounds;

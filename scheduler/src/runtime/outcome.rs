@@ -15,6 +15,7 @@ pub(crate) struct RunFacts<'a> {
     pub seeded: &'a [u64],
     pub workgroups: u32,
     pub submissions: u32,
+    pub dispatches: u32,
     pub wall_time: Duration,
     pub gpu_time: Option<Duration>,
 }
@@ -54,10 +55,11 @@ pub(crate) fn report(facts: &RunFacts<'_>, counters: &[u32]) -> RunReport {
             .collect(),
         bounds_violations: bounds_violations(facts.plan, counters),
         workgroups: facts.workgroups,
-        dispatches: facts.submissions,
+        submissions: facts.submissions,
+        dispatches: facts.dispatches,
         rounds: match facts.strategy {
-            Strategy::Megakernel => 0,
             Strategy::Rounds { .. } => counters[control::ROUNDS as usize],
+            Strategy::Megakernel | Strategy::Auto => 0,
         },
         attempts: 1,
         retries: crate::RetryCauses::default(),
@@ -89,10 +91,35 @@ fn bounds_violations(plan: &Plan, counters: &[u32]) -> Vec<BoundsViolation> {
     violations
 }
 
+/// Loops the driver cut in a run: the scheduler's own, and body calls that
+/// spent the driver's loop budget (control words `LOOPS_CUT` and
+/// `BODY_LOOPS_CUT`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Cuts {
+    pub waits: u32,
+    pub body_loops: u32,
+}
+
+impl Cuts {
+    /// The cuts the control words `counters` hold.
+    pub(crate) fn of(counters: &[u32]) -> Self {
+        Self {
+            waits: counters[control::LOOPS_CUT as usize],
+            body_loops: counters[control::BODY_LOOPS_CUT as usize],
+        }
+    }
+
+    /// Whether any loop was cut.
+    pub(crate) fn any(self) -> bool {
+        self.waits > 0 || self.body_loops > 0
+    }
+}
+
 /// Every problem `report` shows, in words: overflows first, then
-/// out-of-bounds accesses, loops the driver cut (`loops_cut`), and fan-out
+/// out-of-bounds accesses, loops the driver cut (`cuts`: the bodies' named
+/// first, as the cause of the scheduler's that follow), and fan-out
 /// excesses.
-pub(crate) fn problems(report: &RunReport, loops_cut: u32) -> Vec<String> {
+pub(crate) fn problems(report: &RunReport, cuts: Cuts) -> Vec<String> {
     let mut problems: Vec<String> = report
         .procedures
         .iter()
@@ -110,14 +137,20 @@ pub(crate) fn problems(report: &RunReport, loops_cut: u32) -> Vec<String> {
             v.procedure, v.resource, v.count, v.first_index, v.bound
         )
     }));
-    if loops_cut > 0 {
+    if cuts.body_loops > 0 {
+        problems.push(format!(
+            "the bodies' own loops spent the driver's loop budget in {} body call(s)",
+            cuts.body_loops
+        ));
+    } else if cuts.waits > 0 {
         let why = if report.procedures.iter().all(|q| q.dropped == 0) {
             ""
         } else {
             ", likely because the full queue kept workgroups waiting"
         };
         problems.push(format!(
-            "the driver's loop limit cut {loops_cut} loop(s) short{why}"
+            "the driver's loop limit cut {} loop(s) short{why}",
+            cuts.waits
         ));
     }
     problems.extend(
@@ -137,13 +170,13 @@ pub(crate) fn problems(report: &RunReport, loops_cut: u32) -> Vec<String> {
 
 /// The outcome of a finished run: the report, or the first of its problems
 /// as an error that names the others. `advice` says what to do about a
-/// loop limit under the strategy that ran.
+/// loop limit under the strategy that ran, given the body loops cut.
 pub(crate) fn judge(
     report: RunReport,
-    loops_cut: u32,
-    advice: impl FnOnce() -> String,
+    cuts: Cuts,
+    advice: impl FnOnce(u32) -> String,
 ) -> Result<RunReport, RunError> {
-    let mut problems = problems(&report, loops_cut);
+    let mut problems = problems(&report, cuts);
     if let Some(p) = report.procedures.iter().find(|p| p.dropped > 0) {
         problems.remove(0);
         return Err(RunError::QueueOverflow {
@@ -168,11 +201,11 @@ pub(crate) fn judge(
             report: Box::new(report),
         });
     }
-    if loops_cut > 0 {
+    if cuts.any() {
         return Err(RunError::LoopLimit {
-            waits: loops_cut,
-            body_loops: 0,
-            advice: advice(),
+            waits: cuts.waits,
+            body_loops: cuts.body_loops,
+            advice: advice(cuts.body_loops),
             report: Box::new(report),
         });
     }
@@ -192,11 +225,11 @@ pub(crate) fn judge(
 pub(crate) fn interrupted(
     error: RunError,
     limit: Duration,
-    partial: Option<(RunReport, u32)>,
+    partial: Option<(RunReport, Cuts)>,
 ) -> RunError {
     let (report, also) = match partial {
-        Some((report, loops_cut)) => {
-            let also = problems(&report, loops_cut);
+        Some((report, cuts)) => {
+            let also = problems(&report, cuts);
             (Some(Box::new(report)), also)
         }
         None => (None, Vec::new()),
@@ -213,5 +246,111 @@ pub(crate) fn interrupted(
             also,
         },
         other => other,
+    }
+}
+
+/// The compute dispatches one submission encodes under `strategy` (a
+/// resolved one): the megakernel's one, or per round one indirect dispatch
+/// per procedure and a prepare, plus the prepare that starts a run's first
+/// batch of rounds (`Executor::encode_rounds`).
+pub(crate) fn dispatches(plan: &Plan, strategy: Strategy, first_submission: bool) -> u32 {
+    match strategy {
+        Strategy::Rounds { rounds_per_batch } => {
+            u32::from(first_submission) + rounds_per_batch.max(1) * (plan.queues.len() as u32 + 1)
+        }
+        Strategy::Megakernel | Strategy::Auto => 1,
+    }
+}
+
+/// Submissions in a row that executed no item, while work was outstanding,
+/// after which a run fails with [`RunError::NoProgress`]. One such
+/// submission cannot happen on a driver that runs the protocol as argued
+/// (docs/scheduler.md, "Progress"); two leave room for a claim that lost
+/// every race.
+pub(crate) const STALLED_SUBMISSIONS: u32 = 2;
+
+/// Watches a run's submissions for progress: items executed between two
+/// read-backs of the control words.
+#[derive(Debug, Default)]
+pub(crate) struct ProgressWatch {
+    executed: u64,
+    stalled: u32,
+}
+
+impl ProgressWatch {
+    /// After a submission that left work outstanding, with its control
+    /// words `counters`: `Some(submissions)` once [`STALLED_SUBMISSIONS`]
+    /// in a row executed nothing.
+    pub(crate) fn after(&mut self, plan: &Plan, counters: &[u32]) -> Option<u32> {
+        let executed: u64 = (0..plan.queues.len())
+            .map(|q| u64::from(counters[control::index(q, control::EXECUTED)]))
+            .sum();
+        if executed == self.executed {
+            self.stalled += 1;
+        } else {
+            self.stalled = 0;
+        }
+        self.executed = executed;
+        (self.stalled >= STALLED_SUBMISSIONS).then_some(self.stalled)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{CompileOptions, Graph, Procedure};
+
+    #[crate::item]
+    struct Node {
+        id: u32,
+    }
+
+    #[test]
+    fn submissions_that_execute_nothing_in_a_row_are_no_progress() {
+        let mut graph = Graph::new("progress");
+        graph.procedure(Procedure::of::<Node>("Run").initial(true).body(""));
+        let plan = graph.compile(&CompileOptions::default()).unwrap().plan;
+        let mut counters = vec![0u32; control::words(1) as usize];
+        let executed = control::index(0, control::EXECUTED);
+        let mut watch = ProgressWatch::default();
+        counters[executed] = 5;
+        assert_eq!(watch.after(&plan, &counters), None);
+        // One submission without progress is tolerated, and progress resets it.
+        assert_eq!(watch.after(&plan, &counters), None);
+        counters[executed] = 6;
+        assert_eq!(watch.after(&plan, &counters), None);
+        assert_eq!(watch.after(&plan, &counters), None);
+        assert_eq!(watch.after(&plan, &counters), Some(STALLED_SUBMISSIONS));
+    }
+
+    #[test]
+    fn cut_body_loops_are_named_before_the_waits_they_cut() {
+        let report = RunReport::default();
+        let cuts = Cuts {
+            waits: 368,
+            body_loops: 3,
+        };
+        let error = judge(report, cuts, |body| format!("advice for {body}")).unwrap_err();
+        let RunError::LoopLimit {
+            waits,
+            body_loops,
+            advice,
+            ..
+        } = &error
+        else {
+            panic!("expected a loop limit, got {error:?}");
+        };
+        assert_eq!(
+            (*waits, *body_loops, advice.as_str()),
+            (368, 3, "advice for 3")
+        );
+        assert!(
+            error.to_string().contains("the bodies' own loops (3 cut)"),
+            "{error}"
+        );
+        assert_eq!(
+            problems(&RunReport::default(), cuts),
+            ["the bodies' own loops spent the driver's loop budget in 3 body call(s)"]
+        );
     }
 }

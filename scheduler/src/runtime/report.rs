@@ -71,7 +71,8 @@ pub struct RetryCauses {
 /// The report of one run.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunReport {
-    /// The strategy that ran.
+    /// The strategy that ran ([`Strategy::Auto`](crate::Strategy::Auto)
+    /// resolved to the one it chose).
     pub strategy: crate::Strategy,
     /// One entry per procedure, in declaration order.
     pub procedures: Vec<ProcedureStats>,
@@ -80,8 +81,14 @@ pub struct RunReport {
     pub bounds_violations: Vec<BoundsViolation>,
     /// Workgroups launched per dispatch.
     pub workgroups: u32,
-    /// Submissions it took: megakernel dispatches (more than one only with an
-    /// iteration budget), or batches of rounds.
+    /// Command submissions it took, each followed by a read-back of the
+    /// counters: one per megakernel dispatch, one per batch of rounds.
+    #[serde(default)]
+    pub submissions: u32,
+    /// Compute dispatches encoded: the megakernel's (more than one only with
+    /// an iteration budget, a spin limit or a retry), or under Rounds every
+    /// indirect dispatch of a procedure (one per procedure per round, empty
+    /// ones included) and every prepare dispatch.
     pub dispatches: u32,
     /// Rounds that found work (Rounds strategy; 0 for the megakernel).
     pub rounds: u32,
@@ -138,8 +145,8 @@ impl fmt::Display for RunReport {
         }
         write!(
             f,
-            "{}, {} workgroups, {} submission(s)",
-            self.strategy, self.workgroups, self.dispatches
+            "{}, {} workgroups, {} submission(s), {} dispatch(es)",
+            self.strategy, self.workgroups, self.submissions, self.dispatches
         )?;
         if self.rounds > 0 {
             write!(f, ", {} rounds", self.rounds)?;

@@ -4,11 +4,13 @@
 
 use crate::runtime::executor::{Binding, Executor};
 use crate::runtime::growth::{capacities_for_seeds, grown_capacities};
+use crate::runtime::reset::ResetContext;
 use crate::runtime::state::{QueueState, Tuning};
-use crate::{Quirks, RetryCauses, RunError, RunReport, Seeds, Strategy};
+use crate::{RetryCauses, RunError, RunReport, Seeds, Strategy};
 
-/// Restores the user's resources before a retry.
-pub type ResetFn<'a> = Box<dyn FnMut(&wgpu::Device, &wgpu::Queue) + 'a>;
+/// Restores the user's resources before a retry, given the device, the queue
+/// and the executor's own buffers ([`ResetContext`]).
+pub type ResetFn<'a> = Box<dyn FnMut(&ResetContext<'_>) + 'a>;
 
 /// Counts, after a run, the loops of the bodies that the driver cut short
 /// (see [`Retry::check_loops`]).
@@ -36,7 +38,8 @@ pub type LoopCheckFn<'a> =
 ///
 /// Each retry reallocates the scheduler's buffers, calls `reset` so the
 /// user can restore their own resources (clear a framebuffer, zero
-/// counters), and runs again from the seeds. A run that succeeds after
+/// counters; [`Retry::with_context`] hands it the executor's own buffers
+/// too, through [`ResetContext::clear`]), and runs again from the seeds. A run that succeeds after
 /// retries therefore gives the same results as one configured right from
 /// the start. The grown capacities and the lowered budget stay for later
 /// runs. The report counts the attempts and their causes
@@ -53,7 +56,16 @@ pub struct Retry<'a> {
 
 impl<'a> Retry<'a> {
     /// Up to `max_attempts` attempts, with `reset` called before each retry.
-    pub fn new(max_attempts: u32, reset: impl FnMut(&wgpu::Device, &wgpu::Queue) + 'a) -> Self {
+    pub fn new(max_attempts: u32, mut reset: impl FnMut(&wgpu::Device, &wgpu::Queue) + 'a) -> Self {
+        Self::with_context(max_attempts, move |context: &ResetContext<'_>| {
+            reset(context.device(), context.queue());
+        })
+    }
+
+    /// Up to `max_attempts` attempts, with `reset` called before each retry
+    /// with a [`ResetContext`]: the device, the queue, and the executor's own
+    /// buffers by resource name (`context.clear("counts")`).
+    pub fn with_context(max_attempts: u32, reset: impl FnMut(&ResetContext<'_>) + 'a) -> Self {
         Self {
             max_attempts,
             reset: Box::new(reset),
@@ -63,7 +75,7 @@ impl<'a> Retry<'a> {
 
     /// Up to `max_attempts` attempts, for graphs whose resources need no reset.
     pub fn without_reset(max_attempts: u32) -> Self {
-        Self::new(max_attempts, |_, _| {})
+        Self::with_context(max_attempts, |_| {})
     }
 
     /// Reports cuts of the bodies' own loops: after each run that found
@@ -111,6 +123,7 @@ impl Executor {
         bindings: &[Binding<'_>],
         mut retry: Retry<'_>,
     ) -> Result<RunReport, RunError> {
+        let strategy = strategy.resolve(&self.quirks);
         let resources = self.resource_bind_group(bindings)?;
         let mut attempt = 1;
         let mut causes = RetryCauses::default();
@@ -130,7 +143,7 @@ impl Executor {
                         "attempt {attempt} overflowed; retrying with capacities {capacities:?}"
                     );
                     self.rebuild_state(capacities, self.tuning)?;
-                    (retry.reset)(&self.device, &self.queue);
+                    (retry.reset)(&ResetContext::new(self));
                     causes.overflow += 1;
                     attempt += 1;
                 }
@@ -161,7 +174,7 @@ impl Executor {
                         tuning.iteration_budget
                     );
                     self.rebuild_state(self.state.capacities.clone(), tuning)?;
-                    (retry.reset)(&self.device, &self.queue);
+                    (retry.reset)(&ResetContext::new(self));
                     causes.loop_limit += 1;
                     attempt += 1;
                 }
@@ -227,7 +240,7 @@ impl Executor {
         let mut tuning = self.tuning;
         if strategy == Strategy::Megakernel && tuning.iteration_budget > 1 {
             tuning.iteration_budget = if tuning.iteration_budget == u32::MAX {
-                Quirks::of_device(&self.device)
+                self.quirks
                     .default_iteration_budget(self.compiled.plan.chunks_per_batch)
                     .unwrap_or(64)
             } else {
@@ -254,41 +267,5 @@ impl Executor {
         )?;
         self.tuning = tuning;
         Ok(())
-    }
-
-    /// What to change after a loop limit, for the strategy and configuration
-    /// that were used; `body_loops` are the bodies' own loops reported cut
-    /// ([`Retry::check_loops`]).
-    pub(super) fn loop_limit_advice(&self, strategy: Strategy, body_loops: u32) -> String {
-        let advice = self.budget_advice(strategy);
-        if body_loops == 0 {
-            return advice;
-        }
-        format!(
-            "The bodies' own loops were cut ({body_loops} reported by `Retry::check_loops`): they share the driver's per-invocation budget with the scheduler's waits. {advice}"
-        )
-    }
-
-    /// What to change about the iteration budget or the bodies.
-    fn budget_advice(&self, strategy: Strategy) -> String {
-        let chunks = self.compiled.plan.chunks_per_batch;
-        let budget = self.tuning.iteration_budget;
-        let shorten = format!(
-            "the bodies' own loops are too long for the driver: shorten them, or compile with fewer chunks per batch (now {chunks})"
-        );
-        match strategy {
-            Strategy::Rounds { .. } => {
-                format!("Under Rounds each workgroup runs one batch per dispatch, so {shorten}.")
-            }
-            Strategy::Megakernel if budget == u32::MAX => {
-                "The megakernel ran without an iteration budget: `Executor::run_with_retry` sets one, or set `ExecutorConfig::iteration_budget` (e.g. 64).".to_owned()
-            }
-            Strategy::Megakernel if budget > 1 => format!(
-                "`Executor::run_with_retry` runs again with half the iteration budget (now {budget}); by hand, set `ExecutorConfig::iteration_budget` below {budget}."
-            ),
-            Strategy::Megakernel => format!(
-                "Every workgroup already leaves after one batch (iteration budget 1), so {shorten}."
-            ),
-        }
     }
 }

@@ -41,7 +41,10 @@ fn group_layout(device: &wgpu::Device, kernels: Kernels, label: &str) -> wgpu::B
 /// Numbers written into the configuration uniform besides the capacities.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Tuning {
+    /// Persistent workgroups per megakernel dispatch.
     pub workgroups: u32,
+    /// Most workgroups per round dispatch.
+    pub round_workgroups: u32,
     pub iteration_budget: u32,
     pub spin_limit: u32,
 }
@@ -83,6 +86,7 @@ impl QueueState {
                     .collect(),
             },
             workgroups: Some(tuning.workgroups),
+            round_workgroups: Some(tuning.round_workgroups),
             ..ExecutorConfig::default()
         };
         let memory = compiled.memory_plan(&config);
@@ -171,7 +175,7 @@ impl QueueState {
         let run = RunConfig {
             iteration_budget: tuning.iteration_budget,
             spin_limit: tuning.spin_limit,
-            round_workgroups: tuning.workgroups,
+            round_workgroups: tuning.round_workgroups,
         };
         let words = uniform::words(&queue_configs, &run);
         queue.write_buffer(&config_buffer, 0, bytemuck::cast_slice(&words));

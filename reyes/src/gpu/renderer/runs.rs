@@ -55,6 +55,7 @@ impl GpuRenderer<'_> {
                     .then(|| self.quirks().megakernel_workgroups())
                     .flatten()
             }),
+            round_workgroups: None,
             iteration_budget,
             timeout: self.options.timeout,
             pipeline_cache_dir: self.options.pipeline_cache_dir.clone(),
