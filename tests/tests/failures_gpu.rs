@@ -230,10 +230,13 @@ fn body_loops_cut_in_every_attempt_end_in_a_loop_limit_naming_them() {
     assert_eq!(report.retries.loop_limit, 2);
     assert_eq!(resets.get(), 2);
     assert_eq!(executor.iteration_budget(), 2);
-    assert!(advice.contains("bodies' own loops were cut"), "{advice}");
+    assert!(
+        advice.contains("bodies' own loops ran out the driver's per-invocation loop budget"),
+        "{advice}"
+    );
     let message = result.unwrap_err().to_string();
     assert!(
-        message.contains("5 of the bodies' own loop(s) (reported by `Retry::check_loops`)"),
+        message.contains("the bodies' own loops (5 cut)"),
         "{message}"
     );
 }
@@ -407,5 +410,74 @@ fn device_limits_are_checked_before_the_run() {
         );
     } else {
         eprintln!("the device binds whole buffers up to {binding_limit} bytes: no larger one made");
+    }
+}
+
+/// `Long` loops a million times per item, far past llvmpipe's budget of
+/// 65,535 loop iterations per invocation.
+fn long_body_graph() -> (CompiledGraph, ProcedureId<Node>) {
+    let mut graph = Graph::new("long_body");
+    graph.resource(Resource::storage::<[Atomic<u32>]>("sink"));
+    let long = graph.procedure(Procedure::of::<Node>("Long").initial(true).body(
+        "var h = item.id;
+for (var i = 0u; i < 1000000u; i += 1u) { h = h * 1664525u + 1013904223u; }
+if (valid && h == 7u) { atomicAdd(&sink[0], 1u); }",
+    ));
+    (graph.compile(&CompileOptions::default()).unwrap(), long)
+}
+
+/// A body whose own loop runs out the driver's budget is named as the cause
+/// on the first attempt, without `Retry::check_loops`: the check after each
+/// body call finds it, and the advice does not blame the scheduler's waits.
+#[gpu_test]
+fn a_body_past_the_loop_budget_is_diagnosed_as_the_bodys_on_the_first_attempt() {
+    let gpu = tests::gpu();
+    let (compiled, long) = long_body_graph();
+    let seeds = Seeds::new().add(&long, &nodes(8));
+    for strategy in [Strategy::Megakernel, Strategy::rounds()] {
+        let mut executor = Executor::new(
+            &gpu.device,
+            &gpu.queue,
+            &compiled,
+            &scheduler::ExecutorConfig::default(),
+        )
+        .unwrap();
+        executor.create_buffer("sink", 1).unwrap();
+        let result = executor.run_with_retry(strategy, &seeds, &[], Retry::without_reset(1));
+        if !gpu_test::expect(gpu).loops_capped() {
+            // The diagnosis concerns drivers that cap loops (llvmpipe); this
+            // one runs the loop to its end, so the run must simply succeed.
+            eprintln!(
+                "{strategy}: no loop cap on this driver, so there is no cut to diagnose; checking that the run succeeds"
+            );
+            assert_eq!(result.unwrap().procedure(&long).unwrap().executed, 8);
+            continue;
+        }
+        let Err(RunError::LoopLimit {
+            body_loops,
+            advice,
+            report,
+            ..
+        }) = &result
+        else {
+            panic!("{strategy}: expected a loop limit, got {result:?}");
+        };
+        assert_eq!(report.attempts, 1);
+        assert!(*body_loops > 0, "{strategy}: {result:?}");
+        assert!(
+            advice.contains("the scheduler's waits are not the cause")
+                && advice.contains("shorten them") == !matches!(strategy, Strategy::Megakernel),
+            "{strategy}: {advice}"
+        );
+        assert!(
+            !advice.contains("fewer chunks"),
+            "1 chunk per batch: {advice}"
+        );
+        let message = result.unwrap_err().to_string();
+        assert!(
+            message.starts_with("loops were cut short: the bodies' own loops ("),
+            "{strategy}: {message}"
+        );
+        eprintln!("{strategy}: {message}");
     }
 }

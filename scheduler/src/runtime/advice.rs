@@ -10,7 +10,7 @@ impl Executor {
     /// each body call, or reported through
     /// [`Retry::check_loops`](crate::Retry::check_loops)).
     pub(super) fn loop_limit_advice(&self, strategy: Strategy, body_loops: u32) -> String {
-        if !self.quirks.caps_loops() {
+        if !self.quirks.caps_loops() && body_loops == 0 {
             return format!(
                 "This driver caps no loops, so a wait for free slots expired: the workgroups holding them made no progress. Persistent workgroups are not safe here ({}); run with `Strategy::Rounds`.",
                 self.quirks.persistent_threads.platform

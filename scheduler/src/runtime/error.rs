@@ -108,7 +108,7 @@ pub enum RunError {
     /// `waits` are waits for free slots that expired. `advice` fits the
     /// strategy, configuration and driver the run used.
     #[error(
-        "the driver's loop limit cut {} short (llvmpipe); the results are not trustworthy. {advice}",
+        "loops were cut short: {}; the results are not trustworthy. {advice}",
         cut_loops(*waits, *body_loops)
     )]
     LoopLimit {
@@ -267,7 +267,9 @@ impl RunError {
 /// both.
 fn cut_loops(waits: u32, body_loops: u32) -> String {
     match (waits, body_loops) {
-        (waits, 0) => format!("{waits} loop(s)"),
+        (waits, 0) => format!(
+            "{waits} of the scheduler's loop(s) (the driver's loop limit, or a bounded wait that expired)"
+        ),
         (0, body) => format!("the bodies' own loops ({body} cut)"),
         (waits, body) => format!(
             "the bodies' own loops ({body} cut), and after them {waits} of the scheduler's loop(s)"

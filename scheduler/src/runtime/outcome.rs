@@ -139,7 +139,7 @@ pub(crate) fn problems(report: &RunReport, cuts: Cuts) -> Vec<String> {
     }));
     if cuts.body_loops > 0 {
         problems.push(format!(
-            "the bodies' own loops spent the driver's loop budget in {} body call(s)",
+            "the driver's loop limit cut the bodies' own loops ({} cut)",
             cuts.body_loops
         ));
     } else if cuts.waits > 0 {
@@ -345,12 +345,14 @@ mod tests {
             (368, 3, "advice for 3")
         );
         assert!(
-            error.to_string().contains("the bodies' own loops (3 cut)"),
+            error
+                .to_string()
+                .starts_with("loops were cut short: the bodies' own loops (3 cut)"),
             "{error}"
         );
         assert_eq!(
             problems(&RunReport::default(), cuts),
-            ["the bodies' own loops spent the driver's loop budget in 3 body call(s)"]
+            ["the driver's loop limit cut the bodies' own loops (3 cut)"]
         );
     }
 }

@@ -213,12 +213,17 @@ impl Executor {
         let Some(check) = check else {
             return Ok(outcome);
         };
-        let (waits, report) = match outcome {
-            Ok(report) => (0, Box::new(report)),
-            Err(RunError::LoopLimit { waits, report, .. }) => (waits, report),
+        let (waits, found, report) = match outcome {
+            Ok(report) => (0, 0, Box::new(report)),
+            Err(RunError::LoopLimit {
+                waits,
+                body_loops,
+                report,
+                ..
+            }) => (waits, body_loops, report),
             other => return Ok(other),
         };
-        let body_loops = check(&self.device, &self.queue)?;
+        let body_loops = found.saturating_add(check(&self.device, &self.queue)?);
         if waits == 0 && body_loops == 0 {
             return Ok(Ok(*report));
         }
