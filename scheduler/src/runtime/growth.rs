@@ -15,6 +15,13 @@ pub(crate) const MAX_CAPACITY: u32 = 1 << 31;
 /// "Overflow and retry").
 const ESTIMATED_GENERATIONS: usize = 3;
 
+/// The room added for the estimated children, at most this many times the
+/// queue's measured need (or high-water mark): a compounding estimate of a
+/// self-feeding queue overshoots by far more than a retry costs, so the
+/// margin is capped. With the power-of-two rounding a queue grows to less
+/// than `2 x (1 + MAX_ESTIMATE_RATIO)` times its measured need.
+pub(crate) const MAX_ESTIMATE_RATIO: u64 = 1;
+
 /// The capacities to retry with after the overflowing run `report`, or
 /// [`RunError::QueueExceedsDevice`] when a queue's measured need does not fit
 /// the device.
@@ -27,7 +34,8 @@ const ESTIMATED_GENERATIONS: usize = 3;
 /// taken to enqueue as many items into each queue it feeds as that producer's
 /// executed items did on average in this run. The estimate only adds room
 /// (capped by the device), never replaces the measurement, so a queue whose
-/// estimate is too low overflows once more and is measured again.
+/// estimate is too low overflows once more and is measured again, and
+/// adds at most [`MAX_ESTIMATE_RATIO`] times the measured need.
 /// Capacities are powers of two (the ring's slots are addressed with a mask).
 pub(crate) fn grown_capacities(
     plan: &Plan,
@@ -97,7 +105,8 @@ pub(crate) fn grown_capacities(
         } else {
             stats[q].high_water
         };
-        let wanted = power_of_two_at_least(base + headroom[q].ceil() as u64);
+        let room = (headroom[q].ceil() as u64).min(base.max(1).saturating_mul(MAX_ESTIMATE_RATIO));
+        let wanted = power_of_two_at_least(base + room);
         let max = max_capacity(plan, limits, &capacities, q);
         capacities[q] = capacities[q].max(wanted.min(max));
     }
@@ -227,8 +236,12 @@ mod tests {
         };
         let grown = grown_capacities(&plan, &wgpu::Limits::default(), &report).unwrap();
         // Split: need 64 (16 + 48), plus 192 + 768 + 3072 estimated over
-        // three generations; Leaf: 64 + 48 + 192 + 768.
-        assert_eq!(grown, [4096, 2048]);
+        // three generations, capped at the need: 128; Leaf: high-water 64,
+        // plus 48 + 192 + 768 capped at 64: 128.
+        assert_eq!(grown, [128, 128]);
+        // Within twice the need plus the capped margin.
+        let need = 64;
+        assert!(u64::from(grown[0]) <= 2 * need * (1 + MAX_ESTIMATE_RATIO));
     }
 
     #[test]
