@@ -1,6 +1,6 @@
 //! `Executor::run_with_retry` grows overflowing queues to the need the run
 //! measured, so that a run started with far too small queues succeeds within
-//! two extra attempts, under both strategies: on the Mandelbrot example
+//! three extra attempts, under both strategies: on the Mandelbrot example
 //! (recursive subdivision, whose queues must hold a whole level of tiles) and
 //! on random graphs (cycles included). The retried run's results equal a run
 //! configured right from the start.
@@ -15,8 +15,11 @@ use tests::random_graph::{GenerateOptions, RandomGraph, SplitMix64};
 
 use workloads::mandelbrot;
 
-/// Attempts the test accepts: the first and two retries.
-const ATTEMPTS: u32 = 3;
+/// Attempts the test accepts: the first and three retries. The room a retry
+/// adds for the refused items' children is capped at the measured need (a
+/// queue grows to less than 4 times it), which costs the Mandelbrot started
+/// from capacity 16 a third retry (docs/scheduler.md, "Overflow and retry").
+const ATTEMPTS: u32 = 4;
 
 /// Attempts `run_with_retry` may make, more than [`ATTEMPTS`], so that a run
 /// needing more is measured (and printed) before the test fails.
@@ -38,7 +41,7 @@ fn strategies() -> [Strategy; 2] {
 }
 
 #[gpu_test]
-fn mandelbrot_converges_within_two_extra_attempts() {
+fn mandelbrot_converges_within_three_extra_attempts() {
     let gpu = tests::gpu();
     let view = mandelbrot::View::whole_set(256, 256);
     let cpu = mandelbrot::cpu_mariani_silver(&view);
@@ -122,8 +125,8 @@ fn cases() -> usize {
 }
 
 #[gpu_test]
-fn random_graphs_converge_within_two_extra_attempts() {
-    const TEST: &str = "random_graphs_converge_within_two_extra_attempts";
+fn random_graphs_converge_within_three_extra_attempts() {
+    const TEST: &str = "random_graphs_converge_within_three_extra_attempts";
     tests::gpu();
     let mut measured = Vec::new();
     for case in 0..cases() {
