@@ -107,7 +107,7 @@ impl Executor {
             iteration_budget,
             spin_limit: quirks.spin_limit(),
         };
-        let layouts = Layouts::new(device);
+        let layouts = Layouts::new(device, plan.trace.is_some());
         let state = QueueState::new(device, queue, compiled, &layouts, capacities, tuning)?;
 
         let (cache_state, mut disk_cache) =
@@ -283,12 +283,14 @@ impl Executor {
         let seeded = self
             .state
             .seed(&self.device, &self.queue, &self.compiled.plan, seeds)?;
+        self.reset_trace();
 
         let start = Instant::now();
         // A timeout too long to add to `start` means no deadline at all.
         let deadline = start.checked_add(self.timeout);
         let mut gpu_time = self.timestamps.as_ref().map(|_| Duration::ZERO);
         let mut submissions = 0u32;
+        let mut gpu_times = Vec::new();
         // What the report is built from; `submissions` and the times are
         // filled in when it is.
         let facts = |submissions, gpu_time| outcome::RunFacts {
@@ -340,6 +342,7 @@ impl Executor {
                 encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
                 encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
             }
+            self.trace_submission(submissions);
             let submission = self.queue.submit([encoder.finish()]);
             let remaining = deadline.map_or(LONGEST_WAIT, |deadline| {
                 deadline.saturating_duration_since(Instant::now())
@@ -372,7 +375,9 @@ impl Executor {
                 )?;
                 let stamps: &[u64] = bytemuck::cast_slice(&stamps);
                 let ticks = stamps[1].saturating_sub(stamps[0]) as f64;
-                *total += Duration::from_nanos((ticks * t.period_ns) as u64);
+                let took = Duration::from_nanos((ticks * t.period_ns) as u64);
+                *total += took;
+                gpu_times.push(took);
             }
             // A cut loop ends the run: its counters are still read into the
             // report, and an overflow among them is named first.
@@ -397,7 +402,8 @@ impl Executor {
                 ));
             }
         };
-        let report = outcome::report(&facts(submissions, gpu_time), &counters);
+        let mut report = outcome::report(&facts(submissions, gpu_time), &counters);
+        report.trace = self.read_trace(submissions, &gpu_times)?;
         outcome::judge(report, counters[control::LOOPS_CUT as usize], || {
             self.loop_limit_advice(strategy, 0)
         })

@@ -56,8 +56,9 @@ pub(crate) fn check_plan(
         return Err(error);
     }
     for kernels in Kernels::ALL {
-        let count = bindings::buffers(kernels, &plan.resources);
-        let own = bindings::scheduler_buffers(kernels);
+        let traced = plan.trace.is_some();
+        let count = bindings::buffers(kernels, &plan.resources, traced);
+        let own = bindings::scheduler_buffers(kernels, traced);
         let what = |kind: &str, n: u32, own: u32| {
             format!("the {n} {kind} buffers of one stage ({own} of them the scheduler's)")
         };

@@ -17,19 +17,30 @@ pub(crate) struct Layouts {
 }
 
 impl Layouts {
-    pub(crate) fn new(device: &wgpu::Device) -> Self {
+    /// The layouts of a module, `traced` or not.
+    pub(crate) fn new(device: &wgpu::Device, traced: bool) -> Self {
         Self {
-            scheduler: group_layout(device, Kernels::Procedures, "scheduler state"),
-            prepare: group_layout(device, Kernels::Prepare, "scheduler round preparation"),
+            scheduler: group_layout(device, Kernels::Procedures, traced, "scheduler state"),
+            prepare: group_layout(
+                device,
+                Kernels::Prepare,
+                traced,
+                "scheduler round preparation",
+            ),
         }
     }
 }
 
 /// The group-0 layout of `kernels`, from the binding table.
-fn group_layout(device: &wgpu::Device, kernels: Kernels, label: &str) -> wgpu::BindGroupLayout {
+fn group_layout(
+    device: &wgpu::Device,
+    kernels: Kernels,
+    traced: bool,
+    label: &str,
+) -> wgpu::BindGroupLayout {
     let entries: Vec<_> = SCHEDULER_BINDINGS
         .iter()
-        .filter(|b| b.bound_to(kernels))
+        .filter(|b| b.bound_to(kernels) && b.present(traced))
         .map(|b| b.kind.layout_entry(b.binding()))
         .collect();
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -58,6 +69,8 @@ pub(crate) struct QueueState {
     pub dispatch: wgpu::Buffer,
     pub scheduler_group: wgpu::BindGroup,
     pub prepare_group: wgpu::BindGroup,
+    /// The trace buffer of a traced module.
+    pub trace: Option<wgpu::Buffer>,
 }
 
 impl QueueState {
@@ -176,20 +189,24 @@ impl QueueState {
         let words = uniform::words(&queue_configs, &run);
         queue.write_buffer(&config_buffer, 0, bytemuck::cast_slice(&words));
 
+        let trace = crate::runtime::trace_run::buffer(device, plan, binding_limit)?;
         let buffer_of = |which: SchedulerBuffer| match which {
-            SchedulerBuffer::QueueWords => &queue_words,
-            SchedulerBuffer::Control => &control,
-            SchedulerBuffer::Staging => &staging,
-            SchedulerBuffer::Config => &config_buffer,
-            SchedulerBuffer::Dispatch => &dispatch,
+            SchedulerBuffer::QueueWords => Some(&queue_words),
+            SchedulerBuffer::Control => Some(&control),
+            SchedulerBuffer::Staging => Some(&staging),
+            SchedulerBuffer::Config => Some(&config_buffer),
+            SchedulerBuffer::Dispatch => Some(&dispatch),
+            SchedulerBuffer::Trace => trace.as_ref(),
         };
         let group = |kernels: Kernels, layout: &wgpu::BindGroupLayout, label: &str| {
             let entries: Vec<_> = SCHEDULER_BINDINGS
                 .iter()
                 .filter(|b| b.bound_to(kernels))
-                .map(|b| wgpu::BindGroupEntry {
-                    binding: b.binding(),
-                    resource: buffer_of(b.buffer).as_entire_binding(),
+                .filter_map(|b| {
+                    Some(wgpu::BindGroupEntry {
+                        binding: b.binding(),
+                        resource: buffer_of(b.buffer)?.as_entire_binding(),
+                    })
                 })
                 .collect();
             device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -213,6 +230,7 @@ impl QueueState {
             dispatch,
             scheduler_group,
             prepare_group,
+            trace,
         })
     }
 
