@@ -138,7 +138,11 @@ fn an_untraced_run_has_no_trace_and_its_module_no_trace_code() {
     let (graph, seeds, _) = workload("trace_off");
     let gpu = tests::gpu();
     let compiled = graph.compile(&CompileOptions::default()).unwrap();
-    assert!(!compiled.wgsl().contains("sched_trace"), "{}", compiled.wgsl());
+    assert!(
+        !compiled.wgsl().contains("sched_trace"),
+        "{}",
+        compiled.wgsl()
+    );
     let traced = graph
         .compile(&CompileOptions::default().traced(TraceOptions::default()))
         .unwrap();
