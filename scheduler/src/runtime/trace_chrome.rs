@@ -125,3 +125,107 @@ pub(crate) fn chrome_json(trace: &Trace) -> Value {
 fn metadata(name: &str, pid: u32, tid: u32, args: Value) -> Value {
     json!({ "name": name, "ph": "M", "pid": pid, "tid": tid, "args": args })
 }
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use super::*;
+    use crate::{BatchRecord, SubmissionTrace};
+
+    /// Two workgroups, two procedures, two submissions; the third batch
+    /// leaves the fills as they were.
+    fn trace() -> Trace {
+        let record = |begin, end, workgroup, procedure, fills: [u32; 2], submission| BatchRecord {
+            begin,
+            end,
+            workgroup,
+            procedure,
+            items: 8,
+            first_ticket: 0,
+            submission,
+            round: 0,
+            fills: fills.to_vec(),
+        };
+        Trace {
+            graph: "g".into(),
+            procedures: vec!["A".into(), "B".into()],
+            capacity: 4,
+            batches: 5,
+            records: vec![
+                record(0, 2, 0, 0, [3, 0], 0),
+                record(1, 3, 1, 1, [2, 5], 0),
+                record(2, 4, 0, 1, [2, 5], 1),
+                record(3, 4, 1, 0, [0, 1], 1),
+            ],
+            submissions: vec![
+                SubmissionTrace {
+                    index: 0,
+                    gpu_time: Some(Duration::from_micros(1500)),
+                },
+                SubmissionTrace {
+                    index: 1,
+                    gpu_time: None,
+                },
+            ],
+        }
+    }
+
+    fn events<'a>(json: &'a Value, ph: &str) -> Vec<&'a Value> {
+        json["traceEvents"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|e| e["ph"] == ph)
+            .collect()
+    }
+
+    #[test]
+    fn the_export_has_a_track_per_workgroup_a_counter_per_queue_and_the_submissions() {
+        let json: Value = serde_json::from_str(&trace().to_chrome_json()).unwrap();
+        let batches: Vec<_> = events(&json, "X")
+            .into_iter()
+            .filter(|e| e["cat"] == "batch")
+            .collect();
+        assert_eq!(batches.len(), 4);
+        assert_eq!(batches[1]["name"], "B");
+        assert_eq!(
+            (&batches[1]["tid"], &batches[1]["ts"], &batches[1]["dur"]),
+            (&json!(1), &json!(1), &json!(2))
+        );
+        assert_eq!(batches[1]["args"]["items"], 8);
+        // Samples where a fill changed: A 3, 2, 0; B 0, 5, 1.
+        let counters = events(&json, "C");
+        let series = |name: &str| -> Vec<(u64, u64)> {
+            counters
+                .iter()
+                .filter(|e| e["name"] == name)
+                .map(|e| {
+                    (
+                        e["ts"].as_u64().unwrap(),
+                        e["args"]["items"].as_u64().unwrap(),
+                    )
+                })
+                .collect()
+        };
+        assert_eq!(series("fill A"), [(0, 3), (1, 2), (3, 0)]);
+        assert_eq!(series("fill B"), [(0, 0), (1, 5), (3, 1)]);
+        let names: Vec<_> = events(&json, "M")
+            .iter()
+            .filter(|e| e["name"] == "thread_name")
+            .map(|e| e["args"]["name"].as_str().unwrap().to_owned())
+            .collect();
+        assert_eq!(names, ["workgroup 0", "workgroup 1"]);
+        let submissions: Vec<_> = events(&json, "X")
+            .into_iter()
+            .filter(|e| e["cat"] == "submission")
+            .collect();
+        assert_eq!(submissions.len(), 2);
+        assert_eq!(
+            (&submissions[1]["ts"], &submissions[1]["dur"]),
+            (&json!(2), &json!(2))
+        );
+        assert_eq!(submissions[0]["args"]["gpu_ms"], 1.5);
+        assert_eq!(json["otherData"]["dropped"], 1);
+    }
+}
