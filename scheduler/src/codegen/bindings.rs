@@ -90,8 +90,6 @@ pub(crate) enum SchedulerBuffer {
     Staging = 2,
     Config = 3,
     Dispatch = 4,
-    /// Tracing only ([`CompileOptions::trace`](crate::CompileOptions::trace)).
-    Trace = 5,
 }
 
 /// What a scheduler buffer holds, which decides its WGSL type.
@@ -130,18 +128,12 @@ impl SchedulerBinding {
     pub(crate) fn bound_to(&self, kernels: Kernels) -> bool {
         self.kernels.contains(&kernels)
     }
-
-    /// Whether a module exists with this binding: the trace buffer only in a
-    /// traced one.
-    pub(crate) fn present(&self, traced: bool) -> bool {
-        traced || self.buffer != SchedulerBuffer::Trace
-    }
 }
 
 const READ_WRITE: BufferKind = BufferKind::Storage { read_only: false };
 
 /// Group 0, in binding order.
-pub(crate) const SCHEDULER_BINDINGS: [SchedulerBinding; 6] = [
+pub(crate) const SCHEDULER_BINDINGS: [SchedulerBinding; 5] = [
     SchedulerBinding {
         buffer: SchedulerBuffer::QueueWords,
         name: "sched_queue_words",
@@ -182,14 +174,6 @@ pub(crate) const SCHEDULER_BINDINGS: [SchedulerBinding; 6] = [
         kernels: &[Kernels::Prepare],
         doc: "Rounds strategy: indirect dispatch sizes (x, y, z) per queue, written by sched_prepare_round.",
     },
-    SchedulerBinding {
-        buffer: SchedulerBuffer::Trace,
-        name: "sched_trace",
-        kind: READ_WRITE,
-        contents: Contents::AtomicWords,
-        kernels: &[Kernels::Procedures],
-        doc: "Tracing: the logical clock, the submission, then one record per batch (codegen/trace.rs).",
-    },
 ];
 
 // Listed in binding order, one buffer per binding, so the module declares
@@ -224,8 +208,6 @@ pub(crate) fn resource_bindings(
 pub(crate) struct Shape {
     pub queues: usize,
     pub coherent: bool,
-    /// Whether the module is traced (it then binds the trace buffer).
-    pub traced: bool,
 }
 
 /// One binding as the module declares it.
@@ -299,10 +281,7 @@ impl SchedulerBinding {
 
 /// Every binding of a module of `shape` over `resources`: group 0, then group 1.
 pub(crate) fn declarations(shape: Shape, resources: &[Resource]) -> Vec<Declaration> {
-    let scheduler = SCHEDULER_BINDINGS
-        .iter()
-        .filter(|b| b.present(shape.traced))
-        .map(|b| b.declaration(shape));
+    let scheduler = SCHEDULER_BINDINGS.iter().map(|b| b.declaration(shape));
     let graph = resource_bindings(resources).map(|(binding, resource)| {
         let (name, ty) = (resource.name(), resource.wgsl_type());
         Declaration {
@@ -335,22 +314,18 @@ impl BufferCount {
     }
 }
 
-/// The scheduler's own buffers bound to `kernels` (with the trace buffer when
-/// `traced`).
-pub(crate) fn scheduler_buffers(kernels: Kernels, traced: bool) -> BufferCount {
+/// The scheduler's own buffers bound to `kernels`.
+pub(crate) fn scheduler_buffers(kernels: Kernels) -> BufferCount {
     let mut count = BufferCount::default();
-    for binding in SCHEDULER_BINDINGS
-        .iter()
-        .filter(|b| b.bound_to(kernels) && b.present(traced))
-    {
+    for binding in SCHEDULER_BINDINGS.iter().filter(|b| b.bound_to(kernels)) {
         count.add(binding.kind);
     }
     count
 }
 
 /// Every buffer bound to `kernels`, the graph's `resources` included.
-pub(crate) fn buffers(kernels: Kernels, resources: &[Resource], traced: bool) -> BufferCount {
-    let mut count = scheduler_buffers(kernels, traced);
+pub(crate) fn buffers(kernels: Kernels, resources: &[Resource]) -> BufferCount {
+    let mut count = scheduler_buffers(kernels);
     if kernels.bind_resources() {
         for resource in resources {
             count.add(resource_kind(resource));
@@ -371,25 +346,23 @@ mod tests {
         let shape = Shape {
             queues: 2,
             coherent: false,
-            traced: false,
         };
         let resources = [Resource::storage::<[u32]>("out")];
         let all = declarations(shape, &resources);
         let mut places: Vec<(u32, u32)> = all.iter().map(|d| (d.group, d.binding)).collect();
         places.sort();
         places.dedup();
-        // Every binding but the trace buffer.
-        assert_eq!(places.len(), SCHEDULER_BINDINGS.len() - 1 + resources.len());
+        assert_eq!(places.len(), SCHEDULER_BINDINGS.len() + resources.len());
         assert_eq!(all.last().unwrap().attributes(), "@group(1) @binding(0)");
         assert_eq!(
-            buffers(Kernels::Procedures, &resources, false),
+            buffers(Kernels::Procedures, &resources),
             BufferCount {
                 storage: 4,
                 uniform: 1
             }
         );
         assert_eq!(
-            buffers(Kernels::Prepare, &resources, true),
+            buffers(Kernels::Prepare, &resources),
             BufferCount {
                 storage: 2,
                 uniform: 1

@@ -15,7 +15,6 @@ pub(crate) fn shape(plan: &Plan) -> Shape {
         coherent: plan
             .features
             .contains(wgpu::Features::MEMORY_DECORATION_COHERENT),
-        traced: plan.trace.is_some(),
     }
 }
 

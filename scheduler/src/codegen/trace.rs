@@ -1,9 +1,11 @@
 //! Tracing ([`CompileOptions::trace`](crate::CompileOptions::trace)): the
-//! layout of the trace buffer, which the host reads back, and the WGSL that
-//! fills it. Nothing here is generated for an untraced module.
+//! layout of the trace, which the host reads back, and the WGSL that fills
+//! it. Nothing here is generated for an untraced module.
 //!
-//! The buffer `sched_trace` holds [`HEADER_WORDS`] words, then up to the
-//! capacity records of [`record_words`] words, one per batch:
+//! The trace lies in `sched_control`, after the last queue's range markers
+//! (a traced module binds no other buffer, and the host's clearing of the
+//! markers before a run clears it too): [`HEADER_WORDS`] words, then up to
+//! the capacity records of [`record_words`] words, one per batch:
 //!
 //! - header word [`CLOCK`]: the logical clock, the number of batches begun;
 //! - header word [`SUBMISSION`]: the host's submission counter, written before
@@ -89,29 +91,41 @@ pub(crate) fn globals(plan: &Plan) -> Vec<Global> {
     }]
 }
 
-/// `sched_trace_begin` and `sched_trace_end` (none without tracing). Straight
-/// line code: a loop here would spend llvmpipe's loop budget of the
-/// persistent loop (docs/scheduler.md, "Loop limits").
+/// `sched_trace_base`, `sched_trace_begin` and `sched_trace_end` (none
+/// without tracing). Straight line code: a loop here would spend llvmpipe's
+/// loop budget of the persistent loop (docs/scheduler.md, "Loop limits").
 pub(crate) fn functions(plan: &Plan) -> Vec<Function> {
     if plan.trace.is_none() {
         return Vec::new();
     }
     let word = |field: &str| FIELDS.iter().position(|f| *f == field).unwrap_or(0);
     let store = |field: &str, value: &str| {
-        format!("atomicStore(&sched_trace[at + {}u], {value});", word(field))
+        format!(
+            "atomicStore(&sched_control[at + {}u], {value});",
+            word(field)
+        )
     };
+    let mut base = Function::new("sched_trace_base")
+        .doc("Tracing: the first word of the trace in sched_control, after the last queue's markers.")
+        .returns("u32");
+    base.line("let last = SCHED_NUM_QUEUES - 1u;");
+    base.line("return sched_config[last].z + 2u * sched_capacity(last);");
+
     let mut begin = Function::new("sched_trace_begin")
         .doc("Tracing, thread 0 only: records a batch of `count` items of queue `q` from ticket `first`. Returns its record (its tick), or none beyond the capacity.")
         .param("q", "u32")
         .param("first", "u32")
         .param("count", "u32")
         .returns("u32");
-    begin.line(format!("let tick = atomicAdd(&sched_trace[{CLOCK}u], 1u);"));
+    begin.line("let base = sched_trace_base();");
+    begin.line(format!(
+        "let tick = atomicAdd(&sched_control[base + {CLOCK}u], 1u);"
+    ));
     begin.line("if (tick >= SCHED_TRACE_CAPACITY) {");
     begin.line(format!("    return {NO_RECORD};"));
     begin.line("}");
     begin.line(format!(
-        "let at = {HEADER_WORDS}u + tick * SCHED_TRACE_RECORD_WORDS;"
+        "let at = base + {HEADER_WORDS}u + tick * SCHED_TRACE_RECORD_WORDS;"
     ));
     begin.line("var round = 0u;");
     begin.line("if (sched_rounds) {");
@@ -126,7 +140,7 @@ pub(crate) fn functions(plan: &Plan) -> Vec<Function> {
         ("first", "first".to_owned()),
         (
             "submission",
-            format!("atomicLoad(&sched_trace[{SUBMISSION}u])"),
+            format!("atomicLoad(&sched_control[base + {SUBMISSION}u])"),
         ),
         ("round", "round".to_owned()),
     ] {
@@ -135,7 +149,7 @@ pub(crate) fn functions(plan: &Plan) -> Vec<Function> {
     begin.line("// The fill of every queue: items reserved and not yet claimed.");
     for (q, queue) in plan.queues.iter().enumerate() {
         begin.line(format!(
-            "atomicStore(&sched_trace[at + {}u], atomicLoad(&sched_control[sched_ctrl({q}u, SCHED_Q_FILL)])); // {}",
+            "atomicStore(&sched_control[at + {}u], atomicLoad(&sched_control[sched_ctrl({q}u, SCHED_Q_FILL)])); // {}",
             FIELDS.len() + q,
             queue.name
         ));
@@ -146,15 +160,19 @@ pub(crate) fn functions(plan: &Plan) -> Vec<Function> {
         .doc("Tracing, thread 0 only: the end tick of `record` (from sched_trace_begin): the clock now.")
         .param("record", "u32");
     end.line(format!("if (record != {NO_RECORD}) {{"));
+    end.line("    let base = sched_trace_base();");
     end.line(format!(
-        "    let at = {HEADER_WORDS}u + record * SCHED_TRACE_RECORD_WORDS;"
+        "    let at = base + {HEADER_WORDS}u + record * SCHED_TRACE_RECORD_WORDS;"
     ));
     end.line(format!(
         "    {}",
-        store("end", &format!("atomicLoad(&sched_trace[{CLOCK}u])"))
+        store(
+            "end",
+            &format!("atomicLoad(&sched_control[base + {CLOCK}u])")
+        )
     ));
     end.line("}");
-    vec![begin, end]
+    vec![base, begin, end]
 }
 
 /// The runner's first lines: thread 0 records the batch.

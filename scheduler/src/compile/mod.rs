@@ -244,9 +244,8 @@ fn check_resources(graph: &Graph, options: &CompileOptions) -> Result<(), Compil
     // procedure kernels the graph's resources too.
     let limits = &options.limits;
     for kernels in Kernels::ALL {
-        let traced = options.trace.is_some();
-        let own = bindings::scheduler_buffers(kernels, traced);
-        let count = bindings::buffers(kernels, &graph.resources, traced);
+        let own = bindings::scheduler_buffers(kernels);
+        let count = bindings::buffers(kernels, &graph.resources);
         if count.storage > limits.max_storage_buffers_per_shader_stage {
             return Err(CompileError::Resource(format!(
                 "{} storage buffers ({} for the scheduler) exceed the limit of {}",

@@ -107,7 +107,7 @@ impl Executor {
             iteration_budget,
             spin_limit: quirks.spin_limit(),
         };
-        let layouts = Layouts::new(device, plan.trace.is_some());
+        let layouts = Layouts::new(device);
         let state = QueueState::new(device, queue, compiled, &layouts, capacities, tuning)?;
 
         let (cache_state, mut disk_cache) =
@@ -283,7 +283,6 @@ impl Executor {
         let seeded = self
             .state
             .seed(&self.device, &self.queue, &self.compiled.plan, seeds)?;
-        self.reset_trace();
 
         let start = Instant::now();
         // A timeout too long to add to `start` means no deadline at all.

@@ -56,9 +56,8 @@ pub(crate) fn check_plan(
         return Err(error);
     }
     for kernels in Kernels::ALL {
-        let traced = plan.trace.is_some();
-        let count = bindings::buffers(kernels, &plan.resources, traced);
-        let own = bindings::scheduler_buffers(kernels, traced);
+        let count = bindings::buffers(kernels, &plan.resources);
+        let own = bindings::scheduler_buffers(kernels);
         let what = |kind: &str, n: u32, own: u32| {
             format!("the {n} {kind} buffers of one stage ({own} of them the scheduler's)")
         };

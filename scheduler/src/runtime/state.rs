@@ -17,30 +17,19 @@ pub(crate) struct Layouts {
 }
 
 impl Layouts {
-    /// The layouts of a module, `traced` or not.
-    pub(crate) fn new(device: &wgpu::Device, traced: bool) -> Self {
+    pub(crate) fn new(device: &wgpu::Device) -> Self {
         Self {
-            scheduler: group_layout(device, Kernels::Procedures, traced, "scheduler state"),
-            prepare: group_layout(
-                device,
-                Kernels::Prepare,
-                traced,
-                "scheduler round preparation",
-            ),
+            scheduler: group_layout(device, Kernels::Procedures, "scheduler state"),
+            prepare: group_layout(device, Kernels::Prepare, "scheduler round preparation"),
         }
     }
 }
 
 /// The group-0 layout of `kernels`, from the binding table.
-fn group_layout(
-    device: &wgpu::Device,
-    kernels: Kernels,
-    traced: bool,
-    label: &str,
-) -> wgpu::BindGroupLayout {
+fn group_layout(device: &wgpu::Device, kernels: Kernels, label: &str) -> wgpu::BindGroupLayout {
     let entries: Vec<_> = SCHEDULER_BINDINGS
         .iter()
-        .filter(|b| b.bound_to(kernels) && b.present(traced))
+        .filter(|b| b.bound_to(kernels))
         .map(|b| b.kind.layout_entry(b.binding()))
         .collect();
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -69,8 +58,6 @@ pub(crate) struct QueueState {
     pub dispatch: wgpu::Buffer,
     pub scheduler_group: wgpu::BindGroup,
     pub prepare_group: wgpu::BindGroup,
-    /// The trace buffer of a traced module.
-    pub trace: Option<wgpu::Buffer>,
 }
 
 impl QueueState {
@@ -132,16 +119,19 @@ impl QueueState {
         );
         let staging = buffer("scheduler staging", memory.staging_bytes, U::STORAGE);
         let header_bytes = 4 * u64::from(plan.control_words());
-        if memory.control_bytes - header_bytes > binding_limit {
+        // A traced module's records follow the markers.
+        let control_bytes =
+            memory.control_bytes - header_bytes + crate::runtime::trace_run::bytes(plan);
+        if control_bytes > binding_limit {
             return Err(RunError::TooLarge {
                 what: "control buffer",
-                needed: memory.control_bytes - header_bytes,
+                needed: control_bytes,
                 limit: binding_limit,
             });
         }
         let control = buffer(
             "scheduler control",
-            memory.control_bytes - header_bytes,
+            control_bytes,
             U::STORAGE | U::COPY_DST | U::COPY_SRC,
         );
         // Only the counters come back to the host, not the markers.
@@ -189,24 +179,20 @@ impl QueueState {
         let words = uniform::words(&queue_configs, &run);
         queue.write_buffer(&config_buffer, 0, bytemuck::cast_slice(&words));
 
-        let trace = crate::runtime::trace_run::buffer(device, plan, binding_limit)?;
         let buffer_of = |which: SchedulerBuffer| match which {
-            SchedulerBuffer::QueueWords => Some(&queue_words),
-            SchedulerBuffer::Control => Some(&control),
-            SchedulerBuffer::Staging => Some(&staging),
-            SchedulerBuffer::Config => Some(&config_buffer),
-            SchedulerBuffer::Dispatch => Some(&dispatch),
-            SchedulerBuffer::Trace => trace.as_ref(),
+            SchedulerBuffer::QueueWords => &queue_words,
+            SchedulerBuffer::Control => &control,
+            SchedulerBuffer::Staging => &staging,
+            SchedulerBuffer::Config => &config_buffer,
+            SchedulerBuffer::Dispatch => &dispatch,
         };
         let group = |kernels: Kernels, layout: &wgpu::BindGroupLayout, label: &str| {
             let entries: Vec<_> = SCHEDULER_BINDINGS
                 .iter()
                 .filter(|b| b.bound_to(kernels))
-                .filter_map(|b| {
-                    Some(wgpu::BindGroupEntry {
-                        binding: b.binding(),
-                        resource: buffer_of(b.buffer)?.as_entire_binding(),
-                    })
+                .map(|b| wgpu::BindGroupEntry {
+                    binding: b.binding(),
+                    resource: buffer_of(b.buffer).as_entire_binding(),
                 })
                 .collect();
             device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -230,7 +216,6 @@ impl QueueState {
             dispatch,
             scheduler_group,
             prepare_group,
-            trace,
         })
     }
 

@@ -1,6 +1,8 @@
-//! The trace buffer of a traced module on the device: its allocation, its
-//! reset before a run, the submission counter and the read-back into a
-//! [`Trace`]. Nothing is allocated for an untraced module.
+//! The trace of a traced module on the device: its room in the control
+//! buffer (after the range markers, see `codegen::trace`), the submission
+//! counter and the read-back into a [`Trace`]. Nothing is allocated for an
+//! untraced module. The trace needs no reset of its own: seeding clears
+//! every control word after the counters.
 
 use std::time::Duration;
 
@@ -10,59 +12,29 @@ use crate::runtime::executor::Executor;
 use crate::runtime::readback;
 use crate::{RunError, SubmissionTrace, Trace};
 
-/// Bytes of the trace buffer of `plan`.
-fn bytes(plan: &Plan, capacity: u32) -> u64 {
-    let words =
-        u64::from(HEADER_WORDS) + u64::from(capacity) * u64::from(record_words(plan.queues.len()));
-    4 * words
+/// Bytes of the trace of `plan` (0 without tracing).
+pub(crate) fn bytes(plan: &Plan) -> u64 {
+    plan.trace.map_or(0, |trace| {
+        let words = u64::from(HEADER_WORDS)
+            + u64::from(trace.capacity) * u64::from(record_words(plan.queues.len()));
+        4 * words
+    })
 }
 
-/// The trace buffer of a traced `plan` (`None` without tracing), failing with
-/// [`RunError::TooLarge`] beyond `binding_limit`.
-pub(crate) fn buffer(
-    device: &wgpu::Device,
-    plan: &Plan,
-    binding_limit: u64,
-) -> Result<Option<wgpu::Buffer>, RunError> {
-    let Some(trace) = plan.trace else {
-        return Ok(None);
-    };
-    let size = bytes(plan, trace.capacity);
-    if size > binding_limit {
-        return Err(RunError::TooLarge {
-            what: "trace buffer",
-            needed: size,
-            limit: binding_limit,
-        });
-    }
-    Ok(Some(device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("scheduler trace"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_DST
-            | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    })))
+/// The first control word of the trace: after the counters and every
+/// queue's two markers per slot (as `sched_trace_base` computes it).
+fn base_word(plan: &Plan, capacities: &[u32]) -> u64 {
+    u64::from(plan.control_words()) + 2 * capacities.iter().map(|&c| u64::from(c)).sum::<u64>()
 }
 
 impl Executor {
-    /// Before a run: the clock and the submission counter start at 0.
-    pub(super) fn reset_trace(&self) {
-        if let Some(buffer) = &self.state.trace {
-            let header = [0u32; HEADER_WORDS as usize];
-            self.queue
-                .write_buffer(buffer, 0, bytemuck::cast_slice(&header));
-        }
-    }
-
     /// Before submission `index`: its records carry `index`.
     pub(super) fn trace_submission(&self, index: u32) {
-        if let Some(buffer) = &self.state.trace {
-            self.queue.write_buffer(
-                buffer,
-                4 * u64::from(SUBMISSION),
-                bytemuck::bytes_of(&index),
-            );
+        let plan = &self.compiled.plan;
+        if plan.trace.is_some() {
+            let word = base_word(plan, &self.state.capacities) + u64::from(SUBMISSION);
+            self.queue
+                .write_buffer(&self.state.control, 4 * word, bytemuck::bytes_of(&index));
         }
     }
 
@@ -74,11 +46,26 @@ impl Executor {
         submissions: u32,
         gpu_times: &[Duration],
     ) -> Result<Option<Trace>, RunError> {
-        let (Some(buffer), Some(options)) = (&self.state.trace, self.compiled.plan.trace) else {
+        let plan = &self.compiled.plan;
+        let Some(options) = plan.trace else {
             return Ok(None);
         };
-        let plan = &self.compiled.plan;
-        let bytes = readback::read_buffer(&self.device, &self.queue, buffer, self.timeout)?;
+        let size = bytes(plan);
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("trace read-back"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("trace read-back"),
+            });
+        let offset = 4 * base_word(plan, &self.state.capacities);
+        encoder.copy_buffer_to_buffer(&self.state.control, offset, &staging, 0, size);
+        let submission = self.queue.submit([encoder.finish()]);
+        let bytes = readback::map_read(&self.device, &staging, submission, self.timeout)?;
         let submissions = (0..submissions)
             .zip(0usize..)
             .map(|(index, i)| SubmissionTrace {
