@@ -7,7 +7,10 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use gpu_test::gpu_test;
 use rand::{Rng, SeedableRng, rngs::StdRng};
-use scheduler::{CompileOptions, Executor, RunReport, Seeds, Strategy, Trace, TraceOptions};
+use scheduler::{
+    CompileOptions, Executor, ExecutorConfig, Retry, RunReport, Seeds, Strategy, Trace,
+    TraceOptions,
+};
 use tests::config;
 use tests::graphs::{Node, PingPongIds, WithIds, ping_pong, ping_pong_counts};
 
@@ -15,7 +18,8 @@ use tests::graphs::{Node, PingPongIds, WithIds, ping_pong, ping_pong_counts};
 fn workload(test: &str) -> (WithIds<PingPongIds>, Vec<Node>, (u64, u64)) {
     let mut rng = StdRng::seed_from_u64(tests::seed(test));
     let depth = rng.random_range(4..=7);
-    let seeds: Vec<Node> = (0..rng.random_range(1..200))
+    // More seeds than the 16-item queues of the retried run hold.
+    let seeds: Vec<Node> = (0..rng.random_range(17..200))
         .map(|_| Node {
             depth: 0,
             id: rng.random(),
@@ -153,4 +157,39 @@ fn an_untraced_run_has_no_trace_and_its_module_no_trace_code() {
         .run(&Seeds::new().add(&graph.ids.ping, &seeds), &[])
         .unwrap();
     assert!(report.trace().is_none());
+}
+
+/// A megakernel run of several submissions (an iteration budget of one batch
+/// per workgroup), and a run retried after an overflow (the queues, and with
+/// them the trace's place in the control buffer, grow): the trace is that of
+/// the whole last attempt, with every submission's batches.
+#[gpu_test]
+fn a_trace_spans_every_submission_and_the_last_attempt_of_a_retried_run() {
+    let (graph, seeds, (pings, pongs)) = workload("trace_submissions");
+    let gpu = tests::gpu();
+    let options = CompileOptions::default().traced(TraceOptions::default());
+    let compiled = graph.compile(&options).unwrap();
+    let seeds = Seeds::new().add(&graph.ids.ping, &seeds);
+
+    let budget = ExecutorConfig {
+        iteration_budget: Some(1),
+        ..config(2, 1 << 15)
+    };
+    let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &budget).unwrap();
+    let report = executor.run(&seeds, &[]).unwrap();
+    assert!(report.dispatches > 1, "{report}");
+    let trace = report.trace().unwrap();
+    check_complete(trace, &report, 256);
+    let submissions: BTreeSet<u32> = trace.records.iter().map(|r| r.submission).collect();
+    assert_eq!(submissions.len() as u32, report.dispatches, "{report}");
+
+    let mut small = Executor::new(&gpu.device, &gpu.queue, &compiled, &config(2, 16)).unwrap();
+    let report = small
+        .run_with_retry(Strategy::Megakernel, &seeds, &[], Retry::without_reset(12))
+        .unwrap();
+    assert!(report.attempts > 1, "{report}");
+    let ping = report.procedure(&graph.ids.ping).unwrap();
+    let pong = report.procedure(&graph.ids.pong).unwrap();
+    assert_eq!((ping.executed, pong.executed), (pings, pongs));
+    check_complete(report.trace().unwrap(), &report, 256);
 }
