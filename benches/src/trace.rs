@@ -156,3 +156,40 @@ fn register_font() {
         epaint_default_fonts::UBUNTU_LIGHT,
     );
 }
+
+/// What tracing costs on the Mandelbrot example: the median GPU time (wall
+/// time without timestamp queries) of `runs` untraced and `runs` traced
+/// megakernel runs, interleaved in one process, in milliseconds.
+pub fn mandelbrot_cost(
+    gpu: &Gpu,
+    size: u32,
+    max_iter: u32,
+    chunks: u32,
+    runs: u32,
+) -> Result<(f64, f64), BenchError> {
+    let view = View::whole_set(size, max_iter);
+    let untraced = CompileOptions {
+        chunks_per_batch: chunks,
+        ..CompileOptions::with_features(scheduler::recommended_features(&gpu.device))
+    };
+    let traced = untraced.clone().traced(TraceOptions::default());
+    let config = workloads::mandelbrot::config(gpu, &view, chunks);
+    let new = |options: &CompileOptions| {
+        Mandelbrot::new(gpu, view, options, &config)
+            .map_err(|e| BenchError::Config(format!("the Mandelbrot graph: {e}")))
+    };
+    let mut variants = [new(&untraced)?, new(&traced)?];
+    let mut times = [Vec::new(), Vec::new()];
+    for _ in 0..runs {
+        for (mandelbrot, times) in variants.iter_mut().zip(&mut times) {
+            let report = mandelbrot.render(Strategy::Megakernel)?;
+            let time = report.gpu_time.unwrap_or(report.wall_time);
+            times.push(time.as_secs_f64() * 1e3);
+        }
+    }
+    let [untraced, traced] = times.map(|mut t| {
+        t.sort_by(f64::total_cmp);
+        t.get(t.len() / 2).copied().unwrap_or(0.0)
+    });
+    Ok((untraced, traced))
+}

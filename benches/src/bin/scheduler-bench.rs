@@ -10,7 +10,9 @@
 //! With `--trace FILE` it measures nothing: it runs the Mandelbrot example
 //! once, traced and verified (the first `--chunks`, the default workgroup
 //! count, the megakernel or with `--trace-rounds` the Rounds strategy), and
-//! writes the run's Chrome trace to FILE (docs/scheduler.md, "Seeing a run").
+//! writes the run's Chrome trace to FILE (docs/scheduler.md, "Seeing a run"),
+//! then prints what tracing costs: `--runs` untraced and traced megakernel
+//! runs side by side.
 //!
 //! Prints two tables measured in this one process. The spawn tree: for work
 //! 64 and work 0, the flat dispatch and the megakernel at the default
@@ -227,6 +229,14 @@ fn write_trace(
         trace.records.len(),
         trace.dropped(),
         path.display()
+    );
+    let (untraced, traced) =
+        benches::trace::mandelbrot_cost(gpu, size, args.mandelbrot_max_iter, chunks, args.runs)?;
+    println!(
+        "tracing cost (megakernel, median of {} runs each, interleaved): untraced {untraced:.1} ms, \
+         traced {traced:.1} ms, ratio {:.2}",
+        args.runs,
+        traced / untraced.max(1e-9)
     );
     Ok(())
 }
