@@ -26,6 +26,8 @@
 //!   tree; [`reyes_strategies`]: the same on Reyes frames.
 //! - [`mandelbrot`]: the Mandelbrot example (Mariani–Silver subdivision)
 //!   against a flat per-pixel dispatch (`scheduler-bench`).
+//! - [`trace`]: a traced Mandelbrot run (`scheduler-bench --trace`) and
+//!   the queue-fill charts of Chrome traces (`trace-plot`).
 
 pub mod blur;
 pub mod error;
@@ -38,6 +40,7 @@ pub mod strategies;
 pub mod suite;
 pub mod table;
 pub mod timing;
+pub mod trace;
 pub mod verify;
 pub mod workload;
 

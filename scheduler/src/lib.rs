@@ -135,7 +135,9 @@ pub use error::{CompileError, DeviceError, SourceOrigin};
 pub use graph::{Connection, DEFAULT_PRIORITY, Graph, Procedure};
 pub use handle::{ProcedureId, Untyped};
 pub use item::{Item, ItemType, WgslStructs, WgslType, layout as wgsl_layout};
-pub use options::{CompileOptions, MAX_CHUNKS_PER_BATCH, Policy, recommended_features};
+pub use options::{
+    CompileOptions, MAX_CHUNKS_PER_BATCH, Policy, TraceOptions, recommended_features,
+};
 pub use plan::QueuePlan;
 pub use quirks::{CpuWorkgroups, DEFAULT_SPIN_LIMIT, LoopBudget, PersistentThreads, Quirks};
 pub use resource::{Access, Atomic, BufferContents, BufferShape, Resource, ResourceKind};
@@ -151,6 +153,7 @@ pub use runtime::reset::ResetContext;
 pub use runtime::retry::{LoopCheckFn, ResetFn, Retry};
 pub use runtime::seeds::Seeds;
 pub use runtime::strategy::{DEFAULT_ROUNDS_PER_BATCH, Strategy};
+pub use runtime::trace::{BatchRecord, SubmissionTrace, Trace};
 pub use scheduler_derive::{Item, item};
 
 // Re-exported so that users, the `item_type!` macro and `#[item]` name the

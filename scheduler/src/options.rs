@@ -50,6 +50,28 @@ pub struct CompileOptions {
     /// compiles only what can run (docs/scheduler.md, "Specialization").
     /// Default on; off keeps the module as generated, for debugging.
     pub specialize: bool,
+    /// Tracing: every batch is recorded (workgroup, procedure, items, a
+    /// logical timestamp, the queue fills) into a buffer of this many
+    /// records, read back into [`RunReport::trace`](crate::RunReport::trace)
+    /// (docs/scheduler.md, "Seeing a run"). Default off: the module then
+    /// holds no trace code and no buffer is allocated.
+    pub trace: Option<TraceOptions>,
+}
+
+/// How a traced run records its batches ([`CompileOptions::trace`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TraceOptions {
+    /// Records the trace buffer holds. The first `capacity` batches of a run
+    /// are kept; the later ones are counted as
+    /// [`Trace::dropped`](crate::Trace::dropped).
+    pub capacity: u32,
+}
+
+impl Default for TraceOptions {
+    /// 65536 records.
+    fn default() -> Self {
+        Self { capacity: 1 << 16 }
+    }
 }
 
 /// Largest [`CompileOptions::chunks_per_batch`]. Staging memory grows with it
@@ -68,6 +90,7 @@ impl Default for CompileOptions {
             chunks_per_batch: 1,
             checked: false,
             specialize: true,
+            trace: None,
         }
     }
 }
@@ -90,6 +113,14 @@ impl CompileOptions {
         Self {
             chunks_per_batch: crate::Quirks::of(info).chunks_per_batch(),
             ..Self::default()
+        }
+    }
+
+    /// These options with tracing on ([`CompileOptions::trace`]).
+    pub fn traced(self, trace: TraceOptions) -> Self {
+        Self {
+            trace: Some(trace),
+            ..self
         }
     }
 

@@ -1,7 +1,7 @@
 //! The generated megakernel as a product: deterministic, headed, valid under
 //! naga for several feature sets, and snapshotted.
 
-use scheduler::{CompileOptions, Graph, Policy, wgpu};
+use scheduler::{CompileOptions, Graph, Policy, TraceOptions, wgpu};
 use tests::graphs::{binary_tree, ping_pong, scratch_sum};
 
 fn graphs() -> Vec<(&'static str, Graph)> {
@@ -39,6 +39,10 @@ fn option_sets() -> Vec<(&'static str, CompileOptions)> {
                 chunks_per_batch: 4,
                 ..CompileOptions::with_features(wgpu::Features::MEMORY_DECORATION_COHERENT)
             },
+        ),
+        (
+            "traced",
+            CompileOptions::default().traced(TraceOptions { capacity: 1024 }),
         ),
     ]
 }
@@ -126,6 +130,16 @@ fn snapshots_of_the_test_graphs() {
         let compiled = graph.compile(&CompileOptions::default()).unwrap();
         insta::assert_snapshot!(name, compiled.wgsl());
     }
+}
+
+/// Tracing adds its buffer, constants, two functions and their calls, and
+/// nothing else.
+#[test]
+fn snapshot_of_a_traced_module() {
+    let compiled = ping_pong(5)
+        .compile(&CompileOptions::default().traced(TraceOptions { capacity: 1024 }))
+        .unwrap();
+    insta::assert_snapshot!("ping_pong_traced", compiled.wgsl());
 }
 
 #[test]

@@ -3,8 +3,16 @@
 //! ```text
 //! cargo run --release -p benches --bin scheduler-bench -- \
 //!     [--items-log2 20] [--runs 7] [--workgroups N ...] [--chunks N ...] [--capacity N] \
-//!     [--mandelbrot-size 512] [--mandelbrot-max-iter 1024] [--json FILE]
+//!     [--mandelbrot-size 512] [--mandelbrot-max-iter 1024] [--json FILE] \
+//!     [--trace FILE [--trace-rounds] [--trace-capacity N]]
 //! ```
+//!
+//! With `--trace FILE` it measures nothing: it runs the Mandelbrot example
+//! once, traced and verified (the first `--chunks`, the default workgroup
+//! count, the megakernel or with `--trace-rounds` the Rounds strategy), and
+//! writes the run's Chrome trace to FILE (docs/scheduler.md, "Seeing a run"),
+//! then prints what tracing costs: `--runs` untraced and traced megakernel
+//! runs side by side.
 //!
 //! Prints two tables measured in this one process. The spawn tree: for work
 //! 64 and work 0, the flat dispatch and the megakernel at the default
@@ -25,7 +33,7 @@ use benches::suite::{BenchConfig, recommended_iteration_budget, run_suite};
 use benches::table::{format_row, format_table};
 use benches::workload::{FIXED_WORK, MAX_ITEMS_LOG2};
 use clap::Parser;
-use scheduler::{DEFAULT_WORKGROUPS, DeviceRequest, Gpu};
+use scheduler::{DEFAULT_WORKGROUPS, DeviceRequest, Gpu, Strategy, TraceOptions};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -62,6 +70,16 @@ struct Args {
     /// Also write the results as JSON to this file.
     #[arg(long)]
     json: Option<PathBuf>,
+    /// Instead of measuring, write the Chrome trace (Trace Event Format) of
+    /// one traced Mandelbrot run to this file.
+    #[arg(long)]
+    trace: Option<PathBuf>,
+    /// With `--trace`: trace the Rounds strategy instead of the megakernel.
+    #[arg(long)]
+    trace_rounds: bool,
+    /// With `--trace`: records the trace buffer holds (the first batches).
+    #[arg(long, default_value_t = TraceOptions::default().capacity)]
+    trace_capacity: u32,
 }
 
 fn main() -> ExitCode {
@@ -78,6 +96,9 @@ fn main() -> ExitCode {
 fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let command_line = std::env::args().collect::<Vec<_>>().join(" ");
     let gpu = Gpu::new(&DeviceRequest::default())?;
+    if let Some(path) = &args.trace {
+        return write_trace(&gpu, args, path);
+    }
     let mut workgroups = vec![DEFAULT_WORKGROUPS];
     for &w in &args.workgroups {
         if !workgroups.contains(&w) {
@@ -167,5 +188,55 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         std::fs::write(path, serde_json::to_string_pretty(&json)?)?;
         println!("JSON written to {}", path.display());
     }
+    Ok(())
+}
+
+/// `--trace`: one traced, verified Mandelbrot run, written as a Chrome trace.
+fn write_trace(
+    gpu: &Gpu,
+    args: &Args,
+    path: &std::path::Path,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let strategy = if args.trace_rounds {
+        Strategy::rounds()
+    } else {
+        Strategy::Megakernel
+    };
+    let chunks = args.chunks.first().copied().unwrap_or(1);
+    let size = if args.mandelbrot_size == 0 {
+        512
+    } else {
+        args.mandelbrot_size
+    };
+    let report = benches::trace::mandelbrot(
+        gpu,
+        size,
+        args.mandelbrot_max_iter,
+        chunks,
+        strategy,
+        TraceOptions {
+            capacity: args.trace_capacity,
+        },
+    )?;
+    let trace = report.trace().ok_or("the traced run returned no trace")?;
+    trace.write_chrome_trace(path)?;
+    println!("adapter: {}", gpu.describe());
+    println!("{report}");
+    println!(
+        "trace: Mandelbrot {size}x{size}, {chunks} chunk(s) per batch: {} batches, {} recorded, \
+         {} dropped; Chrome trace written to {}",
+        trace.batches,
+        trace.records.len(),
+        trace.dropped(),
+        path.display()
+    );
+    let (untraced, traced) =
+        benches::trace::mandelbrot_cost(gpu, size, args.mandelbrot_max_iter, chunks, args.runs)?;
+    println!(
+        "tracing cost (megakernel, median of {} runs each, interleaved): untraced {untraced:.1} ms, \
+         traced {traced:.1} ms, ratio {:.2}",
+        args.runs,
+        traced / untraced.max(1e-9)
+    );
     Ok(())
 }

@@ -78,6 +78,11 @@ pub(crate) struct RenderArgs {
     /// are replaced together, or neither is.
     #[arg(long, value_name = "FILE")]
     pub(crate) stats_json: Option<PathBuf>,
+    /// Trace the GPU megakernel and write the Chrome trace (Trace Event
+    /// Format, for Perfetto or chrome://tracing) of the frame's last run to
+    /// FILE (docs/scheduler.md, "Seeing a run").
+    #[arg(long, value_name = "FILE")]
+    pub(crate) trace: Option<PathBuf>,
     /// Camera position, e.g. `4,-12,7`.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub(crate) eye: Option<Vec3>,

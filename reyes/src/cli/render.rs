@@ -97,8 +97,23 @@ fn render_gpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxErro
     }
     options.chunks_per_batch = args.chunks;
     options.pipeline_cache_dir = args.pipeline_cache_dir();
+    options.trace = args
+        .trace
+        .as_ref()
+        .map(|_| scheduler::TraceOptions::default());
     let mut renderer = GpuRenderer::new(&gpu, options)?;
     let rendered = renderer.render(scene)?;
+    if let Some(path) = &args.trace {
+        let trace = rendered.report.as_ref().and_then(|r| r.trace());
+        let trace = trace.ok_or("the frame ran no traced megakernel")?;
+        trace.write_chrome_trace(path)?;
+        log::info!(
+            "trace: {} batches, {} recorded, written to {}",
+            trace.batches,
+            trace.records.len(),
+            path.display()
+        );
+    }
     if let Some(pipeline) = renderer.last_pipeline() {
         let (lines, functions) = renderer.compiled().module_size();
         let first_dispatch = pipeline.timings.first_dispatch.unwrap_or_default();

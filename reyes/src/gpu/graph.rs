@@ -212,9 +212,28 @@ pub fn compile_for(
     policy: Policy,
     chunks_per_batch: u32,
 ) -> Result<CompiledGraph, CompileError> {
+    compile_traced(
+        recommended,
+        variant,
+        user_displacement,
+        (policy, chunks_per_batch),
+        None,
+    )
+}
+
+/// Like [`compile_for`] (with its policy and chunks per batch), traced
+/// when `trace` is given ([`CompileOptions::trace`]).
+pub fn compile_traced(
+    recommended: wgpu::Features,
+    variant: KernelVariant,
+    user_displacement: Option<&str>,
+    (policy, chunks_per_batch): (Policy, u32),
+    trace: Option<scheduler::TraceOptions>,
+) -> Result<CompiledGraph, CompileError> {
     let options = CompileOptions {
         policy,
         chunks_per_batch,
+        trace,
         ..compile_options(recommended)
     };
     reyes_graph_with(variant, user_displacement).compile(&options)

@@ -67,6 +67,10 @@ pub struct GpuOptions {
     /// [`scheduler::ExecutorConfig::pipeline_cache_dir`]; the command line
     /// uses [`default_pipeline_cache_dir`](crate::gpu::default_pipeline_cache_dir).
     pub pipeline_cache_dir: Option<PathBuf>,
+    /// Trace the megakernel's runs ([`scheduler::CompileOptions::trace`]):
+    /// [`GpuRendered::report`] then holds the trace of the frame's last run
+    /// (`None`, the default: untraced, nothing recorded).
+    pub trace: Option<scheduler::TraceOptions>,
 }
 
 pub use crate::params::DEFAULT_RENDER_TIMEOUT;
@@ -85,6 +89,7 @@ impl Default for GpuOptions {
             max_batch_patches: None,
             progress: Progress::none(),
             pipeline_cache_dir: None,
+            trace: None,
         }
     }
 }

@@ -104,12 +104,12 @@ impl<'a> GpuRenderer<'a> {
         {
             return Err(RenderError::TooManyChunks { chunks, max });
         }
-        let compiled = graph::compile_for(
+        let compiled = graph::compile_traced(
             scheduler::recommended_features(&gpu.device),
             KernelVariant::default(),
             None,
-            options.policy,
-            chunks,
+            (options.policy, chunks),
+            options.trace,
         )?;
         if options.chunks_per_batch.is_some() {
             // A chosen chunk count is likely a module the driver has not
@@ -204,8 +204,14 @@ impl<'a> GpuRenderer<'a> {
             crate::displacement::user_wgsl::check(wgsl)?;
         }
         let features = scheduler::recommended_features(&self.gpu.device);
-        let compiled = graph::compile_for(features, variant, user, self.options.policy, chunks)
-            .map_err(|e| match user {
+        let compiled = graph::compile_traced(
+            features,
+            variant,
+            user,
+            (self.options.policy, chunks),
+            self.options.trace,
+        )
+        .map_err(|e| match user {
                 Some(_) => RenderError::UserDisplacement(e),
                 None => RenderError::Compile(e),
             })?;

@@ -9,7 +9,7 @@ use crate::codegen::kernels::{
     round_entry, runner,
 };
 use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
-use crate::codegen::{checked, codec, globals, helpers};
+use crate::codegen::{checked, codec, globals, helpers, trace};
 use crate::graph::Procedure;
 use crate::naming::{
     ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, encode_name, enqueue_name, queue_constant_name,
@@ -223,6 +223,8 @@ pub(crate) fn generate(
         module.constants.extend(checked::constants(plan));
         module.globals.extend(checked::globals());
     }
+    module.constants.extend(trace::constants(plan));
+    module.globals.extend(trace::globals(plan));
     if !library.trim().is_empty() {
         module.library = Some(Verbatim {
             title: "graph library".into(),
@@ -250,6 +252,7 @@ pub(crate) fn generate(
     if !guarded.is_empty() {
         module.functions.extend(checked::functions(plan));
     }
+    module.functions.extend(trace::functions(plan));
     module.functions.push(policy_function(plan.policy));
     module.functions.extend(payload_functions(coherent));
     for (name, (_, layout)) in items {

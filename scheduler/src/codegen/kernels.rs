@@ -3,7 +3,7 @@
 
 use crate::Policy;
 use crate::codegen::module::Function;
-use crate::codegen::{checked, helpers};
+use crate::codegen::{checked, helpers, trace};
 use crate::naming::{
     ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, copy_out_name, decode_name, round_entry_point,
     runner_name,
@@ -88,6 +88,9 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     f.line(format!("let slot = lid / {tpi}u;"));
     f.line(format!("let thread = lid % {tpi}u;"));
     f.line(format!("sched_scratch_stride = {}u;", queue.scratch_words));
+    for line in trace::runner_begin(plan, q) {
+        f.line(line);
+    }
     if !plan.guarded_resources().is_empty() {
         f.line(format!(
             "{} = {q}u; // checked mode: the guards count violations for this procedure",
@@ -149,6 +152,9 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
         flush_lines(&mut f, plan, queue);
     }
     f.line("if (lid == 0u) {");
+    if let Some(line) = trace::runner_end(plan) {
+        f.line(line);
+    }
     f.line(format!(
         "    atomicAdd(&sched_control[sched_ctrl({q}u, SCHED_Q_EXECUTED)], count);"
     ));
@@ -214,6 +220,9 @@ pub(crate) fn entry_point(plan: &Plan) -> Function {
     f.attributes
         .push(format!("@compute @workgroup_size({})", plan.workgroup_size));
     f.line("sched_wg_base = workgroup.x * SCHED_WORKGROUP_WORDS;");
+    if let Some(line) = trace::entry_lines(plan) {
+        f.line(line);
+    }
     f.line("let budget = sched_config[SCHED_NUM_QUEUES].x;");
     f.line("var iteration = 0u;");
     f.line("var finished = false;");
@@ -271,6 +280,9 @@ pub(crate) fn round_entry(plan: &Plan, q: usize, queue: &QueuePlan) -> Function 
         .push(format!("@compute @workgroup_size({})", plan.workgroup_size));
     f.line("sched_rounds = true;");
     f.line("sched_wg_base = workgroup.x * SCHED_WORKGROUP_WORDS;");
+    if let Some(line) = trace::entry_lines(plan) {
+        f.line(line);
+    }
     f.line("if (lid == 0u) {");
     f.line(format!(
         "    sched_wg_pick = vec4<u32>(sched_round_range({q}u), 0u, 0u);"

@@ -292,6 +292,8 @@ fn section_of(name: &str) -> &'static str {
         "queue payload access"
     } else if name.starts_with("sched_copy_") {
         "item copies"
+    } else if name.starts_with("sched_trace_") {
+        "tracing"
     } else {
         "entry point"
     }

@@ -138,6 +138,7 @@ impl Graph {
             item_helpers: crate::codegen::helpers::used(&self.procedures, &self.library),
             features: options.features,
             checked: options.checked,
+            trace: options.trace,
         };
 
         let mut kernel = generate(

@@ -65,6 +65,8 @@ pub(crate) struct Plan {
     pub features: wgpu::Features,
     /// Checked mode: indices into runtime-sized array resources are guarded.
     pub checked: bool,
+    /// Tracing: the trace buffer's capacity in records (`None`: off).
+    pub trace: Option<crate::TraceOptions>,
 }
 
 impl Plan {

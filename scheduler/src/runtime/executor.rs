@@ -328,6 +328,7 @@ impl Executor {
             Strategy::Rounds { .. } => self.tuning.round_workgroups,
             Strategy::Megakernel | Strategy::Auto => self.tuning.workgroups,
         };
+        let mut gpu_times = Vec::new();
         // What the report is built from; the counts and the times are
         // filled in when it is.
         let facts = |(submissions, dispatches), gpu_time| outcome::RunFacts {
@@ -383,6 +384,7 @@ impl Executor {
                 encoder.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
                 encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
             }
+            self.trace_submission(submissions);
             let submission = self.queue.submit([encoder.finish()]);
             let remaining = deadline.map_or(LONGEST_WAIT, |deadline| {
                 deadline.saturating_duration_since(Instant::now())
@@ -423,7 +425,9 @@ impl Executor {
                 )?;
                 let stamps: &[u64] = bytemuck::cast_slice(&stamps);
                 let ticks = stamps[1].saturating_sub(stamps[0]) as f64;
-                *total += Duration::from_nanos((ticks * t.period_ns) as u64);
+                let took = Duration::from_nanos((ticks * t.period_ns) as u64);
+                *total += took;
+                gpu_times.push(took);
             }
             // A cut loop ends the run: its counters are still read into the
             // report, and an overflow among them is named first.
@@ -459,7 +463,8 @@ impl Executor {
                 ));
             }
         };
-        let report = outcome::report(&facts((submissions, dispatches), gpu_time), &counters);
+        let mut report = outcome::report(&facts((submissions, dispatches), gpu_time), &counters);
+        report.trace = self.read_trace(submissions, &gpu_times)?;
         outcome::judge(report, outcome::Cuts::of(&counters), |body_loops| {
             self.loop_limit_advice(strategy, body_loops)
         })

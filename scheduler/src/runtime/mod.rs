@@ -17,4 +17,7 @@ pub(crate) mod rounds;
 pub(crate) mod seeds;
 pub(crate) mod state;
 pub(crate) mod strategy;
+pub(crate) mod trace;
+pub(crate) mod trace_chrome;
+pub(crate) mod trace_run;
 pub(crate) mod warm_up;

@@ -65,6 +65,7 @@ pub(crate) fn report(facts: &RunFacts<'_>, counters: &[u32]) -> RunReport {
         retries: crate::RetryCauses::default(),
         wall_time: facts.wall_time,
         gpu_time: facts.gpu_time,
+        trace: None,
     }
 }
 

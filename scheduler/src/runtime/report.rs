@@ -104,6 +104,12 @@ pub struct RunReport {
     /// GPU time from timestamp queries, when the device has them.
     #[serde(with = "option_duration_ms")]
     pub gpu_time: Option<Duration>,
+    /// The run's trace, when the graph was compiled with
+    /// [`CompileOptions::trace`](crate::CompileOptions::trace) (see
+    /// [`RunReport::trace`]). Not part of the JSON report: export it with
+    /// [`Trace::to_chrome_json`](crate::Trace::to_chrome_json).
+    #[serde(skip)]
+    pub trace: Option<crate::Trace>,
 }
 
 impl RunReport {
@@ -116,6 +122,12 @@ impl RunReport {
     /// JSON, which has no handles).
     pub fn procedure_named(&self, name: &str) -> Option<&ProcedureStats> {
         self.procedures.iter().find(|p| p.name == name)
+    }
+
+    /// The run's trace: present when the graph was compiled with
+    /// [`CompileOptions::trace`](crate::CompileOptions::trace).
+    pub fn trace(&self) -> Option<&crate::Trace> {
+        self.trace.as_ref()
     }
 
     /// Total items executed.

@@ -123,16 +123,19 @@ impl QueueState {
         );
         let staging = buffer("scheduler staging", memory.staging_bytes, U::STORAGE);
         let header_bytes = 4 * u64::from(plan.control_words());
-        if memory.control_bytes - header_bytes > binding_limit {
+        // A traced module's records follow the markers.
+        let control_bytes =
+            memory.control_bytes - header_bytes + crate::runtime::trace_run::bytes(plan);
+        if control_bytes > binding_limit {
             return Err(RunError::TooLarge {
                 what: "control buffer",
-                needed: memory.control_bytes - header_bytes,
+                needed: control_bytes,
                 limit: binding_limit,
             });
         }
         let control = buffer(
             "scheduler control",
-            memory.control_bytes - header_bytes,
+            control_bytes,
             U::STORAGE | U::COPY_DST | U::COPY_SRC,
         );
         // Only the counters come back to the host, not the markers.
