@@ -324,8 +324,9 @@ impl Graph {
     /// every item's enqueues against the fan-out itself, so that one item
     /// over it fails the run with
     /// [`RunError::ItemFanOutExceeded`](crate::RunError::ItemFanOutExceeded),
-    /// naming the item, even when its batch stayed within its room.
-    /// docs/scheduler.md ("Fan-out") gives the cost.
+    /// naming the item, even when its batch stayed within its room. That
+    /// check costs tens of percent of a run on lavapipe, hence checked mode
+    /// only (docs/scheduler.md, "Fan-out", has the measurements).
     pub fn connect_with_fan_out<A, B>(
         &mut self,
         from: &ProcedureId<A>,
