@@ -182,3 +182,40 @@ fn random_branching_bodies_get_their_bound() {
         assert_eq!(derived(&body, 1), Ok(most), "seed {seed}, body:\n{body}");
     }
 }
+
+/// The per-item check as checked mode generates it, for review: the
+/// enqueue's count, the chunk loop's check of the previous chunk (with the
+/// barrier items of several threads need) and the check after the last.
+#[test]
+fn snapshot_of_the_per_item_check() {
+    let mut graph = Graph::new("per-item check");
+    let source = graph.procedure(
+        Procedure::of::<Node>("Source")
+            .initial(true)
+            .threads_per_item(4)
+            .body("if (valid && thread < 2u) {\n    enqueue_Sink(item);\n}"),
+    );
+    let sink = graph.procedure(Procedure::of::<Node>("Sink").body("_ = item;"));
+    graph.connect(&source, &sink);
+    let options = CompileOptions {
+        workgroup_size: 64,
+        chunks_per_batch: 2,
+        ..CompileOptions::default()
+    }
+    .checked();
+    let compiled = graph.compile(&options).unwrap();
+    assert_eq!(compiled.queues()[0].targets, [(1, 2)]);
+    insta::assert_snapshot!("per_item_check", compiled.wgsl());
+    // Without checked mode none of it is generated.
+    let unchecked = graph
+        .compile(&CompileOptions {
+            checked: false,
+            ..options
+        })
+        .unwrap();
+    assert!(
+        !unchecked.wgsl().contains("fan_out"),
+        "{}",
+        unchecked.wgsl()
+    );
+}
