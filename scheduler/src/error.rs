@@ -123,6 +123,36 @@ pub enum CompileError {
         /// The function that calls `enqueue_<target>`.
         via: String,
     },
+    /// A connection made with [`Graph::connect`](crate::Graph::connect)
+    /// has no fan-out to derive: the body (or a helper it calls) enqueues
+    /// into the target inside a loop.
+    #[error(
+        "procedure `{procedure}` calls `enqueue_{target}` inside a loop (in {via}), so its fan-out into `{target}` cannot be derived; declare it with `connect_with_fan_out`"
+    )]
+    FanOutNotDerivable {
+        /// The procedure whose body enqueues.
+        procedure: String,
+        /// The target it enqueues into.
+        target: String,
+        /// The function whose loop makes the call: `its body`, or a helper.
+        via: String,
+    },
+    /// A fan-out declared with
+    /// [`Graph::connect_with_fan_out`](crate::Graph::connect_with_fan_out) is
+    /// below what the body's enqueue calls can reach.
+    #[error(
+        "connection `{procedure}` -> `{target}` declares a fan-out of {declared}, but one item of `{procedure}` may call `enqueue_{target}` {bound} times; declare at least {bound}"
+    )]
+    FanOutBelowBound {
+        /// The procedure whose body enqueues.
+        procedure: String,
+        /// The target it enqueues into.
+        target: String,
+        /// The fan-out declared.
+        declared: u32,
+        /// The bound derived from the body's calls.
+        bound: u32,
+    },
     /// The Rust and WGSL layouts of an item type disagree.
     #[error("item type `{item}` (Rust `{rust}`): {detail}")]
     ItemLayoutMismatch {

@@ -226,13 +226,14 @@ impl<T> fmt::Debug for Procedure<T> {
 }
 
 /// Permission for `from` to enqueue into `to`, with the most items one item of
-/// `from` may enqueue into `to` (its fan-out). The fan-out sizes the per-workgroup
-/// staging area; exceeding it is reported, never silently dropped.
+/// `from` may enqueue into `to` (its fan-out): declared, or derived from the
+/// body when compiling (`None`). The fan-out sizes the per-workgroup staging
+/// area; exceeding it is reported, never silently dropped.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Connection {
     pub(crate) from: String,
     pub(crate) to: String,
-    pub(crate) fan_out: u32,
+    pub(crate) fan_out: Option<u32>,
 }
 
 /// A procedure graph: compile it with [`Graph::compile`].
@@ -273,12 +274,59 @@ impl Graph {
             .map(|p| ProcedureId::new(Arc::from(p.name.as_str())))
     }
 
-    /// Lets `from` enqueue at most one item into `to` per item it runs.
+    /// Lets `from` enqueue into `to`, with the fan-out (the most items one
+    /// item of `from` enqueues into `to`) derived from `from`'s body when
+    /// compiling: the calls to `enqueue_<to>` on the path through the body
+    /// (and the functions it calls) that makes the most of them, counted once
+    /// per thread of the item unless an `if (thread == C)` (alone or in a
+    /// `&&`) admits one thread. If no call is made, the fan-out is 1.
+    ///
+    /// A call inside a loop has no such bound: compiling then fails with
+    /// [`CompileError::FanOutNotDerivable`](crate::CompileError::FanOutNotDerivable),
+    /// and the connection needs [`Graph::connect_with_fan_out`].
+    ///
+    /// ```
+    /// # #[scheduler::item] struct Node { depth: u32 }
+    /// let mut graph = scheduler::Graph::new("tree");
+    /// let grow = graph.procedure(
+    ///     scheduler::Procedure::of::<Node>("Grow").initial(true).body(
+    ///         "if (valid && item.depth < 3u) {
+    ///     enqueue_Grow(Node(item.depth + 1u));
+    ///     enqueue_Grow(Node(item.depth + 1u));
+    /// }",
+    ///     ),
+    /// );
+    /// graph.connect(&grow, &grow); // fan-out 2, from the two calls
+    /// let compiled = graph.compile(&scheduler::CompileOptions::default()).unwrap();
+    /// assert_eq!(compiled.queues()[0].targets, [(0, 2)]);
+    /// ```
     pub fn connect<A, B>(&mut self, from: &ProcedureId<A>, to: &ProcedureId<B>) -> &mut Self {
-        self.connect_with_fan_out(from, to, 1)
+        self.connections.push(Connection {
+            from: from.name().to_owned(),
+            to: to.name().to_owned(),
+            fan_out: None,
+        });
+        self
     }
 
-    /// Lets `from` enqueue up to `fan_out` items into `to` per item it runs.
+    /// Lets `from` enqueue up to `fan_out` items into `to` per item it runs:
+    /// for bodies whose enqueues a loop makes, or whose fan-out depends on
+    /// data. Where the body's calls do have a bound (see [`Graph::connect`]),
+    /// a `fan_out` below it is a compile error,
+    /// [`CompileError::FanOutBelowBound`](crate::CompileError::FanOutBelowBound).
+    ///
+    /// What a run checks: every run counts the items a batch (a workgroup's
+    /// items) stages for `to` against the batch's room, items per batch times
+    /// the fan-out, and fails with
+    /// [`RunError::FanOutExceeded`](crate::RunError::FanOutExceeded) when it
+    /// overflows; the enqueues beyond the room are lost. Checked mode
+    /// ([`CompileOptions::checked`](crate::CompileOptions::checked)) counts
+    /// every item's enqueues against the fan-out itself, so that one item
+    /// over it fails the run with
+    /// [`RunError::ItemFanOutExceeded`](crate::RunError::ItemFanOutExceeded),
+    /// naming the item, even when its batch stayed within its room. That
+    /// check costs tens of percent of a run on lavapipe, hence checked mode
+    /// only (docs/scheduler.md, "Fan-out", has the measurements).
     pub fn connect_with_fan_out<A, B>(
         &mut self,
         from: &ProcedureId<A>,
@@ -288,7 +336,7 @@ impl Graph {
         self.connections.push(Connection {
             from: from.name().to_owned(),
             to: to.name().to_owned(),
-            fan_out,
+            fan_out: Some(fan_out),
         });
         self
     }

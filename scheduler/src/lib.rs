@@ -148,7 +148,9 @@ pub use runtime::error::RunError;
 pub use runtime::executor::{Binding, Executor};
 pub use runtime::pipeline_cache::{self, CompileTimings, PipelineCacheState};
 pub use runtime::readback;
-pub use runtime::report::{BoundsViolation, ProcedureStats, RetryCauses, RunReport};
+pub use runtime::report::{
+    BoundsViolation, FanOutViolation, ProcedureStats, RetryCauses, RunReport,
+};
 pub use runtime::reset::ResetContext;
 pub use runtime::retry::{LoopCheckFn, ResetFn, Retry};
 pub use runtime::seeds::Seeds;

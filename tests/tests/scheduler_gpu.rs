@@ -285,11 +285,13 @@ fn exceeding_the_declared_fan_out_is_reported() {
     let mut graph = Graph::new("greedy");
     let greedy = graph.procedure(Procedure::of::<Node>("Greedy").initial(true).body(
         "if (valid && item.depth == 0u) {
-    enqueue_Greedy(Node(1u, item.id));
-    enqueue_Greedy(Node(1u, item.id));
+    for (var k = 0u; k < 2u; k += 1u) {
+        enqueue_Greedy(Node(1u, item.id));
+    }
 }",
     ));
-    graph.connect(&greedy, &greedy); // fan-out 1, but each item enqueues 2
+    // Declared 1 (the loop hides the bound), but each item enqueues 2.
+    graph.connect_with_fan_out(&greedy, &greedy, 1);
     let compiled = graph.compile(&CompileOptions::default()).unwrap();
     let seeds: Vec<Node> = (0..256).map(|id| Node { depth: 0, id }).collect();
     match run(

@@ -9,7 +9,7 @@ use crate::codegen::kernels::{
     round_entry, runner,
 };
 use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
-use crate::codegen::{checked, codec, globals, helpers, trace};
+use crate::codegen::{checked, codec, fan_out, globals, helpers, trace};
 use crate::graph::Procedure;
 use crate::naming::{
     ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, encode_name, enqueue_name, queue_constant_name,
@@ -253,6 +253,12 @@ pub(crate) fn generate(
         module.functions.extend(checked::functions(plan));
     }
     module.functions.extend(trace::functions(plan));
+    let count_fan_out = crate::plan::fan_out::checked(plan);
+    if count_fan_out {
+        module.constants.extend(fan_out::constants(plan));
+        module.globals.extend(fan_out::globals(plan));
+        module.functions.extend(fan_out::functions());
+    }
     module.functions.push(policy_function(plan.policy));
     module.functions.extend(payload_functions(coherent));
     for (name, (_, layout)) in items {
@@ -269,6 +275,9 @@ pub(crate) fn generate(
                 queue.item, queue.name
             ))
             .param("item", &queue.item);
+        if count_fan_out {
+            f.line(format!("sched_fan_out_count({q}u);"));
+        }
         f.line(format!(
             "let base = sched_stage({q}u, {}u, {}u);",
             queue.stage_offset, queue.stage_capacity

@@ -3,7 +3,7 @@
 
 use crate::Policy;
 use crate::codegen::module::Function;
-use crate::codegen::{checked, helpers, trace};
+use crate::codegen::{checked, fan_out, helpers, trace};
 use crate::naming::{
     ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, copy_out_name, decode_name, round_entry_point,
     runner_name,
@@ -97,6 +97,10 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
             checked::RUNNING
         ));
     }
+    let count_fan_out = crate::plan::fan_out::checked(plan) && !queue.targets.is_empty();
+    if count_fan_out {
+        f.line(fan_out::slot_line());
+    }
     if plan.item_helpers {
         for line in helpers::runner_lines(tpi) {
             f.line(line);
@@ -138,6 +142,17 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
         f.line("    // The previous call is over in every thread before this one reuses");
         f.line("    // scratch and the body's workgroup variables.");
         f.line("    workgroupBarrier();");
+        if count_fan_out {
+            f.line("    if (chunk > 0u) {");
+            for line in fan_out::check_lines(plan, q, queue, "(chunk - 1u)") {
+                f.line(format!("        {line}"));
+            }
+            f.line("    }");
+            if tpi > 1 {
+                f.line("    // The item's other threads see its counts at zero.");
+                f.line("    workgroupBarrier();");
+            }
+        }
         for line in call("chunk") {
             f.line(format!("    {line}"));
         }
@@ -149,7 +164,7 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     f.line("// Every item was read: release the slots.");
     f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
     if !queue.targets.is_empty() {
-        flush_lines(&mut f, plan, queue);
+        flush_lines(&mut f, plan, q, queue);
     }
     f.line("if (lid == 0u) {");
     if let Some(line) = trace::runner_end(plan) {
@@ -169,10 +184,20 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
 /// slots in each target queue, every thread copies staged items into them,
 /// thread 0 publishes them, with one set of barriers for all targets
 /// (`sched_flush_begin` in the runtime says why).
-fn flush_lines(f: &mut Function, plan: &Plan, queue: &QueuePlan) {
+fn flush_lines(f: &mut Function, plan: &Plan, q: usize, queue: &QueuePlan) {
     f.line("// Publish the items staged for the targets: thread 0 reserves their");
     f.line("// slots, every thread copies, thread 0 publishes.");
     f.line("sched_flush_begin();");
+    if crate::plan::fan_out::checked(plan) {
+        let last = if plan.chunks_per_batch == 1 {
+            "0u"
+        } else {
+            "(chunk - 1u)"
+        };
+        for line in fan_out::check_lines(plan, q, queue, last) {
+            f.line(line);
+        }
+    }
     f.line("if (lid == 0u) {");
     for (i, &(t, _)) in queue.targets.iter().enumerate() {
         let target = &plan.queues[t];

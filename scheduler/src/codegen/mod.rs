@@ -5,6 +5,7 @@
 pub(crate) mod bindings;
 pub(crate) mod checked;
 pub(crate) mod codec;
+pub(crate) mod fan_out;
 pub(crate) mod generate;
 pub(crate) mod globals;
 pub(crate) mod graph_constants;

@@ -4,6 +4,7 @@
 pub(crate) mod checks;
 mod compiled;
 pub(crate) mod diagnostics;
+mod fan_out;
 pub(crate) mod layout;
 pub(crate) mod prune;
 pub(crate) mod workgroup;
@@ -69,8 +70,10 @@ impl Graph {
             }
         }
 
-        // Connections, merged per (from, to) keeping the largest fan-out.
-        let mut targets: Vec<BTreeMap<usize, u32>> = vec![BTreeMap::new(); self.procedures.len()];
+        // Declared fan-outs, merged per (from, to) keeping the largest; the
+        // pairs connected without one get theirs derived from the module.
+        let mut declared: Vec<BTreeMap<usize, u32>> = vec![BTreeMap::new(); self.procedures.len()];
+        let mut derived = BTreeSet::new();
         for c in &self.connections {
             let lookup = |name: &str| {
                 index
@@ -83,14 +86,26 @@ impl Graph {
                     })
             };
             let (from, to) = (lookup(&c.from)?, lookup(&c.to)?);
-            if c.fan_out == 0 {
-                return Err(CompileError::ZeroFanOut {
-                    from: c.from.clone(),
-                    to: c.to.clone(),
-                });
+            match c.fan_out {
+                Some(0) => {
+                    return Err(CompileError::ZeroFanOut {
+                        from: c.from.clone(),
+                        to: c.to.clone(),
+                    });
+                }
+                Some(fan_out) => {
+                    let entry = declared[from].entry(to).or_insert(0);
+                    *entry = (*entry).max(fan_out);
+                }
+                None => {
+                    derived.insert((from, to));
+                }
             }
-            let entry = targets[from].entry(to).or_insert(0);
-            *entry = (*entry).max(c.fan_out);
+        }
+        // Until the module is parsed, a derived fan-out counts as 1.
+        let mut targets = declared.clone();
+        for &(from, to) in &derived {
+            targets[from].entry(to).or_insert(1);
         }
 
         // Reachability from initial procedures.
@@ -121,43 +136,16 @@ impl Graph {
         crate::constant::check(&self.constants)?;
         let (items, extra_structs) = item_layouts(self)?;
 
-        let (queues, stage_words) =
-            build::queue_plans(&self.procedures, &targets, &items, workgroup_size, chunks);
-        let scratch_words = build::shared_scratch_words(&queues);
-        let scan_order = Plan::compute_scan_order(&queues, options.policy);
-        let plan = Plan {
-            graph_name: self.name.clone(),
-            workgroup_size,
-            chunks_per_batch: chunks,
-            policy: options.policy,
-            queues,
-            scan_order,
-            stage_words,
-            scratch_words,
-            resources: self.resources.clone(),
-            item_helpers: crate::codegen::helpers::used(&self.procedures, &self.library),
-            features: options.features,
-            checked: options.checked,
-            trace: options.trace,
-        };
-
-        let mut kernel = generate(
-            &plan,
-            &self.procedures,
-            &self.library,
-            &items,
-            &extra_structs,
-        );
-        kernel
-            .constants
-            .extend(graph_constants::declarations(&self.constants));
-        let rendered = kernel.render();
-        let (module, _info) = diagnostics::parse_and_validate(&rendered, options.features)?;
-        let generated = generated_names(&kernel);
-        checks::reserved_names(&module, &generated)?;
-        checks::scheduler_state_private(&module, &rendered, &generated)?;
-        checks::enqueue_call_graph(&module, &plan)?;
-        checks::resource_layouts(&module, &plan.resources)?;
+        let mut built = self.build(&targets, &items, &extra_structs, options)?;
+        let fan_outs = fan_out::targets(&built.module, &built.plan, &declared, &derived)?;
+        if fan_outs != targets {
+            built = self.build(&fan_outs, &items, &extra_structs, options)?;
+        }
+        let Built {
+            plan,
+            rendered,
+            module,
+        } = built;
         let workgroup_bytes = workgroup::check(
             &module,
             &plan,
@@ -174,6 +162,66 @@ impl Graph {
             module,
             workgroup_bytes,
             specialization,
+        })
+    }
+}
+
+/// A generated module, parsed, validated and checked, with its plan.
+struct Built {
+    plan: Plan,
+    rendered: Rendered,
+    module: naga::Module,
+}
+
+impl Graph {
+    /// Plans the queues for `targets` (per procedure: target and fan-out),
+    /// generates the module, and parses, validates and checks it.
+    fn build(
+        &self,
+        targets: &[BTreeMap<usize, u32>],
+        items: &BTreeMap<String, (String, ItemLayout)>,
+        extra_structs: &[ExtraStructs],
+        options: &CompileOptions,
+    ) -> Result<Built, CompileError> {
+        let (queues, stage_words) = build::queue_plans(
+            &self.procedures,
+            targets,
+            items,
+            options.workgroup_size,
+            options.chunks_per_batch,
+        );
+        let scratch_words = build::shared_scratch_words(&queues);
+        let scan_order = Plan::compute_scan_order(&queues, options.policy);
+        let plan = Plan {
+            graph_name: self.name.clone(),
+            workgroup_size: options.workgroup_size,
+            chunks_per_batch: options.chunks_per_batch,
+            policy: options.policy,
+            queues,
+            scan_order,
+            stage_words,
+            scratch_words,
+            resources: self.resources.clone(),
+            item_helpers: crate::codegen::helpers::used(&self.procedures, &self.library),
+            features: options.features,
+            checked: options.checked,
+            trace: options.trace,
+        };
+        let mut kernel = generate(&plan, &self.procedures, &self.library, items, extra_structs);
+        kernel
+            .constants
+            .extend(graph_constants::declarations(&self.constants));
+        let rendered = kernel.render();
+        let (module, _info) = diagnostics::parse_and_validate(&rendered, options.features)?;
+        let generated = generated_names(&kernel);
+        checks::reserved_names(&module, &generated)?;
+        checks::scheduler_state_private(&module, &rendered, &generated)?;
+        checks::enqueue_call_graph(&module, &plan)?;
+        checks::resource_layouts(&module, &plan.resources)?;
+        Ok(Built {
+            plan,
+            rendered,
+            module,
         })
     }
 }

@@ -7,6 +7,7 @@
 pub(crate) mod build;
 pub(crate) mod checked;
 pub(crate) mod control;
+pub(crate) mod fan_out;
 pub(crate) mod layout;
 
 use crate::{Policy, Resource};
@@ -84,10 +85,10 @@ impl Plan {
     }
 
     /// Control words the host reads back: the counters, then checked mode's
-    /// words per procedure and guarded resource.
+    /// words per procedure and guarded resource, and its per-item fan-out
+    /// words per procedure.
     pub(crate) fn control_words(&self) -> u32 {
-        control::words(self.queues.len())
-            + checked::WORDS_PER_CHECK * (self.queues.len() * self.guarded_resources().len()) as u32
+        fan_out::first_word(self) + fan_out::words(self)
     }
 
     pub(crate) fn queue_index(&self, name: &str) -> Option<usize> {

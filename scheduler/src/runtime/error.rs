@@ -99,6 +99,34 @@ pub enum RunError {
         /// The full report of the run.
         report: Box<RunReport>,
     },
+    /// Checked mode
+    /// ([`CompileOptions::checked`](crate::CompileOptions::checked)): an item
+    /// of `procedure` enqueued more items into `target` than the connection's
+    /// fan-out, even if its batch as a whole stayed within its staging room.
+    #[error(
+        "item {item} of `{procedure}` enqueued {count} items into `{target}`, over the declared fan-out of {declared} ({items} item(s) of `{procedure}` went over)"
+    )]
+    ItemFanOutExceeded {
+        /// The procedure whose item enqueued too much.
+        procedure: String,
+        /// The queue it enqueued into.
+        target: String,
+        /// The first offending item recorded, as its ticket in its
+        /// procedure's queue: the items seeded into a queue are its tickets
+        /// `0..` in the order given (on the run's first submission), and
+        /// every item enqueued later takes the next ticket.
+        item: u32,
+        /// The enqueues that item made into `target`.
+        count: u32,
+        /// The connection's fan-out.
+        declared: u32,
+        /// The items of `procedure` that went over a fan-out.
+        items: u64,
+        /// What else went wrong, in words (other violations included).
+        also: Vec<String>,
+        /// The full report of the run.
+        report: Box<RunReport>,
+    },
     /// A loop of the megakernel or of a body ran out of the driver's loop
     /// budget (llvmpipe caps every invocation's loops), so the run's results
     /// cannot be trusted. The scheduler finds its own cut waits, and checks
@@ -252,6 +280,7 @@ impl RunError {
         match self {
             Self::QueueOverflow { report, .. }
             | Self::FanOutExceeded { report, .. }
+            | Self::ItemFanOutExceeded { report, .. }
             | Self::OutOfBounds { report, .. }
             | Self::LoopLimit { report, .. }
             | Self::NoProgress { report, .. } => Some(report),

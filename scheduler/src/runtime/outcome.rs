@@ -4,8 +4,8 @@
 
 use std::time::Duration;
 
-use crate::plan::{Plan, checked, control};
-use crate::{BoundsViolation, ProcedureStats, RunError, RunReport, Strategy};
+use crate::plan::{Plan, checked, control, fan_out};
+use crate::{BoundsViolation, FanOutViolation, ProcedureStats, RunError, RunReport, Strategy};
 
 /// What a report is built from besides the control words.
 pub(crate) struct RunFacts<'a> {
@@ -54,6 +54,7 @@ pub(crate) fn report(facts: &RunFacts<'_>, counters: &[u32]) -> RunReport {
             })
             .collect(),
         bounds_violations: bounds_violations(facts.plan, counters),
+        fan_out_violations: fan_out_violations(facts.plan, counters),
         workgroups: facts.workgroups,
         submissions: facts.submissions,
         dispatches: facts.dispatches,
@@ -116,6 +117,39 @@ impl Cuts {
     }
 }
 
+/// Checked mode's items over a fan-out, one per procedure, from its words
+/// after the bounds checks'.
+fn fan_out_violations(plan: &Plan, counters: &[u32]) -> Vec<FanOutViolation> {
+    if !fan_out::checked(plan) {
+        return Vec::new();
+    }
+    let mut violations = Vec::new();
+    for (q, queue) in plan.queues.iter().enumerate() {
+        let word = (fan_out::first_word(plan) + fan_out::WORDS * q as u32) as usize;
+        let items = counters[word + fan_out::ITEMS as usize];
+        if items == 0 {
+            continue;
+        }
+        let target = counters[word + fan_out::TARGET as usize] as usize;
+        violations.push(FanOutViolation {
+            procedure: queue.name.clone(),
+            target: plan
+                .queues
+                .get(target)
+                .map_or_else(String::new, |t| t.name.clone()),
+            item: counters[word + fan_out::ITEM as usize],
+            count: counters[word + fan_out::COUNT as usize],
+            declared: queue
+                .targets
+                .iter()
+                .find(|&&(t, _)| t == target)
+                .map_or(0, |&(_, f)| f),
+            items: u64::from(items),
+        });
+    }
+    violations
+}
+
 /// Every problem `report` shows, in words: overflows first, then
 /// out-of-bounds accesses, loops the driver cut (`cuts`: the bodies' named
 /// first, as the cause of the scheduler's that follow), and fan-out
@@ -154,6 +188,12 @@ pub(crate) fn problems(report: &RunReport, cuts: Cuts) -> Vec<String> {
             cuts.waits
         ));
     }
+    problems.extend(report.fan_out_violations.iter().map(|v| {
+        format!(
+            "{} item(s) of `{}` went over a fan-out, first item {} with {} enqueues into `{}` (fan-out {})",
+            v.items, v.procedure, v.item, v.count, v.target, v.declared
+        )
+    }));
     problems.extend(
         report
             .procedures
@@ -207,6 +247,19 @@ pub(crate) fn judge(
             waits: cuts.waits,
             body_loops: cuts.body_loops,
             advice: advice(cuts.body_loops),
+            report: Box::new(report),
+        });
+    }
+    if let Some(v) = report.fan_out_violations.first() {
+        problems.remove(0);
+        return Err(RunError::ItemFanOutExceeded {
+            procedure: v.procedure.clone(),
+            target: v.target.clone(),
+            item: v.item,
+            count: v.count,
+            declared: v.declared,
+            items: v.items,
+            also: problems,
             report: Box::new(report),
         });
     }

@@ -54,6 +54,26 @@ pub struct BoundsViolation {
     pub bound: u32,
 }
 
+/// An item whose enqueues into one target went over the connection's
+/// fan-out, found in checked mode
+/// ([`CompileOptions::checked`](crate::CompileOptions::checked)).
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct FanOutViolation {
+    /// The procedure whose item enqueued.
+    pub procedure: String,
+    /// The queue it enqueued into.
+    pub target: String,
+    /// The first offending item recorded, as its ticket in `procedure`'s
+    /// queue (seeds are tickets `0..` in the order given).
+    pub item: u32,
+    /// The enqueues that item made into `target`.
+    pub count: u32,
+    /// The connection's fan-out.
+    pub declared: u32,
+    /// The items of `procedure` that went over a fan-out.
+    pub items: u64,
+}
+
 /// The retries of one [`Executor::run_with_retry`](crate::Executor::run_with_retry)
 /// call, by cause (all 0 for a run without retries).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -79,6 +99,10 @@ pub struct RunReport {
     /// Out-of-bounds accesses found in checked mode (always empty without).
     #[serde(default)]
     pub bounds_violations: Vec<BoundsViolation>,
+    /// Items over a fan-out found in checked mode, at most one per procedure
+    /// (always empty without).
+    #[serde(default)]
+    pub fan_out_violations: Vec<FanOutViolation>,
     /// Workgroups launched per dispatch.
     pub workgroups: u32,
     /// Command submissions it took, each followed by a read-back of the
