@@ -272,25 +272,6 @@ impl Quirks {
         self.loop_budget
             .map_or(DEFAULT_SPIN_LIMIT, |budget| budget.spin_limit)
     }
-
-    /// Persistent workgroups per megakernel dispatch when the configuration
-    /// names none: [`Quirks::megakernel_workgroups`] on drivers that run
-    /// workgroups on CPU threads, [`DEFAULT_WORKGROUPS`](crate::DEFAULT_WORKGROUPS)
-    /// elsewhere.
-    pub fn default_megakernel_workgroups(&self) -> u32 {
-        self.megakernel_workgroups()
-            .unwrap_or(crate::DEFAULT_WORKGROUPS)
-    }
-
-    /// Most workgroups per round dispatch when the configuration names
-    /// none: [`DEFAULT_WORKGROUPS`](crate::DEFAULT_WORKGROUPS) on every
-    /// adapter. Each round workgroup strides over the round's batches within
-    /// one loop, so on llvmpipe few workgroups would spend the loop budget
-    /// (2 workgroups ran into it even at 1 chunk per batch); many share the
-    /// batches out, and none waits on another.
-    pub fn default_round_workgroups(&self) -> u32 {
-        crate::DEFAULT_WORKGROUPS
-    }
 }
 
 #[cfg(test)]
@@ -339,124 +320,10 @@ mod tests {
             assert_eq!(quirks.cpu_workgroups, None, "{}", other.name);
             assert_eq!(quirks.default_iteration_budget(4), None);
             assert_eq!(quirks.spin_limit(), DEFAULT_SPIN_LIMIT);
-            assert_eq!(
-                quirks.default_megakernel_workgroups(),
-                crate::DEFAULT_WORKGROUPS
-            );
             assert_eq!(quirks.long_body_iteration_budget(4), None);
             assert_eq!(quirks.megakernel_workgroups(), None);
             assert_eq!(quirks.chunks_per_batch(), 1);
             assert_eq!(quirks.max_chunks_per_batch(), None);
         }
-    }
-
-    fn adapter(
-        name: &str,
-        vendor: u32,
-        device_type: wgpu::DeviceType,
-        backend: wgpu::Backend,
-    ) -> wgpu::AdapterInfo {
-        wgpu::AdapterInfo {
-            name: name.into(),
-            vendor,
-            ..wgpu::AdapterInfo::new(device_type, backend)
-        }
-    }
-
-    #[test]
-    fn auto_runs_the_megakernel_only_where_persistent_workgroups_are_known_safe() {
-        use crate::Strategy;
-        use wgpu::{Backend, DeviceType};
-        let lavapipe = info(
-            "llvmpipe (LLVM 15.0.6, 256 bits)",
-            "llvmpipe",
-            DeviceType::Cpu,
-        );
-        let cases = [
-            (lavapipe, Strategy::Megakernel),
-            (
-                adapter(
-                    "NVIDIA H200",
-                    NVIDIA,
-                    DeviceType::DiscreteGpu,
-                    Backend::Vulkan,
-                ),
-                Strategy::Megakernel,
-            ),
-            (
-                adapter(
-                    "AMD Radeon RX 7900",
-                    AMD,
-                    DeviceType::DiscreteGpu,
-                    Backend::Dx12,
-                ),
-                Strategy::Megakernel,
-            ),
-            // The same GPUs elsewhere, and every other platform: Rounds.
-            (
-                adapter("NVIDIA H200", NVIDIA, DeviceType::DiscreteGpu, Backend::Gl),
-                Strategy::rounds(),
-            ),
-            (
-                adapter(
-                    "AMD Radeon Pro",
-                    AMD,
-                    DeviceType::DiscreteGpu,
-                    Backend::Metal,
-                ),
-                Strategy::rounds(),
-            ),
-            (
-                adapter("Apple M2", 0, DeviceType::IntegratedGpu, Backend::Metal),
-                Strategy::rounds(),
-            ),
-            (
-                adapter(
-                    "AMD Radeon 780M",
-                    AMD,
-                    DeviceType::IntegratedGpu,
-                    Backend::Vulkan,
-                ),
-                Strategy::rounds(),
-            ),
-            (
-                adapter(
-                    "Intel Arc A770",
-                    0x8086,
-                    DeviceType::DiscreteGpu,
-                    Backend::Vulkan,
-                ),
-                Strategy::rounds(),
-            ),
-            (
-                info("SwiftShader Device", "SwiftShader driver", DeviceType::Cpu),
-                Strategy::rounds(),
-            ),
-            (
-                adapter(
-                    "Microsoft Basic Render Driver",
-                    0x1414,
-                    DeviceType::Cpu,
-                    Backend::Dx12,
-                ),
-                Strategy::rounds(),
-            ),
-        ];
-        for (adapter, expected) in cases {
-            let quirks = Quirks::of(&adapter);
-            assert_eq!(
-                Strategy::Auto.resolve(&quirks),
-                expected,
-                "{} on {:?}: {:?}",
-                adapter.name,
-                adapter.backend,
-                quirks.persistent_threads
-            );
-            // An explicit strategy is never changed.
-            assert_eq!(Strategy::Megakernel.resolve(&quirks), Strategy::Megakernel);
-            assert_eq!(Strategy::rounds().resolve(&quirks), Strategy::rounds());
-        }
-        // Every row says why.
-        assert!(Quirks::persistent_threads_table().all(|row| !row.reason.is_empty()));
     }
 }

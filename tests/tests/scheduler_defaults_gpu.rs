@@ -34,7 +34,7 @@ fn a_default_executor_takes_the_adapters_values_for_each_strategy() {
     .unwrap();
     assert_eq!(
         executor.workgroups(),
-        quirks.default_megakernel_workgroups()
+        quirks.megakernel_workgroups().unwrap_or(DEFAULT_WORKGROUPS)
     );
     assert_eq!(executor.round_workgroups(), DEFAULT_WORKGROUPS);
     assert_eq!(

@@ -39,8 +39,13 @@ impl Executor {
             "the bodies' own loops are too long for the driver: shorten them".to_owned()
         };
         match strategy {
-            Strategy::Rounds { .. } if !bodies && round_workgroups < DEFAULT_WORKGROUPS => format!(
-                "Under Rounds each workgroup strides over a round's batches within one loop budget, and {round_workgroups} workgroup(s) per round dispatch take too many batches each: raise `ExecutorConfig::round_workgroups` (default {DEFAULT_WORKGROUPS})."
+            Strategy::Rounds { .. } if round_workgroups < DEFAULT_WORKGROUPS => format!(
+                "Under Rounds each workgroup strides over its share of a round's batches within one loop budget, and {round_workgroups} workgroup(s) per round dispatch take many batches each: raise `ExecutorConfig::round_workgroups` (default {DEFAULT_WORKGROUPS}){}.",
+                if bodies {
+                    "; the bodies' own loops are too long for the driver, so shorten them too"
+                } else {
+                    ""
+                }
             ),
             Strategy::Rounds { .. } => format!(
                 "Under Rounds each workgroup runs its share of a round's batches in one dispatch, so {shorten}."

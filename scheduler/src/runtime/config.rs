@@ -4,8 +4,8 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use crate::CompiledGraph;
 use crate::codegen::uniform;
+use crate::{CompiledGraph, Quirks};
 
 /// Default queue capacity in items.
 pub const DEFAULT_CAPACITY: u32 = 1 << 16;
@@ -16,7 +16,7 @@ pub const DEFAULT_CAPACITY: u32 = 1 << 16;
 /// each of ~64 compute units). Launching more than are resident is safe (see
 /// docs/scheduler.md) but wastes a little; fewer leave the GPU partly idle.
 /// Drivers that run workgroups on CPU threads get fewer persistent ones
-/// ([`Quirks::default_megakernel_workgroups`](crate::Quirks::default_megakernel_workgroups)).
+/// ([`ExecutorConfig::megakernel_workgroups_on`]).
 /// Tune it with [`ExecutorConfig::workgroups`] and
 /// [`ExecutorConfig::round_workgroups`].
 pub const DEFAULT_WORKGROUPS: u32 = 256;
@@ -74,14 +74,14 @@ pub struct ExecutorConfig {
     /// Queue capacities.
     pub capacities: Capacities,
     /// Persistent workgroups per megakernel dispatch. `None`: the adapter's
-    /// default ([`Quirks::default_megakernel_workgroups`](crate::Quirks::default_megakernel_workgroups):
+    /// default ([`ExecutorConfig::megakernel_workgroups_on`]:
     /// one per CPU thread on llvmpipe, [`DEFAULT_WORKGROUPS`] elsewhere). A
     /// value set here is also the most workgroups per round dispatch unless
     /// [`ExecutorConfig::round_workgroups`] names its own.
     pub workgroups: Option<u32>,
     /// Most workgroups per round dispatch (Rounds strategy). `None`:
     /// [`ExecutorConfig::workgroups`] if set, else the adapter's default
-    /// ([`Quirks::default_round_workgroups`](crate::Quirks::default_round_workgroups),
+    /// ([`ExecutorConfig::round_workgroups_or_default`],
     /// [`DEFAULT_WORKGROUPS`] everywhere).
     pub round_workgroups: Option<u32>,
     /// Batches after which each workgroup leaves; the host then dispatches
@@ -111,6 +111,33 @@ impl Default for ExecutorConfig {
             timeout: DEFAULT_TIMEOUT,
             pipeline_cache_dir: None,
         }
+    }
+}
+
+impl ExecutorConfig {
+    /// Persistent workgroups per megakernel dispatch on an adapter with
+    /// `quirks`: [`ExecutorConfig::workgroups`] if set, else
+    /// [`Quirks::megakernel_workgroups`] (one per CPU thread on drivers that
+    /// run workgroups on CPU threads), else [`DEFAULT_WORKGROUPS`]. At least 1.
+    pub fn megakernel_workgroups_on(&self, quirks: &Quirks) -> u32 {
+        self.workgroups
+            .or_else(|| quirks.megakernel_workgroups())
+            .unwrap_or(DEFAULT_WORKGROUPS)
+            .max(1)
+    }
+
+    /// Most workgroups per round dispatch, on every adapter:
+    /// [`ExecutorConfig::round_workgroups`] if set, else
+    /// [`ExecutorConfig::workgroups`], else [`DEFAULT_WORKGROUPS`] on every
+    /// adapter. Each round workgroup strides over its share of a round's
+    /// batches within one loop, so on llvmpipe few workgroups would spend the
+    /// loop budget (2 ran into it even at 1 chunk per batch); many share the
+    /// batches out, and none waits on another. At least 1.
+    pub fn round_workgroups_or_default(&self) -> u32 {
+        self.round_workgroups
+            .or(self.workgroups)
+            .unwrap_or(DEFAULT_WORKGROUPS)
+            .max(1)
     }
 }
 

@@ -93,15 +93,8 @@ impl Executor {
             )));
         }
         let quirks = Quirks::of_device(device);
-        let workgroups = config
-            .workgroups
-            .unwrap_or_else(|| quirks.default_megakernel_workgroups())
-            .max(1);
-        let round_workgroups = config
-            .round_workgroups
-            .or(config.workgroups)
-            .unwrap_or_else(|| quirks.default_round_workgroups())
-            .max(1);
+        let workgroups = config.megakernel_workgroups_on(&quirks);
+        let round_workgroups = config.round_workgroups_or_default();
         limits::check_plan(plan, &device.limits(), workgroups.max(round_workgroups))?;
         let capacities: Vec<u32> = plan
             .queues

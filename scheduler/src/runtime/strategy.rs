@@ -95,4 +95,127 @@ mod tests {
         );
         assert_eq!(Strategy::default(), Strategy::Auto);
     }
+
+    fn adapter(
+        name: &str,
+        vendor: u32,
+        device_type: wgpu::DeviceType,
+        backend: wgpu::Backend,
+    ) -> wgpu::AdapterInfo {
+        wgpu::AdapterInfo {
+            name: name.into(),
+            vendor,
+            ..wgpu::AdapterInfo::new(device_type, backend)
+        }
+    }
+
+    #[test]
+    fn auto_runs_the_megakernel_only_where_persistent_workgroups_are_known_safe() {
+        use wgpu::{Backend, DeviceType};
+        const NVIDIA: u32 = 0x10de;
+        const AMD: u32 = 0x1002;
+        let lavapipe = wgpu::AdapterInfo {
+            driver: "llvmpipe".into(),
+            ..adapter(
+                "llvmpipe (LLVM 15.0.6, 256 bits)",
+                0x10005,
+                DeviceType::Cpu,
+                Backend::Vulkan,
+            )
+        };
+        let swiftshader = wgpu::AdapterInfo {
+            driver: "SwiftShader driver".into(),
+            ..adapter(
+                "SwiftShader Device",
+                0x1ae0,
+                DeviceType::Cpu,
+                Backend::Vulkan,
+            )
+        };
+        let megakernel = Strategy::Megakernel;
+        let rounds = Strategy::rounds();
+        let cases = [
+            (lavapipe, megakernel),
+            (
+                adapter(
+                    "NVIDIA H200",
+                    NVIDIA,
+                    DeviceType::DiscreteGpu,
+                    Backend::Vulkan,
+                ),
+                megakernel,
+            ),
+            (
+                adapter(
+                    "AMD Radeon RX 7900",
+                    AMD,
+                    DeviceType::DiscreteGpu,
+                    Backend::Dx12,
+                ),
+                megakernel,
+            ),
+            // The same GPUs elsewhere, and every other platform: Rounds.
+            (
+                adapter("NVIDIA H200", NVIDIA, DeviceType::DiscreteGpu, Backend::Gl),
+                rounds,
+            ),
+            (
+                adapter(
+                    "AMD Radeon Pro",
+                    AMD,
+                    DeviceType::DiscreteGpu,
+                    Backend::Metal,
+                ),
+                rounds,
+            ),
+            (
+                adapter("Apple M2", 0, DeviceType::IntegratedGpu, Backend::Metal),
+                rounds,
+            ),
+            (
+                adapter(
+                    "AMD Radeon 780M",
+                    AMD,
+                    DeviceType::IntegratedGpu,
+                    Backend::Vulkan,
+                ),
+                rounds,
+            ),
+            (
+                adapter(
+                    "Intel Arc A770",
+                    0x8086,
+                    DeviceType::DiscreteGpu,
+                    Backend::Vulkan,
+                ),
+                rounds,
+            ),
+            (swiftshader, rounds),
+            (
+                adapter(
+                    "Microsoft Basic Render Driver",
+                    0x1414,
+                    DeviceType::Cpu,
+                    Backend::Dx12,
+                ),
+                rounds,
+            ),
+        ];
+        for (adapter, expected) in cases {
+            let quirks = Quirks::of(&adapter);
+            assert_eq!(
+                Strategy::Auto.resolve(&quirks),
+                expected,
+                "{} on {:?}: {:?}",
+                adapter.name,
+                adapter.backend,
+                quirks.persistent_threads
+            );
+            // An explicit strategy is never changed.
+            assert_eq!(Strategy::Megakernel.resolve(&quirks), Strategy::Megakernel);
+            assert_eq!(Strategy::rounds().resolve(&quirks), Strategy::rounds());
+        }
+        // Every row says why.
+        assert!(Quirks::persistent_threads_table().all(|row| !row.reason.is_empty()));
+    }
 }
