@@ -194,6 +194,14 @@ impl fmt::Display for RunReport {
         if let Some(gpu) = self.gpu_time {
             write!(f, ", GPU {:.3} ms", gpu.as_secs_f64() * 1e3)?;
         }
+        if let Some(trace) = &self.trace {
+            write!(
+                f,
+                ", traced: {} batches ({} dropped)",
+                trace.batches,
+                trace.dropped()
+            )?;
+        }
         Ok(())
     }
 }

@@ -180,6 +180,30 @@ mod tests {
             .collect()
     }
 
+    /// The fields the Trace Event Format asks of each kind of event.
+    #[test]
+    fn every_event_has_the_fields_of_its_kind() {
+        let json: Value = serde_json::from_str(&trace().to_chrome_json()).unwrap();
+        for event in json["traceEvents"].as_array().unwrap() {
+            assert!(event["name"].is_string(), "{event}");
+            assert!(event["pid"].is_u64(), "{event}");
+            match event["ph"].as_str() {
+                Some("X") => {
+                    for field in ["tid", "ts", "dur"] {
+                        assert!(event[field].is_u64(), "{field}: {event}");
+                    }
+                }
+                Some("C") => {
+                    assert!(event["ts"].is_u64(), "{event}");
+                    let args = event["args"].as_object().unwrap();
+                    assert!(args.values().all(Value::is_number), "{event}");
+                }
+                Some("M") => assert!(event["args"].is_object(), "{event}"),
+                other => panic!("unexpected phase {other:?}: {event}"),
+            }
+        }
+    }
+
     #[test]
     fn the_export_has_a_track_per_workgroup_a_counter_per_queue_and_the_submissions() {
         let json: Value = serde_json::from_str(&trace().to_chrome_json()).unwrap();
