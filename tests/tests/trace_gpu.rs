@@ -80,10 +80,10 @@ fn check_complete(trace: &Trace, report: &RunReport, items_per_batch: u32) {
     }
     let submissions: BTreeSet<u32> = trace.records.iter().map(|r| r.submission).collect();
     assert!(
-        submissions.iter().all(|&s| s < report.dispatches),
+        submissions.iter().all(|&s| s < report.submissions),
         "{submissions:?}: {context}"
     );
-    assert_eq!(trace.submissions.len() as u32, report.dispatches);
+    assert_eq!(trace.submissions.len() as u32, report.submissions);
 }
 
 #[gpu_test]
@@ -177,11 +177,11 @@ fn a_trace_spans_every_submission_and_the_last_attempt_of_a_retried_run() {
     };
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &budget).unwrap();
     let report = executor.run(&seeds, &[]).unwrap();
-    assert!(report.dispatches > 1, "{report}");
+    assert!(report.submissions > 1, "{report}");
     let trace = report.trace().unwrap();
     check_complete(trace, &report, 256);
     let submissions: BTreeSet<u32> = trace.records.iter().map(|r| r.submission).collect();
-    assert_eq!(submissions.len() as u32, report.dispatches, "{report}");
+    assert_eq!(submissions.len() as u32, report.submissions, "{report}");
 
     let mut small = Executor::new(&gpu.device, &gpu.queue, &compiled, &config(2, 16)).unwrap();
     let report = small
