@@ -5,10 +5,10 @@ use std::collections::BTreeMap;
 
 use crate::SourceOrigin;
 use crate::codegen::kernels::{
-    copy_out_function, entry_point, payload_functions, policy_function, prepare_entry_point,
-    round_entry, runner,
+    copy_out_function, entry_point, payload_functions, policy_function, runner,
 };
 use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
+use crate::codegen::rounds;
 use crate::codegen::{checked, codec, globals, helpers};
 use crate::graph::Procedure;
 use crate::naming::{
@@ -293,10 +293,7 @@ pub(crate) fn generate(
         module.functions.push(runner(plan, q, queue));
     }
     module.functions.push(entry_point(plan));
-    module.functions.push(prepare_entry_point());
-    for (q, queue) in plan.queues.iter().enumerate() {
-        module.functions.push(round_entry(plan, q, queue));
-    }
+    module.functions.extend(rounds::functions(plan));
     module
 }
 
