@@ -1,12 +1,16 @@
 //! The Rounds strategy's round kernels: their batch functions leave out the
-//! megakernel's queue fences, and a workgroup that runs several batches of a
-//! round keeps every child it staged.
+//! megakernel's queue fences, a workgroup that runs several batches of a
+//! round keeps every child it staged, and a procedure that shares nothing
+//! between threads runs without any barrier.
 
 use std::time::Duration;
 
 use gpu_test::gpu_test;
 use rand::{Rng, SeedableRng, rngs::StdRng};
-use scheduler::{Binding, CompileOptions, Executor, Seeds, Strategy, readback::read_buffer, wgpu};
+use scheduler::{
+    Binding, CompileOptions, Executor, Graph, Procedure, Resource, Seeds, Strategy,
+    readback::read_buffer, wgpu,
+};
 use tests::config;
 use tests::graphs::{Node, binary_tree, hash_rounds, hashing_tree, ping_pong, scratch_sum};
 
@@ -122,5 +126,96 @@ fn one_workgroup_reusing_its_staging_keeps_every_child() {
             hash_rounds(id),
             "item {id} of {items} (depth {depth}, {chunks_per_batch} chunk(s) per batch)"
         );
+    }
+}
+
+/// `Root` hands each item to `Leaf`, which writes `out[id]` and enqueues
+/// nothing: `Leaf` needs no barrier, `Root` does (its flush).
+fn root_and_leaf(leaf_body: &str) -> Graph {
+    let mut graph = Graph::new("root and leaf");
+    graph.resource(Resource::storage::<[u32]>("out"));
+    let root = graph.procedure(
+        Procedure::of::<Node>("Root")
+            .initial(true)
+            .body("if (valid) { enqueue_Leaf(item); }"),
+    );
+    let leaf = graph.procedure(Procedure::of::<Node>("Leaf").body(leaf_body));
+    graph.connect(&root, &leaf);
+    graph
+}
+
+#[test]
+fn a_procedure_that_shares_nothing_gets_a_round_kernel_without_barriers() {
+    let chunks = StdRng::seed_from_u64(tests::seed("round_barrier_free")).random_range(1..=4);
+    let options = CompileOptions {
+        chunks_per_batch: chunks,
+        ..CompileOptions::default()
+    };
+    let barriers = ["Barrier(", "workgroupUniformLoad("];
+    let plain = root_and_leaf("if (valid) { out[item.id] = item.depth; }")
+        .compile(&options)
+        .unwrap();
+    let wgsl = plain.wgsl();
+    for name in ["sched_batch_Leaf", "sched_round_Leaf"] {
+        let text = function(wgsl, name);
+        for barrier in barriers {
+            assert!(!text.contains(barrier), "{chunks} chunk(s):\n{text}");
+        }
+    }
+    // Root flushes, and a body that synchronizes keeps its barriers.
+    assert!(function(wgsl, "sched_round_Root").contains("workgroupUniformLoad("));
+    let synchronizing = root_and_leaf("workgroupBarrier();\nif (valid) { out[item.id] = 1u; }")
+        .compile(&options)
+        .unwrap();
+    assert!(function(synchronizing.wgsl(), "sched_round_Leaf").contains("workgroupUniformLoad("));
+}
+
+/// The barrier-free round kernel computes what the megakernel computes, with
+/// one workgroup striding over many batches.
+#[gpu_test]
+fn a_round_kernel_without_barriers_runs_every_item_once() {
+    let gpu = tests::gpu();
+    let mut rng = StdRng::seed_from_u64(tests::seed("round_barrier_free_run"));
+    let count = rng.random_range(600..5000u32);
+    let chunks_per_batch = rng.random_range(1..=4);
+    let graph = root_and_leaf("if (valid) { out[item.id] += item.depth + 1u; }");
+    let options = CompileOptions {
+        chunks_per_batch,
+        ..CompileOptions::default()
+    };
+    let compiled = graph.compile(&options).unwrap();
+    let root = compiled.procedure_id::<Node>("Root").unwrap();
+    let seeds: Vec<Node> = (0..count).map(|id| Node { depth: id % 7, id }).collect();
+    for workgroups in [1, 3] {
+        let out = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("out"),
+            size: 4 * u64::from(count),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let mut executor = Executor::new(
+            &gpu.device,
+            &gpu.queue,
+            &compiled,
+            &config(workgroups, count),
+        )
+        .unwrap();
+        let report = executor
+            .run_with(
+                Strategy::rounds(),
+                &Seeds::new().add(&root, &seeds),
+                &[Binding::buffer("out", &out)],
+            )
+            .unwrap();
+        assert_eq!(report.rounds, 2, "{report}");
+        let bytes = read_buffer(&gpu.device, &gpu.queue, &out, Duration::from_secs(30)).unwrap();
+        let values: &[u32] = bytemuck::cast_slice(&bytes);
+        for (id, &value) in values.iter().enumerate() {
+            assert_eq!(
+                value,
+                id as u32 % 7 + 1,
+                "item {id} of {count}, {workgroups} workgroup(s), {chunks_per_batch} chunk(s)"
+            );
+        }
     }
 }

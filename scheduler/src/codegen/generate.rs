@@ -293,7 +293,9 @@ pub(crate) fn generate(
         module.functions.push(runner(plan, q, queue));
     }
     module.functions.push(entry_point(plan));
-    module.functions.extend(rounds::functions(plan));
+    module
+        .functions
+        .extend(rounds::functions(plan, procedures, library));
     module
 }
 

@@ -12,6 +12,7 @@
 
 use crate::codegen::module::Function;
 use crate::codegen::{checked, helpers};
+use crate::graph::Procedure;
 use crate::naming::{
     PREPARE_ENTRY_POINT, body_name, copy_out_name, decode_name, round_entry_point,
     round_runner_name,
@@ -20,13 +21,35 @@ use crate::plan::{Plan, QueuePlan};
 
 /// The Rounds functions of `plan`, in module order: the prepare kernel, then
 /// per procedure its batch function and its round kernel.
-pub(crate) fn functions(plan: &Plan) -> Vec<Function> {
+pub(crate) fn functions(plan: &Plan, procedures: &[Procedure], library: &str) -> Vec<Function> {
     let mut functions = vec![prepare_entry_point()];
-    for (q, queue) in plan.queues.iter().enumerate() {
-        functions.push(round_runner(plan, q, queue));
-        functions.push(round_entry(plan, q, queue));
+    for ((q, queue), procedure) in plan.queues.iter().enumerate().zip(procedures) {
+        let free = barrier_free(plan, queue, procedure, library);
+        functions.push(round_runner(plan, q, queue, free));
+        functions.push(round_entry(plan, q, queue, free));
     }
     functions
+}
+
+/// Whether a procedure's round kernel can do without any barrier: it
+/// enqueues nothing (no flush), shares nothing between threads (no scratch,
+/// no item-wide helpers), and neither its body nor the graph's library
+/// synchronizes or declares workgroup memory (a plain text test, which errs
+/// on the side of barriers). llvmpipe compiles a kernel without barriers
+/// into a plain loop over the workgroup's SIMD groups instead of coroutines
+/// that keep the loop state of bodies in memory (docs/performance.md).
+fn barrier_free(plan: &Plan, queue: &QueuePlan, procedure: &Procedure, library: &str) -> bool {
+    let synchronizes = |text: &str| {
+        ["Barrier", "workgroupUniformLoad", "workgroup>"]
+            .iter()
+            .any(|word| text.contains(word))
+    };
+    queue.targets.is_empty()
+        && queue.scratch_words == 0
+        && procedure.scratch_type.is_none()
+        && !plan.item_helpers
+        && !synchronizes(&procedure.body)
+        && !synchronizes(library)
 }
 
 /// The prepare kernel: one thread retires the round that ran and sizes the
@@ -48,7 +71,8 @@ fn prepare_entry_point() -> Function {
 /// One batch of a procedure inside a round: decode, run the body, flush the
 /// children into their queues. Between two batches of one workgroup the
 /// round kernel puts the barriers (scratch and staging are reused).
-fn round_runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
+/// `barrier_free`: see [`barrier_free`].
+fn round_runner(plan: &Plan, q: usize, queue: &QueuePlan, barrier_free: bool) -> Function {
     let tpi = queue.threads_per_item;
     let per_chunk = queue.items_per_workgroup;
     let mut f = Function::new(round_runner_name(&queue.name))
@@ -100,9 +124,11 @@ fn round_runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
         f.line(format!(
             "for (; chunk * {per_chunk}u < count; chunk += 1u) {{"
         ));
-        f.line("    // The previous call is over in every thread before this one reuses");
-        f.line("    // scratch and the body's workgroup variables.");
-        f.line("    workgroupBarrier();");
+        if !barrier_free {
+            f.line("    // The previous call is over in every thread before this one reuses");
+            f.line("    // scratch and the body's workgroup variables.");
+            f.line("    workgroupBarrier();");
+        }
         for line in call("chunk") {
             f.line(format!("    {line}"));
         }
@@ -166,8 +192,9 @@ fn round_flush_lines(f: &mut Function, plan: &Plan, queue: &QueuePlan) {
 }
 
 /// One procedure's round kernel: workgroups stride over the batches of the
-/// round's items; nobody waits on another workgroup.
-fn round_entry(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
+/// round's items; nobody waits on another workgroup. Without barriers
+/// (`barrier_free`), every thread reads the round's range itself.
+fn round_entry(plan: &Plan, q: usize, queue: &QueuePlan, barrier_free: bool) -> Function {
     let mut f = Function::new(round_entry_point(&queue.name))
         .doc(format!(
             "Rounds strategy: runs the `{}` items queued before this round, children go to the next round.",
@@ -180,25 +207,32 @@ fn round_entry(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
         .push(format!("@compute @workgroup_size({})", plan.workgroup_size));
     f.line("sched_rounds = true;");
     f.line("sched_wg_base = workgroup.x * SCHED_WORKGROUP_WORDS;");
-    f.line("if (lid == 0u) {");
-    f.line(format!(
-        "    sched_wg_pick = vec4<u32>(sched_round_range({q}u), 0u, 0u);"
-    ));
-    f.line("}");
-    f.line("let range = workgroupUniformLoad(&sched_wg_pick).xy;");
+    if barrier_free {
+        f.line("// No barrier anywhere: every thread reads the range.");
+        f.line(format!("let range = sched_round_range({q}u);"));
+    } else {
+        f.line("if (lid == 0u) {");
+        f.line(format!(
+            "    sched_wg_pick = vec4<u32>(sched_round_range({q}u), 0u, 0u);"
+        ));
+        f.line("}");
+        f.line("let range = workgroupUniformLoad(&sched_wg_pick).xy;");
+    }
     f.line(format!("let per = {}u;", queue.items_per_batch));
     f.line("// Grid-stride over batches: the dispatch size may be clamped.");
     f.line("var batch = workgroup.x;");
     f.line("for (; batch * per < range.y; batch += groups.x) {");
-    f.line("    if (batch != workgroup.x) {");
-    f.line("        // The previous batch is over in every thread before this one reuses");
-    f.line("        // scratch and the body's workgroup variables.");
-    f.line("        workgroupBarrier();");
-    if !queue.targets.is_empty() {
-        f.line("        // Its copies have read the staging area.");
-        f.line("        storageBarrier();");
+    if !barrier_free {
+        f.line("    if (batch != workgroup.x) {");
+        f.line("        // The previous batch is over in every thread before this one reuses");
+        f.line("        // scratch and the body's workgroup variables.");
+        f.line("        workgroupBarrier();");
+        if !queue.targets.is_empty() {
+            f.line("        // Its copies have read the staging area.");
+            f.line("        storageBarrier();");
+        }
+        f.line("    }");
     }
-    f.line("    }");
     f.line(format!(
         "    {}(lid, range.x + batch * per, min(per, range.y - batch * per));",
         round_runner_name(&queue.name)
