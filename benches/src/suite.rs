@@ -329,7 +329,7 @@ mod tests {
         let report = run_suite(&gpu, &config, |_| {}).unwrap();
         // Per work level: flat, then 2 chunk counts x (2 workgroup counts x 2
         // budgets + 1 Rounds row).
-        assert_eq!(report.rows.len(), 20);
+        assert_eq!(report.rows.len(), 22);
         for row in &report.rows {
             assert!(row.items_per_second > 0.0, "{row:?}");
         }
