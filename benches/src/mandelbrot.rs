@@ -52,8 +52,11 @@ pub struct MandelbrotConfig {
     pub runs: u32,
     /// Megakernel workgroup counts, one row each per chunk count.
     pub workgroups: Vec<u32>,
-    /// Chunks per batch to compile with, one megakernel and one Rounds row each.
+    /// Chunks per batch to compile with, one row per variant each.
     pub chunks: Vec<u32>,
+    /// Most workgroups per round dispatch, one Rounds row each per chunk
+    /// count.
+    pub rounds_workgroups: Vec<u32>,
 }
 
 /// One measured variant.
@@ -308,8 +311,13 @@ pub fn run_mandelbrot(
             .workgroups
             .iter()
             .map(|&w| (Strategy::Megakernel, w, false))
+            .chain(
+                config
+                    .rounds_workgroups
+                    .iter()
+                    .map(|&w| (Strategy::rounds(), w, false)),
+            )
             .chain([
-                (Strategy::rounds(), scheduler::DEFAULT_WORKGROUPS, false),
                 // Checked mode's cost: the default megakernel with every
                 // index into `counts` guarded.
                 (Strategy::Megakernel, scheduler::DEFAULT_WORKGROUPS, true),
@@ -409,6 +417,7 @@ mod tests {
             runs: 1,
             workgroups: vec![scheduler::DEFAULT_WORKGROUPS, 3],
             chunks: vec![1, 4],
+            rounds_workgroups: vec![scheduler::DEFAULT_WORKGROUPS],
         };
         let report = run_mandelbrot(&gpu, &config, |_| {}).unwrap();
         // Flat, then per chunk count: 2 megakernel rows, 1 Rounds row and

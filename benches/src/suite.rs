@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use scheduler::{Capacities, ExecutorConfig, Gpu};
+use scheduler::{Capacities, ExecutorConfig, Gpu, Strategy};
 
 use crate::BenchError;
 use crate::flat::FlatKernel;
@@ -31,6 +31,9 @@ pub struct BenchConfig {
     /// Chunks per batch the megakernel is compiled with, one row each per
     /// workgroup count and budget ([`scheduler::CompileOptions::chunks_per_batch`]).
     pub chunks: Vec<u32>,
+    /// Most workgroups per round dispatch, one Rounds row each per chunk
+    /// count; empty: no Rounds rows.
+    pub rounds_workgroups: Vec<u32>,
 }
 
 /// Which variant a row measures.
@@ -50,6 +53,15 @@ pub enum Variant {
         /// Chunks per batch of the compiled module.
         chunks: u32,
     },
+    /// The Rounds strategy over the same compiled module.
+    Rounds {
+        /// Most workgroups per round dispatch.
+        workgroups: u32,
+        /// Queue capacity in items.
+        capacity: u32,
+        /// Chunks per batch of the compiled module.
+        chunks: u32,
+    },
 }
 
 impl Variant {
@@ -66,6 +78,11 @@ impl Variant {
                 "megakernel wg={workgroups} cap={capacity} budget={} chunks={chunks}",
                 budget_label(*iteration_budget)
             ),
+            Self::Rounds {
+                workgroups,
+                capacity,
+                chunks,
+            } => format!("rounds wg={workgroups} cap={capacity} chunks={chunks}"),
         }
     }
 }
@@ -146,8 +163,8 @@ pub fn measure_flat(
     Ok(Timings::new(times, &walls, flat.time_source()))
 }
 
-/// Times the megakernel like [`measure_flat`]; also returns the high-water
-/// mark and dispatch count of the median run.
+/// Times the megakernel or Rounds like [`measure_flat`]; also returns the
+/// high-water mark and submission count of the median run.
 pub fn measure_megakernel(
     gpu: &Gpu,
     compiled: &scheduler::CompiledGraph,
@@ -156,14 +173,21 @@ pub fn measure_megakernel(
     runs: u32,
     expected: &[u32],
 ) -> Result<(Timings, u64, u32), BenchError> {
-    let Variant::Megakernel {
-        workgroups,
-        capacity,
-        iteration_budget,
-        ..
-    } = variant
-    else {
-        return Err(BenchError::Config("not a megakernel variant".into()));
+    let (workgroups, capacity, iteration_budget, strategy) = match variant {
+        Variant::Megakernel {
+            workgroups,
+            capacity,
+            iteration_budget,
+            ..
+        } => (workgroups, capacity, iteration_budget, Strategy::Megakernel),
+        Variant::Rounds {
+            workgroups,
+            capacity,
+            ..
+        } => (workgroups, capacity, None, Strategy::rounds()),
+        Variant::Flat => {
+            return Err(BenchError::Config("not a scheduled variant".into()));
+        }
     };
     let name = label(&workload, &variant);
     let config = ExecutorConfig {
@@ -173,6 +197,7 @@ pub fn measure_megakernel(
         ..ExecutorConfig::default()
     };
     let mut tree = SpawnTree::new(&gpu.device, &gpu.queue, compiled, workload, &config)?;
+    tree.set_strategy(strategy);
     let (_, mut source) = tree.run_verified(expected, &name)?;
     let mut samples = Vec::with_capacity(runs as usize);
     for _ in 0..runs {
@@ -243,6 +268,15 @@ pub fn run_suite(
                         chunks,
                     })
             });
+            let rounds = config
+                .rounds_workgroups
+                .iter()
+                .map(|&workgroups| Variant::Rounds {
+                    workgroups,
+                    capacity,
+                    chunks,
+                });
+            let variants = variants.chain(rounds);
             for variant in variants {
                 let (timings, high_water, dispatches) =
                     measure_megakernel(gpu, &compiled, workload, variant, config.runs, &expected)?;
@@ -290,10 +324,12 @@ mod tests {
             iteration_budgets: vec![recommended_iteration_budget(&gpu.describe()), Some(5)],
             capacity: None,
             chunks: vec![1, 3],
+            rounds_workgroups: vec![scheduler::DEFAULT_WORKGROUPS],
         };
         let report = run_suite(&gpu, &config, |_| {}).unwrap();
-        // Per work level: flat, then 2 chunk counts x 2 workgroup counts x 2 budgets.
-        assert_eq!(report.rows.len(), 18);
+        // Per work level: flat, then 2 chunk counts x (2 workgroup counts x 2
+        // budgets + 1 Rounds row).
+        assert_eq!(report.rows.len(), 22);
         for row in &report.rows {
             assert!(row.items_per_second > 0.0, "{row:?}");
         }

@@ -58,6 +58,17 @@ pub fn format_row(row: &Row) -> String {
             capacity.to_string(),
             budget_label(iteration_budget),
         ),
+        Variant::Rounds {
+            workgroups,
+            capacity,
+            chunks,
+        } => (
+            "rounds",
+            workgroups.to_string(),
+            chunks.to_string(),
+            capacity.to_string(),
+            "-".to_owned(),
+        ),
     };
     format!(
         "{:>5}  {:<11}{:>6}{:>7}{:>10}{:>7}  {:>11}{:>11}{:>11}{:>10}  {:>11.3e}{:>8.3}{:>11}{:>6}  {}",

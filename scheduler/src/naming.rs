@@ -39,6 +39,12 @@ pub(crate) fn round_entry_point(procedure: &str) -> String {
     format!("sched_round_{procedure}")
 }
 
+/// Name of the function that runs one batch of a procedure inside a round
+/// (the Rounds strategy's counterpart of [`runner_name`]).
+pub(crate) fn round_runner_name(procedure: &str) -> String {
+    format!("sched_batch_{procedure}")
+}
+
 /// Name of the function holding a procedure's body.
 pub(crate) fn body_name(procedure: &str) -> String {
     format!("{BODY_PREFIX}{procedure}")

@@ -2,7 +2,8 @@
 //!
 //! ```text
 //! cargo run --release -p benches --bin scheduler-bench -- \
-//!     [--items-log2 20] [--runs 7] [--workgroups N ...] [--chunks N ...] [--capacity N] \
+//!     [--items-log2 20] [--runs 7] [--workgroups N ...] [--chunks N ...] \
+//!     [--rounds-workgroups N ...] [--capacity N] \
 //!     [--mandelbrot-size 512] [--mandelbrot-max-iter 1024] [--json FILE] \
 //!     [--trace FILE [--trace-rounds] [--trace-capacity N]]
 //! ```
@@ -15,8 +16,9 @@
 //! runs side by side.
 //!
 //! Prints two tables measured in this one process. The spawn tree: for work
-//! 64 and work 0, the flat dispatch and the megakernel at the default
-//! workgroup count plus any `--workgroups` given. The Mandelbrot set by
+//! 64 and work 0, the flat dispatch, the megakernel at the default
+//! workgroup count plus any `--workgroups` given, and the Rounds strategy at
+//! each `--rounds-workgroups`. The Mandelbrot set by
 //! Mariani–Silver subdivision (`scheduler/examples/mandelbrot.rs`): a flat
 //! per-pixel dispatch, the megakernel at the same workgroup counts and the
 //! Rounds strategy, for each `--chunks`. Every variant is verified against a
@@ -58,6 +60,9 @@ struct Args {
     /// (`scheduler::CompileOptions::chunks_per_batch`).
     #[arg(long, num_args = 1.., default_values_t = [1, 4])]
     chunks: Vec<u32>,
+    /// Most workgroups per round dispatch, one Rounds row each per `--chunks`.
+    #[arg(long, num_args = 1.., default_values_t = [DEFAULT_WORKGROUPS])]
+    rounds_workgroups: Vec<u32>,
     /// Megakernel queue capacity in items (default: the item count).
     #[arg(long)]
     capacity: Option<u32>,
@@ -122,6 +127,7 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         iteration_budgets,
         capacity: args.capacity,
         chunks: args.chunks.clone(),
+        rounds_workgroups: args.rounds_workgroups.clone(),
     };
     println!("command: {command_line}");
     println!("adapter: {adapter}");
@@ -154,6 +160,7 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             runs: args.runs,
             workgroups: report.config.workgroups.clone(),
             chunks: args.chunks.clone(),
+            rounds_workgroups: args.rounds_workgroups.clone(),
         };
         println!();
         println!(

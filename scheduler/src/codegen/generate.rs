@@ -5,11 +5,10 @@ use std::collections::BTreeMap;
 
 use crate::SourceOrigin;
 use crate::codegen::kernels::{
-    copy_out_function, entry_point, payload_functions, policy_function, prepare_entry_point,
-    round_entry, runner,
+    copy_out_function, entry_point, payload_functions, policy_function, runner,
 };
 use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
-use crate::codegen::{checked, codec, fan_out, globals, helpers, trace};
+use crate::codegen::{checked, codec, fan_out, globals, helpers, rounds, trace};
 use crate::graph::Procedure;
 use crate::naming::{
     ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, encode_name, enqueue_name, queue_constant_name,
@@ -311,10 +310,9 @@ pub(crate) fn generate(
         module.functions.push(runner(plan, q, queue));
     }
     module.functions.push(entry_point(plan));
-    module.functions.push(prepare_entry_point());
-    for (q, queue) in plan.queues.iter().enumerate() {
-        module.functions.push(round_entry(plan, q, queue));
-    }
+    module
+        .functions
+        .extend(rounds::functions(plan, procedures, library));
     module
 }
 

@@ -4,10 +4,7 @@
 use crate::Policy;
 use crate::codegen::module::Function;
 use crate::codegen::{checked, fan_out, helpers, trace};
-use crate::naming::{
-    ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, copy_out_name, decode_name, round_entry_point,
-    runner_name,
-};
+use crate::naming::{ENTRY_POINT, body_name, copy_out_name, decode_name, runner_name};
 use crate::plan::layout::PACKET_WORDS;
 use crate::plan::{Plan, QueuePlan};
 
@@ -271,60 +268,5 @@ pub(crate) fn entry_point(plan: &Plan) -> Function {
     f.line("    }");
     f.line("}");
     f.line("sched_check_left_in_step(finished || iteration >= budget);");
-    f
-}
-
-/// The Rounds strategy's prepare kernel: one thread retires the round that ran
-/// and sizes the next one for every queue.
-pub(crate) fn prepare_entry_point() -> Function {
-    let mut f = Function::new(PREPARE_ENTRY_POINT)
-        .doc("Rounds strategy: between two rounds, retire the round that ran and size the next one's indirect dispatches.");
-    f.attributes.push("@compute @workgroup_size(1)".to_owned());
-    f.line("var items = 0u;");
-    f.line("for (var q = 0u; q < SCHED_NUM_QUEUES; q += 1u) {");
-    f.line("    items += sched_prepare_queue(q);");
-    f.line("}");
-    f.line("if (items > 0u) {");
-    f.line("    atomicAdd(&sched_control[SCHED_CTRL_ROUNDS], 1u);");
-    f.line("}");
-    f
-}
-
-/// One procedure's kernel for the Rounds strategy: workgroups stride over the
-/// batches of the round's items; nobody waits on another workgroup.
-pub(crate) fn round_entry(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
-    let mut f = Function::new(round_entry_point(&queue.name))
-        .doc(format!(
-            "Rounds strategy: runs the `{}` items queued before this round, children go to the next round.",
-            queue.name
-        ))
-        .param("@builtin(local_invocation_index) lid", "u32")
-        .param("@builtin(workgroup_id) workgroup", "vec3<u32>")
-        .param("@builtin(num_workgroups) groups", "vec3<u32>");
-    f.attributes
-        .push(format!("@compute @workgroup_size({})", plan.workgroup_size));
-    f.line("sched_rounds = true;");
-    f.line("sched_wg_base = workgroup.x * SCHED_WORKGROUP_WORDS;");
-    if let Some(line) = trace::entry_lines(plan) {
-        f.line(line);
-    }
-    f.line("if (lid == 0u) {");
-    f.line(format!(
-        "    sched_wg_pick = vec4<u32>(sched_round_range({q}u), 0u, 0u);"
-    ));
-    f.line("}");
-    f.line("let range = workgroupUniformLoad(&sched_wg_pick).xy;");
-    f.line(format!("let per = {}u;", queue.items_per_batch));
-    f.line("// Grid-stride over batches: the dispatch size may be clamped.");
-    f.line("var batch = workgroup.x;");
-    f.line("for (; batch * per < range.y; batch += groups.x) {");
-    f.line(format!(
-        "    {}(lid, range.x + batch * per, min(per, range.y - batch * per));",
-        runner_name(&queue.name)
-    ));
-    f.line("}");
-    f.line("// A driver that cut a loop short (llvmpipe's loop limit) may have");
-    f.line("// skipped items or part of a body: flag it so the run fails loudly.");
-    f.line("sched_check_left_in_step(batch * per >= range.y);");
     f
 }

@@ -12,5 +12,6 @@ pub(crate) mod graph_constants;
 pub(crate) mod helpers;
 pub(crate) mod kernels;
 pub(crate) mod module;
+pub(crate) mod rounds;
 pub(crate) mod trace;
 pub(crate) mod uniform;
