@@ -57,12 +57,24 @@ pub struct CpuWorkgroups {
     /// megakernel at 64 x 48): 96 s at 2 chunks, 324 s at 8, and the 64
     /// chunks the scheduler allows ran past 400 s at 4.2 GB.
     pub max_chunks_per_batch: u32,
+    /// Whether [`Strategy::Auto`](crate::Strategy::Auto) runs Rounds here
+    /// although persistent workgroups are safe: Rounds are the faster
+    /// strategy on this driver. On llvmpipe every megakernel batch runs all of
+    /// the megakernel's code for every 8 lanes and each workgroup is a
+    /// coroutine per barrier, while a round kernel holds one procedure and
+    /// the barrier-free ones run as plain loops; with 2 CPU threads there are
+    /// no idle compute units for persistent workgroups to fill. Measured side
+    /// by side (docs/performance.md, "Strategies"): Rounds at the default 256
+    /// workgroups were as fast as or faster than the megakernel on the spawn
+    /// tree and 1.3x faster on the Mandelbrot set.
+    pub auto_rounds: bool,
 }
 
 /// llvmpipe's shaping of the megakernel, measured on Mesa 22.3.6.
 const LLVMPIPE_WORKGROUPS: CpuWorkgroups = CpuWorkgroups {
     chunks_per_batch: 4,
     max_chunks_per_batch: 4,
+    auto_rounds: true,
 };
 
 /// llvmpipe (Mesa's CPU driver, behind lavapipe), measured on Mesa 22.3.6.
@@ -205,6 +217,20 @@ impl Quirks {
     /// The quirks of the adapter behind `device`.
     pub fn of_device(device: &wgpu::Device) -> Self {
         Self::of(&device.adapter_info())
+    }
+
+    /// The strategy [`Strategy::Auto`](crate::Strategy::Auto) runs here: the
+    /// megakernel where persistent workgroups are known to be safe
+    /// ([`Quirks::persistent_threads`]) unless Rounds are faster on the
+    /// driver ([`CpuWorkgroups::auto_rounds`]), else Rounds with
+    /// [`DEFAULT_ROUNDS_PER_BATCH`](crate::DEFAULT_ROUNDS_PER_BATCH).
+    pub fn auto_strategy(&self) -> crate::Strategy {
+        let rounds_faster = self.cpu_workgroups.is_some_and(|cpu| cpu.auto_rounds);
+        if self.persistent_threads.safe && !rounds_faster {
+            crate::Strategy::Megakernel
+        } else {
+            crate::Strategy::rounds()
+        }
     }
 
     /// Whether the driver caps the loops of an invocation.

@@ -7,7 +7,7 @@ use gpu_test::gpu_test;
 use rand::{Rng, SeedableRng, rngs::StdRng};
 use scheduler::{
     Binding, CompileOptions, CompiledGraph, Executor, ExecutorConfig, Gpu, Graph, Policy,
-    Procedure, ProcedureId, RunError, RunReport, Seeds, readback::read_buffer, wgpu,
+    Procedure, ProcedureId, RunError, RunReport, Seeds, Strategy, readback::read_buffer, wgpu,
 };
 use tests::config;
 use tests::graphs::{
@@ -39,6 +39,8 @@ fn option_sets(gpu: &Gpu, rng: &mut StdRng) -> Vec<CompileOptions> {
         .collect()
 }
 
+/// Runs `compiled` under the megakernel, the strategy these tests exercise
+/// (`Strategy::Auto` picks Rounds on some adapters).
 fn run(
     gpu: &Gpu,
     compiled: &CompiledGraph,
@@ -46,7 +48,11 @@ fn run(
     seeds: &Seeds,
     bindings: &[Binding<'_>],
 ) -> Result<RunReport, RunError> {
-    Executor::new(&gpu.device, &gpu.queue, compiled, &config)?.run(seeds, bindings)
+    Executor::new(&gpu.device, &gpu.queue, compiled, &config)?.run_with(
+        Strategy::Megakernel,
+        seeds,
+        bindings,
+    )
 }
 
 #[gpu_test]

@@ -176,7 +176,9 @@ fn a_trace_spans_every_submission_and_the_last_attempt_of_a_retried_run() {
         ..config(2, 1 << 15)
     };
     let mut executor = Executor::new(&gpu.device, &gpu.queue, &compiled, &budget).unwrap();
-    let report = executor.run(&seeds, &[]).unwrap();
+    let report = executor
+        .run_with(Strategy::Megakernel, &seeds, &[])
+        .unwrap();
     assert!(report.submissions > 1, "{report}");
     let trace = report.trace().unwrap();
     check_complete(trace, &report, 256);

@@ -17,9 +17,11 @@ pub const DEFAULT_ROUNDS_PER_BATCH: u32 = 8;
 #[serde(rename_all = "kebab-case", tag = "kind")]
 pub enum Strategy {
     /// The megakernel where persistent workgroups are known to be safe on the
-    /// adapter ([`Quirks::persistent_threads`](crate::Quirks::persistent_threads)),
-    /// Rounds with [`DEFAULT_ROUNDS_PER_BATCH`] elsewhere. Resolved when a run
-    /// starts ([`Strategy::resolve`]); reports name the strategy that ran.
+    /// adapter ([`Quirks::persistent_threads`](crate::Quirks::persistent_threads))
+    /// and Rounds are not faster on its driver (they are on llvmpipe), Rounds
+    /// with [`DEFAULT_ROUNDS_PER_BATCH`] elsewhere ([`Quirks::auto_strategy`](crate::Quirks::auto_strategy)).
+    /// Resolved when a run starts ([`Strategy::resolve`]); reports name the
+    /// strategy that ran.
     #[default]
     Auto,
     /// Persistent workgroups pick batches from any queue until no work is
@@ -46,13 +48,11 @@ impl Strategy {
         }
     }
 
-    /// The strategy that runs on an adapter with `quirks`: `Auto` becomes the
-    /// megakernel where persistent workgroups are known to be safe and
-    /// [`Strategy::rounds`] elsewhere; the others are returned as they are.
+    /// The strategy that runs on an adapter with `quirks`: `Auto` becomes
+    /// [`Quirks::auto_strategy`]; the others are returned as they are.
     pub fn resolve(self, quirks: &Quirks) -> Self {
         match self {
-            Self::Auto if quirks.persistent_threads.safe => Self::Megakernel,
-            Self::Auto => Self::rounds(),
+            Self::Auto => quirks.auto_strategy(),
             chosen => chosen,
         }
     }
@@ -110,7 +110,7 @@ mod tests {
     }
 
     #[test]
-    fn auto_runs_the_megakernel_only_where_persistent_workgroups_are_known_safe() {
+    fn auto_runs_the_megakernel_only_where_persistent_workgroups_are_known_safe_and_faster() {
         use wgpu::{Backend, DeviceType};
         const NVIDIA: u32 = 0x10de;
         const AMD: u32 = 0x1002;
@@ -135,7 +135,8 @@ mod tests {
         let megakernel = Strategy::Megakernel;
         let rounds = Strategy::rounds();
         let cases = [
-            (lavapipe, megakernel),
+            // Persistent workgroups are safe on llvmpipe, but Rounds are faster.
+            (lavapipe, rounds),
             (
                 adapter(
                     "NVIDIA H200",
