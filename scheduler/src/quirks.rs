@@ -219,18 +219,11 @@ impl Quirks {
         Self::of(&device.adapter_info())
     }
 
-    /// The strategy [`Strategy::Auto`](crate::Strategy::Auto) runs here: the
-    /// megakernel where persistent workgroups are known to be safe
-    /// ([`Quirks::persistent_threads`]) unless Rounds are faster on the
-    /// driver ([`CpuWorkgroups::auto_rounds`]), else Rounds with
-    /// [`DEFAULT_ROUNDS_PER_BATCH`](crate::DEFAULT_ROUNDS_PER_BATCH).
-    pub fn auto_strategy(&self) -> crate::Strategy {
-        let rounds_faster = self.cpu_workgroups.is_some_and(|cpu| cpu.auto_rounds);
-        if self.persistent_threads.safe && !rounds_faster {
-            crate::Strategy::Megakernel
-        } else {
-            crate::Strategy::rounds()
-        }
+    /// Whether Rounds are the faster strategy on this driver although
+    /// persistent workgroups are safe ([`CpuWorkgroups::auto_rounds`]):
+    /// [`Strategy::Auto`](crate::Strategy::Auto) then runs Rounds.
+    pub fn rounds_faster(&self) -> bool {
+        self.cpu_workgroups.is_some_and(|cpu| cpu.auto_rounds)
     }
 
     /// Whether the driver caps the loops of an invocation.

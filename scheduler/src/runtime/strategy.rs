@@ -19,7 +19,7 @@ pub enum Strategy {
     /// The megakernel where persistent workgroups are known to be safe on the
     /// adapter ([`Quirks::persistent_threads`](crate::Quirks::persistent_threads))
     /// and Rounds are not faster on its driver (they are on llvmpipe), Rounds
-    /// with [`DEFAULT_ROUNDS_PER_BATCH`] elsewhere ([`Quirks::auto_strategy`](crate::Quirks::auto_strategy)).
+    /// with [`DEFAULT_ROUNDS_PER_BATCH`] elsewhere ([`Quirks::rounds_faster`](crate::Quirks::rounds_faster)).
     /// Resolved when a run starts ([`Strategy::resolve`]); reports name the
     /// strategy that ran.
     #[default]
@@ -48,11 +48,17 @@ impl Strategy {
         }
     }
 
-    /// The strategy that runs on an adapter with `quirks`: `Auto` becomes
-    /// [`Quirks::auto_strategy`]; the others are returned as they are.
+    /// The strategy that runs on an adapter with `quirks`: `Auto` becomes the
+    /// megakernel where persistent workgroups are known to be safe
+    /// ([`Quirks::persistent_threads`](crate::Quirks::persistent_threads)) and
+    /// Rounds are not faster ([`Quirks::rounds_faster`]), else
+    /// [`Strategy::rounds`]; the others are returned as they are.
     pub fn resolve(self, quirks: &Quirks) -> Self {
         match self {
-            Self::Auto => quirks.auto_strategy(),
+            Self::Auto if quirks.persistent_threads.safe && !quirks.rounds_faster() => {
+                Self::Megakernel
+            }
+            Self::Auto => Self::rounds(),
             chosen => chosen,
         }
     }
