@@ -140,14 +140,8 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
         f.line("    // scratch and the body's workgroup variables.");
         f.line("    workgroupBarrier();");
         if count_fan_out {
-            f.line("    if (chunk > 0u) {");
-            for line in fan_out::check_lines(plan, q, queue, "(chunk - 1u)") {
-                f.line(format!("        {line}"));
-            }
-            f.line("    }");
-            if tpi > 1 {
-                f.line("    // The item's other threads see its counts at zero.");
-                f.line("    workgroupBarrier();");
+            for line in fan_out_chunk_lines(plan, q, queue) {
+                f.line(line);
             }
         }
         for line in call("chunk") {
@@ -185,46 +179,7 @@ fn flush_lines(f: &mut Function, plan: &Plan, q: usize, queue: &QueuePlan) {
     f.line("// Publish the items staged for the targets: thread 0 reserves their");
     f.line("// slots, every thread copies, thread 0 publishes.");
     f.line("sched_flush_begin();");
-    if crate::plan::fan_out::checked(plan) {
-        let last = if plan.chunks_per_batch == 1 {
-            "0u"
-        } else {
-            "(chunk - 1u)"
-        };
-        for line in fan_out::check_lines(plan, q, queue, last) {
-            f.line(line);
-        }
-    }
-    f.line("if (lid == 0u) {");
-    for (i, &(t, _)) in queue.targets.iter().enumerate() {
-        let target = &plan.queues[t];
-        f.line(format!(
-            "    sched_wg_flushes[{i}] = sched_reserve({t}u, {}u); // {}",
-            target.stage_capacity, target.name
-        ));
-    }
-    f.line("}");
-    f.line("let flushes = sched_flush_share();");
-    for (i, &(t, _)) in queue.targets.iter().enumerate() {
-        let target = &plan.queues[t];
-        f.line(format!("// The items staged for `{}`.", target.name));
-        let per_thread = target.stage_capacity.div_ceil(plan.workgroup_size);
-        for j in 0..per_thread {
-            let k = if j == 0 {
-                "lid".to_owned()
-            } else {
-                format!("lid + {}u", j * plan.workgroup_size)
-            };
-            f.line(format!("if ({k} < flushes[{i}].y) {{"));
-            f.line(format!(
-                "    {}(sched_stage_word({}u, {}u, {k}), sched_slot_word({t}u, flushes[{i}].x + {k}));",
-                copy_out_name(&target.name),
-                target.stage_offset,
-                target.slot_words
-            ));
-            f.line("}");
-        }
-    }
+    reserve_and_copy_lines(f, plan, q, queue, "sched_flush_share()");
     f.line("// Release: the copies are complete before `published` covers them.");
     f.line("storageBarrier();");
     f.line("if (lid == 0u) {");
@@ -269,4 +224,73 @@ pub(crate) fn entry_point(plan: &Plan) -> Function {
     f.line("}");
     f.line("sched_check_left_in_step(finished || iteration >= budget);");
     f
+}
+
+/// Inside a batch's chunk loop, before the body's call on chunk `chunk`:
+/// checked mode's per-item fan-out check of the previous chunk's items.
+pub(crate) fn fan_out_chunk_lines(plan: &Plan, q: usize, queue: &QueuePlan) -> Vec<String> {
+    let mut lines = vec!["    if (chunk > 0u) {".to_owned()];
+    for line in fan_out::check_lines(plan, q, queue, "(chunk - 1u)") {
+        lines.push(format!("        {line}"));
+    }
+    lines.push("    }".to_owned());
+    if queue.threads_per_item > 1 {
+        lines.push("    // The item's other threads see its counts at zero.".to_owned());
+        lines.push("    workgroupBarrier();".to_owned());
+    }
+    lines
+}
+
+/// The part of a flush both strategies share, after the barrier that ends
+/// the batch's staging: checked mode's fan-out check of the last chunk,
+/// thread 0's reservations in every target, shared as `flushes` by `share`
+/// (a WGSL expression), and every thread's copies from staging into the
+/// reserved slots.
+pub(crate) fn reserve_and_copy_lines(
+    f: &mut Function,
+    plan: &Plan,
+    q: usize,
+    queue: &QueuePlan,
+    share: &str,
+) {
+    if crate::plan::fan_out::checked(plan) {
+        let last = if plan.chunks_per_batch == 1 {
+            "0u"
+        } else {
+            "(chunk - 1u)"
+        };
+        for line in fan_out::check_lines(plan, q, queue, last) {
+            f.line(line);
+        }
+    }
+    f.line("if (lid == 0u) {");
+    for (i, &(t, _)) in queue.targets.iter().enumerate() {
+        let target = &plan.queues[t];
+        f.line(format!(
+            "    sched_wg_flushes[{i}] = sched_reserve({t}u, {}u); // {}",
+            target.stage_capacity, target.name
+        ));
+    }
+    f.line("}");
+    f.line(format!("let flushes = {share};"));
+    for (i, &(t, _)) in queue.targets.iter().enumerate() {
+        let target = &plan.queues[t];
+        f.line(format!("// The items staged for `{}`.", target.name));
+        let per_thread = target.stage_capacity.div_ceil(plan.workgroup_size);
+        for j in 0..per_thread {
+            let k = if j == 0 {
+                "lid".to_owned()
+            } else {
+                format!("lid + {}u", j * plan.workgroup_size)
+            };
+            f.line(format!("if ({k} < flushes[{i}].y) {{"));
+            f.line(format!(
+                "    {}(sched_stage_word({}u, {}u, {k}), sched_slot_word({t}u, flushes[{i}].x + {k}));",
+                copy_out_name(&target.name),
+                target.stage_offset,
+                target.slot_words
+            ));
+            f.line("}");
+        }
+    }
 }

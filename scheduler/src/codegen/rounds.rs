@@ -11,11 +11,10 @@
 //! there.
 
 use crate::codegen::module::Function;
-use crate::codegen::{checked, fan_out, helpers, trace};
+use crate::codegen::{checked, fan_out, helpers, kernels, trace};
 use crate::graph::Procedure;
 use crate::naming::{
-    PREPARE_ENTRY_POINT, body_name, copy_out_name, decode_name, round_entry_point,
-    round_runner_name,
+    PREPARE_ENTRY_POINT, body_name, decode_name, round_entry_point, round_runner_name,
 };
 use crate::plan::{Plan, QueuePlan};
 
@@ -138,14 +137,8 @@ fn round_runner(plan: &Plan, q: usize, queue: &QueuePlan, barrier_free: bool) ->
             f.line("    workgroupBarrier();");
         }
         if count_fan_out {
-            f.line("    if (chunk > 0u) {");
-            for line in fan_out::check_lines(plan, q, queue, "(chunk - 1u)") {
-                f.line(format!("        {line}"));
-            }
-            f.line("    }");
-            if tpi > 1 {
-                f.line("    // The item's other threads see its counts at zero.");
-                f.line("    workgroupBarrier();");
+            for line in kernels::fan_out_chunk_lines(plan, q, queue) {
+                f.line(line);
             }
         }
         for line in call("chunk") {
@@ -181,46 +174,7 @@ fn round_flush_lines(f: &mut Function, plan: &Plan, q: usize, queue: &QueuePlan)
     f.line("// staged items (storage) are complete.");
     f.line("workgroupBarrier();");
     f.line("storageBarrier();");
-    if crate::plan::fan_out::checked(plan) {
-        let last = if plan.chunks_per_batch == 1 {
-            "0u"
-        } else {
-            "(chunk - 1u)"
-        };
-        for line in fan_out::check_lines(plan, q, queue, last) {
-            f.line(line);
-        }
-    }
-    f.line("if (lid == 0u) {");
-    for (i, &(t, _)) in queue.targets.iter().enumerate() {
-        let target = &plan.queues[t];
-        f.line(format!(
-            "    sched_wg_flushes[{i}] = sched_reserve({t}u, {}u); // {}",
-            target.stage_capacity, target.name
-        ));
-    }
-    f.line("}");
-    f.line("let flushes = workgroupUniformLoad(&sched_wg_flushes);");
-    for (i, &(t, _)) in queue.targets.iter().enumerate() {
-        let target = &plan.queues[t];
-        f.line(format!("// The items staged for `{}`.", target.name));
-        let per_thread = target.stage_capacity.div_ceil(plan.workgroup_size);
-        for j in 0..per_thread {
-            let k = if j == 0 {
-                "lid".to_owned()
-            } else {
-                format!("lid + {}u", j * plan.workgroup_size)
-            };
-            f.line(format!("if ({k} < flushes[{i}].y) {{"));
-            f.line(format!(
-                "    {}(sched_stage_word({}u, {}u, {k}), sched_slot_word({t}u, flushes[{i}].x + {k}));",
-                copy_out_name(&target.name),
-                target.stage_offset,
-                target.slot_words
-            ));
-            f.line("}");
-        }
-    }
+    kernels::reserve_and_copy_lines(f, plan, q, queue, "workgroupUniformLoad(&sched_wg_flushes)");
 }
 
 /// One procedure's round kernel: workgroups stride over the batches of the
