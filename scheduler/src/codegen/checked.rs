@@ -105,12 +105,7 @@ fn matching_bracket(chars: &[char], open: usize, end: usize) -> Option<usize> {
 /// The constants the recorder uses: where the checks' words start and how
 /// many resources are guarded.
 pub(crate) fn constants(plan: &Plan) -> Vec<Constant> {
-    let constant = |name: &str, value: u32, doc: &str| Constant {
-        name: name.to_owned(),
-        ty: "u32".to_owned(),
-        value: format!("{value}u"),
-        doc: doc.to_owned(),
-    };
+    let constant = Constant::u32;
     vec![
         constant(
             "SCHED_CTRL_CHECKS",

@@ -19,14 +19,13 @@ const SLOT: &str = "sched_fan_out_slot";
 
 /// Where the check's control words start.
 pub(crate) fn constants(plan: &Plan) -> Vec<Constant> {
-    vec![Constant {
-        name: "SCHED_CTRL_FAN_OUT".into(),
-        ty: "u32".into(),
-        value: format!("{}u", first_word(plan)),
-        doc: format!(
+    vec![Constant::u32(
+        "SCHED_CTRL_FAN_OUT",
+        first_word(plan),
+        format!(
             "Checked mode: first control word of the per-item fan-out check ({WORDS} per procedure)."
         ),
-    }]
+    )]
 }
 
 /// The counts and the running item's slot.

@@ -75,53 +75,26 @@ pub(crate) fn policy_function(policy: Policy) -> Function {
 }
 
 pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
-    let tpi = queue.threads_per_item;
     let mut f = Function::new(runner_name(&queue.name))
         .doc(format!("Runs one batch of `{}`: receive the items, run the body on every thread, publish the children.", queue.name))
         .param("lid", "u32")
         .param("first", "u32")
         .param("count", "u32");
     let per_chunk = queue.items_per_workgroup;
-    f.line(format!("let slot = lid / {tpi}u;"));
-    f.line(format!("let thread = lid % {tpi}u;"));
-    f.line(format!("sched_scratch_stride = {}u;", queue.scratch_words));
-    for line in trace::runner_begin(plan, q) {
-        f.line(line);
-    }
-    if !plan.guarded_resources().is_empty() {
-        f.line(format!(
-            "{} = {q}u; // checked mode: the guards count violations for this procedure",
-            checked::RUNNING
-        ));
-    }
-    let count_fan_out = crate::plan::fan_out::checked(plan) && !queue.targets.is_empty();
-    if count_fan_out {
-        f.line(fan_out::slot_line());
-    }
-    if plan.item_helpers {
-        for line in helpers::runner_lines(tpi) {
-            f.line(line);
-        }
-    }
+    let count_fan_out = batch_prologue(&mut f, plan, q, queue);
     f.line("// Acquire: the reads below come after the claim saw `published`.");
     f.line("storageBarrier();");
     // The body's call on one chunk; `chunk` is its index within the batch.
     let call = |chunk: &str| {
-        [
-            format!("let at = {chunk} * {per_chunk}u + slot;"),
-            "let valid = at < count;".to_owned(),
-            "// Every thread decodes its item straight from the slot, without loops".to_owned(),
-            "// (docs/scheduler.md, \"Loop limits\").".to_owned(),
-            format!("var item: {};", queue.item),
-            "if (valid) {".to_owned(),
-            format!(
-                "    item = {}(sched_slot_word({q}u, first + at));",
-                decode_name(&queue.item)
-            ),
-            "}".to_owned(),
-            format!("{}(item, valid, thread, slot);", body_name(&queue.name)),
-            "sched_check_body_loops();".to_owned(),
-        ]
+        let mut lines = body_call_lines(q, queue, chunk);
+        lines.splice(
+            2..2,
+            [
+                "// Every thread decodes its item straight from the slot, without loops".to_owned(),
+                "// (docs/scheduler.md, \"Loop limits\").".to_owned(),
+            ],
+        );
+        lines
     };
     if plan.chunks_per_batch == 1 {
         // A single chunk needs no loop, which llvmpipe runs markedly faster.
@@ -293,4 +266,53 @@ pub(crate) fn reserve_and_copy_lines(
             f.line("}");
         }
     }
+}
+
+/// The first lines of a batch function under either strategy: the thread's
+/// slot and thread within its item, the scratch stride, and what tracing,
+/// checked mode and the item-wide helpers need. Returns whether the batch
+/// counts its items' enqueues (checked mode's per-item fan-out check).
+pub(crate) fn batch_prologue(f: &mut Function, plan: &Plan, q: usize, queue: &QueuePlan) -> bool {
+    let tpi = queue.threads_per_item;
+    f.line(format!("let slot = lid / {tpi}u;"));
+    f.line(format!("let thread = lid % {tpi}u;"));
+    f.line(format!("sched_scratch_stride = {}u;", queue.scratch_words));
+    for line in trace::runner_begin(plan, q) {
+        f.line(line);
+    }
+    if !plan.guarded_resources().is_empty() {
+        f.line(format!(
+            "{} = {q}u; // checked mode: the guards count violations for this procedure",
+            checked::RUNNING
+        ));
+    }
+    let count_fan_out = crate::plan::fan_out::checked(plan) && !queue.targets.is_empty();
+    if count_fan_out {
+        f.line(fan_out::slot_line());
+    }
+    if plan.item_helpers {
+        for line in helpers::runner_lines(tpi) {
+            f.line(line);
+        }
+    }
+    count_fan_out
+}
+
+/// The body's call on chunk `chunk` (a WGSL expression) of a batch: decode
+/// the thread's item from its slot when it is one of the batch's, call the
+/// body, then check whether the body spent the driver's loop budget.
+pub(crate) fn body_call_lines(q: usize, queue: &QueuePlan, chunk: &str) -> Vec<String> {
+    vec![
+        format!("let at = {chunk} * {}u + slot;", queue.items_per_workgroup),
+        "let valid = at < count;".to_owned(),
+        format!("var item: {};", queue.item),
+        "if (valid) {".to_owned(),
+        format!(
+            "    item = {}(sched_slot_word({q}u, first + at));",
+            decode_name(&queue.item)
+        ),
+        "}".to_owned(),
+        format!("{}(item, valid, thread, slot);", body_name(&queue.name)),
+        "sched_check_body_loops();".to_owned(),
+    ]
 }

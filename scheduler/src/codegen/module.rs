@@ -15,6 +15,18 @@ pub(crate) struct Constant {
     pub doc: String,
 }
 
+impl Constant {
+    /// A `u32` constant.
+    pub(crate) fn u32(name: &str, value: u32, doc: impl Into<String>) -> Self {
+        Self {
+            name: name.to_owned(),
+            ty: "u32".to_owned(),
+            value: format!("{value}u"),
+            doc: doc.into(),
+        }
+    }
+}
+
 /// One module-scope variable declaration, e.g. a binding or a workgroup
 /// array: `ATTRIBUTES var<SPACE> NAME: TYPE;`.
 #[derive(Clone, Debug)]

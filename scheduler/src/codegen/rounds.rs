@@ -11,11 +11,9 @@
 //! there.
 
 use crate::codegen::module::Function;
-use crate::codegen::{checked, fan_out, helpers, kernels, trace};
+use crate::codegen::{kernels, trace};
 use crate::graph::Procedure;
-use crate::naming::{
-    PREPARE_ENTRY_POINT, body_name, decode_name, round_entry_point, round_runner_name,
-};
+use crate::naming::{PREPARE_ENTRY_POINT, round_entry_point, round_runner_name};
 use crate::plan::{Plan, QueuePlan};
 
 /// The Rounds functions of `plan`, in module order: the prepare kernel, then
@@ -72,7 +70,6 @@ fn prepare_entry_point() -> Function {
 /// round kernel puts the barriers (scratch and staging are reused).
 /// `barrier_free`: see [`barrier_free`].
 fn round_runner(plan: &Plan, q: usize, queue: &QueuePlan, barrier_free: bool) -> Function {
-    let tpi = queue.threads_per_item;
     let per_chunk = queue.items_per_workgroup;
     let mut f = Function::new(round_runner_name(&queue.name))
         .doc(format!(
@@ -82,43 +79,9 @@ fn round_runner(plan: &Plan, q: usize, queue: &QueuePlan, barrier_free: bool) ->
         .param("lid", "u32")
         .param("first", "u32")
         .param("count", "u32");
-    f.line(format!("let slot = lid / {tpi}u;"));
-    f.line(format!("let thread = lid % {tpi}u;"));
-    f.line(format!("sched_scratch_stride = {}u;", queue.scratch_words));
-    for line in trace::runner_begin(plan, q) {
-        f.line(line);
-    }
-    if !plan.guarded_resources().is_empty() {
-        f.line(format!(
-            "{} = {q}u; // checked mode: the guards count violations for this procedure",
-            checked::RUNNING
-        ));
-    }
-    let count_fan_out = crate::plan::fan_out::checked(plan) && !queue.targets.is_empty();
-    if count_fan_out {
-        f.line(fan_out::slot_line());
-    }
-    if plan.item_helpers {
-        for line in helpers::runner_lines(tpi) {
-            f.line(line);
-        }
-    }
+    let count_fan_out = kernels::batch_prologue(&mut f, plan, q, queue);
     f.line("// The slots were written before this dispatch began: no fence needed.");
-    let call = |chunk: &str| {
-        [
-            format!("let at = {chunk} * {per_chunk}u + slot;"),
-            "let valid = at < count;".to_owned(),
-            format!("var item: {};", queue.item),
-            "if (valid) {".to_owned(),
-            format!(
-                "    item = {}(sched_slot_word({q}u, first + at));",
-                decode_name(&queue.item)
-            ),
-            "}".to_owned(),
-            format!("{}(item, valid, thread, slot);", body_name(&queue.name)),
-            "sched_check_body_loops();".to_owned(),
-        ]
-    };
+    let call = |chunk: &str| kernels::body_call_lines(q, queue, chunk);
     if plan.chunks_per_batch == 1 {
         for line in call("0u") {
             f.line(line);

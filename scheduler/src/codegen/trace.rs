@@ -57,12 +57,7 @@ pub(crate) fn constants(plan: &Plan) -> Vec<Constant> {
     let Some(trace) = plan.trace else {
         return Vec::new();
     };
-    let constant = |name: &str, value: u32, doc: &str| Constant {
-        name: name.to_owned(),
-        ty: "u32".to_owned(),
-        value: format!("{value}u"),
-        doc: doc.to_owned(),
-    };
+    let constant = Constant::u32;
     vec![
         constant(
             "SCHED_TRACE_CAPACITY",
