@@ -5,10 +5,14 @@
 # its own markdown or text table; the report holds them in order, headed by
 # the device and the commands, so it can be pasted into docs/performance.md.
 # The Killeroo rows need ../shared/data/killeroo.bpt beside the workspace.
+# On a machine without a Rust toolchain, build the benches elsewhere, copy
+# them into target/release and set GPU_SUITE_PREBUILT=1 to skip the build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-gpu-suite.md}
-cargo build --release -p benches --bins >&2
+if [ "${GPU_SUITE_PREBUILT:-0}" != 1 ]; then
+    cargo build --release -p benches --bins >&2
+fi
 
 # A benchmark whose output is markdown already.
 markdown() {

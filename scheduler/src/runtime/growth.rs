@@ -15,13 +15,6 @@ pub(crate) const MAX_CAPACITY: u32 = 1 << 31;
 /// "Overflow and retry").
 const ESTIMATED_GENERATIONS: usize = 3;
 
-/// The room added for the estimated children, at most this many times the
-/// queue's measured need (or high-water mark): a compounding estimate of a
-/// self-feeding queue overshoots by far more than a retry costs, so the
-/// margin is capped. With the power-of-two rounding a queue grows to less
-/// than `2 x (1 + MAX_ESTIMATE_RATIO)` times its measured need.
-pub(crate) const MAX_ESTIMATE_RATIO: u64 = 1;
-
 /// The capacities to retry with after the overflowing run `report`, or
 /// [`RunError::QueueExceedsDevice`] when a queue's measured need does not fit
 /// the device.
@@ -35,8 +28,12 @@ pub(crate) const MAX_ESTIMATE_RATIO: u64 = 1;
 /// executed items did on average in this run. The estimate only adds room
 /// (capped by the device), never replaces the measurement, so a queue whose
 /// estimate is too low overflows once more and is measured again, and
-/// adds at most [`MAX_ESTIMATE_RATIO`] times the measured need.
-/// Capacities are powers of two (the ring's slots are addressed with a mask).
+/// never grows the queue past twice its measured need (the high-water mark
+/// for a queue that did not overflow): a compounding estimate of a
+/// self-feeding queue overshoots by far more than one more attempt costs.
+/// Capacities are powers of two (the ring's slots are addressed with a mask):
+/// the largest one within twice the need, which is never below the smallest
+/// one that holds the need.
 pub(crate) fn grown_capacities(
     plan: &Plan,
     limits: &wgpu::Limits,
@@ -100,17 +97,24 @@ pub(crate) fn grown_capacities(
         if headroom[q] < 1.0 {
             continue;
         }
-        let base = if stats[q].dropped > 0 {
-            stats[q].needed
-        } else {
-            stats[q].high_water
-        };
-        let room = (headroom[q].ceil() as u64).min(base.max(1).saturating_mul(MAX_ESTIMATE_RATIO));
-        let wanted = power_of_two_at_least(base + room);
+        let base = measured_need(&stats[q]);
+        let room = headroom[q].ceil() as u64;
+        let wanted = power_of_two_at_least(base.saturating_add(room))
+            .min(power_of_two_at_most(base.max(1).saturating_mul(2)));
         let max = max_capacity(plan, limits, &capacities, q);
         capacities[q] = capacities[q].max(wanted.min(max));
     }
     Ok(capacities)
+}
+
+/// What a queue was measured to need in one run: `needed` if it overflowed,
+/// else its high-water mark.
+pub(crate) fn measured_need(stats: &crate::ProcedureStats) -> u64 {
+    if stats.dropped > 0 {
+        stats.needed
+    } else {
+        stats.high_water
+    }
 }
 
 /// Capacities that hold `seeds[q]` seeds in each queue `q`, or
@@ -147,6 +151,13 @@ fn power_of_two_at_least(items: u64) -> u32 {
         return u32::MAX;
     }
     (items.max(1) as u32).next_power_of_two()
+}
+
+/// The largest power of two of at most `items` (at least 1), at most
+/// [`MAX_CAPACITY`].
+fn power_of_two_at_most(items: u64) -> u32 {
+    let items = items.clamp(1, u64::from(MAX_CAPACITY));
+    1 << items.ilog2()
 }
 
 /// The largest power-of-two capacity queue `q` can have next to the other
@@ -236,12 +247,36 @@ mod tests {
         };
         let grown = grown_capacities(&plan, &wgpu::Limits::default(), &report).unwrap();
         // Split: need 64 (16 + 48), plus 192 + 768 + 3072 estimated over
-        // three generations, capped at the need: 128; Leaf: high-water 64,
-        // plus 48 + 192 + 768 capped at 64: 128.
+        // three generations, capped at twice the need: 128; Leaf: high-water
+        // 64, plus 48 + 192 + 768, capped at twice the high-water mark: 128.
         assert_eq!(grown, [128, 128]);
-        // Within twice the need plus the capped margin.
-        let need = 64;
-        assert!(u64::from(grown[0]) <= 2 * need * (1 + MAX_ESTIMATE_RATIO));
+    }
+
+    #[test]
+    fn a_grown_queue_stays_within_twice_its_measured_need() {
+        let plan = plan();
+        // Needs just above a power of two, where rounding need plus margin
+        // up to the next power of two would give almost four times the need.
+        for (capacity, dropped) in [(16, 1), (512, 1), (1000, 30), (16, 48)] {
+            let report = RunReport {
+                procedures: vec![
+                    stats("Split", capacity, capacity.into(), capacity.into(), dropped),
+                    stats("Leaf", 64, 16, 16, 0),
+                ],
+                ..RunReport::default()
+            };
+            let need = u64::from(capacity) + dropped;
+            let grown = grown_capacities(&plan, &wgpu::Limits::default(), &report).unwrap();
+            assert!(
+                u64::from(grown[0]) >= need,
+                "{grown:?} for a need of {need}"
+            );
+            assert!(
+                u64::from(grown[0]) <= 2 * need,
+                "{grown:?} for a need of {need}"
+            );
+            assert!(grown[0].is_power_of_two());
+        }
     }
 
     #[test]

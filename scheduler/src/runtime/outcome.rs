@@ -41,6 +41,7 @@ pub(crate) fn report(facts: &RunFacts<'_>, counters: &[u32]) -> RunReport {
                     high_water: word(control::HIGH_WATER),
                     dropped,
                     needed_at_least: word(control::NEEDED),
+                    grown_for: 0,
                     // Every refused reservation adds its size to `dropped` as
                     // it is refused, so the high-water mark plus them is what
                     // the queue would have held had it accepted them all.

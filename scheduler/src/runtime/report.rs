@@ -32,6 +32,14 @@ pub struct ProcedureStats {
     /// accepts them (docs/scheduler.md, "When a run fails").
     #[serde(default)]
     pub needed: u64,
+    /// The need a retry ([`Executor::run_with_retry`](crate::Executor::run_with_retry))
+    /// grew this queue for: the largest `needed` (or, for a queue grown for
+    /// its producers' refused items, high-water mark) of the attempts before
+    /// this one; 0 if no retry grew it. The capacity is at most twice this.
+    /// A megakernel's high-water mark varies from run to run, so it can be
+    /// above this run's own.
+    #[serde(default)]
+    pub grown_for: u64,
     /// Enqueues beyond the staging room of the declared fan-out.
     pub fan_out_overflow: u64,
 }

@@ -3,7 +3,7 @@
 //! shrinks; and the advice a loop limit carries.
 
 use crate::runtime::executor::{Binding, Executor};
-use crate::runtime::growth::{capacities_for_seeds, grown_capacities};
+use crate::runtime::growth::{capacities_for_seeds, grown_capacities, measured_need};
 use crate::runtime::reset::ResetContext;
 use crate::runtime::state::{QueueState, Tuning};
 use crate::{RetryCauses, RunError, RunReport, Seeds, Strategy};
@@ -127,6 +127,8 @@ impl Executor {
         let resources = self.resource_bind_group(bindings)?;
         let mut attempt = 1;
         let mut causes = RetryCauses::default();
+        // Per queue, the largest need a retry grew it for.
+        let mut grown_for = vec![0u64; self.state.capacities.len()];
         loop {
             let outcome = self.attempt(strategy, seeds, resources.as_ref());
             let outcome = self.with_body_loops(strategy, outcome, retry.check_loops.as_mut())?;
@@ -134,6 +136,9 @@ impl Executor {
                 Ok(mut report) => {
                     report.attempts = attempt;
                     report.retries = causes;
+                    for (stats, &need) in report.procedures.iter_mut().zip(&grown_for) {
+                        stats.grown_for = need;
+                    }
                     return Ok(report);
                 }
                 Err(RunError::QueueOverflow { report, .. }) if attempt < retry.max_attempts => {
@@ -142,6 +147,11 @@ impl Executor {
                     log::info!(
                         "attempt {attempt} overflowed; retrying with capacities {capacities:?}"
                     );
+                    for (q, stats) in report.procedures.iter().enumerate() {
+                        if capacities[q] > self.state.capacities[q] {
+                            grown_for[q] = grown_for[q].max(measured_need(stats));
+                        }
+                    }
                     self.rebuild_state(capacities, self.tuning)?;
                     (retry.reset)(&ResetContext::new(self));
                     causes.overflow += 1;
@@ -161,6 +171,9 @@ impl Executor {
                     log::info!(
                         "attempt {attempt}: {seeds} seeds for `{procedure}`; retrying with capacities {capacities:?}"
                     );
+                    if let Some(q) = self.compiled.plan.queue_index(&procedure) {
+                        grown_for[q] = grown_for[q].max(seeds);
+                    }
                     self.rebuild_state(capacities, self.tuning)?;
                     causes.seeds += 1;
                     attempt += 1;
