@@ -14,11 +14,25 @@ if [ "${GPU_SUITE_PREBUILT:-0}" != 1 ]; then
     cargo build --release -p benches --bins >&2
 fi
 
+# A benchmark that fails (a wrong result, a missed acceptance check) is
+# recorded with its last error line and the suite goes on, so one failure
+# does not cost the rest of a run on a borrowed machine.
+status=0
+run_bench() {
+    local err
+    err=$(mktemp)
+    if ! "./target/release/$@" 2>"$err"; then
+        echo "FAILED: $(tail -n 1 "$err")"
+        status=1
+    fi
+    rm -f "$err"
+}
+
 # A benchmark whose output is markdown already.
 markdown() {
     echo
     echo "#### \`$*\`"
-    "./target/release/$@" 2>/dev/null
+    run_bench "$@"
 }
 
 # A benchmark that prints a text table.
@@ -27,7 +41,7 @@ text() {
     echo "#### \`$*\`"
     echo
     echo '```text'
-    "./target/release/$@" 2>/dev/null
+    run_bench "$@"
     echo '```'
 }
 
@@ -46,5 +60,6 @@ text() {
     # Adaptive against INTERVAL and Interleave UVT, and on a mixed scene.
     text blur-bench --spp 16 --runs 5 --adaptive
     text blur-bench --spp 16 --runs 5 --blurs mixed --modes interval,interleave,adaptive
-} | tee "$out"
+} > >(tee "$out")
 echo "wrote $out" >&2
+exit "$status"
