@@ -90,6 +90,7 @@ pub mod progress;
 pub mod reference;
 pub mod rib;
 pub mod scene;
+pub mod shading;
 pub mod stats;
 #[cfg(feature = "viewer")]
 pub mod view;

@@ -11,7 +11,10 @@ use crate::displacement::PreparedDisplacement;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
 use crate::params::DEGENERATE_NORMAL_REL_EPS;
-use crate::scene::{CameraDesc, FramingError, Sampling, Scene, SceneError, ShadingInterpolation};
+use crate::scene::{
+    CameraDesc, FramingError, LightKind, Sampling, Scene, SceneError, ShadingInterpolation, Surface,
+};
+pub use crate::shading::{PreparedLight, PreparedSurface};
 
 /// Largest RGBA image of a frame, in bytes, for both renderers: 128 MiB,
 /// WebGPU's default `max_storage_buffer_binding_size`, which is also what
@@ -58,8 +61,11 @@ pub struct WorldPatch {
 /// Per-object shading and displacement data.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PreparedObject {
-    /// Linear RGB albedo.
-    pub albedo: Vec3,
+    /// Linear RGB colour, RenderMan's `Cs`.
+    pub color: Vec3,
+    /// The surface shader; `None` for `null`, whose patches are not drawn
+    /// (the scene's patches hold none of them).
+    pub surface: Option<PreparedSurface>,
     /// Displacement mapping, if any.
     pub displacement: Option<PreparedDisplacement>,
     /// How the object moves during the shutter (`None`: it does not).
@@ -78,34 +84,6 @@ impl PreparedObject {
     }
 }
 
-/// A light ready for shading.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PreparedLight {
-    /// A distant light: the unit vector from the surface towards it,
-    /// `L = normalize(-direction)`. A point light: its position.
-    pub to_light: Vec3,
-    /// Whether this is a point light (`to_light` is its position).
-    pub point: bool,
-    /// `intensity * color`.
-    pub radiance: Vec3,
-}
-
-impl PreparedLight {
-    /// The unit vector from `position` towards the light, and the factor its
-    /// radiance is scaled by there: 1 for a distant light, the inverse square
-    /// distance (at most `crate::params::POINT_LIGHT_MIN_DISTANCE_SQUARED`'s
-    /// inverse) for a point light. The WGSL `light_at` mirrors it.
-    pub fn at(&self, position: Vec3) -> (Vec3, f32) {
-        if !self.point {
-            return (self.to_light, 1.0);
-        }
-        let toward = self.to_light - position;
-        let distance_squared = toward.dot(toward);
-        let falloff = 1.0 / distance_squared.max(crate::params::POINT_LIGHT_MIN_DISTANCE_SQUARED);
-        (toward.normalize_or_zero(), falloff)
-    }
-}
-
 /// Everything a renderer needs for one frame, in world space.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PreparedScene {
@@ -115,14 +93,12 @@ pub struct PreparedScene {
     pub patches: Vec<WorldPatch>,
     /// Shading data per object.
     pub objects: Vec<PreparedObject>,
-    /// The lights.
+    /// The lights that illuminate (distant, point and spot lights).
     pub lights: Vec<PreparedLight>,
-    /// Ambient term.
-    pub ambient: f32,
-    /// Specular weight.
-    pub specular_strength: f32,
-    /// Blinn-Phong exponent.
-    pub shininess: f32,
+    /// What the surfaces' `ambient()` returns: the scene's `ambient` (a
+    /// white ambient light) plus every ambient light's colour times
+    /// intensity.
+    pub ambient: Vec3,
     /// Samples per pixel (a perfect square).
     pub spp: u32,
     /// Sampling mode.
@@ -204,6 +180,10 @@ impl PreparedScene {
                     skipped_degenerate_patches += 1;
                     continue;
                 }
+                if object.surface == Some(Surface::Null) {
+                    // Checked for a finite placement above, as every object.
+                    continue;
+                }
                 patches.push(WorldPatch {
                     points,
                     object: index as u32,
@@ -280,8 +260,12 @@ impl PreparedScene {
                 let flipped = object.reverse_orientation != mirrored;
                 if flipped { -1.0 } else { 1.0 }
             });
+            let surface = object.surface.unwrap_or_else(|| {
+                Surface::scene_default(scene.specular.strength, scene.specular.shininess)
+            });
             prepared_objects.push(PreparedObject {
-                albedo: object.color,
+                color: object.color,
+                surface: PreparedSurface::new(&surface),
                 displacement,
                 motion,
                 front,
@@ -293,18 +277,14 @@ impl PreparedScene {
             camera,
             patches,
             objects: prepared_objects,
-            lights: scene
+            lights: scene.lights.iter().filter_map(PreparedLight::new).collect(),
+            ambient: scene
                 .lights
                 .iter()
-                .map(|l| PreparedLight {
-                    to_light: l.position.unwrap_or_else(|| (-l.direction).normalize()),
-                    point: l.position.is_some(),
-                    radiance: l.color * l.intensity,
-                })
-                .collect(),
-            ambient: scene.ambient,
-            specular_strength: scene.specular.strength,
-            shininess: scene.specular.shininess,
+                .filter(|l| l.kind == LightKind::Ambient)
+                .fold(Vec3::splat(scene.ambient), |sum, l| {
+                    sum + l.color * l.intensity
+                }),
             spp: scene.spp,
             sampling: scene.sampling,
             interleave_tile: scene.interleave_tile,

@@ -99,8 +99,7 @@ fn illuminate_switches_a_light_for_the_geometry_that_follows() {
         "LightSource \"distantlight\" 1\nIlluminate 2 0\n{TRIANGLE}"
     ));
     assert!(
-        warnings(&rib)
-            .contains("l.rib:5: Illuminate \"2\": no distantlight or pointlight has this handle"),
+        warnings(&rib).contains("l.rib:5: Illuminate \"2\": no light has this handle"),
         "{}",
         warnings(&rib)
     );

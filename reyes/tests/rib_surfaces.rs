@@ -1,11 +1,13 @@
 //! `Surface` with the standard shaders (`constant`, `matte`, `metal`,
-//! `plastic`) and their `Ka`, `Kd`, `Ks`, `roughness` and `specularcolor`:
-//! the scene each maps to, the warnings for what the renderer cannot
-//! follow, and rendered pixels against the RenderMan Interface 3.2
-//! (appendix A) formulas worked by hand.
+//! `plastic`, `defaultsurface`, `null`) and their `Ka`, `Kd`, `Ks`,
+//! `roughness` and `specularcolor`: each object keeps its own, the warnings
+//! for what the renderer cannot follow, and rendered pixels against the
+//! RenderMan Interface 3.2 (appendix A) formulas worked by hand.
 
+use glam::Vec3;
 use reyes::color::linear_to_srgb8;
 use reyes::rib::RibScene;
+use reyes::scene::{Light, Surface};
 
 /// A square facing the camera at depth 5 filling the middle of a 33 x 33
 /// image, with `lights` and `surface` (and `Color [cs]`) before it.
@@ -26,16 +28,10 @@ fn warnings(rib: &RibScene) -> Vec<String> {
     rib.warnings.iter().map(ToString::to_string).collect()
 }
 
-fn close(a: f32, b: f64) -> bool {
-    (f64::from(a) - b).abs() < 1e-6
-}
-
-fn assert_color(rib: &RibScene, expected: [f64; 3]) {
-    let c = rib.scene.objects[0].color;
-    assert!(
-        close(c.x, expected[0]) && close(c.y, expected[1]) && close(c.z, expected[2]),
-        "colour {c}, expected {expected:?}"
-    );
+fn surface(rib: &RibScene) -> Surface {
+    rib.scene.objects[0]
+        .surface
+        .expect("a RIB object names its surface")
 }
 
 const AMBIENT: &str = "LightSource \"ambientlight\" 1 \"intensity\" [0.2]";
@@ -45,131 +41,88 @@ const HEAD_LIGHT: &str =
     "LightSource \"distantlight\" 2 \"intensity\" [0.5] \"from\" [0 0 0] \"to\" [0 0 1]";
 
 #[test]
-fn matte_maps_kd_onto_the_colour_and_ka_onto_the_ambient() {
+fn each_shader_and_parameter_reaches_the_object() {
+    let cases: [(&str, Surface); 7] = [
+        (
+            "Surface \"matte\" \"Ka\" [0.5] \"Kd\" [0.8]",
+            Surface::Matte { ka: 0.5, kd: 0.8 },
+        ),
+        ("Surface \"matte\"", Surface::Matte { ka: 1.0, kd: 1.0 }),
+        (
+            "Surface \"plastic\" \"Ka\" [0.6] \"Kd\" [0.4] \"Ks\" [0.3] \"roughness\" [0.05] \
+             \"specularcolor\" [1 0.5 0]",
+            Surface::Plastic {
+                ka: 0.6,
+                kd: 0.4,
+                ks: 0.3,
+                roughness: 0.05,
+                specular_color: Vec3::new(1.0, 0.5, 0.0),
+            },
+        ),
+        ("Surface \"plastic\"", Surface::PLASTIC),
+        (
+            "Surface \"metal\" \"Ka\" [0.3] \"Ks\" [0.8] \"roughness\" [0.2]",
+            Surface::Metal {
+                ka: 0.3,
+                ks: 0.8,
+                roughness: 0.2,
+            },
+        ),
+        ("Surface \"constant\"", Surface::Constant),
+        (
+            "Surface \"defaultsurface\" \"Kd\" [0.5]",
+            Surface::DefaultSurface { ka: 0.2, kd: 0.5 },
+        ),
+    ];
+    for (request, expected) in cases {
+        let rib = read(&scene(AMBIENT, [0.8, 0.4, 0.2], request));
+        assert!(rib.warnings.is_empty(), "{request}: {:?}", warnings(&rib));
+        assert_eq!(surface(&rib), expected, "{request}");
+        assert_eq!(rib.scene.objects[0].color, Vec3::new(0.8, 0.4, 0.2));
+    }
+    // Without a Surface: RenderMan's defaultsurface.
+    let rib = read(&scene(AMBIENT, [0.8, 0.4, 0.2], ""));
+    assert_eq!(surface(&rib), Surface::DEFAULT_SURFACE);
+    // An ambient light is a light of its own, in colour.
     let rib = read(&scene(
-        AMBIENT,
-        [0.8, 0.4, 0.2],
-        "Surface \"matte\" \"Ka\" [0.5] \"Kd\" [0.8]",
+        "LightSource \"ambientlight\" 1 \"intensity\" [0.5] \"lightcolor\" [1 0.5 0]",
+        [1.0; 3],
+        "",
     ));
-    assert!(rib.warnings.is_empty(), "{:?}", warnings(&rib));
-    assert_color(&rib, [0.64, 0.32, 0.16]);
-    // Cs * Kd * ambient' = Cs * Ka * 0.2: ambient' = 0.2 * Ka / Kd.
-    assert!(
-        close(rib.scene.ambient, 0.2 * 0.5 / 0.8),
-        "{}",
-        rib.scene.ambient
-    );
-    assert_eq!(rib.scene.specular.strength, 0.0);
-    // The defaults: Ka = Kd = 1.
-    let rib = read(&scene(AMBIENT, [0.8, 0.4, 0.2], "Surface \"matte\""));
-    assert_color(&rib, [0.8, 0.4, 0.2]);
-    assert!(close(rib.scene.ambient, 0.2));
-}
-
-#[test]
-fn plastic_maps_every_parameter() {
-    let rib = read(&scene(
-        AMBIENT,
-        [0.8, 0.4, 0.2],
-        "Surface \"plastic\" \"Ka\" [0.6] \"Kd\" [0.4] \"Ks\" [0.3] \"roughness\" [0.05] \
-         \"specularcolor\" [0.5 0.5 0.5]",
-    ));
-    assert!(rib.warnings.is_empty(), "{:?}", warnings(&rib));
-    assert_color(&rib, [0.32, 0.16, 0.08]);
-    assert!(close(rib.scene.ambient, 0.2 * 0.6 / 0.4));
-    assert!(close(rib.scene.specular.strength, 0.3 * 0.5));
-    assert!(close(rib.scene.specular.shininess, 20.0));
-    // The defaults: Ka 1, Kd 0.5, Ks 0.5, roughness 0.1, specularcolor white.
-    let rib = read(&scene(AMBIENT, [0.8, 0.4, 0.2], "Surface \"plastic\""));
-    assert!(rib.warnings.is_empty(), "{:?}", warnings(&rib));
-    assert_color(&rib, [0.4, 0.2, 0.1]);
-    assert!(close(rib.scene.ambient, 0.4));
-    assert!(close(rib.scene.specular.strength, 0.5));
-    assert!(close(rib.scene.specular.shininess, 10.0));
-}
-
-#[test]
-fn a_coloured_specularcolor_is_taken_as_its_mean_with_a_warning() {
-    let rib = read(&scene(
-        AMBIENT,
-        [1.0, 1.0, 1.0],
-        "Surface \"plastic\" \"Ks\" [0.8] \"specularcolor\" [1 0.5 0]",
-    ));
-    assert!(close(rib.scene.specular.strength, 0.8 * 0.5));
-    let shown = warnings(&rib);
-    assert!(
-        shown.len() == 1 && shown[0].contains("specularcolor [1 0.5 0] is taken as its mean, 0.5"),
-        "{shown:?}"
+    assert_eq!(rib.scene.ambient, 0.0);
+    assert_eq!(
+        rib.scene.lights,
+        [Light::ambient(Vec3::new(1.0, 0.5, 0.0), 0.5)]
     );
 }
 
 #[test]
-fn metal_has_no_diffuse_and_a_highlight_of_ks_times_its_colour() {
-    let rib = read(&scene(
-        AMBIENT,
-        [0.9, 0.6, 0.3],
-        "Surface \"metal\" \"Ks\" [0.8] \"roughness\" [0.2]",
-    ));
-    assert_color(&rib, [0.0, 0.0, 0.0]);
-    assert!(close(rib.scene.specular.strength, 0.8 * 0.6));
-    assert!(close(rib.scene.specular.shininess, 5.0));
-    // No surface with a diffuse term: the ambient keeps its scale of 1.
-    assert!(close(rib.scene.ambient, 0.2));
-    let shown = warnings(&rib);
-    assert_eq!(shown.len(), 2, "{shown:?}");
-    assert!(shown[0].contains("Surface \"metal\""), "{shown:?}");
-    assert!(
-        shown[1].contains("metal's colour Cs [0.9 0.6 0.3]"),
-        "{shown:?}"
-    );
-    // The defaults: Ks 1, roughness 0.1.
-    let rib = read(&scene(AMBIENT, [0.5, 0.5, 0.5], "Surface \"metal\""));
-    assert!(close(rib.scene.specular.strength, 0.5));
-    assert!(close(rib.scene.specular.shininess, 10.0));
-}
-
-#[test]
-fn constant_is_matte_with_ka_and_kd_one_with_a_warning() {
-    let rib = read(&scene(AMBIENT, [0.3, 0.6, 0.9], "Surface \"constant\""));
-    assert_color(&rib, [0.3, 0.6, 0.9]);
-    assert!(close(rib.scene.ambient, 0.2));
-    assert_eq!(rib.scene.specular.strength, 0.0);
-    let shown = warnings(&rib);
-    assert!(
-        shown.len() == 1 && shown[0].contains("\"constant\" is unlit in RenderMan"),
-        "{shown:?}"
-    );
-}
-
-#[test]
-fn surfaces_that_differ_share_the_scene_wide_terms_with_warnings() {
-    // A matte (Ka / Kd = 1) and a plastic (1 / 0.5 = 2): the mean, 1.5.
+fn objects_keep_their_own_surfaces() {
     let text = scene(AMBIENT, [1.0, 1.0, 1.0], "Surface \"matte\"").replace(
         "WorldEnd",
-        "Surface \"plastic\" \"Ks\" [0.7]\nPolygon \"P\" [2 2 5  2 3 5  3 3 5  3 2 5]\nWorldEnd",
-    );
-    let rib = read(&text);
-    assert!(close(rib.scene.ambient, 0.2 * 1.5), "{}", rib.scene.ambient);
-    assert!(close(rib.scene.specular.strength, 0.7));
-    let shown = warnings(&rib);
-    assert_eq!(shown.len(), 2, "{shown:?}");
-    assert!(
-        shown.iter().any(|w| w.contains("one ambient term")
-            && w.contains("Ka / Kd goes from 1 to 2")
-            && w.contains("using the mean, 1.5")),
-        "{shown:?}"
-    );
-    assert!(
-        shown.iter().any(|w| w.contains("one specular term")),
-        "{shown:?}"
-    );
-    // Two plastics with the same highlight and Ka / Kd: no warning.
-    let text = scene(AMBIENT, [1.0, 1.0, 1.0], "Surface \"plastic\" \"Kd\" [0.5]").replace(
-        "WorldEnd",
-        "Surface \"plastic\" \"Ka\" [0.4] \"Kd\" [0.2]\nPolygon \"P\" [2 2 5  2 3 5  3 3 5  3 2 5]\nWorldEnd",
+        "Color [0 0 1]\nSurface \"plastic\" \"Ks\" [0.7]\n\
+         Polygon \"P\" [2 2 5  2 3 5  3 3 5  3 2 5]\nWorldEnd",
     );
     let rib = read(&text);
     assert!(rib.warnings.is_empty(), "{:?}", warnings(&rib));
+    let objects = &rib.scene.objects;
+    assert_eq!(objects.len(), 2);
+    assert_eq!(
+        objects[0].surface,
+        Some(Surface::Matte { ka: 1.0, kd: 1.0 })
+    );
+    assert_eq!(objects[0].color, Vec3::ONE);
+    assert_eq!(
+        objects[1].surface,
+        Some(Surface::Plastic {
+            ka: 1.0,
+            kd: 0.5,
+            ks: 0.7,
+            roughness: 0.1,
+            specular_color: Vec3::ONE,
+        })
+    );
+    assert_eq!(objects[1].color, Vec3::new(0.0, 0.0, 1.0));
 }
 
 #[test]
@@ -187,18 +140,19 @@ fn unknown_parameters_negative_weights_and_tiny_roughness_warn() {
         "{shown:?}"
     );
     assert!(
-        shown
-            .iter()
-            .any(|w| w.contains("Kd -1 is negative; using 0")),
+        shown.iter().any(|w| w.contains("Kd -1 is negative")),
         "{shown:?}"
     );
-    assert_color(&rib, [0.0, 0.0, 0.0]);
+    assert_eq!(surface(&rib), Surface::Matte { ka: 1.0, kd: 0.0 });
     let rib = read(&scene(
         AMBIENT,
         [1.0, 1.0, 1.0],
         "Surface \"plastic\" \"roughness\" [0]",
     ));
-    assert!(close(rib.scene.specular.shininess, 1000.0));
+    assert!(matches!(
+        surface(&rib),
+        Surface::Plastic { roughness, .. } if roughness == 1e-4
+    ));
     assert!(
         warnings(&rib)
             .iter()
@@ -206,10 +160,39 @@ fn unknown_parameters_negative_weights_and_tiny_roughness_warn() {
         "{:?}",
         warnings(&rib)
     );
-    // An unknown shader is matte with a warning, as before.
+    // An unknown shader is RenderMan's defaultsurface, with a warning.
     let rib = read(&scene(AMBIENT, [0.5, 0.5, 0.5], "Surface \"wood\""));
-    assert_color(&rib, [0.5, 0.5, 0.5]);
+    assert_eq!(surface(&rib), Surface::DEFAULT_SURFACE);
     assert!(warnings(&rib)[0].contains("Surface \"wood\" is not supported"));
+    // What is not followed yet says so.
+    for (request, said) in [
+        (
+            "Surface \"shinymetal\"",
+            "environment maps are not supported",
+        ),
+        ("Surface \"paintedplastic\"", "textures are not supported"),
+    ] {
+        let rib = read(&scene(AMBIENT, [0.5, 0.5, 0.5], request));
+        assert!(
+            warnings(&rib).iter().any(|w| w.contains(said)),
+            "{request}: {:?}",
+            warnings(&rib)
+        );
+    }
+}
+
+#[test]
+fn a_scene_without_lights_warns_only_where_a_surface_needs_them() {
+    let rib = read(&scene("", [0.5, 0.5, 0.5], ""));
+    assert!(rib.warnings.is_empty(), "{:?}", warnings(&rib));
+    let rib = read(&scene("", [0.5, 0.5, 0.5], "Surface \"matte\""));
+    assert!(
+        warnings(&rib)
+            .iter()
+            .any(|w| w.contains("no light sources")),
+        "{:?}",
+        warnings(&rib)
+    );
 }
 
 /// The middle pixel of the rendered scene, and the RenderMan value in
@@ -241,30 +224,63 @@ fn rendered_surfaces_follow_the_renderman_formulas() {
         cs.map(|c| c * (ka * amb + kd * light)),
     );
     // plastic: Cs * (Ka * ambient + Kd * diffuse) + specularcolor * Ks *
-    // specular, with N.H = 1 in the middle of the image.
-    let (ka, kd, ks, grey) = (0.6, 0.4, 0.3, 0.5);
+    // specular, with N.H = 1 in the middle of the image; a coloured
+    // highlight.
+    let (ka, kd, ks) = (0.6, 0.4, 0.3);
+    let tint = [1.0, 0.5, 0.25];
+    let expected: Vec<f64> = (0..3)
+        .map(|i| cs[i] * (ka * amb + kd * light) + tint[i] * ks * light)
+        .collect();
     assert_middle_pixel(
         &scene(
             &lights,
             cs,
-            "Surface \"plastic\" \"Ka\" [0.6] \"Kd\" [0.4] \"Ks\" [0.3] \"specularcolor\" [0.5 0.5 0.5]",
+            "Surface \"plastic\" \"Ka\" [0.6] \"Kd\" [0.4] \"Ks\" [0.3] \"specularcolor\" [1 0.5 0.25]",
         ),
-        cs.map(|c| c * (ka * amb + kd * light) + grey * ks * light),
+        [expected[0], expected[1], expected[2]],
     );
-    // metal, grey, without an ambient light (the renderer loses Ka):
-    // Cs * Ks * specular.
-    let (ks, grey) = (0.8, 0.7);
+    // metal: Cs * (Ka * ambient + Ks * specular).
+    let (ka, ks) = (0.5, 0.8);
     assert_middle_pixel(
-        &scene(HEAD_LIGHT, [grey; 3], "Surface \"metal\" \"Ks\" [0.8]"),
-        [grey * ks * light; 3],
+        &scene(&lights, cs, "Surface \"metal\" \"Ka\" [0.5] \"Ks\" [0.8]"),
+        cs.map(|c| c * (ka * amb + ks * light)),
     );
-    // constant under an ambient light of intensity 1 alone: Cs.
+    // constant ignores the lights: Cs.
+    assert_middle_pixel(&scene(&lights, cs, "Surface \"constant\""), cs);
+    // defaultsurface needs no lights: the viewer looks along the normal in
+    // the middle of the image, d = 1: Cs * (Ka + Kd) = Cs.
+    assert_middle_pixel(&scene("", cs, ""), cs);
     assert_middle_pixel(
         &scene(
-            "LightSource \"ambientlight\" 1 \"intensity\" [1]",
+            "",
             cs,
-            "Surface \"constant\"",
+            "Surface \"defaultsurface\" \"Ka\" [0.1] \"Kd\" [0.3]",
         ),
-        cs,
+        cs.map(|c| c * 0.4),
+    );
+}
+
+/// A spotlight from the camera along +z lights the middle of the square as
+/// `intensity / d^2` (the axis: cos = 1) and leaves the square dark beyond
+/// its cone, where only the ambient light shows.
+#[test]
+fn a_spotlight_lights_its_cone() {
+    // The square is 2 x 2 at depth 5, 18 pixels wide: a pixel 7 rows above
+    // the middle is atan(7 / 16.5 * tan 20) = 8.8 degrees off the axis,
+    // beyond a cone of 5 degrees.
+    let spot = "LightSource \"spotlight\" 3 \"intensity\" [12.5] \"from\" [0 0 0] \"to\" [0 0 1] \
+                \"coneangle\" [0.08726646] \"conedeltaangle\" [0.02]";
+    let text = scene(&format!("{AMBIENT}\n{spot}"), [1.0; 3], "Surface \"matte\"");
+    let rib = read(&text);
+    assert!(rib.warnings.is_empty(), "{:?}", warnings(&rib));
+    // 12.5 / 25 = 0.5 on the axis, plus the ambient 0.2.
+    assert_middle_pixel(&text, [0.7; 3]);
+    let image = reyes::reference::render(&rib.prepare().unwrap()).image;
+    // The square's edge is beyond the cone: the ambient light alone.
+    let edge = image.get_pixel(16, 9);
+    assert!(
+        edge[0].abs_diff(linear_to_srgb8(0.2)) <= 2,
+        "{edge:?} vs {}",
+        linear_to_srgb8(0.2)
     );
 }

@@ -80,7 +80,7 @@ if (valid) {
                 color = normal * 0.5 + vec3<f32>(0.5);
             }
             default: {
-                color = shade(moved, normal, object.albedo.xyz);
+                color = shade(moved, normal, object);
             }
         }
         scratch_store_u32(slot, w + 4u, pack_rgb10(color));

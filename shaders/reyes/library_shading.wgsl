@@ -88,28 +88,97 @@ fn pow_nonneg(x: f32, y: f32) -> f32 {
     return pow(x, y);
 }
 
-// reyes::reference::shade::shade_with: Lambert + two-sided Blinn-Phong
-// (the normal already faces the eye), clamped to [0, 1].
-fn shade(position: vec3<f32>, normal: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
-    let view = normalize_or_zero(towards_eye(position));
-    var diffuse = vec3<f32>(0.0);
-    var specular = vec3<f32>(0.0);
-    for (var l = 0u; l < frame.light_count; l += 1u) {
-        let light = lights[l];
-        // reyes::prepare::PreparedLight::at: w = 1 marks a point light,
-        // whose xyz is its position.
-        var to_light = light.to_light.xyz;
-        var falloff = 1.0;
-        if (light.to_light.w != 0.0) {
-            let toward = light.to_light.xyz - position;
-            falloff = 1.0 / max(dot3(toward, toward), POINT_LIGHT_MIN_DISTANCE_SQUARED);
-            to_light = normalize_or_zero(toward);
-        }
-        diffuse += light.radiance.xyz * (max(dot3(normal, to_light), 0.0) * falloff);
-        let half_vector = normalize_or_zero(to_light + view);
-        specular += light.radiance.xyz * (pow_nonneg(max(dot3(normal, half_vector), 0.0), frame.shininess) * falloff);
+// reyes::shading::smoothstep: RenderMan's, a step where min == max (WGSL's
+// smoothstep is undefined for min >= max).
+fn smoothstep_rm(lo: f32, hi: f32, x: f32) -> f32 {
+    if (x < lo) {
+        return 0.0;
     }
-    let color = albedo * (vec3<f32>(frame.ambient) + diffuse) + specular * frame.specular_strength;
-    return clamp(color, vec3<f32>(0.0), vec3<f32>(1.0));
+    if (x >= hi) {
+        return 1.0;
+    }
+    let t = (x - lo) / (hi - lo);
+    return t * t * (3.0 - 2.0 * t);
 }
 
+// What a light gives a surface point: the unit vector towards the light
+// and its colour there, Cl (zero outside a spotlight's cone).
+struct LightSample {
+    l: vec3<f32>,
+    cl: vec3<f32>,
+}
+
+// reyes::shading::PreparedLight::at: distantlight, pointlight and
+// spotlight as RenderMan computes Cl.
+fn light_at(light: Light, position: vec3<f32>) -> LightSample {
+    if (light.kind == LIGHT_DISTANT) {
+        return LightSample(light.to_light.xyz, light.radiance.xyz);
+    }
+    let toward = light.to_light.xyz - position;
+    let distance_squared = max(dot3(toward, toward), POINT_LIGHT_MIN_DISTANCE_SQUARED);
+    let l = normalize_or_zero(toward);
+    var attenuation = 1.0 / distance_squared;
+    if (light.kind == LIGHT_SPOT) {
+        let cos_angle = -dot3(l, light.axis.xyz);
+        if (!(cos_angle >= light.cos_outside)) {
+            return LightSample(l, vec3<f32>(0.0));
+        }
+        attenuation *= pow_nonneg(cos_angle, light.beam_distribution)
+            * smoothstep_rm(light.cos_outside, light.cos_inside, cos_angle);
+    }
+    return LightSample(l, light.radiance.xyz * attenuation);
+}
+
+// RenderMan's diffuse(N) and specular(N, V, roughness) at once, over the
+// lights within 90 degrees of the normal (reyes::reference::shade::Lighting).
+// A light outside a spotlight's cone adds zeros, as the reference skips it.
+struct Illumination {
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+}
+
+fn illuminance(position: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, exponent: f32) -> Illumination {
+    var sum = Illumination(vec3<f32>(0.0), vec3<f32>(0.0));
+    for (var i = 0u; i < frame.light_count; i += 1u) {
+        let sample = light_at(lights[i], position);
+        let cosine = dot3(normal, sample.l);
+        if (cosine > 0.0) {
+            sum.diffuse += sample.cl * cosine;
+            let half_vector = normalize_or_zero(sample.l + view);
+            sum.specular += sample.cl * pow_nonneg(max(dot3(normal, half_vector), 0.0), exponent);
+        }
+    }
+    return sum;
+}
+
+// reyes::reference::shade::shade_surface: the object's standard surface
+// shader (SURFACE_*), clamped to [0, 1]. The normal faces the eye (Nf).
+fn shade(position: vec3<f32>, normal: vec3<f32>, object: Object) -> vec3<f32> {
+    let cs = object.color.xyz;
+    let view = normalize_or_zero(towards_eye(position));
+    let ambient = vec3<f32>(frame.ambient_red, frame.ambient_green, frame.ambient_blue);
+    var color = cs;
+    switch object.surface {
+        case SURFACE_MATTE: {
+            let lit = illuminance(position, normal, view, 0.0);
+            color = cs * (ambient * object.ka + lit.diffuse * object.kd);
+        }
+        case SURFACE_METAL: {
+            let lit = illuminance(position, normal, view, object.specular_exponent);
+            color = cs * (ambient * object.ka + lit.specular * object.ks);
+        }
+        case SURFACE_PLASTIC: {
+            let lit = illuminance(position, normal, view, object.specular_exponent);
+            color = cs * (ambient * object.ka + lit.diffuse * object.kd)
+                + object.specular_color.xyz * lit.specular * object.ks;
+        }
+        case SURFACE_DEFAULT_SURFACE: {
+            let d = dot3(view, normal);
+            color = cs * (object.ka + object.kd * d * d);
+        }
+        default: {
+            // SURFACE_CONSTANT: Ci = Cs.
+        }
+    }
+    return clamp(color, vec3<f32>(0.0), vec3<f32>(1.0));
+}

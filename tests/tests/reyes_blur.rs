@@ -207,6 +207,7 @@ fn card_scene(cards: &[(Vec3, f32, Vec3)], sampling: Sampling) -> (Scene, Vec<Mo
             model: "card".into(),
             transform: Transform::default(),
             color: Vec3::ONE,
+            surface: None,
             displacement: None,
             transform_close: (motion != Vec3::ZERO).then(|| Transform {
                 translate: motion,

@@ -235,6 +235,7 @@ fn card_scene() -> (Scene, Vec<Model>) {
         model: "card".into(),
         transform: Default::default(),
         color: Vec3::splat(0.8),
+        surface: None,
         displacement: None,
         transform_close: None,
         sides: 2,

@@ -180,6 +180,7 @@ fn wall_scene(bound: f32) -> PreparedScene {
         model: "wall".into(),
         transform: Default::default(),
         color: Vec3::splat(0.8),
+        surface: None,
         displacement: Some(displacement(&map.to_string_lossy(), 1.0, 1.0)),
         transform_close: None,
         sides: 2,

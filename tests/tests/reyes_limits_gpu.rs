@@ -37,6 +37,7 @@ fn spheres(width: u32, height: u32) -> (Scene, Vec<Model>) {
                 ..Transform::default()
             },
             color,
+            surface: None,
             displacement: None,
             transform_close: None,
             sides: 2,
@@ -214,6 +215,7 @@ fn defocused_card(dicing: Dicing, dice_threshold: f32) -> PreparedScene {
         model: "card".into(),
         transform: Transform::default(),
         color: Vec3::ONE,
+        surface: None,
         displacement: None,
         transform_close: None,
         sides: 2,

@@ -74,6 +74,56 @@ pub mod displace {
     pub const USER: u32 = 3;
 }
 
+/// Surface shaders, as [`super::objects::ObjectData::surface`] encodes
+/// them ([`crate::shading::PreparedSurface`]).
+pub mod surface {
+    use crate::shading::PreparedSurface;
+
+    /// `constant`.
+    pub const CONSTANT: u32 = 0;
+    /// `matte`.
+    pub const MATTE: u32 = 1;
+    /// `metal`.
+    pub const METAL: u32 = 2;
+    /// `plastic`.
+    pub const PLASTIC: u32 = 3;
+    /// `defaultsurface`.
+    pub const DEFAULT_SURFACE: u32 = 4;
+
+    /// The code of `surface`.
+    pub fn code(surface: &PreparedSurface) -> u32 {
+        match surface {
+            PreparedSurface::Constant => CONSTANT,
+            PreparedSurface::Matte { .. } => MATTE,
+            PreparedSurface::Metal { .. } => METAL,
+            PreparedSurface::Plastic { .. } => PLASTIC,
+            PreparedSurface::DefaultSurface { .. } => DEFAULT_SURFACE,
+        }
+    }
+}
+
+/// Light kinds, as [`super::buffers::LightData::kind`] encodes them
+/// ([`crate::shading::PreparedLightKind`]).
+pub mod light {
+    use crate::shading::PreparedLightKind;
+
+    /// A distant light.
+    pub const DISTANT: u32 = 0;
+    /// A point light.
+    pub const POINT: u32 = 1;
+    /// A spotlight.
+    pub const SPOT: u32 = 2;
+
+    /// The code of `kind`.
+    pub fn code(kind: PreparedLightKind) -> u32 {
+        match kind {
+            PreparedLightKind::Distant => DISTANT,
+            PreparedLightKind::Point => POINT,
+            PreparedLightKind::Spot => SPOT,
+        }
+    }
+}
+
 /// Dicing modes, as the frame uniform encodes them.
 pub mod dicing {
     /// [`crate::scene::Dicing::Fixed`].

@@ -39,12 +39,12 @@ pub struct FrameUniform {
     pub jitter: u32,
     /// Lights used from the lights buffer.
     pub light_count: u32,
-    /// Ambient term.
-    pub ambient: f32,
-    /// Specular weight.
-    pub specular_strength: f32,
-    /// Blinn-Phong exponent.
-    pub shininess: f32,
+    /// `ambient()`'s red ([`PreparedScene::ambient`]).
+    pub ambient_red: f32,
+    /// Its green.
+    pub ambient_green: f32,
+    /// Its blue.
+    pub ambient_blue: f32,
     /// DICING_FIXED or DICING_RATE.
     pub dicing: u32,
     /// How far each clip coordinate moves per world unit
@@ -124,9 +124,9 @@ impl FrameUniform {
             sampling: sampling::code(scene.sampling),
             jitter: u32::from(scene.jitter),
             light_count: scene.lights.len() as u32,
-            ambient: scene.ambient,
-            specular_strength: scene.specular_strength,
-            shininess: scene.shininess,
+            ambient_red: scene.ambient.x,
+            ambient_green: scene.ambient.y,
+            ambient_blue: scene.ambient.z,
             dicing: super::abi::dicing::code(scene.dicing.mode()),
             clip_pad: camera.clip_pad(),
             aperture: scene.lens.aperture,
@@ -221,11 +221,21 @@ pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
 #[wgsl(name = "Light")]
 #[derive(Debug)]
 pub struct LightData {
-    /// w = 0: a distant light, xyz the unit vector towards it. w = 1: a
-    /// point light, xyz its position (reyes::prepare::PreparedLight).
+    /// A distant light: the unit vector towards it; a point light or a
+    /// spotlight: its position (reyes::shading::PreparedLight; w unused).
     pub to_light: Vec4,
     /// Intensity times colour (w unused).
     pub radiance: Vec4,
+    /// A spotlight's unit axis (w unused).
+    pub axis: Vec4,
+    /// LIGHT_* ([`super::abi::light`]).
+    pub kind: u32,
+    /// A spotlight's `cos(coneangle)`.
+    pub cos_outside: f32,
+    /// A spotlight's `cos(coneangle - conedeltaangle)`.
+    pub cos_inside: f32,
+    /// A spotlight's `beamdistribution`.
+    pub beam_distribution: f32,
 }
 
 /// The buffers the megakernel binds (see the resources in
@@ -337,8 +347,13 @@ impl FrameBuffers {
             .lights
             .iter()
             .map(|l| LightData {
-                to_light: l.to_light.extend(if l.point { 1.0 } else { 0.0 }),
+                to_light: l.to_light.extend(0.0),
                 radiance: l.radiance.extend(0.0),
+                axis: l.axis.extend(0.0),
+                kind: super::abi::light::code(l.kind),
+                cos_outside: l.cos_outside,
+                cos_inside: l.cos_inside,
+                beam_distribution: l.beam_distribution,
             })
             .collect();
         let mut frame = FrameUniform::new(scene);

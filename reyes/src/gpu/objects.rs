@@ -1,10 +1,11 @@
-//! The per-object GPU table (albedo and displacement parameters, twin of the
+//! The per-object GPU table (surface, motion and displacement parameters, twin of the
 //! WGSL `Object` struct) and the layout of the scene's height maps in the
 //! `height_texels` buffer.
 
 use std::sync::Arc;
 
-use super::abi::displace;
+use super::abi::{displace, surface};
+use crate::shading::PreparedSurface;
 use crate::displacement::{HeightMap, HeightSource};
 use crate::prepare::PreparedScene;
 
@@ -13,8 +14,10 @@ use crate::prepare::PreparedScene;
 #[wgsl(name = "Object")]
 #[derive(Debug, PartialEq)]
 pub struct ObjectData {
-    /// Linear RGB albedo (w unused).
-    pub albedo: glam::Vec4,
+    /// Linear RGB colour, RenderMan's `Cs` (w unused).
+    pub color: glam::Vec4,
+    /// `plastic`'s `specularcolor` (w unused).
+    pub specular_color: glam::Vec4,
     /// DISPLACE_NONE, DISPLACE_IMAGE, DISPLACE_SINES or DISPLACE_USER
     /// ([`displace`]).
     pub displace_kind: u32,
@@ -40,10 +43,44 @@ pub struct ObjectData {
     pub moving: u32,
     /// [`crate::motion::ObjectMotion::stretch`] (1 when not moving).
     pub motion_stretch: f32,
+    /// The surface shader, SURFACE_* ([`surface`]).
+    pub surface: u32,
+    /// The highlight's exponent, `1 / roughness`.
+    pub specular_exponent: f32,
+    /// `Ka`.
+    pub ka: f32,
+    /// `Kd`.
+    pub kd: f32,
+    /// `Ks`.
+    pub ks: f32,
     /// Padding.
-    pub pad1: u32,
-    /// Padding.
-    pub pad2: u32,
+    pub pad: u32,
+}
+
+impl ObjectData {
+    /// Stores `prepared`'s code and parameters (unused ones stay 0).
+    fn set_surface(&mut self, prepared: &PreparedSurface) {
+        self.surface = surface::code(prepared);
+        match *prepared {
+            PreparedSurface::Constant => {}
+            PreparedSurface::Matte { ka, kd } | PreparedSurface::DefaultSurface { ka, kd } => {
+                (self.ka, self.kd) = (ka, kd);
+            }
+            PreparedSurface::Metal { ka, ks, exponent } => {
+                (self.ka, self.ks, self.specular_exponent) = (ka, ks, exponent);
+            }
+            PreparedSurface::Plastic {
+                ka,
+                kd,
+                ks,
+                exponent,
+                specular_color,
+            } => {
+                (self.ka, self.kd, self.ks, self.specular_exponent) = (ka, kd, ks, exponent);
+                self.specular_color = specular_color.extend(0.0);
+            }
+        }
+    }
 }
 
 /// The objects' GPU data and the height maps they use, concatenated.
@@ -69,7 +106,8 @@ impl ObjectTables {
             .iter()
             .map(|object| {
                 let mut data = ObjectData {
-                    albedo: object.albedo.extend(0.0),
+                    color: object.color.extend(0.0),
+                    specular_color: glam::Vec4::ZERO,
                     displace_kind: displace::NONE,
                     map_offset: 0,
                     map_width: 0,
@@ -81,9 +119,16 @@ impl ObjectTables {
                     motion: glam::Mat4::IDENTITY,
                     moving: 0,
                     motion_stretch: 1.0,
-                    pad1: 0,
-                    pad2: 0,
+                    surface: surface::CONSTANT,
+                    specular_exponent: 0.0,
+                    ka: 0.0,
+                    kd: 0.0,
+                    ks: 0.0,
+                    pad: 0,
                 };
+                if let Some(prepared) = &object.surface {
+                    data.set_surface(prepared);
+                }
                 if let Some(motion) = &object.motion {
                     data.motion = motion.matrix;
                     data.moving = 1;

@@ -6,7 +6,8 @@
 use scheduler::ConstantValue;
 
 use super::abi::{
-    PLANE_BITS, POINT_WORDS, UNPROJECTABLE, decide, dicing, displace, non_finite, sampling, stat,
+    PLANE_BITS, POINT_WORDS, UNPROJECTABLE, decide, dicing, displace, light, non_finite, sampling,
+    stat, surface,
 };
 use crate::aov::Aov;
 use crate::dicing::{EDGE_U0, EDGE_U1, EDGE_V0, EDGE_V1, GridClass, GridSize, RATE_ROUNDING};
@@ -183,6 +184,17 @@ pub(super) fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, Consta
             ConstantValue::U32(non_finite::TRANSFORM),
         ),
         ("NON_FINITE_CAMERA", ConstantValue::U32(non_finite::CAMERA)),
+        ("SURFACE_CONSTANT", ConstantValue::U32(surface::CONSTANT)),
+        ("SURFACE_MATTE", ConstantValue::U32(surface::MATTE)),
+        ("SURFACE_METAL", ConstantValue::U32(surface::METAL)),
+        ("SURFACE_PLASTIC", ConstantValue::U32(surface::PLASTIC)),
+        (
+            "SURFACE_DEFAULT_SURFACE",
+            ConstantValue::U32(surface::DEFAULT_SURFACE),
+        ),
+        ("LIGHT_DISTANT", ConstantValue::U32(light::DISTANT)),
+        ("LIGHT_POINT", ConstantValue::U32(light::POINT)),
+        ("LIGHT_SPOT", ConstantValue::U32(light::SPOT)),
         ("DISPLACE_NONE", ConstantValue::U32(displace::NONE)),
         ("DISPLACE_IMAGE", ConstantValue::U32(displace::IMAGE)),
         ("DISPLACE_SINES", ConstantValue::U32(displace::SINES)),

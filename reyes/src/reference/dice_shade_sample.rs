@@ -159,7 +159,6 @@ fn shade_points(
     grid: &Grid,
     screen: &[ScreenPoint],
 ) -> Vec<u32> {
-    let albedo = object.albedo;
     let depth_range = aov::depth_range(&scene.camera);
     grid.positions
         .iter()
@@ -167,7 +166,7 @@ fn shade_points(
         .zip(screen)
         .map(|((&position, &normal), point)| {
             pack_rgb10(match scene.aov {
-                Aov::Shaded | Aov::Grids => shade(position, normal, albedo, scene),
+                Aov::Shaded | Aov::Grids => shade(position, normal, object, scene),
                 Aov::Depth => aov::depth_color(point.w, depth_range),
                 Aov::Normal => aov::normal_color(normal),
             })

@@ -9,8 +9,8 @@ use super::{RibError, RibScene, Warning};
 use crate::model::{Model, Patch};
 use crate::params::{MAX_SHADING_RATE, NEAR_EPS};
 use crate::scene::{
-    CameraDesc, CameraPose, Lens, Light, Projection, Resolution, Scale, Scene, SceneObject,
-    ShadingInterpolation, Transform,
+    CameraDesc, CameraPose, Lens, Projection, Resolution, Scale, Scene, SceneObject,
+    ShadingInterpolation, Surface, Transform,
 };
 
 /// Builds the scene of a finished interpreter run of `file`.
@@ -195,44 +195,20 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
         _ => 1.0,
     };
 
-    // Lights.
-    let no_lights = lights.is_empty();
-    for light in lights {
-        scene.lights.push(match light.position {
-            Some(position) => Light::point(
-                position.as_vec3(),
-                light.color.as_vec3(),
-                light.intensity as f32,
-            ),
-            None => Light {
-                direction: light.direction.as_vec3(),
-                color: light.color.as_vec3(),
-                intensity: light.intensity as f32,
-                ..Light::default()
-            },
-        });
-    }
-    let ambient = interp.ambient;
-    if (ambient.x - ambient.y).abs() > 1e-6 || (ambient.y - ambient.z).abs() > 1e-6 {
-        warn("ambientlight colour: the renderer's ambient term is grey; using the mean".into());
-    }
-    let ambient_mean = (ambient.x + ambient.y + ambient.z) / 3.0;
-    if no_lights && ambient == glam::DVec3::ZERO {
-        warn("no light sources: the image is black (add LightSource \"distantlight\")".into());
-    }
-
-    // Surfaces: the ambient scale and the specular term are scene-wide in
-    // the renderer.
-    let shading = super::surfaces::scene_shading(&interp.prims);
-    scene.ambient = (ambient_mean * shading.ambient_scale) as f32;
-    scene.specular = shading.specular;
-    for w in shading.warnings {
-        warn(w);
+    // Lights: RenderMan's ambient() is the ambient lights alone.
+    scene.ambient = 0.0;
+    scene.lights.extend(lights.iter().map(|l| l.light));
+    let lit = interp
+        .prims
+        .iter()
+        .any(|p| !p.patches.is_empty() && super::surfaces::is_lit(&p.attrs.surface));
+    if lit && lights.is_empty() {
+        warn("no light sources: the surfaces that need lights (matte, metal, plastic) are black; add LightSource \"distantlight\", or leave their Surface out for RenderMan's defaultsurface".into());
     }
 
     // Objects: consecutive primitives with the same look and motion share one.
     let mut models: Vec<Model> = Vec::new();
-    let mut keys: Vec<(Vec3, u8, bool, Option<DMat4>)> = Vec::new();
+    let mut keys: Vec<ObjectKey> = Vec::new();
     for prim in &interp.prims {
         if prim.patches.is_empty() {
             continue;
@@ -253,6 +229,7 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
                 model: format!("rib-object-{}", scene.objects.len()),
                 transform: Transform::default(),
                 color: key.0,
+                surface: Some(key.4),
                 displacement: None,
                 transform_close,
                 sides: key.1,
@@ -279,16 +256,21 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
     })
 }
 
-/// Colour, sides, reverse orientation and motion of a primitive.
-fn object_key(prim: &Prim) -> (Vec3, u8, bool, Option<DMat4>) {
+/// What a primitive's object is made of: colour, sides, reverse
+/// orientation, motion and surface.
+type ObjectKey = (Vec3, u8, bool, Option<DMat4>, Surface);
+
+/// The [`ObjectKey`] of a primitive.
+fn object_key(prim: &Prim) -> ObjectKey {
     // The baked points are in a mirrored (right-handed) frame, which turns
     // RenderMan's front (dP/du x dP/dv with a left-handed orientation) into
     // the renderer's back.
     (
-        super::surfaces::object_color(prim),
+        prim.attrs.color.as_vec3(),
         prim.attrs.sides,
         prim.attrs.orientation_lh,
         prim.close,
+        prim.attrs.surface,
     )
 }
 

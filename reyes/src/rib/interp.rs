@@ -102,8 +102,6 @@ pub struct Interp {
     pub(super) patch_count: usize,
     /// The distant and point lights, in declaration order.
     pub lights: Vec<RibLight>,
-    /// Sum of `ambientlight` intensity times colour.
-    pub ambient: DVec3,
     pub(super) includes: Vec<PathBuf>,
     pub(super) budget: u64,
     pub(super) object_depth: usize,
@@ -139,7 +137,6 @@ impl Interp {
             prims: Vec::new(),
             patch_count: 0,
             lights: Vec::new(),
-            ambient: DVec3::ZERO,
             includes: Vec::new(),
             budget,
             object_depth: 0,

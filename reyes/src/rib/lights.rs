@@ -1,5 +1,6 @@
-//! `LightSource` and `Illuminate`: RenderMan's light list, mapped onto the
-//! renderer's scene-wide lights.
+//! `LightSource` and `Illuminate`: RenderMan's light list (`distantlight`,
+//! `pointlight`, `spotlight` and `ambientlight`), mapped onto the renderer's
+//! scene-wide lights.
 //!
 //! In RenderMan the set of lights that are on is an attribute: a light
 //! defined inside `AttributeBegin`/`AttributeEnd` is off after the block, and
@@ -15,23 +16,18 @@ use glam::{DMat4, DVec3};
 use super::interp::{Interp, camera_to_world};
 use super::parser::Value;
 use super::state;
+use crate::scene::Light;
 
 /// Lights whose on/off state follows the attribute stack: the bits of
 /// [`state::Attributes::lights_on`]. Later ones are on from their
 /// definition to the end of the world block, with a warning.
 pub const SWITCHABLE_LIGHTS: usize = 64;
 
-/// A `distantlight` or `pointlight`, in world space.
+/// A standard light, in world space.
 #[derive(Debug, Clone)]
 pub struct RibLight {
-    /// The direction a distant light travels (unused by a point light).
-    pub direction: DVec3,
-    /// A point light's position (`from`).
-    pub position: Option<DVec3>,
-    /// `lightcolor`.
-    pub color: DVec3,
-    /// `intensity`.
-    pub intensity: f64,
+    /// The light as the scene holds it.
+    pub light: Light,
     /// The handle it was declared with (a number or a string), if any.
     pub handle: Option<String>,
     /// Whether it is on for at least one primitive.
@@ -68,11 +64,22 @@ impl Interp {
         let m = camera_to_world() * self.camera.unwrap_or(DMat4::IDENTITY) * self.xf.open;
         let intensity = state::param_f(&params, "intensity", 1.0)?;
         let color = state::param_v3(&params, "lightcolor", DVec3::ONE)?;
-        let light = |direction: DVec3, position: Option<DVec3>| RibLight {
-            direction,
-            position,
-            color,
-            intensity,
+        let color = color.as_vec3();
+        let intensity = intensity as f32;
+        if !(color.is_finite() && intensity.is_finite()) {
+            self.warn(
+                file,
+                line,
+                "LightSource whose intensity or lightcolor is beyond f32; ignored".into(),
+            );
+            return Ok(());
+        }
+        let light = |light: Light| RibLight {
+            light: Light {
+                color,
+                intensity,
+                ..light
+            },
             handle: handle.clone(),
             lights_something: false,
             dark_somewhere: false,
@@ -84,8 +91,12 @@ impl Interp {
                 let from = state::param_v3(&params, "from", DVec3::ZERO)?;
                 let to = state::param_v3(&params, "to", DVec3::Z)?;
                 let direction = m.transform_point3(to) - m.transform_point3(from);
-                if direction.length_squared() > 0.0 && direction.is_finite() {
-                    self.add_light(light(direction, None), file, line);
+                if direction.length_squared() > 0.0 && direction.as_vec3().is_finite() {
+                    let distant = Light {
+                        direction: direction.as_vec3(),
+                        ..Light::default()
+                    };
+                    self.add_light(light(distant), file, line);
                 } else {
                     self.warn(
                         file,
@@ -98,7 +109,8 @@ impl Interp {
                 let from = state::param_v3(&params, "from", DVec3::ZERO)?;
                 let position = m.transform_point3(from);
                 if position.as_vec3().is_finite() {
-                    self.add_light(light(DVec3::Z, Some(position)), file, line);
+                    let point = Light::point(position.as_vec3(), color, intensity);
+                    self.add_light(light(point), file, line);
                 } else {
                     self.warn(
                         file,
@@ -107,13 +119,83 @@ impl Interp {
                     );
                 }
             }
-            "ambientlight" => self.ambient += color * intensity,
+            "spotlight" => self.spotlight(&params, m, file, line, light)?,
+            "ambientlight" => {
+                let ambient = Light::ambient(color, intensity);
+                self.add_light(light(ambient), file, line);
+            }
             other => self.warn(
                 file,
                 line,
                 format!("LightSource {other:?} is not supported; ignored"),
             ),
         }
+        Ok(())
+    }
+
+    /// `LightSource "spotlight"`: `from`, `to`, `coneangle` and
+    /// `conedeltaangle` (radians, as RenderMan's) and `beamdistribution`.
+    fn spotlight(
+        &mut self,
+        params: &[state::Param],
+        m: DMat4,
+        file: &Path,
+        line: usize,
+        light: impl Fn(Light) -> RibLight,
+    ) -> Result<(), String> {
+        let from = state::param_v3(params, "from", DVec3::ZERO)?;
+        let to = state::param_v3(params, "to", DVec3::Z)?;
+        let position = m.transform_point3(from);
+        let direction = m.transform_point3(to) - position;
+        let cone = state::param_f(params, "coneangle", 30f64.to_radians())?.to_degrees();
+        let delta = state::param_f(params, "conedeltaangle", 5f64.to_radians())?.to_degrees();
+        let beam = state::param_f(params, "beamdistribution", 2.0)?;
+        if !(position.as_vec3().is_finite()
+            && direction.as_vec3().is_finite()
+            && direction.length_squared() > 0.0)
+        {
+            self.warn(
+                file,
+                line,
+                "spotlight whose position is not finite or with no direction (from = to); ignored"
+                    .into(),
+            );
+            return Ok(());
+        }
+        let cone_clamped = cone.clamp(1e-3, 90.0);
+        if cone_clamped != cone {
+            self.warn(
+                file,
+                line,
+                format!("spotlight coneangle of {cone} degrees; using {cone_clamped}"),
+            );
+        }
+        let delta_clamped = delta.clamp(0.0, cone_clamped);
+        if delta_clamped != delta {
+            self.warn(
+                file,
+                line,
+                format!("spotlight conedeltaangle of {delta} degrees; using {delta_clamped}"),
+            );
+        }
+        let beam_clamped = if beam.is_finite() { beam.max(0.0) } else { 2.0 };
+        if beam_clamped != beam {
+            self.warn(
+                file,
+                line,
+                format!("spotlight beamdistribution {beam}; using {beam_clamped}"),
+            );
+        }
+        let mut spot = Light::spot(
+            position.as_vec3(),
+            direction.as_vec3(),
+            glam::Vec3::ONE,
+            1.0,
+        );
+        spot.cone_angle_degrees = cone_clamped as f32;
+        spot.cone_delta_degrees = delta_clamped as f32;
+        spot.beam_distribution = beam_clamped as f32;
+        self.add_light(light(spot), file, line);
         Ok(())
     }
 
@@ -157,7 +239,7 @@ impl Interp {
                 file,
                 line,
                 format!(
-                    "Illuminate {handle:?}: no distantlight or pointlight has this handle; ignored"
+                    "Illuminate {handle:?}: no light has this handle; ignored"
                 ),
             );
             return Ok(());

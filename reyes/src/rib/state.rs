@@ -7,51 +7,14 @@ use glam::{DMat4, DVec3};
 
 use super::basis::{self, Basis};
 use super::parser::Value;
-
-/// A surface shader as far as the renderer can follow it (see
-/// `super::surfaces` for the mapping).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Surface {
-    /// `"constant"`: unlit in RenderMan; shaded as matte with `Ka = Kd = 1`.
-    Constant,
-    /// `"matte"` (and the fallback for unknown shaders): diffuse only.
-    Matte {
-        /// Ambient weight (`Ka`, default 1).
-        ka: f64,
-        /// Diffuse weight (`Kd`, default 1).
-        kd: f64,
-    },
-    /// `"metal"`: a highlight tinted by the colour, no diffuse.
-    Metal {
-        /// Ambient weight (`Ka`, default 1).
-        ka: f64,
-        /// Specular weight (`Ks`, default 1).
-        ks: f64,
-        /// `roughness` (default 0.1).
-        roughness: f64,
-    },
-    /// `"plastic"` (and `"paintedplastic"` without its texture): diffuse
-    /// plus a highlight of `specularcolor`.
-    Plastic {
-        /// Ambient weight (`Ka`, default 1).
-        ka: f64,
-        /// Diffuse weight (`Kd`, default 0.5).
-        kd: f64,
-        /// Specular weight (`Ks`, default 0.5).
-        ks: f64,
-        /// `roughness` (default 0.1).
-        roughness: f64,
-        /// `specularcolor` (default white).
-        specular_color: DVec3,
-    },
-}
+use crate::scene::Surface;
 
 /// The attributes the renderer uses.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Attributes {
     /// `Color`.
     pub color: DVec3,
-    /// `Surface`.
+    /// `Surface` (RenderMan's default: `defaultsurface`).
     pub surface: Surface,
     /// `Sides`: 1 or 2.
     pub sides: u8,
@@ -70,7 +33,7 @@ impl Default for Attributes {
     fn default() -> Self {
         Attributes {
             color: DVec3::ONE,
-            surface: Surface::Matte { ka: 1.0, kd: 1.0 },
+            surface: Surface::DEFAULT_SURFACE,
             sides: 2,
             orientation_lh: true,
             ubasis: basis::BEZIER,

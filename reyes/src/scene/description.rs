@@ -200,6 +200,7 @@ impl Scene {
                 model: model_name.into(),
                 transform: Transform::default(),
                 color: default_color(),
+                surface: None,
                 displacement: None,
                 transform_close: None,
                 sides: 2,

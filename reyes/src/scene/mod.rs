@@ -22,7 +22,7 @@
 //! jitter = false                     # jitter samples within their strata
 //! shutter = 1.0                      # fraction of the open-to-close motion the shutter sees
 //! background = [0.05, 0.05, 0.07]    # linear RGB
-//! ambient = 0.1                      # ambient light, multiplied by the albedo
+//! ambient = 0.1                      # an ambient light of this intensity (white)
 //! dicing = "rate"                   # "rate" (to the shading rate) or "fixed" (16 x 16 points)
 //! aov = "shaded"                     # what the image shows: "shaded", "grids", "depth" or "normal"
 //! shading_rate = 1.0                 # target micropolygon area in pixels (rate dicing)
@@ -51,13 +51,13 @@
 //! aperture = 0.0                     # lens radius in world units
 //! focus_distance = 12.5              # default: the distance from eye to target
 //!
-//! [specular]
-//! strength = 0.25
-//! shininess = 32.0
+//! [specular]                         # the highlight of objects without a [objects.surface]
+//! strength = 0.25                    # their plastic's Ks
+//! shininess = 32.0                   # 1 / their plastic's roughness
 //!
 //! [[objects]]
 //! model = "teapot"                   # the embedded teapot, or a .bpt/.bez path
-//! color = [0.8, 0.8, 0.8]            # linear RGB albedo
+//! color = [0.8, 0.8, 0.8]            # linear RGB colour, RenderMan's Cs
 //! sides = 2                          # 1: only the front (dP/du x dP/dv towards the eye) is drawn
 //! reverse_orientation = false        # the front is the other side
 //! [objects.transform]
@@ -71,6 +71,13 @@
 //! tiling = 1.0                       # repetitions of the source per patch
 //! [objects.transform_close]          # optional: the placement at shutter close (motion blur)
 //! rotate_degrees = [0.0, 0.0, 30.0]  # (not the default: the default is `transform`)
+//! [objects.surface]                  # optional: plastic with Ka 1, Kd 1 and [specular]'s Ks and roughness
+//! shader = "plastic"                 # "constant", "matte", "metal", "plastic", "defaultsurface" or "null"
+//! Ka = 1.0                           # RenderMan's parameters and defaults (docs/reyes.md, "Surfaces")
+//! Kd = 0.5
+//! Ks = 0.5
+//! roughness = 0.1
+//! specularcolor = [1.0, 1.0, 1.0]
 //!
 //! [[objects]]
 //! model = "models/killeroo.bpt"      # relative to the scene file's directory
@@ -85,6 +92,20 @@
 //! [[lights]]                         # a point light: `position` instead of `direction`
 //! position = [0.0, 3.0, 4.0]         # falls off as intensity / distance^2
 //! intensity = 20.0
+//!
+//! [[lights]]                         # a spotlight (RenderMan's spotlight)
+//! kind = "spot"                      # "distant", "point", "spot" or "ambient"
+//! position = [0.0, -6.0, 6.0]
+//! direction = [0.0, 1.0, -1.0]       # the axis of its cone
+//! cone_angle_degrees = 30.0          # no light beyond this angle from the axis
+//! cone_delta_degrees = 5.0           # fading out over this angle inside the edge
+//! beam_distribution = 2.0            # falls off as cos^beam_distribution from the axis
+//! intensity = 40.0                   # and as intensity / distance^2
+//!
+//! [[lights]]                         # an ambient light, added to `ambient`
+//! kind = "ambient"
+//! color = [0.2, 0.2, 0.3]
+//! intensity = 0.5
 //! ```
 //!
 //! Parse with [`Scene::from_toml_str`] or [`Scene::load`]; both validate the
@@ -103,6 +124,7 @@ mod framing;
 mod light;
 mod object;
 mod parse;
+mod surface;
 mod validation;
 
 #[cfg(test)]
@@ -114,5 +136,9 @@ pub use camera_desc::{CameraDesc, CameraPose, Lens};
 pub use description::{Resolution, Scene, TEAPOT_MODEL};
 pub use error::{SceneError, format_point};
 pub use framing::{FramingError, MIN_FRAMED_DEPTH};
-pub use light::{Light, Specular};
+pub use light::{
+    DEFAULT_BEAM_DISTRIBUTION, DEFAULT_CONE_ANGLE_DEGREES, DEFAULT_CONE_DELTA_DEGREES, Light,
+    LightKind, Specular,
+};
 pub use object::{ModelSource, Scale, SceneObject, Transform};
+pub use surface::Surface;

@@ -9,6 +9,7 @@ use crate::displacement::DisplacementDesc;
 #[cfg(doc)]
 use crate::model::Model;
 
+use super::Surface;
 use super::defaults::{default_color, default_sides};
 
 /// A uniform or per-axis scale.
@@ -95,9 +96,13 @@ pub struct SceneObject {
     /// Placement (default identity).
     #[serde(default)]
     pub transform: Transform,
-    /// Linear RGB albedo (default 0.8 grey).
+    /// Linear RGB colour, RenderMan's `Cs` (default 0.8 grey).
     #[serde(default = "default_color")]
     pub color: Vec3,
+    /// The surface shader (default: `plastic` lit by the scene's `ambient`
+    /// and `[specular]`, [`Surface::scene_default`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<Surface>,
     /// Displacement mapping (default none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub displacement: Option<DisplacementDesc>,

@@ -25,14 +25,25 @@ fn module_doc_example_parses() {
         .join("\n");
     let scene = Scene::from_toml_str(&text).unwrap();
     assert_eq!(scene.objects.len(), 2);
+    let mut spot = Light::spot(
+        Vec3::new(0.0, -6.0, 6.0),
+        Vec3::new(0.0, 1.0, -1.0),
+        Vec3::ONE,
+        40.0,
+    );
+    spot.cone_angle_degrees = 30.0;
     assert_eq!(
         scene.lights,
         vec![
             Light::default(),
-            Light::point(Vec3::new(0.0, 3.0, 4.0), Vec3::ONE, 20.0)
+            Light::point(Vec3::new(0.0, 3.0, 4.0), Vec3::ONE, 20.0),
+            spot,
+            Light::ambient(Vec3::new(0.2, 0.2, 0.3), 0.5),
         ]
     );
     assert_eq!(scene.specular, Specular::default());
+    assert_eq!(scene.objects[0].surface, Some(Surface::PLASTIC));
+    assert_eq!(scene.objects[1].surface, None);
 }
 
 /// A moved and panned camera (fresh random poses, the seed printed):

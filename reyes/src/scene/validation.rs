@@ -14,7 +14,9 @@ use crate::displacement::desc::SourceKind;
 use crate::params::{MAX_SHADING_RATE, MAX_SPLIT_DEPTH_LIMIT, VALID_SPP};
 
 use super::error::{finite, invalid};
-use super::{CameraDesc, Light, Resolution, Scene, SceneError, SceneObject, Transform};
+use super::{
+    CameraDesc, Light, LightKind, Resolution, Scene, SceneError, SceneObject, Surface, Transform,
+};
 
 impl Scene {
     /// Checks every value: resolution > 0, spp in `VALID_SPP`, all numbers
@@ -251,6 +253,9 @@ fn check_object(i: usize, object: &SceneObject) -> Result<(), SceneError> {
             ));
         }
     }
+    if let Some(surface) = &object.surface {
+        check_surface(i, surface)?;
+    }
     if let Some(displacement) = &object.displacement {
         displacement.validate().map_err(|problem| {
             let field = format!("objects[{i}].displacement.{}", problem.field);
@@ -259,6 +264,23 @@ fn check_object(i: usize, object: &SceneObject) -> Result<(), SceneError> {
                 Some(reason) => SceneError::InvalidValue { field, reason },
             }
         })?;
+    }
+    Ok(())
+}
+
+/// Object `i`'s surface parameters: finite and not negative (RenderMan's
+/// terms only add light), and a positive `roughness` (the highlight's
+/// exponent is its inverse).
+fn check_surface(i: usize, surface: &Surface) -> Result<(), SceneError> {
+    for (name, value) in surface.params() {
+        let field = format!("objects[{i}].surface.{name}");
+        finite(&field, [value])?;
+        if value < 0.0 {
+            return Err(invalid(&field, "must be >= 0"));
+        }
+        if name == "roughness" && value == 0.0 {
+            return Err(invalid(&field, "must be > 0"));
+        }
     }
     Ok(())
 }
@@ -280,23 +302,56 @@ fn check_transform(field: &str, transform: &Transform) -> Result<(), SceneError>
     )
 }
 
-/// Light `i` (`lights[i]`): finite colour and intensity, and a finite
-/// position (a point light) or a finite, non-zero direction (a distant one).
+/// Light `i` (`lights[i]`): finite colour and intensity, a finite
+/// position (point lights and spotlights), a finite, non-zero direction
+/// (distant lights and spotlights), and a spotlight's cone: `0 <
+/// cone_angle_degrees <= 90`, `0 <= cone_delta_degrees <= cone_angle_degrees`
+/// and `beam_distribution >= 0`.
 fn check_light(i: usize, light: &Light) -> Result<(), SceneError> {
     finite(&format!("lights[{i}].color"), light.color.to_array())?;
     finite(&format!("lights[{i}].intensity"), [light.intensity])?;
     if let Some(position) = light.position {
-        return finite(&format!("lights[{i}].position"), position.to_array());
+        finite(&format!("lights[{i}].position"), position.to_array())?;
     }
-    finite(
-        &format!("lights[{i}].direction"),
-        light.direction.to_array(),
-    )?;
-    if light.direction.length_squared() == 0.0 {
-        return Err(invalid(
+    if matches!(light.kind, LightKind::Distant | LightKind::Spot) {
+        finite(
             &format!("lights[{i}].direction"),
-            "must be non-zero",
-        ));
+            light.direction.to_array(),
+        )?;
+        if light.direction.length_squared() == 0.0 {
+            return Err(invalid(
+                &format!("lights[{i}].direction"),
+                "must be non-zero",
+            ));
+        }
+    }
+    if light.kind == LightKind::Spot {
+        let cone = light.cone_angle_degrees;
+        let delta = light.cone_delta_degrees;
+        finite(&format!("lights[{i}].cone_angle_degrees"), [cone])?;
+        finite(&format!("lights[{i}].cone_delta_degrees"), [delta])?;
+        finite(
+            &format!("lights[{i}].beam_distribution"),
+            [light.beam_distribution],
+        )?;
+        if !(cone > 0.0 && cone <= 90.0) {
+            return Err(invalid(
+                &format!("lights[{i}].cone_angle_degrees"),
+                "must be in (0, 90]",
+            ));
+        }
+        if !(0.0..=cone).contains(&delta) {
+            return Err(invalid(
+                &format!("lights[{i}].cone_delta_degrees"),
+                "must be in [0, cone_angle_degrees]",
+            ));
+        }
+        if light.beam_distribution < 0.0 {
+            return Err(invalid(
+                &format!("lights[{i}].beam_distribution"),
+                "must be >= 0",
+            ));
+        }
     }
     Ok(())
 }

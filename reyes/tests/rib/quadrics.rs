@@ -192,7 +192,7 @@ fn render(text: &str) -> image::RgbaImage {
 }
 
 /// The covered area in pixels: the sum of the linear coverage of a white
-/// object lit by an ambient light of 1.
+/// `constant` object.
 fn coverage(image: &image::RgbaImage) -> f64 {
     image
         .pixels()
@@ -201,7 +201,7 @@ fn coverage(image: &image::RgbaImage) -> f64 {
 }
 
 const LIT: &str = "PixelSamples 4 4\nProjection \"perspective\" \"fov\" 90\nWorldBegin\n\
-    LightSource \"ambientlight\" 1 \"intensity\" 1\n";
+    Surface \"constant\"\n";
 
 #[test]
 fn sphere_silhouette_covers_pi_r_squared() {
