@@ -6,9 +6,14 @@
 //! The megakernel renders the image with the workload's graph (`Tile` checks
 //! borders and fills, splits or hands squares to `Block`), under the
 //! persistent megakernel and under the Rounds strategy; every variant's image
-//! is verified: the flat dispatch's against the CPU brute force, the
+//! is verified exactly: the flat dispatch's against the CPU brute force, the
 //! subdivision's against the CPU subdivision (and its counters against the
 //! CPU's tile counts), after the warm-up and after the last timed run. The
+//! CPU computes under the arithmetic the driver used: a driver may fuse the
+//! escape loop's multiply-adds, so the warm-up's counts are matched with
+//! the plain reference or else with the one fused variant that explains
+//! them (`workloads::mandelbrot::Contraction`), each shader on its own, and
+//! the last run must give that variant's counts again. The
 //! `mk checked` row is the default megakernel compiled in checked mode
 //! (every index into `counts` guarded): the cost of checked mode.
 
@@ -21,7 +26,8 @@ use crate::flat::{BoundKernel, Timestamps, dispatch_timed};
 use crate::timing::{TimeSource, Timings};
 
 pub use workloads::mandelbrot::{
-    ESCAPE_WGSL, Mandelbrot, Subdivision, UNWRITTEN, View, cpu_brute_force, cpu_mariani_silver,
+    Contraction, ESCAPE_WGSL, Mandelbrot, Matched, Subdivision, UNWRITTEN, View, cpu_brute_force,
+    cpu_mariani_silver, match_brute_force,
 };
 
 /// Threads per workgroup of the flat kernel (8 × 8 pixels).
@@ -82,6 +88,9 @@ pub struct MandelbrotRow {
     pub iterations: u64,
     /// Submissions per run (megakernel dispatches or batches of rounds).
     pub dispatches: Option<u32>,
+    /// The multiply-adds the driver fused in this variant's shader, as the
+    /// check found them (`None` when nothing was fused).
+    pub fused: Option<String>,
 }
 
 /// Everything one Mandelbrot comparison measured.
@@ -166,10 +175,55 @@ impl FlatMandelbrot {
         )
     }
 
-    /// Checks the last run's counts against `expected`.
-    pub fn check(&self, expected: &[u32], variant: &str) -> Result<(), BenchError> {
-        crate::verify::check_out(&self.device, &self.queue, &self.counts, expected, variant)
+    /// The last run's counts.
+    pub fn counts(&self) -> Result<Vec<u32>, BenchError> {
+        crate::verify::read_out(&self.device, &self.queue, &self.counts)
     }
+}
+
+/// Matches a flat dispatch's counts with `plain`, the plain CPU brute force,
+/// or else with the brute force under the contraction that explains them.
+/// When none does, the error is the mismatch with `plain`.
+fn match_flat(
+    view: &View,
+    counts: &[u32],
+    plain: &[u32],
+    variant: &str,
+) -> Result<Matched<Vec<u32>>, BenchError> {
+    match_brute_force(view, counts, plain).or_else(|unexplained| {
+        crate::verify::compare(counts, plain, variant)?;
+        Err(BenchError::Counters {
+            variant: variant.to_owned(),
+            detail: unexplained.to_string(),
+        })
+    })
+}
+
+/// Matches a subdivision's counts and counters with `plain`, the plain CPU
+/// subdivision, or else with the subdivision under the contraction that
+/// explains them. When none does, the error is the first disagreement with
+/// `plain`: the pixels, or else the counters.
+pub fn match_scheduled(
+    mandelbrot: &Mandelbrot,
+    report: &scheduler::RunReport,
+    counts: &[u32],
+    plain: &Subdivision,
+    variant: &str,
+) -> Result<Matched<Subdivision>, BenchError> {
+    mandelbrot
+        .check(report, counts, plain)
+        .or_else(|unexplained| {
+            crate::verify::compare(counts, &plain.counts, variant)?;
+            Err(BenchError::Counters {
+                variant: variant.to_owned(),
+                detail: unexplained.mismatches.join("; "),
+            })
+        })
+}
+
+/// `Some` description of what `contraction` fused, `None` when nothing.
+fn fused(contraction: Contraction) -> Option<String> {
+    (!contraction.is_plain()).then(|| contraction.to_string())
 }
 
 fn boxed(error: Box<dyn std::error::Error>) -> BenchError {
@@ -180,14 +234,16 @@ fn boxed(error: Box<dyn std::error::Error>) -> BenchError {
 /// whether it is compiled in checked mode.
 type Scheduled = (Strategy, u32, u32, bool);
 
-/// Times one megakernel or Rounds variant: a verified warm-up, `runs` timed
-/// runs, the last one verified too. Returns the row without its ratio.
+/// Times one megakernel or Rounds variant: a verified warm-up, matched with
+/// `plain` (the plain CPU subdivision) or the fused variant that explains
+/// it, and `runs` timed runs, the last one verified against the warm-up's
+/// variant. Returns the row without its ratio.
 fn measure_scheduled(
     gpu: &Gpu,
     view: View,
     config: &MandelbrotConfig,
     (strategy, workgroups, chunks, checked): Scheduled,
-    cpu: &Subdivision,
+    plain: &Subdivision,
 ) -> Result<MandelbrotRow, BenchError> {
     let mode = if checked { ", checked" } else { "" };
     let name = format!(
@@ -203,21 +259,11 @@ fn measure_scheduled(
         ..workloads::mandelbrot::config(gpu, &view, chunks)
     };
     let mut mandelbrot = Mandelbrot::new(gpu, view, &options, &executor_config).map_err(boxed)?;
-    let verify = |mandelbrot: &Mandelbrot, report: &scheduler::RunReport| {
-        let counts = mandelbrot.counts()?;
-        crate::verify::compare(&counts, &cpu.counts, &name)?;
-        let problems = mandelbrot.compare(report, &counts, cpu);
-        if problems.is_empty() {
-            Ok(())
-        } else {
-            Err(BenchError::Counters {
-                variant: name.clone(),
-                detail: problems.join("; "),
-            })
-        }
-    };
     let report = mandelbrot.render(strategy)?;
-    verify(&mandelbrot, &report)?;
+    let Matched {
+        contraction,
+        reference: cpu,
+    } = match_scheduled(&mandelbrot, &report, &mandelbrot.counts()?, plain, &name)?;
     let variant = match (strategy, checked) {
         // The megakernel with every resource index guarded: its cost.
         (Strategy::Megakernel, true) => "mk checked".to_owned(),
@@ -236,7 +282,16 @@ fn measure_scheduled(
         }));
         walls.push(last.wall_time);
     }
-    verify(&mandelbrot, &last)?;
+    // The same shader again: the warm-up's arithmetic, exactly.
+    let counts = mandelbrot.counts()?;
+    crate::verify::compare(&counts, &cpu.counts, &name)?;
+    let problems = mandelbrot.compare(&last, &counts, &cpu);
+    if !problems.is_empty() {
+        return Err(BenchError::Counters {
+            variant: name,
+            detail: problems.join("; "),
+        });
+    }
     Ok(MandelbrotRow {
         variant,
         workgroups,
@@ -248,6 +303,7 @@ fn measure_scheduled(
         escape_pixels: cpu.escape_pixels,
         iterations: cpu.iterations,
         dispatches: Some(last.dispatches),
+        fused: fused(contraction),
     })
 }
 
@@ -282,13 +338,16 @@ pub fn run_mandelbrot(
     let flat_name = "mandelbrot flat dispatch";
     crate::verify::fill_sentinel(&gpu.queue, &flat.counts);
     flat.run()?;
-    flat.check(&brute, flat_name)?;
+    let Matched {
+        contraction: flat_contraction,
+        reference: flat_reference,
+    } = match_flat(&view, &flat.counts()?, &brute, flat_name)?;
     let (times, walls): (Vec<_>, Vec<_>) = (0..config.runs)
         .map(|_| flat.run())
         .collect::<Result<Vec<_>, _>>()?
         .into_iter()
         .unzip();
-    flat.check(&brute, flat_name)?;
+    crate::verify::compare(&flat.counts()?, &flat_reference, flat_name)?;
     let flat_timings = Timings::new(times, &walls, flat.time_source());
     let flat_median = flat_timings.median;
     let row = MandelbrotRow {
@@ -300,8 +359,9 @@ pub fn run_mandelbrot(
         tiles: None,
         blocks: None,
         escape_pixels: view.pixels() as u64,
-        iterations: brute.iter().map(|&n| u64::from(n)).sum(),
+        iterations: flat_reference.iter().map(|&n| u64::from(n)).sum(),
         dispatches: Some(1),
+        fused: fused(flat_contraction),
     };
     progress(&row);
     let mut rows = vec![row];
@@ -386,13 +446,24 @@ pub fn format_mandelbrot_row(row: &MandelbrotRow) -> String {
     )
 }
 
-/// The whole table.
+/// The whole table, then a line per row whose shader the driver fused.
 pub fn format_mandelbrot_table(report: &MandelbrotReport) -> String {
     let mut s = format_mandelbrot_header();
     s.push('\n');
     for row in &report.rows {
         s.push_str(&format_mandelbrot_row(row));
         s.push('\n');
+    }
+    for row in &report.rows {
+        if let Some(fused) = &row.fused {
+            let chunks = row
+                .chunks
+                .map_or(String::new(), |c| format!(", {c} chunk(s)"));
+            s.push_str(&format!(
+                "the driver fused ({} {} wg{chunks}): {fused}; verified against the CPU fusing the same\n",
+                row.variant, row.workgroups
+            ));
+        }
     }
     s
 }

@@ -8,13 +8,14 @@ use std::path::Path;
 use plotters::prelude::*;
 use scheduler::{CompileOptions, ExecutorConfig, Gpu, RunReport, Strategy, TraceOptions};
 use serde_json::Value;
-use workloads::mandelbrot::{Mandelbrot, View, cpu_mariani_silver};
+use workloads::mandelbrot::{Contraction, Mandelbrot, View, cpu_mariani_silver};
 
 use crate::error::BenchError;
 
 /// One traced run of the Mandelbrot example (Mariani–Silver subdivision of
-/// the whole set at `size`² pixels), verified against the CPU. The report
-/// holds the trace.
+/// the whole set at `size`² pixels), verified against the CPU under the
+/// arithmetic the driver used. The report holds the trace; the contraction
+/// says which multiply-adds the driver fused.
 pub fn mandelbrot(
     gpu: &Gpu,
     size: u32,
@@ -22,7 +23,7 @@ pub fn mandelbrot(
     chunks: u32,
     strategy: Strategy,
     trace: TraceOptions,
-) -> Result<RunReport, BenchError> {
+) -> Result<(RunReport, Contraction), BenchError> {
     let view = View::whole_set(size, max_iter);
     let options = CompileOptions {
         chunks_per_batch: chunks,
@@ -35,15 +36,14 @@ pub fn mandelbrot(
         .map_err(|e| BenchError::Config(format!("the Mandelbrot graph: {e}")))?;
     let report = mandelbrot.render(strategy)?;
     let counts = mandelbrot.counts()?;
-    crate::verify::compare(&counts, &cpu.counts, "traced Mandelbrot")?;
-    let problems = mandelbrot.compare(&report, &counts, &cpu);
-    if !problems.is_empty() {
-        return Err(BenchError::Counters {
-            variant: "traced Mandelbrot".into(),
-            detail: problems.join("; "),
-        });
-    }
-    Ok(report)
+    let matched = crate::mandelbrot::match_scheduled(
+        &mandelbrot,
+        &report,
+        &counts,
+        &cpu,
+        "traced Mandelbrot",
+    )?;
+    Ok((report, matched.contraction))
 }
 
 /// The queue fills of a Chrome trace: per counter (`fill <procedure>`), its

@@ -29,9 +29,17 @@ pub fn check_out(
     expected: &[u32],
     variant: &str,
 ) -> Result<(), BenchError> {
+    compare(&read_out(device, queue, out)?, expected, variant)
+}
+
+/// Reads `out` back.
+pub fn read_out(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    out: &wgpu::Buffer,
+) -> Result<Vec<u32>, BenchError> {
     let bytes = scheduler::readback::read_buffer(device, queue, out, READ_TIMEOUT)?;
-    let actual: &[u32] = bytemuck::cast_slice(&bytes);
-    compare(actual, expected, variant)
+    Ok(bytemuck::pod_collect_to_vec(&bytes))
 }
 
 /// Compares two `out` arrays.

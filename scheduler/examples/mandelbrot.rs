@@ -1,5 +1,6 @@
 //! Renders the Mandelbrot set by Mariani–Silver subdivision
-//! ([`workloads::mandelbrot`]) and checks every pixel against the CPU.
+//! ([`workloads::mandelbrot`]) and checks every pixel against the CPU, under
+//! the multiply-adds the driver fused (the summary names them).
 //!
 //! Run with `cargo run --release -p scheduler --example mandelbrot [size]
 //! [max_iter] [out.ppm]`: it prints the report, the check and an ASCII
@@ -27,7 +28,14 @@ fn main() -> Result<(), Box<dyn Error>> {
         println!("wrote {path}");
     }
     if checked.mismatches.is_empty() {
-        println!("OK: every pixel equals the CPU's");
+        match checked.contraction {
+            Some(fused) if !fused.is_plain() => {
+                println!(
+                    "OK: every pixel equals the CPU's, computed with the same fused multiply-adds"
+                );
+            }
+            _ => println!("OK: every pixel equals the CPU's"),
+        }
         Ok(())
     } else {
         for m in &checked.mismatches {

@@ -80,16 +80,23 @@ fn mandelbrot_converges_within_three_extra_attempts() {
             measured.push((what.clone(), report.attempts));
             let tile = report.procedure(&graph.tile).unwrap();
             let block = report.procedure(&graph.block).unwrap();
-            assert_eq!(
-                (tile.executed, block.executed),
-                (cpu.tiles, cpu.blocks),
-                "{what}"
-            );
-            assert_eq!(
-                executor.read::<u32>("counts").unwrap(),
-                cpu.counts,
-                "{what}"
-            );
+            let executed = (tile.executed, block.executed);
+            // Exact, under the multiply-adds the driver fused: the tiles
+            // executed depend on the counts.
+            let counts = executor.read::<u32>("counts").unwrap();
+            let matched = mandelbrot::match_subdivision(&view, &counts, &cpu, |cpu| {
+                let expected = (cpu.tiles, cpu.blocks);
+                if executed == expected {
+                    Vec::new()
+                } else {
+                    vec![format!(
+                        "(Tile, Block) executed: GPU {executed:?}, CPU {expected:?}"
+                    )]
+                }
+            });
+            if let Err(e) = matched {
+                panic!("{what}: {e}");
+            }
         }
     }
     eprintln!("attempts: {measured:?}");

@@ -13,27 +13,48 @@
 //! square, a split tile writes nothing (its children cover it), a block
 //! writes its 64 pixels.
 //!
-//! Exactness. The escape-time iteration is plain `f32` arithmetic, written in
-//! the same order on both sides, so the GPU's counts are compared with a CPU
-//! Mariani–Silver that takes the same decisions ([`cpu_mariani_silver`]),
-//! pixel for pixel, and the scheduler's counters with its tile counts. The
-//! update is written `(zr - zi) * (zr + zi) + cr` rather than
-//! `zr * zr - zi * zi + cr`, which lavapipe reassociates. The views keep the
-//! pixel coordinates exact: [`View::whole_set`] steps by `3 / size` with
-//! `size` a power of two. Mariani–Silver itself can differ from computing
-//! every pixel (brute force, [`cpu_brute_force`]) where a border of one count
-//! encloses a feature of another; [`Checked::differ_from_brute_force`] counts
-//! those pixels.
+//! Exactness. The escape-time iteration is `f32` arithmetic, written in
+//! the same order on both sides, and the GPU's counts are compared exactly:
+//! a scheduling bug (an item lost, run twice or read half-written) shows as
+//! a few wrong pixels, which a tolerance would hide. The update is written
+//! `(zr - zi) * (zr + zi) + cr` rather than `zr * zr - zi * zi + cr`, which
+//! lavapipe reassociates. What WGSL cannot forbid is contraction: SPIR-V
+//! lets a driver fuse a multiply and the add after it into one multiply-add
+//! with a single rounding, and NVIDIA's driver does (an H200's flat
+//! dispatch of the 512×512 benchmark image differed from the plain CPU in
+//! 532 pixels, first at (366, 98) with 330 for 349, as a CPU fusing both
+//! updates does), while the CPU never fuses unless asked. So the counts are compared with the
+//! CPU under the [`Contraction`] that explains them: the plain arithmetic
+//! first, then, only if that differs, each way of fusing the loop's four
+//! multiply-add sites ([`escape_count_with`], with `f32::mul_add`), tried on
+//! the differing pixels and then verified on all of them
+//! ([`match_brute_force`], [`match_subdivision`]). The subdivision's
+//! decisions depend on the counts, so a fused CPU Mariani–Silver
+//! ([`cpu_mariani_silver_with`]) is recomputed under the contraction, and
+//! the scheduler's counters are compared with its tile counts. A run that
+//! no contraction explains is wrong, and its error lists the disagreements
+//! with the plain reference. Each shader is matched on its own (the flat
+//! kernel and the scheduler's module may be fused differently). The views
+//! keep the pixel coordinates exact: [`View::whole_set`] steps by
+//! `3 / size` with `size` a power of two, so fusing them changes nothing.
+//! Mariani–Silver itself can differ from computing every pixel (brute
+//! force, [`cpu_brute_force`]) where a border of one count encloses a
+//! feature of another; [`Checked::differ_from_brute_force`] counts those
+//! pixels.
 //!
 //! The parts live in their own files: the per-pixel and per-tile CPU
-//! references ([`cpu_mariani_silver`]), the WGSL bodies ([`TILE_BODY`]), the
-//! graph and its executor configuration ([`graph`], [`config`]), a checked
-//! GPU render ([`run`]) and the pictures ([`ppm`]). The example
-//! `scheduler/examples/mandelbrot.rs` runs it from the command line.
+//! references ([`cpu_mariani_silver`]), the contractions ([`Contraction`])
+//! and the matchers ([`match_subdivision`]), the WGSL bodies
+//! ([`TILE_BODY`]), the graph and its executor configuration ([`graph`],
+//! [`config`]), a checked GPU render ([`run`]) and the pictures ([`ppm`]).
+//! The example `scheduler/examples/mandelbrot.rs` runs it from the command
+//! line.
 
+mod contraction;
 mod cpu;
 mod graph;
 mod image;
+mod matching;
 mod render;
 mod wgsl;
 
@@ -41,15 +62,17 @@ use scheduler::ConstantValue;
 #[cfg(doc)]
 use scheduler::Graph;
 
+pub use contraction::{Contraction, Magnitude};
 pub use cpu::{
-    Decision, Subdivision, border_pixel, cpu_brute_force, cpu_mariani_silver, decide, escape_count,
-    quarters,
+    Decision, Subdivision, border_pixel, cpu_brute_force, cpu_brute_force_with, cpu_mariani_silver,
+    cpu_mariani_silver_with, decide, decide_with, escape_count, escape_count_with, quarters,
 };
 pub use graph::{
     MandelbrotGraph, capacities, config, graph, loop_iterations_per_chunk,
     loop_safe_iteration_budget,
 };
 pub use image::{ascii_preview, colour, ppm};
+pub use matching::{Matched, Unexplained, match_brute_force, match_subdivision, pixel_mismatches};
 pub use render::{Checked, Mandelbrot, run};
 pub use wgsl::{BLOCK_BODY, BORDER_WGSL, ESCAPE_WGSL, TILE_BODY};
 

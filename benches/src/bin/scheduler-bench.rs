@@ -180,8 +180,8 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         println!(
             "ratio = flat median / row median (above 1: faster than the flat dispatch); \
              escape px = pixels whose escape count was iterated, iterations = their counts \
-             summed; {} pixel(s) where Mariani-Silver differs from brute force; \
-             all variants verified: OK",
+             summed; {} pixel(s) where Mariani-Silver differs from brute force (plain \
+             arithmetic); all variants verified: OK",
             mandelbrot.differ_from_brute_force
         );
         Some(mandelbrot)
@@ -215,7 +215,7 @@ fn write_trace(
     } else {
         args.mandelbrot_size
     };
-    let report = benches::trace::mandelbrot(
+    let (report, contraction) = benches::trace::mandelbrot(
         gpu,
         size,
         args.mandelbrot_max_iter,
@@ -229,6 +229,9 @@ fn write_trace(
     trace.write_chrome_trace(path)?;
     println!("adapter: {}", gpu.describe());
     println!("{report}");
+    if !contraction.is_plain() {
+        println!("the driver fused: {contraction}; verified against the CPU fusing the same");
+    }
     println!(
         "trace: Mandelbrot {size}x{size}, {chunks} chunk(s) per batch: {} batches, {} recorded, \
          {} dropped; Chrome trace written to {}",

@@ -1,6 +1,7 @@
 //! A compiled Mandelbrot graph with its executor for repeated renders, and a
 //! checked render: every pixel and the scheduler's counters compared with
-//! the CPU subdivision, with a human-readable summary.
+//! the CPU subdivision under the arithmetic the driver used, with a
+//! human-readable summary.
 
 use std::error::Error;
 use std::fmt::Write as _;
@@ -11,8 +12,9 @@ use scheduler::{
 };
 
 use super::{
-    Block, MIN_SIZE, MandelbrotGraph, Subdivision, Tile, UNWRITTEN, View, cpu_brute_force,
-    cpu_mariani_silver, graph,
+    Block, Contraction, MIN_SIZE, MandelbrotGraph, Matched, Subdivision, Tile, UNWRITTEN,
+    Unexplained, View, cpu_brute_force_with, cpu_mariani_silver, graph, match_subdivision,
+    pixel_mismatches,
 };
 
 /// A compiled graph and an executor, which owns the output buffer, for
@@ -72,9 +74,14 @@ pub struct Checked {
     pub report: RunReport,
     /// Escape count per pixel, row by row.
     pub counts: Vec<u32>,
-    /// Every disagreement with the CPU, empty when the run is correct.
+    /// The multiply-adds the driver fused, as found by matching the counts
+    /// ([`match_subdivision`]); `None` when no contraction explains them.
+    pub contraction: Option<Contraction>,
+    /// Every disagreement with the CPU, empty when the run is correct (with
+    /// no contraction found, the disagreements with the plain reference).
     pub mismatches: Vec<String>,
-    /// Pixels where Mariani–Silver (on the CPU) differs from brute force.
+    /// Pixels where Mariani–Silver (on the CPU) differs from brute force,
+    /// both under the matched contraction.
     pub differ_from_brute_force: usize,
     /// A human-readable summary of the result.
     pub summary: String,
@@ -82,35 +89,34 @@ pub struct Checked {
 
 impl Mandelbrot {
     /// Every disagreement of a render's counts and report with the CPU
-    /// subdivision `cpu` (none when the render is correct).
+    /// subdivision `cpu` (none when the render is correct): exact, under
+    /// whatever arithmetic `cpu` was computed with. [`Self::check`] finds
+    /// the arithmetic the driver used.
     pub fn compare(&self, report: &RunReport, counts: &[u32], cpu: &Subdivision) -> Vec<String> {
-        let view = &self.view;
+        pixel_mismatches(&self.view, counts, &cpu.counts)
+            .into_iter()
+            .chain(self.counter_mismatches(report, cpu))
+            .collect()
+    }
+
+    /// Matches a render's counts and counters with `plain`, the plain
+    /// [`cpu_mariani_silver`] of the view, or else with the subdivision
+    /// under the contraction that explains them ([`match_subdivision`]).
+    pub fn check(
+        &self,
+        report: &RunReport,
+        counts: &[u32],
+        plain: &Subdivision,
+    ) -> Result<Matched<Subdivision>, Unexplained> {
+        match_subdivision(&self.view, counts, plain, |cpu| {
+            self.counter_mismatches(report, cpu)
+        })
+    }
+
+    /// The disagreements of the scheduler's counters with the tile counts
+    /// of `cpu`.
+    fn counter_mismatches(&self, report: &RunReport, cpu: &Subdivision) -> Vec<String> {
         let mut mismatches = Vec::new();
-        let wrong: Vec<usize> = (0..view.pixels())
-            .filter(|&i| counts[i] != cpu.counts[i])
-            .collect();
-        if !wrong.is_empty() {
-            let width = view.width as usize;
-            let examples: Vec<String> = wrong
-                .iter()
-                .take(8)
-                .map(|&i| {
-                    format!(
-                        "({}, {}): GPU {}, CPU {}",
-                        i % width,
-                        i / width,
-                        counts[i],
-                        cpu.counts[i]
-                    )
-                })
-                .collect();
-            mismatches.push(format!(
-                "{} of {} pixels differ, e.g. {}",
-                wrong.len(),
-                view.pixels(),
-                examples.join("; ")
-            ));
-        }
         let mut expect = |what: &str, gpu: Option<u64>, cpu: u64| {
             if gpu != Some(cpu) {
                 mismatches.push(format!("{what}: GPU {gpu:?}, CPU {cpu}"));
@@ -130,16 +136,20 @@ impl Mandelbrot {
     }
 }
 
-/// Renders `view` once with the megakernel and checks it against the CPU.
+/// Renders `view` once with the megakernel and checks it against the CPU,
+/// under the arithmetic the driver used ([`Mandelbrot::check`]).
 pub fn run(gpu: &Gpu, view: &View, config: &ExecutorConfig) -> Result<Checked, Box<dyn Error>> {
     let options = CompileOptions::with_features(scheduler::recommended_features(&gpu.device));
     let mut mandelbrot = Mandelbrot::new(gpu, *view, &options, config)?;
     let report = mandelbrot.render(Strategy::Megakernel)?;
     let counts = mandelbrot.counts()?;
 
-    let cpu = cpu_mariani_silver(view);
-    let mismatches = mandelbrot.compare(&report, &counts, &cpu);
-    let brute = cpu_brute_force(view);
+    let plain = cpu_mariani_silver(view);
+    let (contraction, cpu, mismatches) = match mandelbrot.check(&report, &counts, &plain) {
+        Ok(matched) => (Some(matched.contraction), matched.reference, Vec::new()),
+        Err(unexplained) => (None, plain, unexplained.mismatches),
+    };
+    let brute = cpu_brute_force_with(view, contraction.unwrap_or_default());
     let differ_from_brute_force = (0..view.pixels())
         .filter(|&i| cpu.counts[i] != brute[i])
         .count();
@@ -151,6 +161,18 @@ pub fn run(gpu: &Gpu, view: &View, config: &ExecutorConfig) -> Result<Checked, B
         "{}x{} pixels, at most {} iterations: {inside} pixels in the set",
         view.width, view.height, view.max_iter
     )?;
+    match contraction {
+        Some(c) if !c.is_plain() => writeln!(
+            summary,
+            "the driver fused: {c}; the CPU reference computes the same"
+        )?,
+        Some(_) => {}
+        None => writeln!(
+            summary,
+            "no fusing of the escape loop's multiply-adds explains the counts: compared with \
+             the plain CPU reference"
+        )?,
+    }
     writeln!(
         summary,
         "{} tiles: {} filled from their border, {} split, {} handed to blocks of {MIN_SIZE}x{MIN_SIZE}",
@@ -174,6 +196,7 @@ pub fn run(gpu: &Gpu, view: &View, config: &ExecutorConfig) -> Result<Checked, B
     Ok(Checked {
         report,
         counts,
+        contraction,
         mismatches,
         differ_from_brute_force,
         summary,

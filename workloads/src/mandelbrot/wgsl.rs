@@ -1,8 +1,12 @@
 //! The WGSL of the two procedures: the shared per-pixel function and border
 //! walk, and the bodies of `Tile` and `Block`.
 
+#[cfg(doc)]
+use super::Contraction;
+
 /// The per-pixel function, shared by both procedures (and by the flat
-/// dispatch the benchmark compares with).
+/// dispatch the benchmark compares with). A driver may fuse its
+/// multiply-adds; the checks find out which ([`Contraction`]).
 pub const ESCAPE_WGSL: &str = "
 fn escape_count(px: u32, py: u32) -> u32 {
     let cr = X0 + f32(px) * STEP;
