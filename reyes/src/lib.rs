@@ -80,6 +80,7 @@ pub mod aov;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod displacement;
+pub mod filter;
 pub mod gpu;
 pub mod load;
 pub mod model;

@@ -8,6 +8,7 @@ use crate::aov::Aov;
 use crate::camera::Camera;
 use crate::dicing::DicingRule;
 use crate::displacement::PreparedDisplacement;
+use crate::filter::PixelFilter;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
 use crate::params::DEGENERATE_NORMAL_REL_EPS;
@@ -124,6 +125,8 @@ pub struct PreparedScene {
     pub aov: Aov,
     /// How colour varies over a micropolygon.
     pub shading_interpolation: ShadingInterpolation,
+    /// The pixel filter of the resolve.
+    pub pixel_filter: PixelFilter,
 }
 
 impl PreparedScene {
@@ -295,6 +298,7 @@ impl PreparedScene {
             skipped_degenerate_patches,
             aov: scene.aov,
             shading_interpolation: scene.shading_interpolation,
+            pixel_filter: scene.pixel_filter,
         })
     }
 

@@ -384,7 +384,7 @@ fn sides_one_shows_the_front_clockwise_on_screen() {
 #[test]
 fn options_are_mapped() {
     let text = "Format 30 60 1\nPixelSamples 3 2\nShadingRate 4\nProjection \"perspective\" \"fov\" 40\n\
-        Clipping 0.5 50\nShadingInterpolation \"constant\"\nShutter 0 0.5\nDepthOfField 2 0.1 5\nPixelFilter \"gaussian\" 2 2\n\
+        Clipping 0.5 50\nShadingInterpolation \"constant\"\nShutter 0 0.5\nDepthOfField 2 0.1 5\nPixelFilter \"catmull-rom\" 3 4\n\
         Hider \"hidden\"\nHider \"hidden\"\nWorldBegin\nMotionBegin [0 1]\nTranslate 0 0 0\nTranslate 1 0 0\nMotionEnd\n\
         Polygon \"P\" [0 0 5 0 1 5 1 1 5]\nWorldEnd\n";
     let rib = RibScene::from_text(text, "o.rib").unwrap();
@@ -415,7 +415,15 @@ fn options_are_mapped() {
     let warnings: Vec<String> = rib.warnings.iter().map(ToString::to_string).collect();
     let all = warnings.join("\n");
     assert!(all.contains("PixelSamples 3 2"), "{all}");
-    assert!(all.contains("o.rib:9: PixelFilter \"gaussian\""), "{all}");
+    assert_eq!(
+        s.pixel_filter,
+        reyes::filter::PixelFilter {
+            filter: reyes::filter::FilterKind::CatmullRom,
+            xwidth: 3.0,
+            ywidth: 4.0
+        }
+    );
+    assert!(!all.contains("PixelFilter"), "{all}");
     assert_eq!(all.matches("Hider is not supported").count(), 1, "{all}");
     assert!(all.contains("o.rib:10: Hider"), "{all}");
 }
@@ -428,9 +436,9 @@ fn unsupported_geometry_warns_and_the_rest_renders() {
     let rib = RibScene::from_text(&text, "u.rib").unwrap();
     let all: Vec<String> = rib.warnings.iter().map(ToString::to_string).collect();
     let all = all.join("\n");
-    assert!(all.contains("u.rib:11: Blobby is not supported"), "{all}");
-    assert!(all.contains("u.rib:12: NuPatch is not supported"), "{all}");
-    assert!(all.contains("u.rib:13: Patch with \"Pw\""), "{all}");
+    assert!(all.contains("u.rib:13: Blobby is not supported"), "{all}");
+    assert!(all.contains("u.rib:14: NuPatch is not supported"), "{all}");
+    assert!(all.contains("u.rib:15: Patch with \"Pw\""), "{all}");
     assert_eq!(quadrants(&rib), [0, 81, 0, 0]);
 }
 
@@ -824,7 +832,7 @@ fn general_polygon_with_holes_warns_and_the_rest_renders() {
     let all: Vec<String> = rib.warnings.iter().map(ToString::to_string).collect();
     let all = all.join("\n");
     assert!(
-        all.contains("h.rib:11: GeneralPolygon with more than one loop: holes are not supported"),
+        all.contains("h.rib:13: GeneralPolygon with more than one loop: holes are not supported"),
         "{all}"
     );
     assert_eq!(quadrants(&rib), [0, 81, 0, 0]);

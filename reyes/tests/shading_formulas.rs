@@ -16,7 +16,8 @@ const FOV: f64 = 30.0;
 const CENTRE: DVec3 = DVec3::new(0.0, 0.0, 5.0);
 
 /// The sphere scene with `lights` and `surface`, rendered by the CPU
-/// reference at 16 samples per pixel. The shading rate is 1/16 (a
+/// reference at 16 samples per pixel, each pixel the mean of its own
+/// (a box filter over one pixel, which the expectations average too). The shading rate is 1/16 (a
 /// micropolygon a quarter of a pixel wide): the colours are interpolated
 /// across each micropolygon, and across the terminator, where `max(0, N.L)`
 /// has its kink, that interpolation is off by up to half a micropolygon's
@@ -24,7 +25,7 @@ const CENTRE: DVec3 = DVec3::new(0.0, 0.0, 5.0);
 /// 2/255 these tests allow).
 fn render(lights: &str, surface: &str) -> image::RgbaImage {
     let text = format!(
-        "Format {SIZE} {SIZE} 1\nPixelSamples 4 4\nShadingRate 0.0625\n\
+        "Format {SIZE} {SIZE} 1\nPixelSamples 4 4\nPixelFilter \"box\" 1 1\nShadingRate 0.0625\n\
          Projection \"perspective\" \"fov\" [{FOV}]\nWorldBegin\n{lights}\n{surface}\n\
          Translate 0 0 5\nSphere 1 -1 1 360\nWorldEnd\n"
     );

@@ -4,7 +4,9 @@
 // words (little-endian: x = low word = colour, y = high word = depth), so
 // neither entry point needs 64-bit atomics.
 
-// `ResolveParams` and `CLEAR_WORKGROUP` are declared before this file from
+// `ResolveParams`, `CLEAR_WORKGROUP`, the FILTER_* codes, the jitter
+// hash's constants and its function (`jitter_hash`, shared with the
+// megakernel's library_raster.wgsl) are declared before this file from
 // their Rust definitions (reyes::gpu::resolve).
 
 @group(0) @binding(0) var<uniform> params: ResolveParams;
@@ -43,31 +45,123 @@ fn linear_to_srgb8(c_in: f32) -> u32 {
     return u32(select(f, f + 1.0, x - f >= 0.5));
 }
 
-// reyes::reference::resolve::resolve: linear average of the samples
-// (uncovered ones take the background), sRGB-encoded, alpha 255.
+// The colour of a sample's key: its packed colour, or the background.
+fn key_color(key: vec2<u32>) -> vec3<f32> {
+    if (key.x == CLEAR_WORD && key.y == CLEAR_WORD) {
+        return params.background.xyz;
+    }
+    return vec3<f32>(
+        f32(key.x & 0x3ffu) / 1023.0,
+        f32((key.x >> 10u) & 0x3ffu) / 1023.0,
+        f32((key.x >> 20u) & 0x3ffu) / 1023.0,
+    );
+}
+
+// reyes::sampling::sample_offset of sample s of the pixel at absolute
+// coordinates (gx, gy).
+fn sample_offset(gx: u32, gy: u32, s: u32) -> vec2<f32> {
+    let kf = f32(params.k);
+    var offset = vec2<f32>((f32(s % params.k) + 0.5) / kf, (f32(s / params.k) + 0.5) / kf);
+    if (params.jitter != 0u) {
+        let jx = (f32(jitter_hash(gx, gy, s, 0u)) / 4294967296.0 - 0.5) / kf;
+        let jy = (f32(jitter_hash(gx, gy, s, 1u)) / 4294967296.0 - 0.5) / kf;
+        offset += vec2<f32>(jx, jy);
+    }
+    return offset;
+}
+
+// reyes::filter: RenderMan's windowed sinc in one axis.
+fn windowed_sinc(x: f32, width: f32) -> f32 {
+    if (x == 0.0) {
+        return 1.0;
+    }
+    let px = PI * x;
+    return cos(0.5 * px / width) * sin(px) / px;
+}
+
+// reyes::filter::PixelFilter::weight: the weight of a sample (x, y)
+// pixels from the pixel's centre, 0 outside the window.
+fn filter_weight(x: f32, y: f32) -> f32 {
+    let hx = 0.5 * params.xwidth;
+    let hy = 0.5 * params.ywidth;
+    if (abs(x) > hx || abs(y) > hy) {
+        return 0.0;
+    }
+    switch params.filter_kind {
+        case FILTER_TRIANGLE: {
+            return (1.0 - abs(x) / hx) * (1.0 - abs(y) / hy);
+        }
+        case FILTER_GAUSSIAN: {
+            let u = x / hx;
+            let v = y / hy;
+            return exp(-2.0 * (u * u + v * v));
+        }
+        case FILTER_CATMULL_ROM: {
+            let r2 = x * x + y * y;
+            let r = sqrt(r2);
+            if (r < 1.0) {
+                return 3.0 * r * r2 - 5.0 * r2 + 2.0;
+            }
+            if (r < 2.0) {
+                return -r * r2 + 5.0 * r2 - 8.0 * r + 4.0;
+            }
+            return 0.0;
+        }
+        case FILTER_SINC: {
+            return windowed_sinc(x, params.xwidth) * windowed_sinc(y, params.ywidth);
+        }
+        default: {
+            // FILTER_BOX.
+            return 1.0;
+        }
+    }
+}
+
+// reyes::reference::resolve::resolve: the filter-weighted mean of the
+// samples of the pixels around this one (uncovered ones take the
+// background; pixels outside the frame are missing and the weights are
+// normalized), or the plain mean of its own samples where the window holds
+// no weight; sRGB-encoded, alpha 255.
 @compute @workgroup_size(8, 8)
 fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= params.width || id.y >= params.height) {
         return;
     }
     let pixel = id.y * params.width + id.x;
-    var sum = vec3<f32>(0.0);
+    var own = vec3<f32>(0.0);
     var covered = 0u;
     for (var s = 0u; s < params.spp; s += 1u) {
         let key = keys[pixel * params.spp + s];
-        if (key.x == CLEAR_WORD && key.y == CLEAR_WORD) {
-            sum += params.background.xyz;
-        } else {
+        if (!(key.x == CLEAR_WORD && key.y == CLEAR_WORD)) {
             covered += 1u;
-            let packed = key.x;
-            sum += vec3<f32>(
-                f32(packed & 0x3ffu) / 1023.0,
-                f32((packed >> 10u) & 0x3ffu) / 1023.0,
-                f32((packed >> 20u) & 0x3ffu) / 1023.0,
-            );
+        }
+        own += key_color(key);
+    }
+    var sum = vec3<f32>(0.0);
+    var weights = 0.0;
+    let y0 = id.y - min(id.y, params.radius_y);
+    let y1 = min(id.y + params.radius_y, params.height - 1u);
+    let x0 = id.x - min(id.x, params.radius_x);
+    let x1 = min(id.x + params.radius_x, params.width - 1u);
+    for (var qy = y0; qy <= y1; qy += 1u) {
+        for (var qx = x0; qx <= x1; qx += 1u) {
+            let ox = f32(qx) - f32(id.x) - 0.5;
+            let oy = f32(qy) - f32(id.y) - 0.5;
+            let q = qy * params.width + qx;
+            for (var s = 0u; s < params.spp; s += 1u) {
+                let offset = sample_offset(qx + params.origin_x, qy + params.origin_y, s);
+                let w = filter_weight(ox + offset.x, oy + offset.y);
+                if (w != 0.0) {
+                    sum += key_color(keys[q * params.spp + s]) * w;
+                    weights += w;
+                }
+            }
         }
     }
-    let c = sum * (1.0 / f32(params.spp));
+    var c = own * (1.0 / f32(params.spp));
+    if (weights > 0.0) {
+        c = sum / weights;
+    }
     image[pixel] = linear_to_srgb8(c.x) | (linear_to_srgb8(c.y) << 8u)
         | (linear_to_srgb8(c.z) << 16u) | (255u << 24u);
     coverage[pixel] = covered;

@@ -38,9 +38,14 @@ fn capped(gpu: &scheduler::Gpu, max_tile_samples: Option<u64>) -> GpuRenderer<'_
 }
 
 /// The teapot of the other GPU tests at `width x height` and `spp`; it
-/// crosses the tile borders of the small frames below.
+/// crosses the tile borders of the small frames below. Its pixels average
+/// their own samples (a box over one pixel), so that the tiles render no
+/// margin and the tile counts below are `plan_tiles`' own; filters that
+/// reach beyond a pixel are tiled in `reyes_filters_gpu.rs`.
 fn teapot(width: u32, height: u32, spp: u32) -> PreparedScene {
-    PreparedScene::load(&framed_teapot(width, height, spp)).expect("scene prepares")
+    let mut scene = framed_teapot(width, height, spp);
+    scene.pixel_filter = reyes::filter::PixelFilter::PIXEL_BOX;
+    PreparedScene::load(&scene).expect("scene prepares")
 }
 
 /// The thresholds the GPU-vs-CPU tests use for the teapot.

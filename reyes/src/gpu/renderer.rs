@@ -29,7 +29,7 @@ pub use super::options::{
     DEFAULT_RENDER_TIMEOUT, DEFAULT_WORK_CAPACITY, FrameTimings, GpuOptions, GpuRendered,
 };
 pub use super::render_error::RenderError;
-pub use super::tiles::{TILE_ALIGN, Tile, plan_tiles};
+pub use super::tiles::{TILE_ALIGN, Tile, plan_tiles, plan_tiles_with_margin};
 pub use runs::RENDER_ATTEMPTS;
 
 mod limits;
@@ -241,19 +241,13 @@ impl<'a> GpuRenderer<'a> {
                     && target.height == camera.height =>
             {
                 buffers.write(queue, scene);
-                target.write_params(queue, scene.spp, scene.background);
+                target.write_params(queue, scene);
             }
             _ => {
                 self.frame = None;
                 self.frame = Some((
                     FrameBuffers::new(device, queue, scene),
-                    ResolveTarget::new(
-                        device,
-                        camera.width,
-                        camera.height,
-                        scene.spp,
-                        scene.background,
-                    ),
+                    ResolveTarget::new(device, scene),
                 ));
             }
         }

@@ -9,7 +9,14 @@ use scheduler::wgpu::util::DeviceExt as _;
 
 use scheduler::Item as _;
 
+use crate::filter::FilterKind;
+use crate::params::{HASH_MIX, HASH_MULTIPLIERS};
+use crate::prepare::PreparedScene;
+
 const RESOLVE_WGSL: &str = include_str!("../../../shaders/reyes/resolve.wgsl");
+/// The megakernel's sampling library, whose `jitter_hash` the resolve
+/// shares.
+const LIBRARY_RASTER_WGSL: &str = include_str!("../../../shaders/reyes/library_raster.wgsl");
 /// Threads per workgroup of the clear entry point (`CLEAR_WORKGROUP`, which
 /// [`resolve_wgsl`] declares from it).
 const CLEAR_WORKGROUP: u64 = 256;
@@ -24,19 +31,94 @@ pub struct ResolveParams {
     pub height: u32,
     /// Samples per pixel.
     pub spp: u32,
-    /// Padding.
-    pub pad0: u32,
+    /// Samples per pixel side, `k = sqrt(spp)`.
+    pub k: u32,
+    /// 1 when samples are jittered.
+    pub jitter: u32,
+    /// The frame's left column in the full image (the jitter follows
+    /// absolute pixel coordinates).
+    pub origin_x: u32,
+    /// The frame's top row in the full image.
+    pub origin_y: u32,
+    /// FILTER_* ([`crate::filter::FilterKind::code`]).
+    pub filter_kind: u32,
+    /// The filter window's width in pixels.
+    pub xwidth: f32,
+    /// Its height.
+    pub ywidth: f32,
+    /// Neighbour columns on each side within the window
+    /// ([`crate::filter::PixelFilter::radius`]).
+    pub radius_x: u32,
+    /// Neighbour rows on each side.
+    pub radius_y: u32,
     /// Linear RGB background (w unused).
     pub background: glam::Vec4,
+}
+
+impl ResolveParams {
+    /// The parameters of `scene`'s frame.
+    pub fn of(scene: &PreparedScene) -> Self {
+        let camera = &scene.camera;
+        let filter = scene.pixel_filter;
+        let [radius_x, radius_y] = filter.radius();
+        Self {
+            width: camera.width,
+            height: camera.height,
+            spp: scene.spp,
+            k: crate::sampling::grid_size(scene.spp),
+            jitter: u32::from(scene.jitter),
+            origin_x: camera.origin[0],
+            origin_y: camera.origin[1],
+            filter_kind: filter.filter.code(),
+            xwidth: filter.xwidth,
+            ywidth: filter.ywidth,
+            radius_x,
+            radius_y,
+            background: scene.background.extend(0.0),
+        }
+    }
+}
+
+/// The text of the WGSL function `name` in `source`: from its `fn` to the
+/// first line that closes it (`}` at the start of a line).
+fn wgsl_function<'a>(source: &'a str, name: &str) -> &'a str {
+    let start = source
+        .find(&format!("fn {name}("))
+        .unwrap_or_else(|| panic!("`{name}` is in the WGSL library"));
+    let end = source[start..]
+        .find("\n}\n")
+        .map(|i| start + i + 3)
+        .unwrap_or_else(|| panic!("`{name}` ends with `}}` on its own line"));
+    &source[start..end]
 }
 
 /// The clear and resolve shader: `shaders/reyes/resolve.wgsl` after the
 /// declarations it shares with this module ([`ResolveParams`] and
 /// `CLEAR_WORKGROUP`).
 pub fn resolve_wgsl() -> String {
+    let [mx, my, ms, mc] = HASH_MULTIPLIERS;
+    let [m0, m1] = HASH_MIX;
+    let filters: String = FilterKind::ALL
+        .iter()
+        .map(|k| {
+            format!(
+                "const FILTER_{}: u32 = {}u;\n",
+                k.name().to_uppercase().replace('-', "_"),
+                k.code()
+            )
+        })
+        .collect();
     format!(
-        "// The clear and resolve passes of the Reyes renderer (reyes::gpu::resolve).\n\n{}\n\nconst CLEAR_WORKGROUP: u32 = {CLEAR_WORKGROUP}u;\n\n{RESOLVE_WGSL}",
-        ResolveParams::wgsl_struct()
+        "// The clear and resolve passes of the Reyes renderer (reyes::gpu::resolve).\n\n{}\n\n\
+         const CLEAR_WORKGROUP: u32 = {CLEAR_WORKGROUP}u;\n\
+         const PI: f32 = {:?};\n{filters}\
+         const HASH_MUL_X: u32 = {mx}u;\nconst HASH_MUL_Y: u32 = {my}u;\n\
+         const HASH_MUL_S: u32 = {ms}u;\nconst HASH_MUL_C: u32 = {mc}u;\n\
+         const HASH_MIX_0: u32 = {m0}u;\nconst HASH_MIX_1: u32 = {m1}u;\n\n\
+         // reyes::sampling::hash, as the megakernel's library_raster.wgsl has it.\n{}\n\n{RESOLVE_WGSL}",
+        ResolveParams::wgsl_struct(),
+        std::f32::consts::PI,
+        wgsl_function(LIBRARY_RASTER_WGSL, "jitter_hash"),
     )
 }
 
@@ -210,35 +292,20 @@ pub struct ResolveTarget {
 }
 
 impl ResolveTarget {
-    /// Rewrites the parameters (the background may change between frames).
-    pub fn write_params(&self, queue: &wgpu::Queue, spp: u32, background: glam::Vec3) {
-        let params = ResolveParams {
-            width: self.width,
-            height: self.height,
-            spp,
-            pad0: 0,
-            background: background.extend(0.0),
-        };
+    /// Rewrites the parameters of `scene`'s frame (of this target's size:
+    /// the background, the filter and the samples may change between
+    /// frames).
+    pub fn write_params(&self, queue: &wgpu::Queue, scene: &PreparedScene) {
+        let params = ResolveParams::of(scene);
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
     }
 
-    /// Buffers for a `width x height` image with `spp` samples per pixel.
-    pub fn new(
-        device: &wgpu::Device,
-        width: u32,
-        height: u32,
-        spp: u32,
-        background: glam::Vec3,
-    ) -> Self {
+    /// Buffers for the image of `scene`'s frame.
+    pub fn new(device: &wgpu::Device, scene: &PreparedScene) -> Self {
         use wgpu::BufferUsages as U;
+        let params = ResolveParams::of(scene);
+        let (width, height) = (params.width, params.height);
         let pixels = u64::from(width) * u64::from(height);
-        let params = ResolveParams {
-            width,
-            height,
-            spp,
-            pad0: 0,
-            background: background.extend(0.0),
-        };
         let buffer = |label: &str| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),

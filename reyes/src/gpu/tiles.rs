@@ -28,6 +28,56 @@ pub struct Tile {
     pub height: u32,
 }
 
+impl Tile {
+    /// The tile grown by `margin` pixels on every side (`[columns, rows]`),
+    /// clipped to a `width x height` image: what a tile renders so that a
+    /// pixel filter reaching `margin` pixels finds every sample of its
+    /// window.
+    pub fn expanded(&self, margin: [u32; 2], width: u32, height: u32) -> Tile {
+        let x0 = self.x0.saturating_sub(margin[0]);
+        let y0 = self.y0.saturating_sub(margin[1]);
+        let x1 = (self.x0 + self.width).saturating_add(margin[0]).min(width);
+        let y1 = (self.y0 + self.height)
+            .saturating_add(margin[1])
+            .min(height);
+        Tile {
+            x0,
+            y0,
+            width: x1 - x0,
+            height: y1 - y0,
+        }
+    }
+
+    /// Its pixels.
+    pub fn pixels(&self) -> u64 {
+        u64::from(self.width) * u64::from(self.height)
+    }
+}
+
+/// [`plan_tiles`] for tiles that render `margin` pixels beyond their edges
+/// ([`Tile::expanded`]): each expanded tile holds at most `max_pixels`. The
+/// tiles are planned for a smaller budget until their margins fit (at most
+/// 64 times, each by an eighth). `None` when no plan fits.
+pub fn plan_tiles_with_margin(
+    width: u32,
+    height: u32,
+    max_pixels: u64,
+    margin: [u32; 2],
+) -> Option<Vec<Tile>> {
+    let mut budget = max_pixels;
+    for _ in 0..64 {
+        let tiles = plan_tiles(width, height, budget)?;
+        if tiles
+            .iter()
+            .all(|t| t.expanded(margin, width, height).pixels() <= max_pixels)
+        {
+            return Some(tiles);
+        }
+        budget -= (budget / 8).max(1);
+    }
+    None
+}
+
 /// Splits a `width x height` image into screen tiles of at most
 /// `max_pixels` pixels each, row by row from the top left.
 ///

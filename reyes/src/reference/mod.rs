@@ -189,7 +189,15 @@ fn render_bounded(
 ) -> Result<Rendered, ReferenceError> {
     let start = Instant::now();
     let (framebuffer, mut stats) = try_render_samples(scene, options)?;
-    let (image, covered_samples) = resolve::resolve(&framebuffer, scene.background);
+    let layout = resolve::SampleLayout {
+        k: crate::sampling::grid_size(scene.spp),
+        jitter: scene.jitter,
+        // As the reference's rasterizer places its samples
+        // (`raster::SampleGrid::position`: frame pixel coordinates).
+        origin: [0, 0],
+    };
+    let (image, covered_samples) =
+        resolve::resolve(&framebuffer, scene.background, &scene.pixel_filter, layout);
     let coverage = covered_samples.iter().map(|&n| n != 0).collect();
     stats.frame_time_ms = Some(start.elapsed().as_secs_f64() * 1000.0);
     Ok(Rendered {

@@ -1,33 +1,86 @@
-//! Resolve: average each pixel's samples into an 8-bit sRGB image.
+//! Resolve: filter the samples around each pixel into an 8-bit sRGB image.
 
 use glam::Vec3;
 use image::{Rgba, RgbaImage};
 
 use super::framebuffer::Framebuffer;
 use crate::color::{CLEAR_KEY, key_color, linear_to_srgb8, unpack_rgb10};
+use crate::filter::PixelFilter;
+use crate::sampling::sample_offset;
+
+/// How the resolve finds each sample's place in its pixel: the samples per
+/// pixel side, the jitter, and the frame's pixel origin in the full image
+/// (the jitter follows absolute pixel coordinates).
+#[derive(Debug, Clone, Copy)]
+pub struct SampleLayout {
+    /// `k = sqrt(spp)`.
+    pub k: u32,
+    /// Whether samples are jittered.
+    pub jitter: bool,
+    /// The frame's top-left pixel in the full image.
+    pub origin: [u32; 2],
+}
 
 /// Resolves the framebuffer: uncovered samples take the (linear) background,
-/// covered samples their unpacked colour; the average is taken in linear
-/// space and encoded as sRGB, alpha 255. Also returns, row-major, the
-/// number of covered samples of every pixel.
-pub fn resolve(framebuffer: &Framebuffer, background: Vec3) -> (RgbaImage, Vec<u8>) {
+/// covered samples their unpacked colour; each pixel is the `filter`-weighted
+/// mean of the samples of the pixels around it within the filter's window
+/// (those outside the framebuffer are missing, and the weights of the
+/// others are normalized), taken in linear space and encoded as sRGB, alpha
+/// 255. A pixel whose window holds no weight (a window narrower than the
+/// sample spacing) takes the plain mean of its own samples. Also returns,
+/// row-major, the number of covered samples of every pixel.
+/// `shaders/reyes/resolve.wgsl` mirrors it operation for operation.
+pub fn resolve(
+    framebuffer: &Framebuffer,
+    background: Vec3,
+    filter: &PixelFilter,
+    layout: SampleLayout,
+) -> (RgbaImage, Vec<u8>) {
     let (width, height) = (framebuffer.width, framebuffer.height);
     let mut image = RgbaImage::new(width, height);
     let mut coverage = vec![0u8; width as usize * height as usize];
-    let inv_spp = 1.0 / framebuffer.spp as f32;
+    let color = |key: u64| {
+        if key == CLEAR_KEY {
+            background
+        } else {
+            unpack_rgb10(key_color(key))
+        }
+    };
+    // Each sample's offset from its pixel's corner, per pixel.
+    let offsets = |x: u32, y: u32| {
+        let (gx, gy) = (x + layout.origin[0], y + layout.origin[1]);
+        (0..framebuffer.spp).map(move |s| sample_offset(gx, gy, s, layout.k, layout.jitter))
+    };
+    let [rx, ry] = filter.radius();
     for y in 0..height {
         for x in 0..width {
-            let mut sum = Vec3::ZERO;
             let mut covered = 0u8;
+            let mut own = Vec3::ZERO;
             for &key in framebuffer.pixel(x, y) {
-                if key == CLEAR_KEY {
-                    sum += background;
-                } else {
+                if key != CLEAR_KEY {
                     covered += 1;
-                    sum += unpack_rgb10(key_color(key));
+                }
+                own += color(key);
+            }
+            let mut sum = Vec3::ZERO;
+            let mut weights = 0.0f32;
+            for qy in y.saturating_sub(ry)..=(y + ry).min(height - 1) {
+                for qx in x.saturating_sub(rx)..=(x + rx).min(width - 1) {
+                    let (ox, oy) = (qx as f32 - x as f32 - 0.5, qy as f32 - y as f32 - 0.5);
+                    for (offset, &key) in offsets(qx, qy).zip(framebuffer.pixel(qx, qy)) {
+                        let w = filter.weight(ox + offset.x, oy + offset.y);
+                        if w != 0.0 {
+                            sum += color(key) * w;
+                            weights += w;
+                        }
+                    }
                 }
             }
-            let c = sum * inv_spp;
+            let c = if weights > 0.0 {
+                sum / weights
+            } else {
+                own * (1.0 / framebuffer.spp as f32)
+            };
             image.put_pixel(
                 x,
                 y,

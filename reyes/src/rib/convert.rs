@@ -62,6 +62,7 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
         scene.shading_rate = clamped as f32;
     }
 
+    scene.pixel_filter = opts.pixel_filter.unwrap_or_default();
     if let Some(smooth) = opts.smooth {
         scene.shading_interpolation = if smooth {
             ShadingInterpolation::Smooth

@@ -55,6 +55,8 @@ pub struct Options {
     pub display: Option<String>,
     /// `ShadingInterpolation`: `true` for `"smooth"`.
     pub smooth: Option<bool>,
+    /// `PixelFilter` (RenderMan's default, `gaussian` 2 2, when absent).
+    pub pixel_filter: Option<crate::filter::PixelFilter>,
     /// The times of the first `MotionBegin` block.
     pub motion_times: Option<(f64, f64)>,
 }

@@ -6,6 +6,7 @@ use std::path::Path;
 use super::interp::{Interp, Options};
 use super::parser::Value;
 use super::state;
+use crate::filter::{FilterKind, PixelFilter};
 
 /// RenderMan's default `Format`.
 pub(super) const DEFAULT_FORMAT: (u32, u32) = (640, 480);
@@ -133,10 +134,25 @@ impl Interp {
                 }
             }
             "PixelFilter" => {
-                let filter = state::arg_str(v, 0, "the filter")?;
-                if filter != "box" {
-                    self.warn(file, line, format!("PixelFilter {filter:?} is not supported; the renderer uses a box filter"));
+                let name = state::arg_str(v, 0, "the filter")?;
+                let xwidth = state::arg_f(v, 1, "the filter's x width")?;
+                let ywidth = state::arg_f(v, 2, "the filter's y width")?;
+                let Some(filter) = FilterKind::from_name(name) else {
+                    return Err(format!(
+                        "unknown filter {:?}; the renderer has {}",
+                        crate::input::excerpt(name),
+                        FilterKind::ALL.map(FilterKind::name).join(", ")
+                    ));
+                };
+                let pixel_filter = PixelFilter {
+                    filter,
+                    xwidth: xwidth as f32,
+                    ywidth: ywidth as f32,
+                };
+                if let Some(problem) = pixel_filter.problem() {
+                    return Err(format!("PixelFilter {name:?}: {problem}"));
                 }
+                self.opts.pixel_filter = Some(pixel_filter);
             }
             "ShadingInterpolation" => {
                 let smooth = match state::arg_str(v, 0, "the interpolation")? {

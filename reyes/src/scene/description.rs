@@ -7,6 +7,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::aov::Aov;
+use crate::filter::PixelFilter;
 use crate::model::Model;
 use crate::modes::{Dicing, Sampling, ShadingInterpolation};
 #[cfg(doc)]
@@ -88,6 +89,10 @@ pub struct Scene {
     /// [`ShadingInterpolation::Smooth`]).
     #[serde(default)]
     pub shading_interpolation: ShadingInterpolation,
+    /// How the resolve weights the samples around each pixel, RenderMan's
+    /// `PixelFilter` (default `gaussian` 2 x 2, RenderMan's).
+    #[serde(default)]
+    pub pixel_filter: PixelFilter,
     /// The target area of a micropolygon in pixels, RenderMan's
     /// `ShadingRate` (default `DEFAULT_SHADING_RATE`); used by
     /// [`Dicing::Rate`].
@@ -143,6 +148,7 @@ impl Default for Scene {
             dicing: Dicing::default(),
             aov: Aov::default(),
             shading_interpolation: ShadingInterpolation::default(),
+            pixel_filter: PixelFilter::default(),
             shading_rate: DEFAULT_SHADING_RATE,
             dice_threshold: DEFAULT_DICE_THRESHOLD,
             max_split_depth: DEFAULT_MAX_SPLIT_DEPTH,

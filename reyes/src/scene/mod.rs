@@ -20,6 +20,7 @@
 //! sampling = "bbox"                  # "bbox", "simple", "interleave", "interval", "adaptive" or "nearest"
 //! interleave_tile = 2                # Interleave UVT's tile side in pixels: 2, 3 or 4
 //! jitter = false                     # jitter samples within their strata
+//! pixel_filter = { filter = "gaussian", xwidth = 2.0, ywidth = 2.0 }  # box, triangle, gaussian, catmull-rom or sinc
 //! shutter = 1.0                      # fraction of the open-to-close motion the shutter sees
 //! background = [0.05, 0.05, 0.07]    # linear RGB
 //! ambient = 0.1                      # an ambient light of this intensity (white)

@@ -72,7 +72,11 @@ impl Scene {
                 "must be 2, 3 or 4 (Interleave UVT's tile side in pixels)",
             ));
         }
-        finite("background", self.background.to_array())
+        finite("background", self.background.to_array())?;
+        if let Some(problem) = self.pixel_filter.problem() {
+            return Err(invalid("pixel_filter", &problem));
+        }
+        Ok(())
     }
 
     /// The shutter fraction and the thin lens.

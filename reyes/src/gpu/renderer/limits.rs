@@ -10,7 +10,7 @@ use crate::gpu::batches::{MIN_WORK_CAPACITY, plan_batch};
 use crate::gpu::buffers::texel_buffer_bytes;
 use crate::gpu::graph::{BOUND, DICE, SPLIT_U, SPLIT_V};
 use crate::gpu::render_error::RenderError;
-use crate::gpu::tiles::{TILE_ALIGN, Tile, plan_tiles};
+use crate::gpu::tiles::{TILE_ALIGN, Tile, plan_tiles_with_margin};
 use crate::prepare::PreparedScene;
 
 /// Bytes of one input patch in the height-map buffer (48 floats).
@@ -84,7 +84,10 @@ impl GpuRenderer<'_> {
             ),
         };
         let spp64 = u64::from(spp.max(1));
-        plan_tiles(width, height, max_samples / spp64).ok_or_else(|| {
+        // A pixel filter wider than a pixel reads its neighbours' samples:
+        // every tile renders that margin around it too.
+        let margin = scene.pixel_filter.radius();
+        plan_tiles_with_margin(width, height, max_samples / spp64, margin).ok_or_else(|| {
             let align = u64::from(TILE_ALIGN);
             let smallest = u64::from(width).min(align) * u64::from(height).min(align) * spp64;
             too_large(what, 8 * smallest, 8 * max_samples)

@@ -1,5 +1,7 @@
 //! Frames in screen tiles: [`GpuRenderer::render_tiles`] renders the tiles
-//! one after another and pastes them, and their counters, into the frame.
+//! one after another, each with the margin the pixel filter reaches beyond
+//! it, and pastes them, and their counters, into the frame. The counters of
+//! a tiled frame include the margins' work.
 
 use std::time::Instant;
 
@@ -85,8 +87,18 @@ impl GpuRenderer<'_> {
         let (mut report, mut overflow_retries, mut loop_retries, mut batches) = (None, 0, 0, 0);
         let mut megakernel_gpu_ms = Some(0.0);
         let mut megakernel_wall_ms = 0.0;
+        // Each tile renders the margin its pixel filter reaches beyond it,
+        // so that its pixels are filtered from the samples they have in
+        // the whole frame (the samples follow absolute pixel coordinates).
+        let margin = scene.pixel_filter.radius();
         for (index, tile) in tiles.iter().enumerate() {
-            tile_scene.camera = scene.camera.crop(tile.x0, tile.y0, tile.width, tile.height);
+            let rendered_tile = tile.expanded(margin, width, height);
+            tile_scene.camera = scene.camera.crop(
+                rendered_tile.x0,
+                rendered_tile.y0,
+                rendered_tile.width,
+                rendered_tile.height,
+            );
             self.options.progress.send(|| ProgressEvent::TileStarted {
                 tile: index as u32 + 1,
                 tiles: tiles.len() as u32,
@@ -105,9 +117,16 @@ impl GpuRenderer<'_> {
                 rendered.stats.grids_diced
             );
             let (tw, x0) = (tile.width as usize, tile.x0 as usize);
+            // The tile's pixels within the rendered (expanded) tile.
+            let rendered_width = rendered_tile.width as usize;
+            let (dx, dy) = (
+                (tile.x0 - rendered_tile.x0) as usize,
+                (tile.y0 - rendered_tile.y0) as usize,
+            );
             for row in 0..tile.height as usize {
                 let y = tile.y0 as usize + row;
-                let source = row * tw..(row + 1) * tw;
+                let start = (row + dy) * rendered_width + dx;
+                let source = start..start + tw;
                 let target = y * width as usize + x0..y * width as usize + x0 + tw;
                 coverage[target.clone()].copy_from_slice(&rendered.coverage[source.clone()]);
                 covered_samples[target.clone()]
