@@ -10,6 +10,7 @@
 # Frames: the default teapot, the Killeroo at 800x600 and spp 1
 # (../shared/data/killeroo.bpt, skipped with a notice when absent) and a
 # blurred frame (Interleave UVT with spin and aperture, spp 16).
+# FIRST_IMAGE_KILLEROO=PATH reads the Killeroo elsewhere;
 # FIRST_IMAGE_ONLY=teapot,blurred limits the frames; FIRST_IMAGE_RUNS (default
 # 5) sets the warm runs (the median is reported); FIRST_IMAGE_COLD=0 skips the
 # cold runs, which take minutes each on lavapipe.
@@ -25,7 +26,7 @@ set -uo pipefail
 [ $# -ge 1 ] || { echo "usage: first-image-bench.sh REYES [REYES...]" >&2; exit 2; }
 runs=${FIRST_IMAGE_RUNS:-5}
 cold=${FIRST_IMAGE_COLD:-1}
-killeroo="$(dirname "$0")/../../shared/data/killeroo.bpt"
+killeroo=${FIRST_IMAGE_KILLEROO:-"$(dirname "$0")/../../shared/data/killeroo.bpt"}
 out=$(mktemp -d)
 
 frames=(
@@ -38,6 +39,11 @@ else
     echo "notice: $killeroo is absent; the Killeroo frame is skipped"
 fi
 
+# The value of an arithmetic expression of decimals (awk: no `bc` needed).
+calc() {
+    awk "BEGIN { printf \"%.6f\\n\", $1 }"
+}
+
 # Seconds (wall) of one run of "$@", or "fail".
 wall() {
     local start end
@@ -47,7 +53,7 @@ wall() {
         return
     fi
     end=$(date +%s.%N)
-    echo "$end - $start" | bc
+    calc "$end - $start"
 }
 
 # "%.2f" of a number, or the text as it is ("-", "fail").
@@ -80,7 +86,8 @@ for frame in "${frames[@]}"; do
         cold_s="-"
         compile_s="-"
         if [ "$cold" = 1 ]; then
-            cold_s=$(wall env MESA_SHADER_CACHE_DISABLE=true REYES_CACHE_DIR="$cache" \
+            # Mesa's and NVIDIA's own shader caches off, an empty pipeline cache.
+            cold_s=$(wall env MESA_SHADER_CACHE_DISABLE=true __GL_SHADER_DISK_CACHE=0 REYES_CACHE_DIR="$cache" \
                 RUST_LOG=reyes=info "$bin" render "${args[@]}" -o "$png")
             compile_s=$(driver_compile)
             if [ "$compile_s" = "-" ]; then compile_s=cold-warm; fi
@@ -102,11 +109,11 @@ for frame in "${frames[@]}"; do
         if [ "$compile_s" = cold-warm ]; then
             compile_s="-"
             if [[ "$cold_s" =~ ^[0-9.]+$ && "$warm_s" =~ ^[0-9.]+$ ]]; then
-                compile_s=$(echo "$cold_s - $warm_s" | bc)
+                compile_s=$(calc "$cold_s - $warm_s")
             fi
         fi
         if [[ "$gpu_ms" =~ ^[0-9.]+$ && "$warm_s" =~ ^[0-9.]+$ ]]; then
-            ratio=$(echo "scale=3; $warm_s * 1000 / $gpu_ms" | bc)
+            ratio=$(calc "$warm_s * 1000 / $gpu_ms")
         fi
         echo "| $(basename "$bin") | $name | $(num "$cold_s" 1) | $(num "$compile_s" 1) | $(num "$warm_s") | $(num "$warm_compile_s") | $(num "$gpu_ms" 0) | $(num "$ratio") | $(num "$cpu_s") |"
         rm -rf "$cache"
