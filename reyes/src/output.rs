@@ -4,9 +4,13 @@
 //! 8-bit sRGB PNG, `.exr` for OpenEXR in float linear RGBA. Every file is
 //! written to a temporary file beside its target and renamed over it once
 //! complete, so a failed write leaves no truncated file and destroys no old
-//! one. [`OutputPlan`] checks a render's output paths before the render
-//! starts and writes the image and the statistics all or nothing.
+//! one. [`OutputGuard`] checks every output of a command against every
+//! file the run reads and against the other outputs, before any work;
+//! [`OutputPlan`] writes a render's image and statistics all or nothing, and
+//! [`StagedFiles`] does the same for any set of files (`reyes convert`'s
+//! TOML and models).
 
+mod guard;
 mod paths;
 mod staged;
 mod warnings;
@@ -15,7 +19,9 @@ use std::path::{Path, PathBuf};
 
 use image::{ImageBuffer, Rgba, RgbaImage};
 
+pub use self::guard::{OutputGuard, OutputKind};
 use self::staged::Staged;
+pub use self::staged::{StagedFiles, ignore_file_size_signal};
 pub use self::warnings::frame_warnings;
 use crate::color::srgb_to_linear;
 use crate::stats::RenderStats;
@@ -28,8 +34,8 @@ pub const IMAGE_EXTENSIONS: &str = ".png (8-bit sRGB PNG) or .exr (float linear 
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum OutputError {
-    /// The path is empty or ends in `/` or `..`.
-    #[error("{}: names no file", path.display())]
+    /// The path is empty or ends in `/`, `.` or `..`.
+    #[error("{}: names no file (a file name must not be empty or end in `/`, `.` or `..`)", path.display())]
     NoFileName {
         /// The path as given.
         path: PathBuf,
@@ -47,7 +53,34 @@ pub enum OutputError {
         /// The file the path leads to.
         path: PathBuf,
     },
-    /// Two outputs, or an output and an input, lead to the same file.
+    /// The path's extension names another format than the one written.
+    #[error("{}: the extension does not match what is written here ({written}); name it *{expected}", path.display())]
+    WrongExtension {
+        /// The path as given.
+        path: PathBuf,
+        /// What would be written (e.g. `a TOML scene`).
+        written: &'static str,
+        /// The extension to use.
+        expected: &'static str,
+    },
+    /// An output leads to a file the run reads (by name, through a link,
+    /// or as a hard link of it).
+    #[error(
+        "the {output} {} is the input {input} {} (the same file): writing it would destroy the input; nothing was written",
+        output_path.display(),
+        input_path.display()
+    )]
+    ReplacesInput {
+        /// What the output is for (e.g. `image`).
+        output: String,
+        /// The output path as given.
+        output_path: PathBuf,
+        /// What the input is (e.g. `height map`).
+        input: String,
+        /// The input path as given (or as the file that read it names it).
+        input_path: PathBuf,
+    },
+    /// Two outputs lead to the same file.
     #[error("the {first} and the {second} both name {}; nothing was written", path.display())]
     SameFile {
         /// What the first path is for (e.g. `image`).
@@ -149,8 +182,8 @@ impl ImageFormat {
 }
 
 /// The checked outputs of one render: the image and, optionally, the
-/// statistics as JSON. Made before rendering by [`OutputPlan::check`],
-/// written after it by [`OutputPlan::write`].
+/// statistics as JSON. Recorded in the run's [`OutputGuard`] before
+/// rendering by [`OutputPlan::new`], written after it by [`OutputPlan::write`].
 #[derive(Debug, Clone)]
 pub struct OutputPlan {
     /// The image's resolved path (links followed) and format.
@@ -160,48 +193,41 @@ pub struct OutputPlan {
 }
 
 impl OutputPlan {
-    /// Checks the outputs of a render before it starts: the image's
-    /// extension names a format, neither path is an existing directory or
-    /// special file, no two of the outputs and `inputs` (labelled files the
-    /// render reads, which an output must not overwrite) lead to the same
-    /// file, and both outputs' directories exist or are created now (both
-    /// paths alike) and accept new files. Nothing is created unless every
+    /// Records the outputs of a render in `guard` (see
+    /// [`OutputGuard::add_output`]): the image, whose extension names its
+    /// format, and the statistics JSON. The directories are created by the
+    /// guard's [`OutputGuard::prepare_dirs`], once every input is recorded.
+    pub fn new(
+        guard: &mut OutputGuard,
+        image: &Path,
+        stats_json: Option<&Path>,
+    ) -> Result<OutputPlan, OutputError> {
+        let image_file = guard.add_output(OutputKind::Image, "image", image)?;
+        let format = ImageFormat::from_path(image)?;
+        let stats_file = stats_json
+            .map(|path| guard.add_output(OutputKind::Json, "statistics JSON", path))
+            .transpose()?;
+        Ok(OutputPlan {
+            image: (image_file, format),
+            stats_json: stats_file,
+        })
+    }
+
+    /// Checks the outputs of a render before it starts, in a guard of its
+    /// own: [`OutputPlan::new`] after `inputs` (labelled files the render
+    /// reads, which an output must not replace), then the directories
+    /// ([`OutputGuard::prepare_dirs`]). Nothing is created unless every
     /// other check passed.
     pub fn check(
         image: &Path,
         stats_json: Option<&Path>,
         inputs: &[(&str, &Path)],
     ) -> Result<OutputPlan, OutputError> {
-        let format = ImageFormat::from_path(image)?;
-        let image_file = resolve_output(image)?;
-        let stats_file = stats_json.map(resolve_output).transpose()?;
-        let mut named = vec![("image".to_owned(), image_file.clone())];
-        if let Some(file) = &stats_file {
-            named.push(("statistics JSON".to_owned(), file.clone()));
-        }
-        for (label, path) in inputs {
-            // An input that cannot be resolved fails when it is read.
-            if let Ok(Some(file)) = paths::resolve(path) {
-                named.push((format!("input {label}"), file));
-            }
-        }
-        for (i, (first, file)) in named.iter().enumerate() {
-            if let Some((second, _)) = named[i + 1..].iter().find(|(_, other)| other == file) {
-                return Err(OutputError::SameFile {
-                    first: first.clone(),
-                    second: second.clone(),
-                    path: file.clone(),
-                });
-            }
-        }
-        prepare_dir(&image_file)?;
-        if let Some(file) = &stats_file {
-            prepare_dir(file)?;
-        }
-        Ok(OutputPlan {
-            image: (image_file, format),
-            stats_json: stats_file,
-        })
+        let mut guard = OutputGuard::new();
+        guard.add_inputs(inputs.iter().copied())?;
+        let plan = OutputPlan::new(&mut guard, image, stats_json)?;
+        guard.prepare_dirs()?;
+        Ok(plan)
     }
 
     /// The file the image goes to (links followed).
@@ -229,23 +255,6 @@ impl OutputPlan {
         staged_image.commit()?;
         staged_stats.map(Staged::commit).transpose()?;
         Ok(())
-    }
-}
-
-/// The file an output path leads to, which must be a regular file if it
-/// exists (a rename would replace a directory entry of any other kind).
-fn resolve_output(path: &Path) -> Result<PathBuf, OutputError> {
-    let file = paths::resolve(path)
-        .map_err(|source| OutputError::Resolve {
-            path: path.to_path_buf(),
-            source,
-        })?
-        .ok_or_else(|| OutputError::NoFileName {
-            path: path.to_path_buf(),
-        })?;
-    match std::fs::metadata(&file) {
-        Ok(meta) if !meta.is_file() => Err(OutputError::NotAFile { path: file }),
-        _ => Ok(file),
     }
 }
 
@@ -297,25 +306,48 @@ pub fn to_linear(image: &RgbaImage) -> ImageBuffer<Rgba<f32>, Vec<f32>> {
     })
 }
 
-/// Writes an image in the format its extension names (see
-/// [`ImageFormat`]), creating the parent directory if needed, through a
-/// temporary file renamed over `path` once complete.
-pub fn write_image(image: &RgbaImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
-    let path = path.as_ref();
-    let format = ImageFormat::from_path(path)?;
-    let file = resolve_output(path)?;
-    prepare_dir(&file)?;
-    stage_image(image, &file, format)?.commit()
+/// The file a single output at `path` holding `kind` goes to, checked on
+/// its own ([`OutputGuard::add_output`]: a file name of the right
+/// extension, not a directory or a device) with its directory created.
+fn single_output(kind: OutputKind, label: &str, path: &Path) -> Result<PathBuf, OutputError> {
+    let mut guard = OutputGuard::new();
+    let file = guard.add_output(kind, label, path)?;
+    guard.prepare_dirs()?;
+    Ok(file)
 }
 
-/// Writes an image as PNG whatever the extension, creating the parent
-/// directory if needed, through a temporary file renamed over `path` once
-/// complete.
+/// Writes an image in the format its extension names (see
+/// [`ImageFormat`]), creating the parent directory if needed, through a
+/// temporary file renamed over `path` once complete. The path is checked
+/// on its own: a command that also reads files records it in its
+/// [`OutputGuard`] first.
+pub fn write_image(image: &RgbaImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
+    let path = path.as_ref();
+    let file = single_output(OutputKind::Image, "image", path)?;
+    stage_image(image, &file, ImageFormat::from_path(path)?)?.commit()
+}
+
+/// Writes an image as PNG to a `.png` path (any other extension is
+/// [`OutputError::WrongExtension`]: PNG bytes under another name would
+/// mislead every reader), as [`write_image`] does.
 pub fn write_png(image: &RgbaImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
     let path = path.as_ref();
-    let file = resolve_output(path)?;
-    prepare_dir(&file)?;
-    stage_image(image, &file, ImageFormat::Png)?.commit()
+    match ImageFormat::from_path(path) {
+        Ok(ImageFormat::Png) => write_image(image, path),
+        _ => Err(OutputError::WrongExtension {
+            path: path.to_path_buf(),
+            written: "a PNG image",
+            expected: ".png",
+        }),
+    }
+}
+
+/// Writes JSON text (a trace, a log) to `path` through a temporary file
+/// renamed over it once complete, creating the parent directory if
+/// needed. The path is checked as an [`OutputKind::Json`] output on its own.
+pub fn write_json(path: impl AsRef<Path>, json: &str) -> Result<(), OutputError> {
+    let file = single_output(OutputKind::Json, "JSON", path.as_ref())?;
+    staged::write_bytes(&file, json.as_bytes())?.commit()
 }
 
 #[cfg(test)]

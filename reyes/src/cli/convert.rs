@@ -4,19 +4,27 @@
 use std::path::PathBuf;
 
 use super::BoxError;
+use crate::output::{OutputGuard, OutputKind};
 
 /// The arguments of `reyes convert`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct ConvertArgs {
     /// The ASCII RIB file.
     pub(crate) input: PathBuf,
-    /// The TOML scene to write.
+    /// The TOML scene to write (`.toml`; the models go beside it).
     #[arg(short, long)]
     pub(crate) output: PathBuf,
 }
 
 /// `reyes convert`: RIB to TOML plus `.bpt` files.
 pub(crate) fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
+    // Before the RIB is read: a TOML path that is the RIB itself, has
+    // another extension or is no file is refused at once.
+    // [`crate::rib::RibScene::write`] checks every output again against
+    // every file the RIB read (its archives).
+    let mut guard = OutputGuard::new();
+    guard.add_input("RIB scene", &args.input)?;
+    guard.add_output(OutputKind::Toml, "TOML scene", &args.output)?;
     let rib = crate::rib::RibScene::load(&args.input)?;
     for warning in &rib.warnings {
         eprintln!("warning: {warning}");

@@ -1,7 +1,7 @@
 //! What the command line reads: the scene (a TOML or RIB scene, a bare
 //! model or the embedded teapot) and the displacement it asks for.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::BoxError;
 use super::args::RenderArgs;
@@ -11,18 +11,43 @@ use crate::input::InputKind;
 use crate::model::Model;
 use crate::scene::Scene;
 
-/// The scene named on the command line, before overrides, and the models
-/// of a scene that brings them in memory (RIB) rather than by path.
-pub(crate) fn base_scene(path: Option<&Path>) -> Result<(Scene, Option<Vec<Model>>), BoxError> {
+/// A file a command read, for its [`crate::output::OutputGuard`]: what it
+/// is (`scene`, `model`...) and its path.
+pub(crate) type ReadFile = (&'static str, PathBuf);
+
+/// The scene named on the command line, before overrides.
+pub(crate) struct BaseScene {
+    /// The scene.
+    pub(crate) scene: Scene,
+    /// The models of a scene that brings them in memory (RIB) rather than
+    /// by path.
+    pub(crate) models: Option<Vec<Model>>,
+    /// The files read for it: the scene file, and a RIB's archives. (The
+    /// models a scene names by path are read later, see
+    /// [`Scene::model_files`].)
+    pub(crate) read: Vec<ReadFile>,
+}
+
+/// The scene named on the command line, before overrides.
+pub(crate) fn base_scene(path: Option<&Path>) -> Result<BaseScene, BoxError> {
     let Some(path) = path else {
-        return Ok((Scene::default_teapot(), None));
+        return Ok(BaseScene {
+            scene: Scene::default_teapot(),
+            models: None,
+            read: Vec::new(),
+        });
     };
+    let scene_file = || vec![("scene", path.to_path_buf())];
     let extension = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match extension.as_deref() {
-        Some("toml") => Ok((Scene::load(path)?, None)),
+        Some("toml") => Ok(BaseScene {
+            scene: Scene::load(path)?,
+            models: None,
+            read: scene_file(),
+        }),
         Some("rib") => {
             let rib = crate::rib::RibScene::load(path)?;
             for warning in &rib.warnings {
@@ -33,8 +58,19 @@ pub(crate) fn base_scene(path: Option<&Path>) -> Result<(Scene, Option<Vec<Model
                     "note: the RIB's Display file is {display}: the image goes there unless -o is given"
                 );
             }
+            // The first source is the scene itself, the others archives.
+            let read = rib
+                .sources
+                .into_iter()
+                .enumerate()
+                .map(|(i, path)| (if i == 0 { "scene" } else { "RIB archive" }, path))
+                .collect();
             // The models stay in memory: nothing is written for a render.
-            Ok((rib.scene, Some(rib.models)))
+            Ok(BaseScene {
+                scene: rib.scene,
+                models: Some(rib.models),
+                read,
+            })
         }
         Some("bpt" | "bez") => {
             let model = Model::load(path).map_err(|e| -> BoxError {
@@ -45,7 +81,11 @@ pub(crate) fn base_scene(path: Option<&Path>) -> Result<(Scene, Option<Vec<Model
                     None => e.into(),
                 }
             })?;
-            Ok((Scene::for_model(path.to_string_lossy(), &model), None))
+            Ok(BaseScene {
+                scene: Scene::for_model(path.to_string_lossy(), &model),
+                models: None,
+                read: vec![("model", path.to_path_buf())],
+            })
         }
         _ => Err(format!(
             "{}: unknown scene type; expected a .toml or .rib scene or a .bpt/.bez model",
@@ -55,16 +95,22 @@ pub(crate) fn base_scene(path: Option<&Path>) -> Result<(Scene, Option<Vec<Model
     }
 }
 
+/// The `.wgsl` file `--displace` names, if it names one.
+pub(crate) fn wgsl_file(args: &RenderArgs) -> Option<&Path> {
+    let source = Path::new(args.displace.as_deref()?);
+    source
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("wgsl"))
+        .then_some(source)
+}
+
 /// The displacement the command line asks for, if any. A `.wgsl` source is
 /// read here; the values are checked with the scene.
 pub(crate) fn displacement(args: &RenderArgs) -> Result<Option<DisplacementDesc>, BoxError> {
     let (Some(source), Some(scale)) = (&args.displace, args.displace_scale) else {
         return Ok(None);
     };
-    let is_wgsl = Path::new(source)
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("wgsl"));
-    let (source, wgsl) = if is_wgsl {
+    let (source, wgsl) = if wgsl_file(args).is_some() {
         let text =
             crate::input::read_text(Path::new(source), InputKind::Wgsl, InputKind::Wgsl.limit())?;
         (SOURCE_WGSL.to_owned(), Some(text))

@@ -14,7 +14,7 @@
 //!              [--aov shaded|grids|depth|normal] [--sides 1|2] [--reverse-orientation]
 //!              [--max-input-bytes BYTES] [--no-pipeline-cache]
 //! reyes cache info|clear
-//! reyes view [SCENE] [the options of render] [--frames N --screenshot PNG] [--hide-overlay]
+//! reyes view [SCENE] [the options of render] [--frames N --screenshot IMAGE] [--hide-overlay]
 //! ```
 //!
 //! The binary parses [`Cli`], hands it to [`run`] and reports the error
@@ -72,13 +72,16 @@ enum Command {
     Cache(cache::CacheArgs),
     /// Open a window on a scene (the inputs and options of `render`), orbit
     /// it with the mouse and re-render as the view changes. `-o` names the
-    /// PNG that `P` saves (default `reyes-view.png`).
+    /// image that `P` saves (default `reyes-view.png`; `.png` or `.exr`).
     #[cfg(feature = "viewer")]
     View(view::ViewArgs),
 }
 
 /// Runs the command `cli` names.
 pub fn run(cli: &Cli) -> Result<(), BoxError> {
+    // Before any thread starts: a file-size limit fails a write with an
+    // error naming the file instead of killing the process mid-write.
+    crate::output::ignore_file_size_signal();
     match &cli.command {
         Command::Render(args) => render::render(args),
         Command::Convert(args) => convert::convert(args),

@@ -5,15 +5,28 @@ use glam::Vec3;
 
 use super::BoxError;
 use super::args::RenderArgs;
-use super::input::{base_scene, displacement};
+use super::input::{BaseScene, ReadFile, base_scene, displacement, wgsl_file};
 use crate::model::Model;
 use crate::modes::ShadingInterpolation;
 use crate::prepare::{PreparedScene, far_plane_covering_motion};
 use crate::scene::{CameraDesc, Scene};
 
+/// The scene a command draws, and every file read to make it.
+pub(crate) struct Prepared {
+    /// The scene, prepared.
+    pub(crate) scene: PreparedScene,
+    /// The scene file, RIB archives, models, height maps and user WGSL
+    /// read, for the command's [`crate::output::OutputGuard`].
+    pub(crate) read: Vec<ReadFile>,
+}
+
 /// Loads the scene, applies the command-line overrides and prepares it.
-pub(crate) fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
-    let (mut scene, in_memory) = base_scene(args.scene.as_deref())?;
+pub(crate) fn prepare(args: &RenderArgs) -> Result<Prepared, BoxError> {
+    let BaseScene {
+        mut scene,
+        models: in_memory,
+        mut read,
+    } = base_scene(args.scene.as_deref())?;
     let prepared = |scene: &Scene| match &in_memory {
         Some(models) => PreparedScene::new(scene, models),
         None => PreparedScene::load(scene),
@@ -22,6 +35,9 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
         for object in &mut scene.objects {
             object.displacement = Some(desc.clone());
         }
+    }
+    if let Some(wgsl) = wgsl_file(args) {
+        read.push(("displacement function", wgsl.to_path_buf()));
     }
     override_frame(&mut scene, args);
     override_objects(&mut scene, args);
@@ -35,7 +51,22 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<PreparedScene, BoxError> {
         };
         override_camera(&mut scene, args, camera);
     }
-    Ok(prepared(&scene)?)
+    let prepared = prepared(&scene)?;
+    // What preparing read: models by path (a RIB's are in memory) and
+    // height maps.
+    if in_memory.is_none() {
+        read.extend(scene.model_files().into_iter().map(|p| ("model", p)));
+    }
+    read.extend(
+        scene
+            .height_map_files()
+            .into_iter()
+            .map(|p| ("height map", p)),
+    );
+    Ok(Prepared {
+        scene: prepared,
+        read,
+    })
 }
 
 /// The image and how it is sampled, diced and shaded.

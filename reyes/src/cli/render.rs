@@ -5,12 +5,13 @@ use std::path::{Path, PathBuf};
 
 use super::BoxError;
 use super::args::RenderArgs;
-use super::prepare::prepare;
+use super::prepare::{Prepared, prepare};
 use super::progress::{Ticker, print_software_notice};
 use super::stats::print_stats;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use crate::gpu::{GpuOptions, GpuRenderer};
 use crate::input::Limits;
+use crate::output::{OutputGuard, OutputKind};
 use crate::prepare::PreparedScene;
 use crate::progress::AdapterSummary;
 use crate::stats::RenderStats;
@@ -22,8 +23,12 @@ pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
         crate::input::set_limits(Limits::all(bytes));
     }
     let output = output_path(args)?;
-    let outputs = check_outputs(args, &output)?;
-    let scene = prepare(args)?;
+    let (mut guard, outputs) = check_outputs(args, &output)?;
+    let Prepared { scene, read } = prepare(args)?;
+    // Every file the scene read (archives, models, height maps) is no
+    // output either; then the directories are made, before any rendering.
+    guard.add_inputs(read)?;
+    guard.prepare_dirs()?;
     let Frame {
         image,
         stats,
@@ -106,7 +111,7 @@ fn render_gpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxErro
     if let Some(path) = &args.trace {
         let trace = rendered.report.as_ref().and_then(|r| r.trace());
         let trace = trace.ok_or("the frame ran no traced megakernel")?;
-        trace.write_chrome_trace(path)?;
+        crate::output::write_json(path, &trace.to_chrome_json())?;
         log::info!(
             "trace: {} batches, {} recorded, written to {}",
             trace.batches,
@@ -157,13 +162,18 @@ fn output_path(args: &RenderArgs) -> Result<PathBuf, BoxError> {
     Ok(PathBuf::from("reyes.png"))
 }
 
-/// Checks the output paths before any work (see
-/// [`crate::output::OutputPlan::check`]): a render must not run for minutes
-/// towards an output it cannot write, or overwrite its own inputs.
-fn check_outputs(args: &RenderArgs, output: &Path) -> Result<crate::output::OutputPlan, BoxError> {
-    let mut inputs: Vec<(&str, &Path)> = Vec::new();
+/// Checks the output paths before any work, in the run's guard (see
+/// [`crate::output::OutputGuard::add_output`]): a render must not run for
+/// minutes towards an output it cannot write, or overwrite its own inputs.
+/// The files named on the command line are recorded as inputs here; those
+/// the scene reads are added once it is loaded.
+fn check_outputs(
+    args: &RenderArgs,
+    output: &Path,
+) -> Result<(OutputGuard, crate::output::OutputPlan), BoxError> {
+    let mut guard = OutputGuard::new();
     if let Some(scene) = &args.scene {
-        inputs.push(("scene", scene));
+        guard.add_input("scene", scene)?;
     }
     // A height map or .wgsl function; the built-in sources are no file.
     if let Some(source) = args.displace.as_deref()
@@ -171,11 +181,11 @@ fn check_outputs(args: &RenderArgs, output: &Path) -> Result<crate::output::Outp
         && source != SOURCE_SINES
         && source != SOURCE_WGSL
     {
-        inputs.push(("displacement", Path::new(source)));
+        guard.add_input("displacement", source)?;
     }
-    Ok(crate::output::OutputPlan::check(
-        output,
-        args.stats_json.as_deref(),
-        &inputs,
-    )?)
+    let plan = crate::output::OutputPlan::new(&mut guard, output, args.stats_json.as_deref())?;
+    if let Some(trace) = &args.trace {
+        guard.add_output(OutputKind::Json, "trace", trace)?;
+    }
+    Ok((guard, plan))
 }

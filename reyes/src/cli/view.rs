@@ -5,9 +5,10 @@ use std::path::PathBuf;
 
 use super::BoxError;
 use super::args::RenderArgs;
-use super::prepare::prepare;
+use super::prepare::{Prepared, prepare};
 use crate::gpu::GpuOptions;
 use crate::input::Limits;
+use crate::output::{OutputGuard, OutputKind};
 
 /// The arguments of `reyes view`: those of `reyes render` and the viewer's own.
 #[derive(Debug, clap::Args)]
@@ -18,8 +19,9 @@ pub(crate) struct ViewArgs {
     /// (for headless use under `xvfb-run`).
     #[arg(long, value_name = "N")]
     pub(crate) frames: Option<u64>,
-    /// With --frames: save the last presented image as this PNG.
-    #[arg(long, value_name = "PNG", requires = "frames")]
+    /// With --frames: save the last presented image here (`.png`, or
+    /// `.exr` for float linear RGBA, as `render -o`).
+    #[arg(long, value_name = "IMAGE", requires = "frames")]
     pub(crate) screenshot: Option<PathBuf>,
     /// Start with the overlay hidden (`H` shows it).
     #[arg(long)]
@@ -51,7 +53,25 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), BoxError> {
         Some(text) => crate::view::script::parse(text)?,
         None => Vec::new(),
     };
-    let scene = prepare(render)?;
+    // Every output is checked before the window opens, against every file
+    // the scene read: the save path (`-o`), the screenshot and the log.
+    let save_path = render
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("reyes-view.png"));
+    let mut guard = OutputGuard::new();
+    if let Some(scene) = &render.scene {
+        guard.add_input("scene", scene)?;
+    }
+    guard.add_output(OutputKind::Image, "-o image", &save_path)?;
+    if let Some(path) = &args.screenshot {
+        guard.add_output(OutputKind::Image, "screenshot", path)?;
+    }
+    if let Some(path) = &args.log_json {
+        guard.add_output(OutputKind::Json, "log", path)?;
+    }
+    let Prepared { scene, read } = prepare(render)?;
+    guard.add_inputs(read)?;
     let mut gpu_options = GpuOptions::default();
     if let Some(seconds) = render.timeout {
         gpu_options.timeout = std::time::Duration::from_secs(seconds.max(1));
@@ -68,18 +88,14 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), BoxError> {
         screenshot: args.screenshot.clone(),
         script,
         overlay: !args.hide_overlay,
-        save_path: render
-            .output
-            .clone()
-            .unwrap_or_else(|| PathBuf::from("reyes-view.png")),
+        save_path,
         command,
         gpu_options,
         ..Default::default()
     };
     let log = crate::view::run(scene, config)?;
     if let Some(path) = &args.log_json {
-        std::fs::write(path, serde_json::to_string_pretty(&log)?)
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        crate::output::write_json(path, &serde_json::to_string_pretty(&log)?)?;
     }
     Ok(())
 }

@@ -167,6 +167,15 @@ impl DisplacementDesc {
         }
     }
 
+    /// The height-map PNG [`DisplacementDesc::prepare`] reads for this
+    /// source with `base_dir`, if the source is a file.
+    pub fn height_map_path(&self, base_dir: Option<&Path>) -> Option<PathBuf> {
+        match self.kind() {
+            SourceKind::Image(path) => Some(resolve_height_map(path, base_dir)),
+            _ => None,
+        }
+    }
+
     /// Loads the source (reading a PNG relative to `base_dir`), computes the
     /// default bound and checks a declared one against the source's largest
     /// height. `mirrored` is whether the object's transform has a negative
@@ -192,10 +201,7 @@ impl DisplacementDesc {
                 None,
             ),
             SourceKind::Image(path) => {
-                let path = match base_dir {
-                    Some(dir) if path.is_relative() => dir.join(path),
-                    _ => path,
-                };
+                let path = resolve_height_map(path, base_dir);
                 let map = HeightMap::load(&path)?;
                 let max = map.max_height;
                 (HeightSource::Image(std::sync::Arc::new(map)), Some(max))
@@ -217,5 +223,14 @@ impl DisplacementDesc {
             bound,
             tiling: self.tiling,
         })
+    }
+}
+
+/// A height map's `path` as read: relative to `base_dir` (the scene file's
+/// directory) when it is relative and there is one.
+fn resolve_height_map(path: PathBuf, base_dir: Option<&Path>) -> PathBuf {
+    match base_dir {
+        Some(dir) if path.is_relative() => dir.join(path),
+        _ => path,
     }
 }

@@ -2,7 +2,12 @@
 //!
 //! A write that fails part way (a full disk, a quota, a size limit) then
 //! leaves the target as it was, old file or none, never a truncated one,
-//! and the temporary file is removed.
+//! and the temporary file is removed. [`StagedFiles`] does this for several
+//! files at once: none is renamed before all are complete.
+//!
+//! A write past the process's file-size limit (`ulimit -f`) would kill the
+//! process with `SIGXFSZ` before the temporary file could be removed;
+//! [`ignore_file_size_signal`] turns it into an ordinary write error.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
@@ -121,6 +126,62 @@ pub(super) fn write_bytes(target: &Path, bytes: &[u8]) -> Result<Staged, OutputE
     })
 }
 
+/// Files written to temporaries beside their targets, renamed into place
+/// together by [`StagedFiles::commit`] only once every one is complete.
+/// Dropped without a commit, every temporary file is removed and every
+/// target is left as it was.
+#[derive(Debug, Default)]
+pub struct StagedFiles {
+    staged: Vec<Staged>,
+}
+
+impl StagedFiles {
+    /// No file yet.
+    pub fn new() -> StagedFiles {
+        StagedFiles::default()
+    }
+
+    /// Writes `bytes` to a temporary file beside `target` (a path an
+    /// [`super::OutputGuard`] returned), synced to disk. On an error the
+    /// files staged so far stay staged; dropping the set removes them.
+    pub fn write(&mut self, target: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+        self.staged.push(write_bytes(target, bytes)?);
+        Ok(())
+    }
+
+    /// Renames every temporary file over its target, in the order written
+    /// (so a file that names the others, such as a scene naming its models,
+    /// goes last). Renames within one directory do not fail for lack of
+    /// space; if one fails all the same, the files before it are replaced
+    /// and the rest are left as they were.
+    pub fn commit(self) -> Result<(), OutputError> {
+        self.staged.into_iter().try_for_each(Staged::commit)
+    }
+}
+
+/// Ignores `SIGXFSZ` for the process (on Unix; elsewhere there is no such
+/// signal), so that a write past the file-size limit fails with `EFBIG`,
+/// which is reported with its path and leaves no temporary file, instead
+/// of killing the process. Call it once at start-up, before any thread is
+/// spawned (the command line does).
+#[cfg(unix)]
+#[expect(
+    unsafe_code,
+    reason = "libc::signal; ignoring a signal installs no handler and touches no memory"
+)]
+pub fn ignore_file_size_signal() {
+    // SAFETY: `SIG_IGN` is no function to call: no handler runs, so nothing
+    // about async-signal safety or memory applies. The previous disposition
+    // (returned) is not needed.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+}
+
+/// Ignores `SIGXFSZ`: nothing to do where the signal does not exist.
+#[cfg(not(unix))]
+pub fn ignore_file_size_signal() {}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -170,6 +231,39 @@ mod tests {
         drop(write_bytes(&target, b"newer").unwrap());
         assert_eq!(fs::read(&target).unwrap(), b"new");
         assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_set_is_replaced_all_or_nothing() {
+        let dir = scratch("set");
+        let first = dir.join("scene-0.bpt");
+        fs::write(&first, b"old model").unwrap();
+        let mut set = StagedFiles::new();
+        set.write(&first, b"new model").unwrap();
+        // The second target's directory is missing: its write fails.
+        let failure = set.write(&dir.join("missing/scene.toml"), b"new scene");
+        assert!(
+            matches!(&failure, Err(OutputError::Write { path, .. }) if path.ends_with("missing/scene.toml")),
+            "{failure:?}"
+        );
+        drop(set);
+        assert_eq!(fs::read(&first).unwrap(), b"old model");
+        assert_eq!(
+            fs::read_dir(&dir).unwrap().count(),
+            1,
+            "a temp file is left"
+        );
+        // Complete: both are replaced.
+        let second = dir.join("scene.toml");
+        let mut set = StagedFiles::new();
+        set.write(&first, b"new model").unwrap();
+        set.write(&second, b"new scene").unwrap();
+        assert_eq!(fs::read(&first).unwrap(), b"old model");
+        set.commit().unwrap();
+        assert_eq!(fs::read(&first).unwrap(), b"new model");
+        assert_eq!(fs::read(&second).unwrap(), b"new scene");
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 2);
         fs::remove_dir_all(&dir).unwrap();
     }
 

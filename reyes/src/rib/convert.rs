@@ -254,6 +254,7 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
         models,
         display: interp.opts.display.clone(),
         warnings,
+        sources: std::mem::take(&mut interp.sources),
     })
 }
 

@@ -105,6 +105,8 @@ pub struct Interp {
     /// The distant and point lights, in declaration order.
     pub lights: Vec<RibLight>,
     pub(super) includes: Vec<PathBuf>,
+    /// Every file read, in order: the scene, then its archives.
+    pub sources: Vec<PathBuf>,
     pub(super) budget: u64,
     pub(super) object_depth: usize,
     /// Warnings beyond [`MAX_WARNINGS`], counted only.
@@ -140,6 +142,7 @@ impl Interp {
             patch_count: 0,
             lights: Vec::new(),
             includes: Vec::new(),
+            sources: Vec::new(),
             budget,
             object_depth: 0,
             more_warnings: 0,
@@ -170,6 +173,7 @@ impl Interp {
         let bytes =
             input::read_input(path, InputKind::Scene, self.budget).map_err(RibError::Input)?;
         self.budget = self.budget.saturating_sub(bytes.len() as u64);
+        self.sources.push(path.to_path_buf());
         let text = super::decode(bytes, path)?;
         self.run_text(&text, path)
     }

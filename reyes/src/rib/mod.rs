@@ -39,6 +39,7 @@ use std::path::{Path, PathBuf};
 
 use crate::input::InputError;
 use crate::model::Model;
+use crate::output::{OutputError, OutputGuard, OutputKind, StagedFiles};
 use crate::scene::{Scene, SceneError};
 
 /// Why a RIB file could not be read.
@@ -116,6 +117,10 @@ pub struct RibScene {
     pub display: Option<String>,
     /// What was ignored or approximated.
     pub warnings: Vec<Warning>,
+    /// Every file read, in order: the RIB file (unless the text was given,
+    /// [`RibScene::from_text`]), then each `ReadArchive` file as it was
+    /// named. [`RibScene::write`] refuses to replace any of them.
+    pub sources: Vec<PathBuf>,
 }
 
 /// The UTF-8 text of a RIB file's bytes; anything else is taken for binary
@@ -183,27 +188,25 @@ impl RibScene {
         RibScene::from_text(&text, name)
     }
 
-    /// Writes the models as `.bpt` files named `{stem}-{i}.bpt` into `dir`
-    /// and returns the scene referring to them by those relative names
-    /// (with [`Scene::base_dir`] set to `dir`), and the files written.
-    pub fn write_models(&self, dir: &Path, stem: &str) -> std::io::Result<(Scene, Vec<PathBuf>)> {
-        let mut scene = self.scene.clone();
-        let mut written = Vec::new();
-        for (i, (object, model)) in scene.objects.iter_mut().zip(&self.models).enumerate() {
-            let name = format!("{stem}-{i}.bpt");
-            let path = dir.join(&name);
-            std::fs::write(&path, crate::load::bpt::write(model))?;
-            written.push(path);
-            object.model = name;
-        }
-        scene.base_dir = Some(dir.to_path_buf());
-        Ok((scene, written))
-    }
-
     /// Writes the scene as TOML to `toml` plus its models as `.bpt` files
     /// beside it (`{toml stem}-{i}.bpt`), creating missing directories;
-    /// returns every file written.
-    pub fn write(&self, toml: &Path) -> std::io::Result<Vec<PathBuf>> {
+    /// returns every file written, the TOML last.
+    ///
+    /// Every output goes through one [`OutputGuard`] before anything is
+    /// written: `toml` must end in `.toml`, and no output may be one of
+    /// [`RibScene::sources`] (compared by identity, so also not through a
+    /// link) or a directory or device. The files are then written to
+    /// temporaries beside their targets and renamed into place (the models,
+    /// then the TOML) only once all are complete: a failure (a full disk, a
+    /// file-size limit) leaves the previous files as they were. Every error
+    /// names its path.
+    pub fn write(&self, toml: &Path) -> Result<Vec<PathBuf>, OutputError> {
+        let mut guard = OutputGuard::new();
+        for (i, source) in self.sources.iter().enumerate() {
+            let label = if i == 0 { "RIB scene" } else { "RIB archive" };
+            guard.add_input(label, source)?;
+        }
+        let toml_file = guard.add_output(OutputKind::Toml, "TOML scene", toml)?;
         let dir = match toml.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
@@ -213,10 +216,26 @@ impl RibScene {
             .and_then(|s| s.to_str())
             .unwrap_or("scene")
             .to_owned();
-        std::fs::create_dir_all(&dir)?;
-        let (scene, mut written) = self.write_models(&dir, &stem)?;
+        let mut scene = self.scene.clone();
+        let mut models = Vec::with_capacity(self.models.len());
+        for (i, object) in scene.objects.iter_mut().enumerate() {
+            let name = format!("{stem}-{i}.bpt");
+            let path = dir.join(&name);
+            let file = guard.add_output(OutputKind::Bpt, "model", &path)?;
+            models.push((path, file));
+            object.model = name;
+        }
+        guard.prepare_dirs()?;
+        let mut staged = StagedFiles::new();
+        // One model's text at a time: the set holds files, not their bytes.
+        for ((_, file), model) in models.iter().zip(&self.models) {
+            staged.write(file, crate::load::bpt::write(model).as_bytes())?;
+        }
         let header = "# Converted from RenderMan RIB by `reyes convert`.\n";
-        std::fs::write(toml, format!("{header}{}", scene.to_toml_string()))?;
+        let text = format!("{header}{}", scene.to_toml_string());
+        staged.write(&toml_file, text.as_bytes())?;
+        staged.commit()?;
+        let mut written: Vec<PathBuf> = models.into_iter().map(|(path, _)| path).collect();
         written.push(toml.to_path_buf());
         Ok(written)
     }

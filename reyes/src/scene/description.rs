@@ -229,6 +229,28 @@ impl Scene {
         }
     }
 
+    /// The model files [`Scene::load_models`] reads (not the embedded
+    /// teapot), in object order; one model may appear more than once.
+    pub fn model_files(&self) -> Vec<PathBuf> {
+        self.objects
+            .iter()
+            .filter_map(|object| match self.model_source(object) {
+                ModelSource::File(path) => Some(path),
+                ModelSource::Teapot => None,
+            })
+            .collect()
+    }
+
+    /// The height-map PNGs the objects' displacements read when the scene
+    /// is prepared, in object order.
+    pub fn height_map_files(&self) -> Vec<PathBuf> {
+        self.objects
+            .iter()
+            .filter_map(|object| object.displacement.as_ref())
+            .filter_map(|desc| desc.height_map_path(self.base_dir.as_deref()))
+            .collect()
+    }
+
     /// Loads every object's model, in object order.
     pub fn load_models(&self) -> Result<Vec<Model>, SceneError> {
         self.objects

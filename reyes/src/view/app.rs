@@ -208,7 +208,7 @@ impl App {
         }
         running.save_pending = false;
         let path = &self.config.save_path;
-        match crate::output::write_png(image, path) {
+        match crate::output::write_image(image, path) {
             Ok(()) => {
                 let (line, note) =
                     save::render_command(&self.config.command, &spec.camera, &spec.settings, path);
@@ -318,7 +318,7 @@ impl App {
             let saved = running
                 .presenter
                 .read_composite()
-                .and_then(|image| Ok(crate::output::write_png(&image, path)?));
+                .and_then(|image| Ok(crate::output::write_image(&image, path)?));
             if let Err(error) = saved {
                 return self.fail(event_loop, error);
             }

@@ -46,13 +46,14 @@ pub struct ViewConfig {
     /// Close after this many presented frames, once the view is refined
     /// (and the script done); `None`: when the window is closed.
     pub frames: Option<u64>,
-    /// Where to save the last presented image when `frames` ends the viewer.
+    /// Where to save the last presented image when `frames` ends the viewer
+    /// (the extension chooses the format, see [`crate::output::write_image`]).
     pub screenshot: Option<PathBuf>,
     /// Scripted input, run through the event loop.
     pub script: Vec<script::Step>,
     /// Whether the overlay starts visible.
     pub overlay: bool,
-    /// Where `P` saves the refined frame.
+    /// Where `P` saves the refined frame (the extension chooses the format).
     pub save_path: PathBuf,
     /// The command line `P` prints, before the view's own options.
     pub command: save::CommandBase,
