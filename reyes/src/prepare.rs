@@ -125,7 +125,9 @@ pub struct PreparedScene {
     pub aov: Aov,
     /// How colour varies over a micropolygon.
     pub shading_interpolation: ShadingInterpolation,
-    /// The pixel filter of the resolve.
+    /// The pixel filter of the resolve: the scene's, except for the `grids`
+    /// picture, whose pixels average their own samples (a box over one
+    /// pixel) so that its colours stay the grid classes'.
     pub pixel_filter: PixelFilter,
 }
 
@@ -298,7 +300,12 @@ impl PreparedScene {
             skipped_degenerate_patches,
             aov: scene.aov,
             shading_interpolation: scene.shading_interpolation,
-            pixel_filter: scene.pixel_filter,
+            // The grids picture's colours are categories: not blended.
+            pixel_filter: if scene.aov == Aov::Grids {
+                PixelFilter::PIXEL_BOX
+            } else {
+                scene.pixel_filter
+            },
         })
     }
 

@@ -23,6 +23,9 @@ fn spheres(width: u32, height: u32) -> (Scene, Vec<Model>) {
     scene.resolution.width = width;
     scene.resolution.height = height;
     scene.spp = 1;
+    // Each pixel the mean of its own samples: the tiles render no margin,
+    // so the caps below are the tiles' own sizes.
+    scene.pixel_filter = reyes::filter::PixelFilter::PIXEL_BOX;
     scene.camera = Some(camera_down_z());
     let mut models = Vec::new();
     for (centre, color) in [

@@ -88,8 +88,12 @@ impl GpuRenderer<'_> {
         // every tile renders that margin around it too.
         let margin = scene.pixel_filter.radius();
         plan_tiles_with_margin(width, height, max_samples / spp64, margin).ok_or_else(|| {
+            // The smallest tile with the margin its filter renders.
             let align = u64::from(TILE_ALIGN);
-            let smallest = u64::from(width).min(align) * u64::from(height).min(align) * spp64;
+            let side = |extent: u32, margin: u32| {
+                (u64::from(extent).min(align) + 2 * u64::from(margin)).min(u64::from(extent))
+            };
+            let smallest = side(width, margin[0]) * side(height, margin[1]) * spp64;
             too_large(what, 8 * smallest, 8 * max_samples)
         })
     }
