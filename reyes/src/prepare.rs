@@ -69,6 +69,10 @@ pub struct PreparedObject {
     pub surface: Option<PreparedSurface>,
     /// Displacement mapping, if any.
     pub displacement: Option<PreparedDisplacement>,
+    /// The object's own shading rate (RenderMan's `ShadingRate` attribute),
+    /// if it has one; `None` takes the frame's
+    /// ([`PreparedScene::object_dicing`]).
+    pub shading_rate: Option<f32>,
     /// How the object moves during the shutter (`None`: it does not).
     pub motion: Option<ObjectMotion>,
     /// One-sided objects (`sides = 1`): the sign `s` such that the front
@@ -271,6 +275,7 @@ impl PreparedScene {
             prepared_objects.push(PreparedObject {
                 color: object.color,
                 surface: PreparedSurface::new(&surface),
+                shading_rate: object.shading_rate,
                 displacement,
                 motion,
                 front,
@@ -313,6 +318,15 @@ impl PreparedScene {
     /// with camera motion, every object does).
     pub fn has_motion(&self) -> bool {
         self.objects.iter().any(|o| o.motion.is_some())
+    }
+
+    /// How `object` is diced: the frame's rule ([`PreparedScene::dicing`]),
+    /// at the object's own shading rate where it has one.
+    pub fn object_dicing(&self, object: &PreparedObject) -> DicingRule {
+        match object.shading_rate {
+            Some(rate) => DicingRule::new(self.dicing.mode(), rate, self.dicing.fixed_threshold()),
+            None => self.dicing,
+        }
     }
 
     /// The side of a micropolygon, in pixels, that Adaptive sampling's cost

@@ -284,3 +284,42 @@ fn a_spotlight_lights_its_cone() {
         linear_to_srgb8(0.2)
     );
 }
+
+/// `ShadingRate` is an attribute: before `WorldBegin` the frame's, inside
+/// an attribute block its objects'. Two spheres at rates 1 and 16 dice
+/// into a number of micropolygons between those of both at 1 and both at
+/// 16 (each sphere as it would be alone).
+#[test]
+fn shading_rate_is_per_object() {
+    let text = |a: f32, b: f32| {
+        format!(
+            "Format 64 48 1\nShadingRate 2\nProjection \"perspective\" \"fov\" [40]\nWorldBegin\n\
+             Surface \"constant\"\n\
+             AttributeBegin\nShadingRate {a}\nTranslate -1.2 0 6\nSphere 1 -1 1 360\nAttributeEnd\n\
+             AttributeBegin\nShadingRate {b}\nTranslate 1.2 0 6\nSphere 1 -1 1 360\nAttributeEnd\nWorldEnd\n"
+        )
+    };
+    let rib = read(&text(1.0, 16.0));
+    assert!(rib.warnings.is_empty(), "{:?}", warnings(&rib));
+    assert_eq!(rib.scene.shading_rate, 2.0);
+    let rates: Vec<Option<f32>> = rib.scene.objects.iter().map(|o| o.shading_rate).collect();
+    assert_eq!(rates, [Some(1.0), Some(16.0)]);
+    let micropolygons = |a, b| {
+        let rib = read(&text(a, b));
+        reyes::reference::render(&rib.prepare().unwrap())
+            .stats
+            .micropolygons
+    };
+    let (fine, coarse, mixed) = (
+        micropolygons(1.0, 1.0),
+        micropolygons(16.0, 16.0),
+        micropolygons(1.0, 16.0),
+    );
+    eprintln!("micropolygons: both at 1: {fine}, both at 16: {coarse}, 1 and 16: {mixed}");
+    assert!(
+        coarse < mixed && mixed < fine,
+        "{coarse} < {mixed} < {fine}"
+    );
+    // Each sphere dices as it would alone: the halves of both extremes.
+    assert!(mixed.abs_diff((fine + coarse) / 2) * 20 < fine, "{mixed}");
+}

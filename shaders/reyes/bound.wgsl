@@ -70,13 +70,13 @@ if (valid && thread == 0u) {
     let size = max_ignoring_nan(hi.x - lo.x, hi.y - lo.y);
     var piece = item;
     if (frame.dicing == DICING_RATE) {
-        piece.edges = input_edges(&screen);
+        piece.edges = input_edges(&screen, object.micropolygon_side);
     }
-    let grid = piece_grid(&screen, piece.edges, piece.uv);
+    let grid = piece_grid(&screen, piece.edges, piece.uv, object.micropolygon_side);
     piece.grid = grid.x | (grid.y << 8u);
     if (back) {
         route(DECIDE_CULL, piece);
     } else {
-        route(decide(flags, size, growth, u2, v2, u3, v3, item.split_depth, grid), piece);
+        route(decide(flags, size, growth, u2, v2, u3, v3, item.split_depth, grid, object.dice_threshold), piece);
     }
 }

@@ -17,10 +17,11 @@ fn level_of(extent: f32) -> u32 {
     return 127u - ((bitcast<u32>(extent) >> 23u) & 0xffu);
 }
 
-// reyes::dicing::rate_for: the power of two nearest length / side in
+// reyes::dicing::rate_for: the power of two nearest length / side (the
+// object's micropolygon side, the square root of its shading rate) in
 // ratio, or 0 when it exceeds MAX_GRID_QUADS or the length is not finite.
-fn rate_for(length: f32) -> u32 {
-    let x = length / frame.micropolygon_side;
+fn rate_for(length: f32, side: f32) -> u32 {
+    let x = length / side;
     if (!is_finite_f32(x)) {
         return 0u;
     }
@@ -47,11 +48,11 @@ fn polygon_length(p0: vec2<f32>, p1: vec2<f32>, p2: vec2<f32>, p3: vec2<f32>) ->
 
 // reyes::dicing::fresh_spacing: the code of an edge measured afresh at
 // `level` (0 when it cannot be projected or needs more than the largest grid).
-fn fresh_spacing(length: f32, projectable: bool, level: u32) -> u32 {
+fn fresh_spacing(length: f32, projectable: bool, level: u32, side: f32) -> u32 {
     if (!projectable) {
         return 0u;
     }
-    let n = rate_for(length);
+    let n = rate_for(length, side);
     if (n == 0u) {
         return 0u;
     }
@@ -59,11 +60,11 @@ fn fresh_spacing(length: f32, projectable: bool, level: u32) -> u32 {
 }
 
 // reyes::dicing::halved_spacing: a fixed parent spacing is kept.
-fn halved_spacing(parent: u32, length: f32, projectable: bool, level: u32) -> u32 {
+fn halved_spacing(parent: u32, length: f32, projectable: bool, level: u32, side: f32) -> u32 {
     if (parent != 0u) {
         return parent;
     }
-    return fresh_spacing(length, projectable, level);
+    return fresh_spacing(length, projectable, level, side);
 }
 
 fn edge_code(edges: u32, edge: u32) -> u32 {
@@ -104,13 +105,13 @@ struct ScreenPiece {
 // reyes::reference::bound::line_length of row or column `line`: its
 // projected polygon plus twice its largest growth, capped at
 // DISPLACED_DICE_FRACTION of the largest grid's side.
-fn line_length(screen: ptr<function, ScreenPiece>, along_u: bool, line: u32) -> f32 {
+fn line_length(screen: ptr<function, ScreenPiece>, along_u: bool, line: u32, side: f32) -> f32 {
     let i0 = line_index(along_u, line, 0u);
     let i1 = line_index(along_u, line, 1u);
     let i2 = line_index(along_u, line, 2u);
     let i3 = line_index(along_u, line, 3u);
     let growth = max(max((*screen).growths[i0], (*screen).growths[i1]), max((*screen).growths[i2], (*screen).growths[i3]));
-    let cap = DISPLACED_DICE_FRACTION * f32(MAX_GRID_QUADS) * frame.micropolygon_side;
+    let cap = DISPLACED_DICE_FRACTION * f32(MAX_GRID_QUADS) * side;
     return polygon_length((*screen).pixels[i0], (*screen).pixels[i1], (*screen).pixels[i2], (*screen).pixels[i3]) + min(2.0 * growth, cap);
 }
 
@@ -134,17 +135,17 @@ fn edge_line(edge: u32) -> u32 {
 }
 
 // The fresh spacing of edge `edge` of a piece at `level`.
-fn measured_spacing(screen: ptr<function, ScreenPiece>, edge: u32, level: u32) -> u32 {
+fn measured_spacing(screen: ptr<function, ScreenPiece>, edge: u32, level: u32, side: f32) -> u32 {
     let along_u = edge_along_u(edge);
     let line = edge_line(edge);
-    return fresh_spacing(line_length(screen, along_u, line), line_projects((*screen).projectable, along_u, line), level);
+    return fresh_spacing(line_length(screen, along_u, line, side), line_projects((*screen).projectable, along_u, line), level, side);
 }
 
 // reyes::reference::bound::input_edges: every edge afresh at level 0.
-fn input_edges(screen: ptr<function, ScreenPiece>) -> u32 {
+fn input_edges(screen: ptr<function, ScreenPiece>, side: f32) -> u32 {
     var edges = 0u;
     for (var edge = 0u; edge < 4u; edge += 1u) {
-        edges |= measured_spacing(screen, edge, 0u) << (8u * edge);
+        edges |= measured_spacing(screen, edge, 0u, side) << (8u * edge);
     }
     return edges;
 }
@@ -152,7 +153,7 @@ fn input_edges(screen: ptr<function, ScreenPiece>) -> u32 {
 // reyes::reference::bound::split_edges: the halved edges keep fixed
 // spacings, the split line is measured afresh, the fourth edge is the
 // parent's. `uv` is the half's rectangle.
-fn split_edges(parent: u32, along_u: bool, half: u32, screen: ptr<function, ScreenPiece>, uv: vec4<f32>) -> u32 {
+fn split_edges(parent: u32, along_u: bool, half: u32, screen: ptr<function, ScreenPiece>, uv: vec4<f32>, side: f32) -> u32 {
     let lu = level_of(uv.z - uv.x);
     let lv = level_of(uv.w - uv.y);
     var halved_a = EDGE_U0;
@@ -172,10 +173,10 @@ fn split_edges(parent: u32, along_u: bool, half: u32, screen: ptr<function, Scre
         var code = edge_code(parent, edge);
         if (edge == halved_a || edge == halved_b) {
             if (code == 0u) {
-                code = measured_spacing(screen, edge, level_halved);
+                code = measured_spacing(screen, edge, level_halved, side);
             }
         } else if (edge == split_line) {
-            code = measured_spacing(screen, edge, level_split);
+            code = measured_spacing(screen, edge, level_split, side);
         }
         edges = (edges & ~(0xffu << (8u * edge))) | (code << (8u * edge));
     }
@@ -184,17 +185,17 @@ fn split_edges(parent: u32, along_u: bool, half: u32, screen: ptr<function, Scre
 
 // reyes::reference::bound::rate_grid: (nu, nv) of a projectable piece, 0
 // in a direction that must be split.
-fn rate_grid(screen: ptr<function, ScreenPiece>, edges: u32, uv: vec4<f32>) -> vec2<u32> {
-    let rows = max(max(line_length(screen, true, 0u), line_length(screen, true, 1u)), max(line_length(screen, true, 2u), line_length(screen, true, 3u)));
-    let columns = max(max(line_length(screen, false, 0u), line_length(screen, false, 1u)), max(line_length(screen, false, 2u), line_length(screen, false, 3u)));
+fn rate_grid(screen: ptr<function, ScreenPiece>, edges: u32, uv: vec4<f32>, side: f32) -> vec2<u32> {
+    let rows = max(max(line_length(screen, true, 0u, side), line_length(screen, true, 1u, side)), max(line_length(screen, true, 2u, side), line_length(screen, true, 3u, side)));
+    let columns = max(max(line_length(screen, false, 0u, side), line_length(screen, false, 1u, side)), max(line_length(screen, false, 2u, side), line_length(screen, false, 3u, side)));
     return vec2<u32>(
-        rate_direction(rows, edge_code(edges, EDGE_V0), edge_code(edges, EDGE_V1), level_of(uv.z - uv.x)),
-        rate_direction(columns, edge_code(edges, EDGE_U0), edge_code(edges, EDGE_U1), level_of(uv.w - uv.y)),
+        rate_direction(rows, edge_code(edges, EDGE_V0), edge_code(edges, EDGE_V1), level_of(uv.z - uv.x), side),
+        rate_direction(columns, edge_code(edges, EDGE_U0), edge_code(edges, EDGE_U1), level_of(uv.w - uv.y), side),
     );
 }
 
-fn rate_direction(length: f32, a: u32, b: u32, level: u32) -> u32 {
-    let need = rate_for(length);
+fn rate_direction(length: f32, a: u32, b: u32, level: u32, side: f32) -> u32 {
+    let need = rate_for(length, side);
     let qa = edge_quads(a, level);
     let qb = edge_quads(b, level);
     if (need == 0u || qa < 0 || qb < 0) {
@@ -205,9 +206,9 @@ fn rate_direction(length: f32, a: u32, b: u32, level: u32) -> u32 {
 }
 
 // The grid a piece is diced into: rate dicing's, or the fixed 15 x 15.
-fn piece_grid(screen: ptr<function, ScreenPiece>, edges: u32, uv: vec4<f32>) -> vec2<u32> {
+fn piece_grid(screen: ptr<function, ScreenPiece>, edges: u32, uv: vec4<f32>, side: f32) -> vec2<u32> {
     if (frame.dicing == DICING_RATE) {
-        return rate_grid(screen, edges, uv);
+        return rate_grid(screen, edges, uv, side);
     }
     return vec2<u32>(FIXED_GRID_QUADS, FIXED_GRID_QUADS);
 }

@@ -73,8 +73,7 @@ fn pixel_growth(c: vec4<f32>, bound: f32, radius: vec4<f32>) -> f32 {
 
 // reyes::reference::bound::fits: the undisplaced box, grown by `growth` on
 // every side, fits the threshold; the growth takes at most a fraction of it.
-fn fits(size: f32, growth: f32) -> bool {
-    let t = frame.dice_threshold;
+fn fits(size: f32, growth: f32, t: f32) -> bool {
     return size <= max(t - 2.0 * growth, t * DISPLACED_DICE_FRACTION);
 }
 
@@ -84,7 +83,7 @@ fn fits(size: f32, growth: f32) -> bool {
 // in world space (`u3`, `v3`).
 // `grid` is the piece's (nu, nv) from piece_grid, 0 in a direction that
 // must be split.
-fn decide(flags: u32, size: f32, growth: f32, u2: f32, v2: f32, u3: f32, v3: f32, split_depth: u32, grid: vec2<u32>) -> u32 {
+fn decide(flags: u32, size: f32, growth: f32, u2: f32, v2: f32, u3: f32, v3: f32, split_depth: u32, grid: vec2<u32>, dice_threshold: f32) -> u32 {
     if ((flags & PLANE_BITS) != 0u) {
         return DECIDE_CULL;
     }
@@ -94,7 +93,7 @@ fn decide(flags: u32, size: f32, growth: f32, u2: f32, v2: f32, u3: f32, v3: f32
         }
         return select(DECIDE_SPLIT_V, DECIDE_SPLIT_U, u3 >= v3);
     }
-    if (grid.x != 0u && grid.y != 0u && fits(size, growth)) {
+    if (grid.x != 0u && grid.y != 0u && fits(size, growth, dice_threshold)) {
         return DECIDE_DICE;
     }
     if (split_depth >= frame.max_split_depth) {

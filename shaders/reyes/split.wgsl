@@ -129,9 +129,9 @@ if (valid && thread < 2u) {
     piece.uv = split_uv(item.uv, along_u, h);
     piece.split_depth = depth;
     if (frame.dicing == DICING_RATE) {
-        piece.edges = split_edges(item.edges, along_u, h, &screen, piece.uv);
+        piece.edges = split_edges(item.edges, along_u, h, &screen, piece.uv, object.micropolygon_side);
     }
-    let grid = piece_grid(&screen, piece.edges, piece.uv);
+    let grid = piece_grid(&screen, piece.edges, piece.uv, object.micropolygon_side);
     piece.grid = grid.x | (grid.y << 8u);
-    route(decide(flags, size, growth, u_ext, v_ext, u_ext, v_ext, depth, grid), piece);
+    route(decide(flags, size, growth, u_ext, v_ext, u_ext, v_ext, depth, grid, object.dice_threshold), piece);
 }

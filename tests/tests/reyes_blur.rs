@@ -208,6 +208,7 @@ fn card_scene(cards: &[(Vec3, f32, Vec3)], sampling: Sampling) -> (Scene, Vec<Mo
             transform: Transform::default(),
             color: Vec3::ONE,
             surface: None,
+            shading_rate: None,
             displacement: None,
             transform_close: (motion != Vec3::ZERO).then(|| Transform {
                 translate: motion,

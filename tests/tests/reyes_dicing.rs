@@ -240,6 +240,7 @@ fn card_scene() -> (Scene, Vec<Model>) {
         transform: Default::default(),
         color: Vec3::splat(0.8),
         surface: None,
+        shading_rate: None,
         displacement: None,
         transform_close: None,
         sides: 2,

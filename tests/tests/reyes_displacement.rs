@@ -181,6 +181,7 @@ fn wall_scene(bound: f32) -> PreparedScene {
         transform: Default::default(),
         color: Vec3::splat(0.8),
         surface: None,
+        shading_rate: None,
         displacement: Some(displacement(&map.to_string_lossy(), 1.0, 1.0)),
         transform_close: None,
         sides: 2,

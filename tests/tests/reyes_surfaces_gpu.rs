@@ -2,7 +2,8 @@
 //! the CPU reference: six spheres (`constant`, `matte`, `metal`, a plastic
 //! with a coloured highlight, `defaultsurface` and `null`) lit by a
 //! coloured ambient light, a distant light, a point light and a spotlight
-//! whose cone edge crosses two of them, at 1 and 16 samples per pixel.
+//! whose cone edge crosses two of them, at 1 and 16 samples per pixel, each
+//! sphere at its own shading rate.
 //! The formulas themselves are checked against arithmetic in
 //! `reyes/tests/shading_formulas.rs` and `reyes/src/reference/shade.rs`.
 
@@ -55,6 +56,8 @@ fn scene(spp: u32) -> (Scene, Vec<Model>) {
             },
             color: Vec3::new(0.9, 0.5 + 0.1 * i as f32, 0.3),
             surface: Some(surface),
+            // Each object its own shading rate: 0.25 to 8 pixels.
+            shading_rate: Some([0.25, 1.0, 4.0, 0.5, 8.0, 1.0][i]),
             displacement: None,
             transform_close: None,
             sides: 2,
@@ -96,6 +99,17 @@ fn every_standard_surface_and_light_matches_the_reference() {
         let a = agreement(&gpu_frame, &cpu);
         eprintln!("spp {spp}: {a:?}");
         a.assert_at_least(&format!("surfaces at spp {spp}"), 0.995, 0.99);
+        // Diced at each object's own rate, as the reference dices them.
+        tests::reyes_support::assert_counts_close(
+            "grids diced",
+            gpu_frame.stats.grids_diced,
+            cpu.stats.grids_diced,
+        );
+        tests::reyes_support::assert_counts_close(
+            "micropolygons",
+            gpu_frame.stats.micropolygons,
+            cpu.stats.micropolygons,
+        );
         // Five spheres are drawn, the null one is not: the bottom right
         // sphere's centre (x = 80 + 60 * (1.2 / 5) / tan 30, y = 60 + 60 *
         // (0.6 / 5) / tan 30) shows the background.

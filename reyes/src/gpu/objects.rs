@@ -53,8 +53,17 @@ pub struct ObjectData {
     pub kd: f32,
     /// `Ks`.
     pub ks: f32,
+    /// The side of a micropolygon at the object's shading rate, in pixels
+    /// ([`crate::prepare::PreparedScene::object_dicing`]).
+    pub micropolygon_side: f32,
+    /// The object's dice threshold in pixels.
+    pub dice_threshold: f32,
     /// Padding.
-    pub pad: u32,
+    pub pad0: u32,
+    /// Padding.
+    pub pad1: u32,
+    /// Padding.
+    pub pad2: u32,
 }
 
 impl ObjectData {
@@ -105,6 +114,7 @@ impl ObjectTables {
             .objects
             .iter()
             .map(|object| {
+                let dicing = scene.object_dicing(object);
                 let mut data = ObjectData {
                     color: object.color.extend(0.0),
                     specular_color: glam::Vec4::ZERO,
@@ -124,7 +134,11 @@ impl ObjectTables {
                     ka: 0.0,
                     kd: 0.0,
                     ks: 0.0,
-                    pad: 0,
+                    micropolygon_side: dicing.micropolygon_side(),
+                    dice_threshold: dicing.dice_threshold(),
+                    pad0: 0,
+                    pad1: 0,
+                    pad2: 0,
                 };
                 if let Some(prepared) = &object.surface {
                     data.set_surface(prepared);

@@ -272,7 +272,6 @@ pub fn try_render_samples(
     // Depth-first: a stack keeps at most about max_split_depth pending
     // pieces per input patch. The order does not change the result, because
     // the framebuffer keeps the minimum key per sample.
-    let side = scene.dicing.micropolygon_side();
     let rate = scene.dicing.mode() == Dicing::Rate;
     let mut stack: Vec<WorkItem> = scene
         .patches
@@ -281,9 +280,10 @@ pub fn try_render_samples(
         .rev()
         .map(|(index, p)| {
             let edges = if rate {
-                let bound = scene.objects[p.object as usize].displacement_bound();
+                let object = &scene.objects[p.object as usize];
+                let side = scene.object_dicing(object).micropolygon_side();
                 input_edges(
-                    &ScreenPiece::new(&view_proj, camera, &p.points, bound),
+                    &ScreenPiece::new(&view_proj, camera, &p.points, object.displacement_bound()),
                     side,
                 )
             } else {
@@ -302,6 +302,8 @@ pub fn try_render_samples(
     while let Some(item) = stack.pop() {
         budget.item()?;
         let object = &scene.objects[item.object as usize];
+        let dicing = scene.object_dicing(object);
+        let side = dicing.micropolygon_side();
         // One-sided, still, sharp and undisplaced input patches that face
         // away everywhere are culled here (split pieces are culled
         // micropolygon by micropolygon when sampled).
@@ -330,7 +332,7 @@ pub fn try_render_samples(
             item.split_depth,
             &view_proj,
             camera,
-            scene.dicing.dice_threshold(),
+            dicing.dice_threshold(),
             scene.max_split_depth,
             Growth {
                 displacement_bound: object.displacement_bound(),

@@ -7,7 +7,7 @@ use glam::{DMat4, EulerRot, Vec3};
 use super::interp::{Interp, Prim};
 use super::{RibError, RibScene, Warning};
 use crate::model::{Model, Patch};
-use crate::params::{MAX_SHADING_RATE, NEAR_EPS};
+use crate::params::NEAR_EPS;
 use crate::scene::{
     CameraDesc, CameraPose, Lens, Projection, Resolution, Scale, Scene, SceneObject,
     ShadingInterpolation, Surface, Transform,
@@ -53,13 +53,8 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
     scene.spp = k * k;
 
     if let Some(rate) = opts.shading_rate {
-        let clamped = rate.clamp(0.01, f64::from(MAX_SHADING_RATE));
-        if clamped != rate {
-            warn(format!(
-                "ShadingRate {rate} is out of range; using {clamped}"
-            ));
-        }
-        scene.shading_rate = clamped as f32;
+        // Clamped (with a warning) when it was read.
+        scene.shading_rate = rate as f32;
     }
 
     scene.pixel_filter = opts.pixel_filter.unwrap_or_default();
@@ -231,6 +226,7 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
                 transform: Transform::default(),
                 color: key.0,
                 surface: Some(key.4),
+                shading_rate: key.5.map(|r| r as f32),
                 displacement: None,
                 transform_close,
                 sides: key.1,
@@ -259,8 +255,8 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
 }
 
 /// What a primitive's object is made of: colour, sides, reverse
-/// orientation, motion and surface.
-type ObjectKey = (Vec3, u8, bool, Option<DMat4>, Surface);
+/// orientation, motion, surface and shading rate.
+type ObjectKey = (Vec3, u8, bool, Option<DMat4>, Surface, Option<f64>);
 
 /// The [`ObjectKey`] of a primitive.
 fn object_key(prim: &Prim) -> ObjectKey {
@@ -273,6 +269,7 @@ fn object_key(prim: &Prim) -> ObjectKey {
         prim.attrs.orientation_lh,
         prim.close,
         prim.attrs.surface,
+        prim.attrs.shading_rate,
     )
 }
 

@@ -7,6 +7,7 @@ use super::interp::{Interp, Options};
 use super::parser::Value;
 use super::state;
 use crate::filter::{FilterKind, PixelFilter};
+use crate::params::MAX_SHADING_RATE;
 
 /// RenderMan's default `Format`.
 pub(super) const DEFAULT_FORMAT: (u32, u32) = (640, 480);
@@ -62,11 +63,22 @@ impl Interp {
                 self.opts.pixel_samples = Some((n[0], n[1]));
             }
             "ShadingRate" => {
+                // An attribute: before WorldBegin the frame's, inside the
+                // world the current attribute block's (its objects').
                 let r = state::all_nums(v, 1)?[0];
-                if world && self.opts.shading_rate.is_some_and(|old| old != r) {
-                    self.warn(file, line, "ShadingRate: the renderer has one scene-wide shading rate; the last one is used".into());
+                let clamped = r.clamp(0.01, f64::from(MAX_SHADING_RATE));
+                if clamped != r {
+                    self.warn(
+                        file,
+                        line,
+                        format!("ShadingRate {r} is out of range; using {clamped}"),
+                    );
                 }
-                self.opts.shading_rate = Some(r);
+                if world {
+                    self.attrs.shading_rate = Some(clamped);
+                } else {
+                    self.opts.shading_rate = Some(clamped);
+                }
             }
             "Projection" => {
                 let (args, params, _) = state::split_params(v, 1, &self.declared)?;

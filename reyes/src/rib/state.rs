@@ -16,6 +16,8 @@ pub struct Attributes {
     pub color: DVec3,
     /// `Surface` (RenderMan's default: `defaultsurface`).
     pub surface: Surface,
+    /// `ShadingRate` set inside the world block (`None`: the frame's).
+    pub shading_rate: Option<f64>,
     /// `Sides`: 1 or 2.
     pub sides: u8,
     /// The orientation is left-handed (the initial `"outside"` at identity).
@@ -34,6 +36,7 @@ impl Default for Attributes {
         Attributes {
             color: DVec3::ONE,
             surface: Surface::DEFAULT_SURFACE,
+            shading_rate: None,
             sides: 2,
             orientation_lh: true,
             ubasis: basis::BEZIER,

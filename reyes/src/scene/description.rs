@@ -207,6 +207,7 @@ impl Scene {
                 transform: Transform::default(),
                 color: default_color(),
                 surface: None,
+                shading_rate: None,
                 displacement: None,
                 transform_close: None,
                 sides: 2,

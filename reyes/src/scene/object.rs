@@ -103,6 +103,10 @@ pub struct SceneObject {
     /// and `[specular]`, [`Surface::scene_default`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub surface: Option<Surface>,
+    /// The object's own shading rate, RenderMan's `ShadingRate` attribute
+    /// (default: the scene's `shading_rate`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shading_rate: Option<f32>,
     /// Displacement mapping (default none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub displacement: Option<DisplacementDesc>,

@@ -260,6 +260,16 @@ fn check_object(i: usize, object: &SceneObject) -> Result<(), SceneError> {
     if let Some(surface) = &object.surface {
         check_surface(i, surface)?;
     }
+    if let Some(rate) = object.shading_rate {
+        let field = format!("objects[{i}].shading_rate");
+        finite(&field, [rate])?;
+        if !(rate > 0.0 && rate <= MAX_SHADING_RATE) {
+            return Err(invalid(
+                &field,
+                &format!("must be in (0, {MAX_SHADING_RATE}] (pixels per micropolygon)"),
+            ));
+        }
+    }
     if let Some(displacement) = &object.displacement {
         displacement.validate().map_err(|problem| {
             let field = format!("objects[{i}].displacement.{}", problem.field);
