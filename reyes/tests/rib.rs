@@ -641,8 +641,9 @@ fn warnings_are_capped() {
 
 #[test]
 fn non_convex_polygons_warn() {
+    // Each text ends its world block: a missing WorldEnd is an error.
     let base = "Projection \"perspective\"\nWorldBegin\n";
-    let convex = format!("{base}Polygon \"P\" [0 0 5  0 1 5  1 1 5  1.5 0.5 5  1 0 5]\n");
+    let convex = format!("{base}Polygon \"P\" [0 0 5  0 1 5  1 1 5  1.5 0.5 5  1 0 5]\nWorldEnd\n");
     assert!(
         RibScene::from_text(&convex, "c.rib")
             .unwrap()
@@ -650,7 +651,7 @@ fn non_convex_polygons_warn() {
             .iter()
             .all(|w| !w.message.contains("convex"))
     );
-    let dart = format!("{base}Polygon \"P\" [0 0 5  0 1 5  0.3 0.5 5  1 0 5]\n");
+    let dart = format!("{base}Polygon \"P\" [0 0 5  0 1 5  0.3 0.5 5  1 0 5]\nWorldEnd\n");
     let rib = RibScene::from_text(&dart, "d.rib").unwrap();
     assert!(
         rib.warnings
@@ -788,6 +789,7 @@ fn points_polygons_cube_lies_on_the_cube() {
 
 #[test]
 fn points_polygons_and_general_polygon_counts_are_checked() {
+    // Each text ends its world block: a missing WorldEnd is an error.
     let base = "Projection \"perspective\"\nWorldBegin\n";
     let p4 = "\"P\" [0 0 5 0 1 5 1 1 5 1 0 5]";
     let cases = [
@@ -805,18 +807,24 @@ fn points_polygons_and_general_polygon_counts_are_checked() {
         (format!("GeneralPolygon [] {p4}"), "no loops"),
     ];
     for (request, message) in cases {
-        let error = parse_error(&format!("{base}\n{request}\n"));
+        let error = parse_error(&format!("{base}\n{request}\nWorldEnd\n"));
         let shown = error.to_string();
         assert_eq!(error.position(), Some((4, 1)), "{shown}");
         assert!(shown.contains(message), "{request}: {shown}");
     }
     // One loop is a Polygon; so is each polygon of PointsPolygons.
-    let polygon = patches_of(&format!("{base}Polygon {p4}\n"), "p.rib");
-    let general = patches_of(&format!("{base}GeneralPolygon [4] {p4}\n"), "g.rib");
+    let polygon = patches_of(&format!("{base}Polygon {p4}\nWorldEnd\n"), "p.rib");
+    let general = patches_of(
+        &format!("{base}GeneralPolygon [4] {p4}\nWorldEnd\n"),
+        "g.rib",
+    );
     assert_same_patches(&polygon, &general, "GeneralPolygon");
-    let indexed = patches_of(&format!("{base}PointsPolygons [3] [3 2 1] {p4}\n"), "i.rib");
+    let indexed = patches_of(
+        &format!("{base}PointsPolygons [3] [3 2 1] {p4}\nWorldEnd\n"),
+        "i.rib",
+    );
     let triangle = patches_of(
-        &format!("{base}Polygon \"P\" [1 0 5 1 1 5 0 1 5]\n"),
+        &format!("{base}Polygon \"P\" [1 0 5 1 1 5 0 1 5]\nWorldEnd\n"),
         "t.rib",
     );
     assert_same_patches(&indexed, &triangle, "PointsPolygons");
@@ -925,9 +933,12 @@ fn coordinate_systems_are_saved_and_restored() {
 
 #[test]
 fn points_general_polygons_skip_only_the_polygons_with_holes() {
+    // Each text ends its world block: a missing WorldEnd is an error.
     let base = "Projection \"perspective\"\nWorldBegin\n";
     let p = "\"P\" [0 0 5 0 1 5 1 1 5 1 0 5  2 0 5 2 1 5 3 1 5]";
-    let text = format!("{base}PointsGeneralPolygons [1 2] [4 4 3] [0 1 2 3  0 1 2 3  4 5 6] {p}\n");
+    let text = format!(
+        "{base}PointsGeneralPolygons [1 2] [4 4 3] [0 1 2 3  0 1 2 3  4 5 6] {p}\nWorldEnd\n"
+    );
     let rib = RibScene::from_text(&text, "pg.rib").unwrap();
     assert!(
         rib.warnings.iter().any(|w| w
@@ -938,7 +949,7 @@ fn points_general_polygons_skip_only_the_polygons_with_holes() {
     );
     let got = patches_of(&text, "pg.rib");
     let quad = patches_of(
-        &format!("{base}Polygon \"P\" [0 0 5 0 1 5 1 1 5 1 0 5]\n"),
+        &format!("{base}Polygon \"P\" [0 0 5 0 1 5 1 1 5 1 0 5]\nWorldEnd\n"),
         "q.rib",
     );
     assert_same_patches(&got, &quad, "PointsGeneralPolygons");
@@ -948,7 +959,9 @@ fn points_general_polygons_skip_only_the_polygons_with_holes() {
         ("[1] [4] [0 1 2]", "nverts do not add up"),
         ("[0 1] [4] [0 1 2 3]", "no loops"),
     ] {
-        let error = parse_error(&format!("{base}PointsGeneralPolygons {request} {p}\n"));
+        let error = parse_error(&format!(
+            "{base}PointsGeneralPolygons {request} {p}\nWorldEnd\n"
+        ));
         assert_eq!(error.position(), Some((3, 1)), "{error}");
         assert!(error.to_string().contains(message), "{request}: {error}");
     }

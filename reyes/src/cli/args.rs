@@ -130,13 +130,13 @@ pub(crate) struct RenderArgs {
     /// with --cpu. On the GPU it includes the driver's first compile of the
     /// megakernel, which takes longer than a minute on lavapipe when its
     /// shader cache is cold (e.g. for a new `--displace FILE.wgsl` function).
-    #[arg(long, value_name = "SECONDS")]
+    #[arg(long, value_name = "SECONDS", value_parser = clap::value_parser!(u64).range(1..))]
     pub(crate) timeout: Option<u64>,
     /// Chunks per batch of the megakernel, 1 to 64: how many workgroup-fulls
     /// of items one batch claims (default 4 on CPU adapters, else 1). The
     /// image is the same for any value. On lavapipe at most 4: its compile
     /// of the megakernel grows with the count (96 s at 2 chunks on a cold
-    /// shader cache, 324 s at 8).
+    /// shader cache, 324 s at 8). GPU only: refused with `--cpu`.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(scheduler::MAX_CHUNKS_PER_BATCH)))]
     pub(crate) chunks: Option<u32>,
     /// Motion blur: spin every object by DEG degrees about its vertical
@@ -174,9 +174,28 @@ pub(crate) struct RenderArgs {
     /// .wgsl files, 64M for height maps. Only regular files are read.
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
     pub(crate) max_input_bytes: Option<u64>,
+    /// Read a RIB scene whose block structure is unbalanced or truncated (a
+    /// missing `WorldEnd`, an unclosed `AttributeBegin`, an `AttributeEnd`
+    /// without its begin) with warnings instead of an error, and render
+    /// what was read.
+    #[arg(long)]
+    pub(crate) lenient: bool,
     /// Neither read nor write compiled pipelines in the cache directory
     /// (`$REYES_CACHE_DIR`, else the platform's, e.g.
     /// `~/.cache/reyes/pipelines`; see `reyes cache info`).
     #[arg(long)]
     pub(crate) no_pipeline_cache: bool,
+}
+
+impl RenderArgs {
+    /// Refuses the options the chosen renderer would ignore: the command
+    /// line must not look as if it changed what it did not.
+    pub(crate) fn check_backend(&self) -> Result<(), String> {
+        if self.cpu && self.chunks.is_some() {
+            return Err(
+                "--chunks applies to the GPU renderer; --cpu ignores it (leave one out)".into(),
+            );
+        }
+        Ok(())
+    }
 }

@@ -14,6 +14,12 @@ pub(crate) struct ConvertArgs {
     /// The TOML scene to write (`.toml`; the models go beside it).
     #[arg(short, long)]
     pub(crate) output: PathBuf,
+    /// Read a RIB whose block structure is unbalanced or truncated (a
+    /// missing `WorldEnd`, an unclosed `AttributeBegin`, an `AttributeEnd`
+    /// without its begin) with warnings instead of an error, and convert
+    /// what was read.
+    #[arg(long)]
+    pub(crate) lenient: bool,
 }
 
 /// `reyes convert`: RIB to TOML plus `.bpt` files.
@@ -25,7 +31,10 @@ pub(crate) fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
     let mut guard = OutputGuard::new();
     guard.add_input("RIB scene", &args.input)?;
     guard.add_output(OutputKind::Toml, "TOML scene", &args.output)?;
-    let rib = crate::rib::RibScene::load(&args.input)?;
+    let options = crate::rib::RibOptions {
+        lenient: args.lenient,
+    };
+    let rib = crate::rib::RibScene::load_with(&args.input, options)?;
     for warning in &rib.warnings {
         eprintln!("warning: {warning}");
     }

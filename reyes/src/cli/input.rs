@@ -28,8 +28,11 @@ pub(crate) struct BaseScene {
     pub(crate) read: Vec<ReadFile>,
 }
 
-/// The scene named on the command line, before overrides.
-pub(crate) fn base_scene(path: Option<&Path>) -> Result<BaseScene, BoxError> {
+/// The scene named on the command line, before overrides; `lenient` reads
+/// a RIB's unbalanced structure with warnings ([`crate::rib::RibOptions`]).
+/// A scene without objects is warned about (the RIB reader's warnings say
+/// it for a RIB).
+pub(crate) fn base_scene(path: Option<&Path>, lenient: bool) -> Result<BaseScene, BoxError> {
     let Some(path) = path else {
         return Ok(BaseScene {
             scene: Scene::default_teapot(),
@@ -43,13 +46,24 @@ pub(crate) fn base_scene(path: Option<&Path>) -> Result<BaseScene, BoxError> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match extension.as_deref() {
-        Some("toml") => Ok(BaseScene {
-            scene: Scene::load(path)?,
-            models: None,
-            read: scene_file(),
-        }),
+        Some("toml") => {
+            let scene = Scene::load(path)?;
+            if scene.objects.is_empty() {
+                eprintln!(
+                    "warning: {}: {}",
+                    path.display(),
+                    crate::scene::NO_OBJECTS_WARNING
+                );
+            }
+            Ok(BaseScene {
+                scene,
+                models: None,
+                read: scene_file(),
+            })
+        }
         Some("rib") => {
-            let rib = crate::rib::RibScene::load(path)?;
+            let options = crate::rib::RibOptions { lenient };
+            let rib = crate::rib::RibScene::load_with(path, options)?;
             for warning in &rib.warnings {
                 eprintln!("warning: {warning}");
             }

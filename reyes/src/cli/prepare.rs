@@ -26,7 +26,7 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<Prepared, BoxError> {
         mut scene,
         models: in_memory,
         mut read,
-    } = base_scene(args.scene.as_deref())?;
+    } = base_scene(args.scene.as_deref(), args.lenient)?;
     let prepared = |scene: &Scene| match &in_memory {
         Some(models) => PreparedScene::new(scene, models),
         None => PreparedScene::load(scene),

@@ -19,6 +19,7 @@ use crate::stats::RenderStats;
 /// `reyes render`: prepares the scene, renders it on the GPU or with the CPU
 /// reference, and writes the image (and the statistics).
 pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
+    args.check_backend()?;
     if let Some(bytes) = args.max_input_bytes {
         crate::input::set_limits(Limits::all(bytes));
     }
@@ -72,7 +73,7 @@ struct Frame {
 fn render_cpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxError> {
     let mut options = crate::reference::ReferenceOptions::default();
     if let Some(seconds) = args.timeout {
-        options.timeout = Some(std::time::Duration::from_secs(seconds.max(1)));
+        options.timeout = Some(std::time::Duration::from_secs(seconds));
     }
     let rendered = crate::reference::try_render_with(scene, &options)?;
     Ok(Frame {
@@ -98,7 +99,7 @@ fn render_gpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxErro
         options.progress = ticker.progress();
     }
     if let Some(seconds) = args.timeout {
-        options.timeout = std::time::Duration::from_secs(seconds.max(1));
+        options.timeout = std::time::Duration::from_secs(seconds);
     }
     options.chunks_per_batch = args.chunks;
     options.pipeline_cache_dir = args.pipeline_cache_dir();

@@ -74,7 +74,7 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), BoxError> {
     guard.add_inputs(read)?;
     let mut gpu_options = GpuOptions::default();
     if let Some(seconds) = render.timeout {
-        gpu_options.timeout = std::time::Duration::from_secs(seconds.max(1));
+        gpu_options.timeout = std::time::Duration::from_secs(seconds);
     }
     gpu_options.chunks_per_batch = render.chunks;
     gpu_options.pipeline_cache_dir = render.pipeline_cache_dir();

@@ -88,7 +88,7 @@ pub enum RenderError {
     /// The scheduler could not run the megakernel (after its retries, up to
     /// `super::renderer::RENDER_ATTEMPTS` attempts, when a queue
     /// overflowed).
-    #[error("the Reyes megakernel failed: {0}")]
+    #[error("the Reyes megakernel failed: {error}{advice}", error = .0, advice = run_advice(.0))]
     Run(#[from] RunError),
     /// llvmpipe's loop limit still cut loops short after the scheduler's
     /// retries with smaller iteration budgets, so samples would be missing. The error
@@ -126,4 +126,36 @@ pub enum RenderError {
         /// Bytes allowed.
         limit: u64,
     },
+}
+
+/// What to do about a failed run, where the scheduler's message cannot say
+/// it: its timeout is the renderer's option.
+fn run_advice(error: &RunError) -> &'static str {
+    match error {
+        RunError::Timeout { .. } => {
+            "; if the frame only needs longer (a cold shader cache, a large frame on a software adapter), raise the limit: --timeout SECONDS (GpuOptions::timeout)"
+        }
+        _ => "",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use super::*;
+
+    #[test]
+    fn a_timeout_names_the_option_that_raises_it() {
+        let error = RenderError::Run(RunError::Timeout {
+            limit: Duration::from_secs(3),
+            report: None,
+            also: Vec::new(),
+        });
+        let text = error.to_string();
+        assert!(text.contains("did not finish within 3s"), "{text}");
+        assert!(text.contains("--timeout SECONDS"), "{text}");
+        let other = RenderError::Run(RunError::Gpu("lost".into()));
+        assert!(!other.to_string().contains("--timeout"), "{other}");
+    }
 }

@@ -113,15 +113,36 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
             Some((2.0 * half_height) as f32),
         )
     };
-    let far_geometry = interp
+    // The farthest control point, and the primitive it belongs to.
+    let farthest = interp
         .prims
         .iter()
-        .flat_map(|p| p.patches.iter().flatten())
-        .map(|p| p.z)
-        .fold(0.0f32, f32::max);
+        .flat_map(|p| p.patches.iter().flatten().map(move |q| (q.z, p)))
+        .fold(None, |far: Option<(f32, &Prim)>, (z, p)| match far {
+            Some((old, _)) if old >= z => far,
+            _ => Some((z, p)),
+        });
     let (near, far) = match opts.clipping {
+        // `Clipping` checked near > 0 (warning below the epsilon) and far >
+        // near; RenderMan's RI_INFINITY (1e38) and beyond mean "no far
+        // plane", which 1e30 is to the renderer.
         Some((n, f)) => (n.max(f64::from(NEAR_EPS)) as f32, f.min(1e30) as f32),
-        None => (0.1, (2.0 * far_geometry).max(1000.0)),
+        None => {
+            let z = farthest.map_or(0.0, |(z, _)| z);
+            let far = (2.0 * f64::from(z)).max(1000.0);
+            if far > f64::from(f32::MAX) {
+                let (_, prim) = farthest.expect("a point this far");
+                return Err(scene_error(
+                    file,
+                    format!(
+                        "the primitive at {}:{} reaches z = {z:e} in camera space: the default far plane, twice the farthest control point, is beyond f32; give Clipping near far, or scale the scene down",
+                        prim.file.display(),
+                        prim.line
+                    ),
+                ));
+            }
+            (0.1, far as f32)
+        }
     };
     scene.camera = Some(CameraDesc {
         eye: Vec3::ZERO,
@@ -165,8 +186,17 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
         warn("DepthOfField needs a perspective camera (the thin lens of an orthographic one is not supported): a pinhole camera is used".into());
     } else if let Some((fstop, focal_length, focal_distance)) = opts.dof {
         if fstop > 0.0 && focal_length > 0.0 && focal_distance > 0.0 && fstop.is_finite() {
+            let aperture = focal_length / (2.0 * fstop);
+            if !((aperture as f32).is_finite() && (focal_distance as f32).is_finite()) {
+                return Err(scene_error(
+                    file,
+                    format!(
+                        "DepthOfField: the lens radius (focallength / (2 fstop) = {aperture:e}) or the focal distance ({focal_distance:e}) is beyond f32"
+                    ),
+                ));
+            }
             scene.lens = Lens {
-                aperture: (focal_length / (2.0 * fstop)) as f32,
+                aperture: aperture as f32,
                 focus_distance: Some(focal_distance as f32),
             };
         } else {
@@ -241,6 +271,16 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
             .extend(prim.patches.iter().map(|&points| Patch { points }));
     }
     warnings.extend(camera_warning);
+    if scene.objects.is_empty() {
+        warnings.push(Warning {
+            file: file.to_path_buf(),
+            line: 0,
+            message: format!(
+                "{} (the RIB has no geometry the renderer draws)",
+                crate::scene::NO_OBJECTS_WARNING
+            ),
+        });
+    }
     scene.validate().map_err(|source| RibError::Scene {
         file: file.to_path_buf(),
         source: Box::new(source),

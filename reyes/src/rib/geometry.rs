@@ -355,6 +355,19 @@ impl Interp {
         self.emit(patches, file, line)
     }
 
+    /// Why points through the current transform leave f32 (for messages):
+    /// the camera transform, the current transform, or the points.
+    pub(super) fn overflow_cause(&self) -> &'static str {
+        let camera = camera_to_world() * self.camera.unwrap_or(DMat4::IDENTITY);
+        if !camera.as_mat4().is_finite() {
+            "the camera transform (the transforms before WorldBegin) overflows f32"
+        } else if !(camera * self.xf.open).as_mat4().is_finite() {
+            "the current transform overflows f32"
+        } else {
+            "the points through the current transform overflow f32"
+        }
+    }
+
     pub(super) fn emit(
         &mut self,
         patches: Vec<[DVec3; 16]>,
@@ -370,16 +383,23 @@ impl Interp {
         let mut out = Vec::with_capacity(patches.len());
         for patch in &patches {
             let pts = patch.map(|p| open.transform_point3(p).as_vec3());
-            if pts.iter().any(|p| !p.is_finite()) {
-                self.warn(
-                    file,
-                    line,
-                    "a patch's transformed control points are not finite (beyond f32); skipped"
-                        .into(),
-                );
-                continue;
+            if pts.iter().all(|p| p.is_finite()) {
+                out.push(pts);
             }
-            out.push(pts);
+        }
+        // One warning per primitive, naming the transform that overflows
+        // when one does.
+        let skipped = patches.len() - out.len();
+        if skipped > 0 {
+            let cause = self.overflow_cause();
+            self.warn(
+                file,
+                line,
+                format!(
+                    "{skipped} of the primitive's {} patches have control points beyond f32 in camera space: {cause}; skipped",
+                    patches.len()
+                ),
+            );
         }
         self.patch_count += out.len();
         self.lights_for_primitive();
@@ -388,6 +408,8 @@ impl Interp {
             patches: out,
             attrs: self.attrs,
             close: moving,
+            file: file.to_path_buf(),
+            line,
         });
         Ok(())
     }

@@ -70,6 +70,10 @@ pub struct Prim {
     pub attrs: Attributes,
     /// The world-space motion from shutter open to close, if it moves.
     pub close: Option<DMat4>,
+    /// The file of its request.
+    pub file: PathBuf,
+    /// The line of its request.
+    pub line: usize,
 }
 
 #[derive(Debug)]
@@ -113,6 +117,11 @@ pub struct Interp {
     pub more_warnings: usize,
     /// Stop reading at `WorldBegin` (only the options are wanted).
     pub options_only: bool,
+    /// The open blocks, innermost last ([`super::blocks`]).
+    pub(super) blocks: Vec<super::blocks::Block>,
+    /// Structure problems are warnings, not errors
+    /// ([`super::RibOptions::lenient`]).
+    pub lenient: bool,
 }
 
 /// RenderMan's camera space is left-handed (x right, y up, z forward); the
@@ -147,6 +156,8 @@ impl Interp {
             object_depth: 0,
             more_warnings: 0,
             options_only: false,
+            blocks: Vec::new(),
+            lenient: false,
         }
     }
 
@@ -247,7 +258,12 @@ impl Interp {
         self.request(call, file).map_err(at)
     }
 
-    fn request(&mut self, call: &Call, file: &Path) -> Result<(), String> {
+    pub(super) fn request(&mut self, call: &Call, file: &Path) -> Result<(), String> {
+        // Before anything skips the request: the structure is checked
+        // everywhere.
+        if !self.structure(call, file)? {
+            return Ok(());
+        }
         let v = &call.values;
         let line = call.line;
         let name = call.name.as_str();
@@ -346,7 +362,13 @@ impl Interp {
             "Illuminate" => self.illuminate(v, file, line)?,
             "Sides" => {
                 let n = state::all_nums(v, 1)?[0];
-                self.attrs.sides = if n == 1.0 { 1 } else { 2 };
+                self.attrs.sides = if n == 1.0 {
+                    1
+                } else if n == 2.0 {
+                    2
+                } else {
+                    return Err(format!("{n} is out of range: must be 1 or 2"));
+                };
             }
             "Orientation" => {
                 let lh_now = self.handedness_lh();
@@ -369,6 +391,15 @@ impl Interp {
             name if super::geometry::is_geometry(name) => {
                 self.geometry_request(name, v, file, line)?
             }
+            // The structure pass has matched it; CSG is not supported.
+            "SolidEnd" => {}
+            "SolidBegin" => self.warn_once(
+                name,
+                file,
+                line,
+                "SolidBegin is not supported (no CSG): the primitives inside are drawn as they are"
+                    .into(),
+            ),
             "ObjectBegin" => {
                 self.warn(file, line, "ObjectBegin/ObjectInstance are not supported yet; the object definition is skipped".into());
                 self.object_depth = 1;

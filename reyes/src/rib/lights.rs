@@ -48,7 +48,33 @@ fn handle_text(value: &Value) -> Option<String> {
     }
 }
 
+/// A light's camera-space `direction` as the scene's f32 vector: as it is
+/// when f32 holds it (and its length), else its unit vector (only the
+/// direction of a distant or spot light matters); `None` when it has none.
+fn direction_f32(direction: DVec3) -> Option<glam::Vec3> {
+    let d = direction.as_vec3();
+    if d.is_finite() && d.length_squared().is_normal() {
+        return Some(d);
+    }
+    let unit = direction.normalize_or_zero();
+    (unit != DVec3::ZERO).then(|| unit.as_vec3())
+}
+
 impl Interp {
+    /// Why a light from `from` to `to` has no direction in camera space.
+    fn direction_problem(&self, from: DVec3, to: DVec3, direction: DVec3) -> String {
+        if from == to {
+            "with no direction (from = to)".to_owned()
+        } else if direction.is_finite() {
+            "whose direction vanishes in camera space (the transform scales it to 0)".to_owned()
+        } else {
+            format!(
+                "whose direction is not finite in camera space ({})",
+                self.overflow_cause()
+            )
+        }
+    }
+
     /// `LightSource name [handle] params...`.
     pub(super) fn light_source(
         &mut self,
@@ -91,18 +117,18 @@ impl Interp {
                 let from = state::param_v3(&params, "from", DVec3::ZERO)?;
                 let to = state::param_v3(&params, "to", DVec3::Z)?;
                 let direction = m.transform_point3(to) - m.transform_point3(from);
-                if direction.length_squared() > 0.0 && direction.as_vec3().is_finite() {
-                    let distant = Light {
-                        direction: direction.as_vec3(),
-                        ..Light::default()
-                    };
-                    self.add_light(light(distant), file, line);
-                } else {
-                    self.warn(
-                        file,
-                        line,
-                        "distantlight with no direction (from = to); ignored".into(),
-                    );
+                match direction_f32(direction) {
+                    Some(direction) => {
+                        let distant = Light {
+                            direction,
+                            ..Light::default()
+                        };
+                        self.add_light(light(distant), file, line);
+                    }
+                    None => {
+                        let why = self.direction_problem(from, to, direction);
+                        self.warn(file, line, format!("distantlight {why}; ignored"));
+                    }
                 }
             }
             "pointlight" => {
@@ -112,10 +138,11 @@ impl Interp {
                     let point = Light::point(position.as_vec3(), color, intensity);
                     self.add_light(light(point), file, line);
                 } else {
+                    let cause = self.overflow_cause();
                     self.warn(
                         file,
                         line,
-                        "pointlight whose position is not finite (beyond f32); ignored".into(),
+                        format!("pointlight whose position is beyond f32 in camera space ({cause}); ignored"),
                     );
                 }
             }
@@ -150,18 +177,20 @@ impl Interp {
         let cone = state::param_f(params, "coneangle", 30f64.to_radians())?.to_degrees();
         let delta = state::param_f(params, "conedeltaangle", 5f64.to_radians())?.to_degrees();
         let beam = state::param_f(params, "beamdistribution", 2.0)?;
-        if !(position.as_vec3().is_finite()
-            && direction.as_vec3().is_finite()
-            && direction.length_squared() > 0.0)
-        {
+        if !position.as_vec3().is_finite() {
+            let cause = self.overflow_cause();
             self.warn(
                 file,
                 line,
-                "spotlight whose position is not finite or with no direction (from = to); ignored"
-                    .into(),
+                format!("spotlight whose position is beyond f32 in camera space ({cause}); ignored"),
             );
             return Ok(());
         }
+        let Some(direction) = direction_f32(direction) else {
+            let why = self.direction_problem(from, to, direction);
+            self.warn(file, line, format!("spotlight {why}; ignored"));
+            return Ok(());
+        };
         let cone_clamped = cone.clamp(1e-3, 90.0);
         if cone_clamped != cone {
             self.warn(
@@ -188,7 +217,7 @@ impl Interp {
         }
         let mut spot = Light::spot(
             position.as_vec3(),
-            direction.as_vec3(),
+            direction,
             glam::Vec3::ONE,
             1.0,
         );

@@ -16,9 +16,11 @@
 //!   `geometry`: its transform, motion, basis and geometry requests;
 //!   `quadrics`: the quadrics as Bezier patches; `polygons`:
 //!   `PointsPolygons` and `GeneralPolygon`; `spaces`: coordinate systems
-//!   and `Skew`); `convert`: the [`Scene`] it makes.
+//!   and `Skew`; `blocks`: the begin/end structure); `convert`: the
+//!   [`Scene`] it makes.
 
 mod attributes;
+mod blocks;
 internal_modules! {
     basis;
     interp;
@@ -80,6 +82,17 @@ impl RibError {
             _ => None,
         }
     }
+}
+
+/// How a RIB file is read.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RibOptions {
+    /// Unbalanced or truncated block structure (a missing `WorldEnd`, an
+    /// unclosed `AttributeBegin`, an `AttributeEnd` without its begin) is a
+    /// warning instead of an error, and what was read is used: an end
+    /// without its begin is ignored, blocks left open are closed where the
+    /// enclosing block ends or at the end of the scene.
+    pub lenient: bool,
 }
 
 /// A request that was ignored or only approximated.
@@ -154,10 +167,19 @@ pub(crate) fn decode(bytes: Vec<u8>, file: &Path) -> Result<String, RibError> {
 impl RibScene {
     /// Reads and interprets the RIB file at `path`. `ReadArchive` paths are
     /// relative to the including file's directory.
+    /// Unbalanced or truncated block structure is an error (see
+    /// [`RibScene::load_with`]).
     pub fn load(path: impl AsRef<Path>) -> Result<RibScene, RibError> {
+        RibScene::load_with(path, RibOptions::default())
+    }
+
+    /// [`RibScene::load`] with `options` (see [`RibOptions`]).
+    pub fn load_with(path: impl AsRef<Path>, options: RibOptions) -> Result<RibScene, RibError> {
         let path = path.as_ref();
         let mut interp = interp::Interp::new(crate::input::InputKind::Scene.limit());
+        interp.lenient = options.lenient;
         interp.run_file(path)?;
+        interp.finish()?;
         convert::build(interp, path)
     }
 
@@ -174,9 +196,20 @@ impl RibScene {
     /// Interprets RIB `text` as if read from the file `name` (which names
     /// it in errors; archives resolve against its directory).
     pub fn from_text(text: &str, name: impl AsRef<Path>) -> Result<RibScene, RibError> {
+        RibScene::from_text_with(text, name, RibOptions::default())
+    }
+
+    /// [`RibScene::from_text`] with `options` (see [`RibOptions`]).
+    pub fn from_text_with(
+        text: &str,
+        name: impl AsRef<Path>,
+        options: RibOptions,
+    ) -> Result<RibScene, RibError> {
         let name = name.as_ref();
         let mut interp = interp::Interp::new(crate::input::InputKind::Scene.limit());
+        interp.lenient = options.lenient;
         interp.run_text(text, name)?;
+        interp.finish()?;
         convert::build(interp, name)
     }
 

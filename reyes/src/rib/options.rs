@@ -48,6 +48,11 @@ impl Interp {
                 if !(1.0..=65536.0).contains(&w) || !(1.0..=65536.0).contains(&h) {
                     return Err(format!("resolution {w} x {h} is out of range"));
                 }
+                if w.fract() != 0.0 || h.fract() != 0.0 {
+                    return Err(format!(
+                        "resolution {w} x {h}: the width and height must be whole numbers of pixels"
+                    ));
+                }
                 if n[2] != 1.0 && n[2] != -1.0 {
                     self.warn(
                         file,
@@ -60,6 +65,12 @@ impl Interp {
             }
             "PixelSamples" => {
                 let n = state::all_nums(v, 2)?;
+                if !(n[0] > 0.0 && n[1] > 0.0) {
+                    return Err(format!(
+                        "{} {} is out of range: both counts must be > 0",
+                        n[0], n[1]
+                    ));
+                }
                 self.opts.pixel_samples = Some((n[0], n[1]));
             }
             "ShadingRate" => {
@@ -122,7 +133,21 @@ impl Interp {
             }
             "Clipping" => {
                 let n = state::all_nums(v, 2)?;
-                self.opts.clipping = Some((n[0], n[1]));
+                let (near, far) = (n[0], n[1]);
+                if !(near > 0.0 && far > near) {
+                    return Err(format!(
+                        "{near} {far} is out of range: needs 0 < near < far"
+                    ));
+                }
+                let eps = f64::from(crate::params::NEAR_EPS);
+                if near < eps {
+                    self.warn(
+                        file,
+                        line,
+                        format!("Clipping near {near} is below the renderer's smallest near plane; using {eps}"),
+                    );
+                }
+                self.opts.clipping = Some((near, far));
             }
             "Shutter" => {
                 let n = state::all_nums(v, 2)?;

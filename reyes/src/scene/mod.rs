@@ -143,3 +143,8 @@ pub use light::{
 };
 pub use object::{ModelSource, Scale, SceneObject, Transform};
 pub use surface::Surface;
+
+/// The warning for a scene without objects, which renders as its
+/// background: `reyes render`, `view` and `convert` print it, and
+/// [`crate::rib::RibScene`] carries it among its warnings.
+pub const NO_OBJECTS_WARNING: &str = "the scene has no objects: the image is the background";

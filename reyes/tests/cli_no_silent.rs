@@ -1,0 +1,131 @@
+//! The command line reports what it would otherwise do silently (issue 42,
+//! item 3): an empty scene renders the background with a warning; a
+//! truncated RIB is an error unless `--lenient`; options the chosen
+//! renderer ignores are refused. Renders are tiny `--cpu` ones.
+
+mod files;
+
+use std::path::Path;
+
+use files::{TempDir, run_cli};
+
+/// A tiny CPU frame.
+const TINY: [&str; 7] = ["--cpu", "--width", "16", "--height", "12", "--spp", "1"];
+
+fn path_str(path: &Path) -> &str {
+    path.to_str().expect("temp paths are UTF-8")
+}
+
+/// `reyes render SCENE TINY -o OUT [extra]`: (success, stderr, whether OUT
+/// exists).
+fn render(dir: &TempDir, scene: &str, extra: &[&str]) -> (bool, String, bool) {
+    let out = dir.path("out.png");
+    let _ = std::fs::remove_file(&out);
+    let scene = dir.path(scene);
+    let mut args = vec!["render", path_str(&scene)];
+    args.extend(TINY);
+    args.extend(["-o", path_str(&out)]);
+    args.extend(extra);
+    let (ok, stderr) = run_cli(&args);
+    (ok, stderr, out.exists())
+}
+
+#[test]
+fn empty_scenes_warn_and_render_the_background() {
+    let dir = TempDir::new("cli-empty");
+    for (name, text) in [
+        ("empty.toml", ""),
+        ("no-objects.toml", "objects = []\n"),
+        ("background.toml", "background = [0.2, 0.3, 0.4]\n"),
+        ("empty.rib", "Format 16 12 1\nWorldBegin\nWorldEnd\n"),
+    ] {
+        std::fs::write(dir.path(name), text).unwrap();
+        let (ok, stderr, written) = render(&dir, name, &[]);
+        assert!(ok && written, "{name}: {stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "warning: {}: the scene has no objects: the image is the background",
+                path_str(&dir.path(name))
+            )),
+            "{name}: {stderr}"
+        );
+    }
+}
+
+#[test]
+fn a_truncated_rib_is_an_error_unless_lenient() {
+    let dir = TempDir::new("cli-truncated");
+    std::fs::write(
+        dir.path("cut.rib"),
+        "Format 16 12 1\nFrameBegin 1\nWorldBegin\nAttributeBegin\nTranslate 0 0 5\nSphere 1 -1 1 360\n",
+    )
+    .unwrap();
+    let (ok, stderr, written) = render(&dir, "cut.rib", &[]);
+    assert!(!ok && !written, "{stderr}");
+    assert!(
+        stderr.contains("cut.rib:4:1: AttributeBegin is never closed")
+            && stderr.contains("AttributeEnd")
+            && stderr.contains("--lenient"),
+        "{stderr}"
+    );
+    let (ok, stderr, written) = render(&dir, "cut.rib", &["--lenient"]);
+    assert!(ok && written, "{stderr}");
+    assert!(
+        stderr.contains("warning: ") && stderr.contains("cut.rib:3: WorldBegin is never closed"),
+        "{stderr}"
+    );
+    // `convert` reads the same way.
+    let toml = dir.path("cut.toml");
+    let (ok, stderr) = run_cli(&[
+        "convert",
+        path_str(&dir.path("cut.rib")),
+        "-o",
+        path_str(&toml),
+    ]);
+    assert!(!ok && !toml.exists(), "{stderr}");
+    assert!(
+        stderr.contains("AttributeBegin is never closed"),
+        "{stderr}"
+    );
+    let (ok, stderr) = run_cli(&[
+        "convert",
+        path_str(&dir.path("cut.rib")),
+        "-o",
+        path_str(&toml),
+        "--lenient",
+    ]);
+    assert!(ok && toml.exists(), "{stderr}");
+}
+
+#[test]
+fn sides_out_of_range_is_an_error() {
+    let dir = TempDir::new("cli-sides");
+    std::fs::write(dir.path("s.rib"), "WorldBegin\nSides 3\nWorldEnd\n").unwrap();
+    let (ok, stderr, written) = render(&dir, "s.rib", &[]);
+    assert!(!ok && !written, "{stderr}");
+    assert!(
+        stderr.contains("s.rib:2:1: Sides: 3 is out of range: must be 1 or 2"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn chunks_with_cpu_is_refused() {
+    let dir = TempDir::new("cli-chunks");
+    std::fs::write(dir.path("e.toml"), "").unwrap();
+    let (ok, stderr, written) = render(&dir, "e.toml", &["--chunks", "2"]);
+    assert!(!ok && !written, "{stderr}");
+    assert!(
+        stderr.contains("--chunks applies to the GPU renderer; --cpu ignores it"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_zero_timeout_is_refused() {
+    let dir = TempDir::new("cli-timeout");
+    std::fs::write(dir.path("e.toml"), "").unwrap();
+    let (ok, stderr, written) = render(&dir, "e.toml", &["--timeout", "0"]);
+    assert!(!ok && !written, "{stderr}");
+    assert!(stderr.contains("--timeout"), "{stderr}");
+}
