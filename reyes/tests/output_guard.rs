@@ -8,6 +8,8 @@
 
 mod files;
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -29,12 +31,7 @@ fn reyes_in(dir: &Path, args: &[&str]) -> (bool, String) {
 
 /// The names in `dir`, sorted.
 fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
+    common::dir_names(dir)
 }
 
 /// The contents of `files` (relative to `dir`), to compare after a run.

@@ -5,6 +5,8 @@
 
 mod files;
 
+mod common;
+
 use std::fs;
 use std::path::Path;
 use std::process::Command;
@@ -35,12 +37,7 @@ fn render_in(dir: &Path, extra: &[&str]) -> (bool, String) {
 
 /// The names in `dir`, sorted.
 fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
+    common::dir_names(dir)
 }
 
 #[test]

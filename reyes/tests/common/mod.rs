@@ -2,7 +2,7 @@
 
 #![allow(dead_code, reason = "each test binary uses a different subset")]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// `shared/data` next to the workspace (`<workspace>/../shared/data`).
 pub(crate) fn shared_data(name: &str) -> PathBuf {
@@ -28,4 +28,14 @@ pub(crate) fn killeroo_path() -> Option<PathBuf> {
 /// `<workspace>/target`.
 pub(crate) fn target_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target")
+}
+
+/// The names of the entries in `dir`, sorted.
+pub(crate) fn dir_names(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
 }
