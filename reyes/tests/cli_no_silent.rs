@@ -129,3 +129,32 @@ fn a_zero_timeout_is_refused() {
     assert!(!ok && !written, "{stderr}");
     assert!(stderr.contains("--timeout"), "{stderr}");
 }
+
+/// `--eye` on the default teapot (a camera framed automatically) clips
+/// around the teapot as seen from the new eye: the framing's far plane,
+/// chosen for its own eye, culled the whole teapot from 30 units away.
+#[test]
+fn moving_a_framed_camera_recomputes_its_clipping_planes() {
+    let dir = TempDir::new("cli-eye");
+    let out = dir.path("far.png");
+    let (ok, stderr) = run_cli(&[
+        "render",
+        "--cpu",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--spp",
+        "1",
+        "--eye",
+        "0,-30,2",
+        "-o",
+        path_str(&out),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(!stderr.contains("covered no sample"), "{stderr}");
+    let image = image::open(&out).unwrap().to_rgba8();
+    let background = *image.get_pixel(0, 0);
+    let drawn = image.pixels().filter(|&&p| p != background).count();
+    assert!(drawn > 20, "{drawn} pixels show the teapot");
+}

@@ -83,7 +83,9 @@ pub(crate) struct RenderArgs {
     /// FILE (docs/scheduler.md, "Seeing a run").
     #[arg(long, value_name = "FILE")]
     pub(crate) trace: Option<PathBuf>,
-    /// Camera position, e.g. `4,-12,7`.
+    /// Camera position, e.g. `4,-12,7`. A camera framed automatically (a
+    /// bare model, the teapot, a scene without `[camera]`) gets near and
+    /// far planes around the scene as seen from here.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub(crate) eye: Option<Vec3>,
     /// Point the camera looks at.

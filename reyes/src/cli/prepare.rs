@@ -44,12 +44,21 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<Prepared, BoxError> {
     override_lens(&mut scene, args);
     reframe_model(&mut scene, args)?;
     if camera_overridden(args) || camera_moves(args) {
+        // A camera framed automatically (a bare model, the teapot, a scene
+        // without `[camera]`) chose its clipping planes for its own eye.
+        let framed = scene.camera.is_none() || is_bare_model(args);
         // Start from the camera the scene would use (framed if absent).
         let camera = match scene.camera {
             Some(desc) => desc,
             None => framed_camera(&prepared(&scene)?),
         };
         override_camera(&mut scene, args, camera);
+        if framed && (args.eye.is_some() || args.target.is_some()) {
+            let (lo, hi) = patch_bounds(&prepared(&scene)?);
+            if let Some(camera) = scene.camera.as_mut() {
+                clip_around(camera, lo, hi);
+            }
+        }
     }
     let prepared = prepared(&scene)?;
     // What preparing read: models by path (a RIB's are in memory) and
@@ -139,11 +148,7 @@ fn override_lens(scene: &mut Scene, args: &RenderArgs) {
 /// the requested aspect ratio (through the same helper), unless the user
 /// places the camera. Scene files (TOML, RIB) keep their own camera.
 fn reframe_model(scene: &mut Scene, args: &RenderArgs) -> Result<(), BoxError> {
-    let is_model = args
-        .scene
-        .as_deref()
-        .and_then(|p| p.extension())
-        .is_none_or(|e| !(e.eq_ignore_ascii_case("toml") || e.eq_ignore_ascii_case("rib")));
+    let is_model = is_bare_model(args);
     let resized = args.width.is_some() || args.height.is_some();
     let moved = objects_move(args);
     if !(is_model && (resized || moved) && scene.camera.is_some()) {
@@ -162,6 +167,49 @@ fn reframe_model(scene: &mut Scene, args: &RenderArgs) -> Result<(), BoxError> {
         scene.camera = Some(camera);
     }
     Ok(())
+}
+
+/// Whether the command draws a bare model (or the embedded teapot), whose
+/// camera is framed automatically, rather than a scene file.
+fn is_bare_model(args: &RenderArgs) -> bool {
+    args.scene
+        .as_deref()
+        .and_then(|p| p.extension())
+        .is_none_or(|e| !(e.eq_ignore_ascii_case("toml") || e.eq_ignore_ascii_case("rib")))
+}
+
+/// The bounds of `prepared`'s patches (a unit box around the origin
+/// without patches).
+fn patch_bounds(prepared: &PreparedScene) -> (Vec3, Vec3) {
+    prepared
+        .patches
+        .iter()
+        .flat_map(|p| p.points)
+        .fold(None, |acc: Option<(Vec3, Vec3)>, p| match acc {
+            None => Some((p, p)),
+            Some((lo, hi)) => Some((lo.min(p), hi.max(p))),
+        })
+        .unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5)))
+}
+
+/// Sets `camera`'s clipping planes around the box `lo..hi` as seen from
+/// its eye: `far` beyond the box's bounding sphere, `near` before it (or,
+/// with the eye inside the sphere, at `far / 10^4`), so that a camera moved
+/// by `--eye` or `--target` still sees what the framing saw.
+fn clip_around(camera: &mut CameraDesc, lo: Vec3, hi: Vec3) {
+    let centre = lo * 0.5 + hi * 0.5;
+    let radius = (hi - lo).length() * 0.5;
+    let distance = (camera.eye - centre).length();
+    let far = (distance + radius) * 1.05 + 1e-3;
+    let near = if distance > radius {
+        ((distance - radius) * 0.5).max(far * 1e-4)
+    } else {
+        far * 1e-4
+    };
+    if near.is_finite() && far.is_finite() && near < far {
+        camera.near = near;
+        camera.far = far;
+    }
 }
 
 /// The description of the camera `prepared` framed automatically.
