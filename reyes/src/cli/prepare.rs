@@ -9,7 +9,7 @@ use super::input::{BaseScene, ReadFile, base_scene, displacement, wgsl_file};
 use crate::model::Model;
 use crate::modes::ShadingInterpolation;
 use crate::prepare::{PreparedScene, far_plane_covering_motion};
-use crate::scene::{CameraDesc, Scene};
+use crate::scene::{CameraDesc, Scene, framed_bounds};
 
 /// The scene a command draws, and every file read to make it.
 pub(crate) struct Prepared {
@@ -54,7 +54,8 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<Prepared, BoxError> {
         };
         override_camera(&mut scene, args, camera);
         if framed && (args.eye.is_some() || args.target.is_some()) {
-            let (lo, hi) = patch_bounds(&prepared(&scene)?);
+            // The box the framing fitted.
+            let (lo, hi) = framed_bounds(prepared(&scene)?.patches.iter().flat_map(|p| p.points));
             if let Some(camera) = scene.camera.as_mut() {
                 clip_around(camera, lo, hi);
             }
@@ -176,20 +177,6 @@ fn is_bare_model(args: &RenderArgs) -> bool {
         .as_deref()
         .and_then(|p| p.extension())
         .is_none_or(|e| !(e.eq_ignore_ascii_case("toml") || e.eq_ignore_ascii_case("rib")))
-}
-
-/// The bounds of `prepared`'s patches (a unit box around the origin
-/// without patches).
-fn patch_bounds(prepared: &PreparedScene) -> (Vec3, Vec3) {
-    prepared
-        .patches
-        .iter()
-        .flat_map(|p| p.points)
-        .fold(None, |acc: Option<(Vec3, Vec3)>, p| match acc {
-            None => Some((p, p)),
-            Some((lo, hi)) => Some((lo.min(p), hi.max(p))),
-        })
-        .unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5)))
 }
 
 /// Sets `camera`'s clipping planes around the box `lo..hi` as seen from

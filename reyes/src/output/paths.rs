@@ -110,11 +110,7 @@ mod tests {
 
     /// A fresh directory under the system temp directory.
     fn scratch(name: &str) -> PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("reyes-paths-test-{}-{name}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        fs::canonicalize(dir).unwrap()
+        fs::canonicalize(crate::output::scratch_dir("paths", name)).unwrap()
     }
 
     #[test]

@@ -188,11 +188,7 @@ mod tests {
 
     /// A fresh directory under the system temp directory.
     fn scratch(name: &str) -> PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("reyes-staged-test-{}-{name}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        dir
+        crate::output::scratch_dir("staged", name)
     }
 
     #[test]

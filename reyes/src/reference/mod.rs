@@ -192,9 +192,6 @@ fn render_bounded(
     let layout = resolve::SampleLayout {
         k: crate::sampling::grid_size(scene.spp),
         jitter: scene.jitter,
-        // As the reference's rasterizer places its samples
-        // (`raster::SampleGrid::position`: frame pixel coordinates).
-        origin: [0, 0],
     };
     let (image, covered_samples) =
         resolve::resolve(&framebuffer, scene.background, &scene.pixel_filter, layout);

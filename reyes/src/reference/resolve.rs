@@ -8,17 +8,15 @@ use crate::color::{CLEAR_KEY, key_color, linear_to_srgb8, unpack_rgb10};
 use crate::filter::PixelFilter;
 use crate::sampling::sample_offset;
 
-/// How the resolve finds each sample's place in its pixel: the samples per
-/// pixel side, the jitter, and the frame's pixel origin in the full image
-/// (the jitter follows absolute pixel coordinates).
+/// How the resolve finds each sample's place in its pixel, as the
+/// reference's rasterizer places it (`raster::SampleGrid::position`, in
+/// frame pixel coordinates): the samples per pixel side and the jitter.
 #[derive(Debug, Clone, Copy)]
 pub struct SampleLayout {
     /// `k = sqrt(spp)`.
     pub k: u32,
     /// Whether samples are jittered.
     pub jitter: bool,
-    /// The frame's top-left pixel in the full image.
-    pub origin: [u32; 2],
 }
 
 /// Resolves the framebuffer: uncovered samples take the (linear) background,
@@ -48,8 +46,7 @@ pub fn resolve(
     };
     // Each sample's offset from its pixel's corner, per pixel.
     let offsets = |x: u32, y: u32| {
-        let (gx, gy) = (x + layout.origin[0], y + layout.origin[1]);
-        (0..framebuffer.spp).map(move |s| sample_offset(gx, gy, s, layout.k, layout.jitter))
+        (0..framebuffer.spp).map(move |s| sample_offset(x, y, s, layout.k, layout.jitter))
     };
     let [rx, ry] = filter.radius();
     for y in 0..height {

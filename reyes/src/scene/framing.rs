@@ -143,14 +143,7 @@ impl CameraDesc {
     ) -> (CameraDesc, Vec3, Vec3, f32) {
         const MARGIN: f32 = 0.9;
         let fov_y_degrees = default_fov();
-        let (lo, hi) = points
-            .clone()
-            .into_iter()
-            .fold(None, |acc: Option<(Vec3, Vec3)>, p| match acc {
-                None => Some((p, p)),
-                Some((lo, hi)) => Some((lo.min(p), hi.max(p))),
-            })
-            .unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5)));
+        let (lo, hi) = framed_bounds(points.clone());
         let mut center = (lo + hi) * 0.5;
         if !center.is_finite() {
             // lo + hi overflowed.
@@ -214,4 +207,16 @@ impl CameraDesc {
             nearest,
         )
     }
+}
+
+/// The box the framing fits around `points`: their bounds, or a unit box
+/// around the origin when there are none.
+pub(crate) fn framed_bounds(points: impl IntoIterator<Item = Vec3>) -> (Vec3, Vec3) {
+    points
+        .into_iter()
+        .fold(None, |acc: Option<(Vec3, Vec3)>, p| match acc {
+            None => Some((p, p)),
+            Some((lo, hi)) => Some((lo.min(p), hi.max(p))),
+        })
+        .unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5)))
 }

@@ -136,6 +136,7 @@ pub use crate::modes::{Dicing, Sampling, ShadingInterpolation};
 pub use camera_desc::{CameraDesc, CameraPose, Lens};
 pub use description::{Resolution, Scene, TEAPOT_MODEL};
 pub use error::{SceneError, format_point};
+pub(crate) use framing::framed_bounds;
 pub use framing::{FramingError, MIN_FRAMED_DEPTH};
 pub use light::{
     DEFAULT_BEAM_DISTRIBUTION, DEFAULT_CONE_ANGLE_DEGREES, DEFAULT_CONE_DELTA_DEGREES, Light,
