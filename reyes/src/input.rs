@@ -56,7 +56,7 @@ pub enum InputKind {
     Model,
     /// A `.toml` scene.
     Scene,
-    /// A `.wgsl` user displacement function.
+    /// A `.wgsl` user displacement function or surface shader.
     Wgsl,
     /// A PNG height map.
     HeightMap,
@@ -90,7 +90,7 @@ impl fmt::Display for InputKind {
         f.write_str(match self {
             InputKind::Model => "model file",
             InputKind::Scene => "scene file",
-            InputKind::Wgsl => "displacement function",
+            InputKind::Wgsl => "WGSL file",
             InputKind::HeightMap => "height map",
         })
     }

@@ -93,6 +93,7 @@ pub mod rib;
 pub mod scene;
 pub mod shading;
 pub mod stats;
+pub mod surface_shader;
 #[cfg(feature = "viewer")]
 pub mod view;
 

@@ -140,3 +140,7 @@ pub const STRATUM_MARGIN: f32 = 1.0 / 256.0;
 /// on its first dispatch, which lavapipe does lazily: over a minute for the
 /// Reyes megakernel on a cold shader cache.
 pub const DEFAULT_RENDER_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(600);
+
+/// The largest exponent of a highlight (`1 / roughness`): a smaller
+/// roughness gives this one, a highlight of well under a pixel.
+pub const MAX_SPECULAR_EXPONENT: f32 = 1.0e4;

@@ -16,6 +16,7 @@ use crate::scene::{
     CameraDesc, FramingError, LightKind, Sampling, Scene, SceneError, ShadingInterpolation, Surface,
 };
 pub use crate::shading::{PreparedLight, PreparedSurface};
+use crate::surface_shader::ShaderTable;
 
 /// Largest RGBA image of a frame, in bytes, for both renderers: 128 MiB,
 /// WebGPU's default `max_storage_buffer_binding_size`, which is also what
@@ -133,6 +134,8 @@ pub struct PreparedScene {
     /// picture, whose pixels average their own samples (a box over one
     /// pixel) so that its colours stay the grid classes'.
     pub pixel_filter: PixelFilter,
+    /// The user surface shaders the objects run, with their parameters.
+    pub shaders: ShaderTable,
 }
 
 impl PreparedScene {
@@ -246,6 +249,7 @@ impl PreparedScene {
             )
         });
         let mut prepared_objects = Vec::with_capacity(scene.objects.len());
+        let mut shaders = ShaderTable::default();
         for (index, object) in scene.objects.iter().enumerate() {
             let open = object.transform.matrix();
             let mirrored = open.determinant() < 0.0;
@@ -269,12 +273,37 @@ impl PreparedScene {
                 let flipped = object.reverse_orientation != mirrored;
                 if flipped { -1.0 } else { 1.0 }
             });
-            let surface = object.surface.unwrap_or_else(|| {
+            let surface = object.surface.clone().unwrap_or_else(|| {
                 Surface::scene_default(scene.specular.strength, scene.specular.shininess)
             });
+            let surface = PreparedSurface::new(&surface, |file, values| {
+                let path = match &scene.base_dir {
+                    Some(dir) if file.is_relative() => dir.join(file),
+                    _ => file.to_path_buf(),
+                };
+                let (reference, warnings) =
+                    shaders
+                        .add(&path, values)
+                        .map_err(|source| SceneError::SurfaceShader {
+                            index,
+                            file: path.clone(),
+                            source,
+                        })?;
+                for warning in warnings {
+                    log::warn!(
+                        "object {index}: surface shader {} has no parameter `{}`; the value is ignored",
+                        path.display(),
+                        warning.name
+                    );
+                }
+                Ok(PreparedSurface::User {
+                    shader: reference.shader,
+                    parameters: reference.parameters,
+                })
+            })?;
             prepared_objects.push(PreparedObject {
                 color: object.color,
-                surface: PreparedSurface::new(&surface),
+                surface,
                 shading_rate: object.shading_rate,
                 displacement,
                 motion,
@@ -311,6 +340,7 @@ impl PreparedScene {
             } else {
                 scene.pixel_filter
             },
+            shaders,
         })
     }
 

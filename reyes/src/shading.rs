@@ -10,13 +10,10 @@ use glam::Vec3;
 use crate::params::POINT_LIGHT_MIN_DISTANCE_SQUARED;
 use crate::scene::{Light, LightKind, Surface};
 
-/// The largest exponent of a highlight (`1 / roughness`): a smaller
-/// roughness gives this one, a highlight of well under a pixel.
-pub const MAX_SPECULAR_EXPONENT: f32 = 1.0e4;
+pub use crate::params::MAX_SPECULAR_EXPONENT;
 
 /// A standard surface shader with its parameters, as the shading formulas
-/// take them: `roughness` as the highlight's exponent `1 / roughness`.
-/// `null` has no prepared form: its objects are not drawn.
+/// take them. `null` has no prepared form: its objects are not drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PreparedSurface {
     /// `Ci = Cs`.
@@ -34,8 +31,8 @@ pub enum PreparedSurface {
         ka: f32,
         /// `Ks`.
         ks: f32,
-        /// `1 / roughness`, at most [`MAX_SPECULAR_EXPONENT`].
-        exponent: f32,
+        /// `roughness`: the highlight's exponent is [`specular_exponent`].
+        roughness: f32,
     },
     /// `Ci = Cs * (Ka * ambient() + Kd * diffuse(Nf))
     ///  + specularcolor * Ks * specular(Nf, V, roughness)`.
@@ -46,8 +43,8 @@ pub enum PreparedSurface {
         kd: f32,
         /// `Ks`.
         ks: f32,
-        /// `1 / roughness`, at most [`MAX_SPECULAR_EXPONENT`].
-        exponent: f32,
+        /// `roughness`: the highlight's exponent is [`specular_exponent`].
+        roughness: f32,
         /// `specularcolor`.
         specular_color: Vec3,
     },
@@ -58,25 +55,38 @@ pub enum PreparedSurface {
         /// `Kd`.
         kd: f32,
     },
+    /// A user's WGSL shader: entry `shader` of
+    /// [`crate::prepare::PreparedScene::shaders`], with the object's
+    /// parameters from slot `parameters` on.
+    User {
+        /// The shader's index.
+        shader: u32,
+        /// The object's first parameter slot.
+        parameters: u32,
+    },
 }
 
-/// `1 / roughness`, at most [`MAX_SPECULAR_EXPONENT`] (0 for an infinite
-/// roughness: a highlight as wide as the lit side).
-fn exponent(roughness: f32) -> f32 {
+/// The highlight's exponent of `specular(N, V, roughness)`: `1 / roughness`,
+/// at most [`MAX_SPECULAR_EXPONENT`] (0 for an infinite roughness: a
+/// highlight as wide as the lit side). The WGSL `specular` computes the same.
+pub fn specular_exponent(roughness: f32) -> f32 {
     (1.0 / roughness).min(MAX_SPECULAR_EXPONENT)
 }
 
 impl PreparedSurface {
-    /// The prepared form of `surface`; `None` for `null`.
-    pub fn new(surface: &Surface) -> Option<Self> {
-        Some(match *surface {
+    /// The prepared form of `surface`: `None` for `null`; a user shader
+    /// is prepared by `user` (which loads it into the frame's shaders).
+    pub fn new<E>(
+        surface: &Surface,
+        user: impl FnOnce(
+            &std::path::Path,
+            &std::collections::BTreeMap<String, crate::surface_shader::ShaderValue>,
+        ) -> Result<Self, E>,
+    ) -> Result<Option<Self>, E> {
+        Ok(Some(match surface.clone() {
             Surface::Constant => PreparedSurface::Constant,
             Surface::Matte { ka, kd } => PreparedSurface::Matte { ka, kd },
-            Surface::Metal { ka, ks, roughness } => PreparedSurface::Metal {
-                ka,
-                ks,
-                exponent: exponent(roughness),
-            },
+            Surface::Metal { ka, ks, roughness } => PreparedSurface::Metal { ka, ks, roughness },
             Surface::Plastic {
                 ka,
                 kd,
@@ -87,12 +97,13 @@ impl PreparedSurface {
                 ka,
                 kd,
                 ks,
-                exponent: exponent(roughness),
+                roughness,
                 specular_color,
             },
             Surface::DefaultSurface { ka, kd } => PreparedSurface::DefaultSurface { ka, kd },
-            Surface::Null => return None,
-        })
+            Surface::Null => return Ok(None),
+            Surface::Wgsl { file, parameters } => user(&file, &parameters)?,
+        }))
     }
 }
 

@@ -31,6 +31,7 @@ fn warnings(rib: &RibScene) -> Vec<String> {
 fn surface(rib: &RibScene) -> Surface {
     rib.scene.objects[0]
         .surface
+        .clone()
         .expect("a RIB object names its surface")
 }
 

@@ -41,6 +41,9 @@ if (valid) {
         let patch_point = patch_position(&q, u, v);
         var moved = patch_point;
         var normal = vec3<f32>(0.0);
+        // The undisplaced surface's normal, for a displaced object (the
+        // shading context's Ng; zero: the shading normal).
+        var geometric_normal = vec3<f32>(0.0);
         if (VARIANT_DISPLACED) {
             if (object.displace_kind != DISPLACE_NONE) {
                 let offset = displacement_height(object, u, v) * object.displace_scale;
@@ -49,6 +52,7 @@ if (valid) {
                 }
                 moved = moved + displacement_normal(&q, u, v) * offset;
                 normal = displaced_grid_normal(&q, object, item.uv, nu, nv, i, j);
+                geometric_normal = surface_normal(&q, u, v, patch_point);
                 if (dot3(normal, towards_eye(moved)) < 0.0) {
                     normal = -normal;
                 }
@@ -80,7 +84,9 @@ if (valid) {
                 color = normal * 0.5 + vec3<f32>(0.5);
             }
             default: {
-                color = shade(moved, normal, object);
+                let step = vec2<f32>((item.uv.z - item.uv.x) / f32(nu), (item.uv.w - item.uv.y) / f32(nv));
+                let context = shading_context(&q, object, moved, normal, geometric_normal, vec2<f32>(u, v), step);
+                color = shade(context, object);
             }
         }
         scratch_store_u32(slot, w + 4u, pack_rgb10(color));

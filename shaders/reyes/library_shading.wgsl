@@ -80,34 +80,6 @@ fn surface_normal(p: ptr<function, array<f32, 48>>, s: f32, t: f32, position: ve
 
 // ------------------------------------------------------------ shading
 
-// Rust's powf on [0, inf): 0^0 = 1, 0^y = 0; WGSL leaves pow(0, y) undefined.
-fn pow_nonneg(x: f32, y: f32) -> f32 {
-    if (x <= 0.0) {
-        return select(0.0, 1.0, y == 0.0);
-    }
-    return pow(x, y);
-}
-
-// reyes::shading::smoothstep: RenderMan's, a step where min == max (WGSL's
-// smoothstep is undefined for min >= max).
-fn smoothstep_rm(lo: f32, hi: f32, x: f32) -> f32 {
-    if (x < lo) {
-        return 0.0;
-    }
-    if (x >= hi) {
-        return 1.0;
-    }
-    let t = (x - lo) / (hi - lo);
-    return t * t * (3.0 - 2.0 * t);
-}
-
-// What a light gives a surface point: the unit vector towards the light
-// and its colour there, Cl (zero outside a spotlight's cone).
-struct LightSample {
-    l: vec3<f32>,
-    cl: vec3<f32>,
-}
-
 // reyes::shading::PreparedLight::at: distantlight, pointlight and
 // spotlight as RenderMan computes Cl.
 fn light_at(light: Light, position: vec3<f32>) -> LightSample {
@@ -129,56 +101,86 @@ fn light_at(light: Light, position: vec3<f32>) -> LightSample {
     return LightSample(l, light.radiance.xyz * attenuation);
 }
 
-// RenderMan's diffuse(N) and specular(N, V, roughness) at once, over the
-// lights within 90 degrees of the normal (reyes::reference::shade::Lighting).
-// A light outside a spotlight's cone adds zeros, as the reference skips it.
-struct Illumination {
-    diffuse: vec3<f32>,
-    specular: vec3<f32>,
+// The host side of the surface shader interface (surface_api.wgsl): the
+// frame's lights, read-only.
+fn host_light_count() -> u32 {
+    return frame.light_count;
 }
 
-fn illuminance(position: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, exponent: f32) -> Illumination {
-    var sum = Illumination(vec3<f32>(0.0), vec3<f32>(0.0));
-    for (var i = 0u; i < frame.light_count; i += 1u) {
-        let sample = light_at(lights[i], position);
-        let cosine = dot3(normal, sample.l);
-        if (cosine > 0.0) {
-            sum.diffuse += sample.cl * cosine;
-            let half_vector = normalize_or_zero(sample.l + view);
-            sum.specular += sample.cl * pow_nonneg(max(dot3(normal, half_vector), 0.0), exponent);
-        }
-    }
-    return sum;
+fn host_light(i: u32, position: vec3<f32>) -> LightSample {
+    return light_at(lights[i], position);
 }
 
-// reyes::reference::shade::shade_surface: the object's standard surface
-// shader (SURFACE_*), clamped to [0, 1]. The normal faces the eye (Nf).
-fn shade(position: vec3<f32>, normal: vec3<f32>, object: Object) -> vec3<f32> {
-    let cs = object.color.xyz;
-    let view = normalize_or_zero(towards_eye(position));
-    let ambient = vec3<f32>(frame.ambient_red, frame.ambient_green, frame.ambient_blue);
-    var color = cs;
+// Slot `slot` of the user shaders' parameters (reyes::gpu::buffers::FloatLayout).
+fn shader_parameter(slot: u32) -> vec4<f32> {
+    let base = frame.parameter_floats + 4u * slot;
+    return vec4<f32>(height_texels[base], height_texels[base + 1u], height_texels[base + 2u], height_texels[base + 3u]);
+}
+
+fn host_ambient() -> vec3<f32> {
+    return vec3<f32>(frame.ambient_red, frame.ambient_green, frame.ambient_blue);
+}
+
+// The shading context of a grid point of the input patch `q` at (u, v),
+// moved to `position` with the unit normal `normal` facing the eye; `ng`
+// is the undisplaced surface's (zero: the same as `normal`), `step` the
+// grid's (du, dv).
+fn shading_context(
+    q: ptr<function, array<f32, 48>>,
+    object: Object,
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    ng: vec3<f32>,
+    uv: vec2<f32>,
+    step: vec2<f32>,
+) -> ShadingContext {
+    let to_eye = towards_eye(position);
+    let bu = bernstein(uv.x);
+    let bv = bernstein(uv.y);
+    return ShadingContext(
+        position,
+        normal,
+        select(ng, normal, all(ng == vec3<f32>(0.0))),
+        -to_eye,
+        position + to_eye,
+        uv.x,
+        uv.y,
+        step.x,
+        step.y,
+        uv.x,
+        uv.y,
+        tensor(q, bernstein_derivative(uv.x), bv),
+        tensor(q, bu, bernstein_derivative(uv.y)),
+        object.color.xyz,
+        vec3<f32>(1.0),
+        0.0,
+    );
+}
+
+// reyes::reference::shade::shade_surface: the object's surface shader
+// (SURFACE_*, or the scene's user shader `object.user_shader`), its Ci
+// clamped to [0, 1].
+fn shade(ctx: ShadingContext, object: Object) -> vec3<f32> {
+    var out = SurfaceOutput(ctx.Cs, ctx.Os);
     switch object.surface {
         case SURFACE_MATTE: {
-            let lit = illuminance(position, normal, view, 0.0);
-            color = cs * (ambient * object.ka + lit.diffuse * object.kd);
+            out = matte(ctx, object.ka, object.kd);
         }
         case SURFACE_METAL: {
-            let lit = illuminance(position, normal, view, object.specular_exponent);
-            color = cs * (ambient * object.ka + lit.specular * object.ks);
+            out = metal(ctx, object.ka, object.ks, object.roughness);
         }
         case SURFACE_PLASTIC: {
-            let lit = illuminance(position, normal, view, object.specular_exponent);
-            color = cs * (ambient * object.ka + lit.diffuse * object.kd)
-                + object.specular_color.xyz * lit.specular * object.ks;
+            out = plastic(ctx, object.ka, object.kd, object.ks, object.roughness, object.specular_color.xyz);
         }
         case SURFACE_DEFAULT_SURFACE: {
-            let d = dot3(view, normal);
-            color = cs * (object.ka + object.kd * d * d);
+            out = defaultsurface(ctx, object.ka, object.kd);
+        }
+        case SURFACE_USER: {
+            out = user_surface(object.user_shader, ctx, object.parameters);
         }
         default: {
-            // SURFACE_CONSTANT: Ci = Cs.
+            out = constant(ctx);
         }
     }
-    return clamp(color, vec3<f32>(0.0), vec3<f32>(1.0));
+    return clamp(out.Ci, vec3<f32>(0.0), vec3<f32>(1.0));
 }

@@ -3,7 +3,7 @@
 //! code its frames run and nothing of the switched-off features.
 
 use reyes::gpu::KernelVariant;
-use reyes::gpu::graph::{compile_variant, reyes_graph_with};
+use reyes::gpu::graph::{UserCode, compile_variant, reyes_graph_with};
 use scheduler::CompileOptions;
 use scheduler::wgpu::Features;
 
@@ -37,7 +37,11 @@ fn declares(wgsl: &str, function: &str) -> bool {
 fn every_variant_holds_what_it_runs_and_nothing_it_does_not() {
     for variant in KernelVariant::ALL {
         for user in [None, Some(USER)] {
-            let compiled = compile_variant(Features::empty(), variant, user)
+            let code = UserCode {
+                displacement: user,
+                surfaces: &[],
+            };
+            let compiled = compile_variant(Features::empty(), variant, &code)
                 .unwrap_or_else(|e| panic!("{variant} compiles: {e}"));
             let wgsl = compiled.wgsl();
             for function in BLURRED_ONLY {
@@ -62,7 +66,7 @@ fn every_variant_holds_what_it_runs_and_nothing_it_does_not() {
                 user.is_some()
             );
             // The same inputs give the same text.
-            let again = compile_variant(Features::empty(), variant, user).unwrap();
+            let again = compile_variant(Features::empty(), variant, &code).unwrap();
             assert_eq!(wgsl, again.wgsl(), "{variant} is deterministic");
         }
     }
@@ -72,7 +76,7 @@ fn every_variant_holds_what_it_runs_and_nothing_it_does_not() {
 fn specialization_shrinks_every_variant() {
     let mut rows = Vec::new();
     for variant in KernelVariant::ALL {
-        let graph = reyes_graph_with(variant, None);
+        let graph = reyes_graph_with(variant, &UserCode::NONE);
         let full = graph
             .compile(&CompileOptions {
                 specialize: false,
@@ -105,7 +109,7 @@ fn blurred_displaced_megakernel_wgsl_snapshot() {
         blurred: true,
         displaced: true,
     };
-    let compiled =
-        compile_variant(Features::empty(), variant, None).expect("the Reyes graph compiles");
+    let compiled = compile_variant(Features::empty(), variant, &UserCode::NONE)
+        .expect("the Reyes graph compiles");
     insta::assert_snapshot!(compiled.wgsl());
 }

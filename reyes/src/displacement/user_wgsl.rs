@@ -73,7 +73,39 @@ pub enum UserWgslError {
 /// Checks `wgsl`, the source of a user displacement function and its
 /// helpers, on its own.
 pub fn check(wgsl: &str) -> Result<(), UserWgslError> {
-    let module = naga::front::wgsl::parse_str(wgsl).map_err(|error| {
+    let module = parse(wgsl)?;
+    check_globals(&module, wgsl)?;
+    let user = module
+        .functions
+        .iter()
+        .find(|(_, f)| f.name.as_deref() == Some(USER_FUNCTION_NAME));
+    let Some((_, function)) = user else {
+        return Err(UserWgslError::Missing {
+            found: String::new(),
+        });
+    };
+    let f32_type = |ty: naga::Handle<naga::Type>| {
+        matches!(
+            module.types[ty].inner,
+            naga::TypeInner::Scalar(naga::Scalar::F32)
+        )
+    };
+    let signature_ok = function.arguments.len() == 2
+        && function.arguments.iter().all(|a| f32_type(a.ty))
+        && function.result.as_ref().is_some_and(|r| f32_type(r.ty));
+    if !signature_ok {
+        return Err(UserWgslError::Missing {
+            found: " with that signature (it takes two f32 and returns an f32)".to_owned(),
+        });
+    }
+    check_barriers(&module, wgsl)?;
+    validate(&module, wgsl)
+}
+
+/// Parses `wgsl` (a user's source, possibly followed by declarations it
+/// may use), naming an undefined identifier as [`UserWgslError::OutsideName`].
+pub(crate) fn parse(wgsl: &str) -> Result<naga::Module, UserWgslError> {
+    naga::front::wgsl::parse_str(wgsl).map_err(|error| {
         let (line, column) = error
             .location(wgsl)
             .map_or((0, 0), |l| (l.line_number, l.line_position));
@@ -98,48 +130,44 @@ pub fn check(wgsl: &str) -> Result<(), UserWgslError> {
                 message: excerpt(error.message()),
             },
         }
-    })?;
-    let line_of = |span: naga::Span| span.location(wgsl).line_number;
-    if let Some((handle, global)) = module.global_variables.iter().next() {
-        return Err(UserWgslError::Global {
+    })
+}
+
+/// Refuses a module-scope variable: its binding or state would be shared
+/// with the renderer's.
+pub(crate) fn check_globals(module: &naga::Module, wgsl: &str) -> Result<(), UserWgslError> {
+    match module.global_variables.iter().next() {
+        Some((handle, global)) => Err(UserWgslError::Global {
             name: global.name.clone().unwrap_or_default(),
-            line: line_of(module.global_variables.get_span(handle)),
-        });
+            line: module
+                .global_variables
+                .get_span(handle)
+                .location(wgsl)
+                .line_number,
+        }),
+        None => Ok(()),
     }
-    let user = module
-        .functions
-        .iter()
-        .find(|(_, f)| f.name.as_deref() == Some(USER_FUNCTION_NAME));
-    let Some((_, function)) = user else {
-        return Err(UserWgslError::Missing {
-            found: String::new(),
-        });
-    };
-    let f32_type = |ty: naga::Handle<naga::Type>| {
-        matches!(
-            module.types[ty].inner,
-            naga::TypeInner::Scalar(naga::Scalar::F32)
-        )
-    };
-    let signature_ok = function.arguments.len() == 2
-        && function.arguments.iter().all(|a| f32_type(a.ty))
-        && function.result.as_ref().is_some_and(|r| f32_type(r.ty));
-    if !signature_ok {
-        return Err(UserWgslError::Missing {
-            found: " with that signature (it takes two f32 and returns an f32)".to_owned(),
-        });
-    }
+}
+
+/// Refuses a barrier in any function of `module` (parsed from `wgsl`).
+pub(crate) fn check_barriers(module: &naga::Module, wgsl: &str) -> Result<(), UserWgslError> {
     for (_, function) in module.functions.iter() {
         if let Some(span) = first_barrier(&function.body) {
             return Err(UserWgslError::Barrier {
                 function: function.name.clone().unwrap_or_default(),
-                line: line_of(span),
+                line: span.location(wgsl).line_number,
             });
         }
     }
+    Ok(())
+}
+
+/// Validates `module` (parsed from `wgsl`), locating an error at its
+/// innermost labelled span.
+pub(crate) fn validate(module: &naga::Module, wgsl: &str) -> Result<(), UserWgslError> {
     let capabilities = naga::valid::Capabilities::all();
     naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
-        .validate(&module)
+        .validate(module)
         .map_err(|error| {
             // The innermost labelled span (naga also labels the enclosing
             // function), else the error's own location.

@@ -89,6 +89,8 @@ pub mod surface {
     pub const PLASTIC: u32 = 3;
     /// `defaultsurface`.
     pub const DEFAULT_SURFACE: u32 = 4;
+    /// A user's WGSL shader.
+    pub const USER: u32 = 5;
 
     /// The code of `surface`.
     pub fn code(surface: &PreparedSurface) -> u32 {
@@ -98,6 +100,7 @@ pub mod surface {
             PreparedSurface::Metal { .. } => METAL,
             PreparedSurface::Plastic { .. } => PLASTIC,
             PreparedSurface::DefaultSurface { .. } => DEFAULT_SURFACE,
+            PreparedSurface::User { .. } => USER,
         }
     }
 }

@@ -105,6 +105,15 @@ pub struct FrameUniform {
     /// The micropolygon side in pixels that Adaptive's cost model assumes
     /// (reyes::prepare::PreparedScene::nominal_micropolygon_px).
     pub adaptive_micropolygon: f32,
+    /// Float offset in height_texels of the user shaders' parameter slots
+    /// (4 floats each, reyes::surface_shader::ShaderTable::parameters).
+    pub parameter_floats: u32,
+    /// Padding to the struct's 16-byte alignment.
+    pub pad0: u32,
+    /// Padding.
+    pub pad1: u32,
+    /// Padding.
+    pub pad2: u32,
 }
 
 impl FrameUniform {
@@ -149,6 +158,10 @@ impl FrameUniform {
             origin_y: camera.origin[1],
             micropolygon_side: scene.dicing.micropolygon_side(),
             patch_floats: 0,
+            parameter_floats: 0,
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
             aov: scene.aov.code(),
             depth_range: crate::aov::depth_range(camera),
             smooth_shading: u32::from(
@@ -179,13 +192,16 @@ impl FrameUniform {
 /// Where the scene's floats lie in the `height_texels` buffer: the height
 /// maps from float 0, then (when samples carry time and lens) the
 /// [`UvtTables`], then the input patches' control points (48 floats each,
-/// which the dice procedures evaluate).
+/// which the dice procedures evaluate), then the user shaders' parameter
+/// slots (4 floats each).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct FloatLayout {
     /// First float of the time/lens tables.
     uvt: u64,
     /// First float of the patches.
     patches: u64,
+    /// First float of the shader parameters.
+    parameters: u64,
     /// Floats in all.
     total: u64,
 }
@@ -199,10 +215,12 @@ impl FloatLayout {
             0
         };
         let patches = uvt + uvt_floats;
+        let parameters = patches + 48 * scene.patches.len() as u64;
         Self {
             uvt,
             patches,
-            total: patches + 48 * scene.patches.len() as u64,
+            parameters,
+            total: parameters + 4 * scene.shaders.parameters.len() as u64,
         }
     }
 }
@@ -360,6 +378,7 @@ impl FrameBuffers {
         let layout = FloatLayout::new(scene, &tables);
         // The renderer checks that every offset fits a u32 (texel_buffer_bytes).
         frame.patch_floats = layout.patches as u32;
+        frame.parameter_floats = layout.parameters as u32;
         let patches: Vec<f32> = scene
             .patches
             .iter()
@@ -370,6 +389,16 @@ impl FrameBuffers {
                 &self.height_texels,
                 4 * layout.patches,
                 bytemuck::cast_slice(&patches),
+            );
+        }
+        let parameters = &scene.shaders.parameters;
+        if !parameters.is_empty() {
+            // Integer parameters are stored by their bits, which the loads
+            // (bitcast from f32) keep: storage loads do not canonicalize.
+            queue.write_buffer(
+                &self.height_texels,
+                4 * layout.parameters,
+                bytemuck::cast_slice(parameters),
             );
         }
         if scene.samples_time_and_lens() {

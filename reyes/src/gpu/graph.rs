@@ -23,6 +23,9 @@ use scheduler::{
 };
 
 use super::abi::POINT_WORDS;
+use std::sync::Arc;
+
+use crate::surface_shader::{SurfaceShader, megakernel_wgsl};
 use super::buffers::{FrameUniform, LightData};
 use super::objects::ObjectData;
 use super::shared_constants::{grid_colors_wgsl, shared_constants};
@@ -35,10 +38,13 @@ pub use super::patch_item::PatchItem;
 /// The shared library, in the order it is declared: helpers, patch access
 /// and projection; the bound test; evaluation and shading; packing,
 /// sampling and rasterization.
-const LIBRARY_WGSL: [&str; 4] = [
+const LIBRARY_WGSL: [&str; 7] = [
+    include_str!("../../../shaders/reyes/library_math.wgsl"),
     include_str!("../../../shaders/reyes/library.wgsl"),
     include_str!("../../../shaders/reyes/library_bound.wgsl"),
+    include_str!("../../../shaders/reyes/surface_api.wgsl"),
     include_str!("../../../shaders/reyes/library_shading.wgsl"),
+    include_str!("../../../shaders/reyes/surfaces_standard.wgsl"),
     include_str!("../../../shaders/reyes/library_raster.wgsl"),
 ];
 const BOUND_WGSL: &str = include_str!("../../../shaders/reyes/bound.wgsl");
@@ -51,6 +57,25 @@ const RASTER5D_WGSL: &str = include_str!("../../../shaders/reyes/raster5d.wgsl")
 /// The `displacement_user` of scenes without a user function (returns 0).
 pub const DEFAULT_USER_DISPLACEMENT_WGSL: &str =
     include_str!("../../../shaders/reyes/displacement_user_default.wgsl");
+
+/// The user's WGSL a megakernel compiles in: the scene's displacement
+/// function (`None`: the default, zero) and its surface shaders, in the
+/// order objects index them.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UserCode<'a> {
+    /// WGSL defining `fn displacement_user(u: f32, v: f32) -> f32`.
+    pub displacement: Option<&'a str>,
+    /// The surface shaders.
+    pub surfaces: &'a [Arc<SurfaceShader>],
+}
+
+impl UserCode<'_> {
+    /// No user code.
+    pub const NONE: UserCode<'static> = UserCode {
+        displacement: None,
+        surfaces: &[],
+    };
+}
 
 /// Procedure names (also the names of their queues in a [`scheduler::RunReport`]).
 pub const BOUND: &str = "Bound";
@@ -85,7 +110,7 @@ const SPLIT_SCRATCH_WORDS: u32 = 4 + 7 * 8;
 /// The Reyes procedure graph of the default variant (the teapot's), with
 /// the default (zero) user displacement function.
 pub fn reyes_graph() -> Graph {
-    reyes_graph_with(KernelVariant::default(), None)
+    reyes_graph_with(KernelVariant::default(), &UserCode::NONE)
 }
 
 /// The Reyes procedure graph of `variant` (its switches are graph
@@ -98,7 +123,7 @@ pub fn reyes_graph() -> Graph {
 /// keeps the split queues short: DiceShadeSample > SplitU = SplitV > Bound.
 /// Fan-outs: Bound routes its one patch to exactly one target; a split
 /// routes each of its two halves to one target, so at most 2 per target.
-pub fn reyes_graph_with(variant: KernelVariant, user_displacement: Option<&str>) -> Graph {
+pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     // The renderer compiles with the default workgroup size
     // ([`compile_options`]); the dice slots follow from it.
     let workgroup_size = CompileOptions::default().workgroup_size;
@@ -117,7 +142,8 @@ pub fn reyes_graph_with(variant: KernelVariant, user_displacement: Option<&str>)
     graph.library(QUAD_WGSL);
     graph.library(RASTER5D_WGSL);
     graph.library(DISPLACEMENT_WGSL);
-    graph.library(user_displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));
+    graph.library(user.displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));
+    graph.library(&megakernel_wgsl(user.surfaces));
     // Declaration order = binding order in group 1 (see `buffers.rs`).
     graph.resource(Resource::uniform::<FrameUniform>("frame"));
     graph.resource(Resource::storage_read::<[ObjectData]>("objects"));
@@ -188,7 +214,7 @@ pub fn compile_options(recommended: wgpu::Features) -> CompileOptions {
 
 /// Compiles the Reyes graph of the default variant with [`compile_options`].
 pub fn compile(recommended: wgpu::Features) -> Result<CompiledGraph, CompileError> {
-    compile_variant(recommended, KernelVariant::default(), None)
+    compile_variant(recommended, KernelVariant::default(), &UserCode::NONE)
 }
 
 /// Compiles the Reyes graph of `variant` with a user displacement function
@@ -196,9 +222,9 @@ pub fn compile(recommended: wgpu::Features) -> Result<CompiledGraph, CompileErro
 pub fn compile_variant(
     recommended: wgpu::Features,
     variant: KernelVariant,
-    user_displacement: Option<&str>,
+    user: &UserCode<'_>,
 ) -> Result<CompiledGraph, CompileError> {
-    compile_for(recommended, variant, user_displacement, Policy::Priority, 1)
+    compile_for(recommended, variant, user, Policy::Priority, 1)
 }
 
 /// Like [`compile_variant`], with the given queue policy and chunks per
@@ -208,14 +234,14 @@ pub fn compile_variant(
 pub fn compile_for(
     recommended: wgpu::Features,
     variant: KernelVariant,
-    user_displacement: Option<&str>,
+    user: &UserCode<'_>,
     policy: Policy,
     chunks_per_batch: u32,
 ) -> Result<CompiledGraph, CompileError> {
     compile_traced(
         recommended,
         variant,
-        user_displacement,
+        user,
         (policy, chunks_per_batch),
         None,
     )
@@ -226,7 +252,7 @@ pub fn compile_for(
 pub fn compile_traced(
     recommended: wgpu::Features,
     variant: KernelVariant,
-    user_displacement: Option<&str>,
+    user: &UserCode<'_>,
     (policy, chunks_per_batch): (Policy, u32),
     trace: Option<scheduler::TraceOptions>,
 ) -> Result<CompiledGraph, CompileError> {
@@ -236,5 +262,5 @@ pub fn compile_traced(
         trace,
         ..compile_options(recommended)
     };
-    reyes_graph_with(variant, user_displacement).compile(&options)
+    reyes_graph_with(variant, user).compile(&options)
 }

@@ -45,8 +45,8 @@ pub struct ObjectData {
     pub motion_stretch: f32,
     /// The surface shader, SURFACE_* ([`surface`]).
     pub surface: u32,
-    /// The highlight's exponent, `1 / roughness`.
-    pub specular_exponent: f32,
+    /// `roughness` (`metal`, `plastic`).
+    pub roughness: f32,
     /// `Ka`.
     pub ka: f32,
     /// `Kd`.
@@ -58,10 +58,10 @@ pub struct ObjectData {
     pub micropolygon_side: f32,
     /// The object's dice threshold in pixels.
     pub dice_threshold: f32,
-    /// Padding.
-    pub pad0: u32,
-    /// Padding.
-    pub pad1: u32,
+    /// A user shader's index (SURFACE_USER).
+    pub user_shader: u32,
+    /// The first slot of a user shader's parameters in `shader_parameters`.
+    pub parameters: u32,
     /// Padding.
     pub pad2: u32,
 }
@@ -75,18 +75,21 @@ impl ObjectData {
             PreparedSurface::Matte { ka, kd } | PreparedSurface::DefaultSurface { ka, kd } => {
                 (self.ka, self.kd) = (ka, kd);
             }
-            PreparedSurface::Metal { ka, ks, exponent } => {
-                (self.ka, self.ks, self.specular_exponent) = (ka, ks, exponent);
+            PreparedSurface::Metal { ka, ks, roughness } => {
+                (self.ka, self.ks, self.roughness) = (ka, ks, roughness);
             }
             PreparedSurface::Plastic {
                 ka,
                 kd,
                 ks,
-                exponent,
+                roughness,
                 specular_color,
             } => {
-                (self.ka, self.kd, self.ks, self.specular_exponent) = (ka, kd, ks, exponent);
+                (self.ka, self.kd, self.ks, self.roughness) = (ka, kd, ks, roughness);
                 self.specular_color = specular_color.extend(0.0);
+            }
+            PreparedSurface::User { shader, parameters } => {
+                (self.user_shader, self.parameters) = (shader, parameters);
             }
         }
     }
@@ -130,14 +133,14 @@ impl ObjectTables {
                     moving: 0,
                     motion_stretch: 1.0,
                     surface: surface::CONSTANT,
-                    specular_exponent: 0.0,
+                    roughness: 0.0,
                     ka: 0.0,
                     kd: 0.0,
                     ks: 0.0,
                     micropolygon_side: dicing.micropolygon_side(),
                     dice_threshold: dicing.dice_threshold(),
-                    pad0: 0,
-                    pad1: 0,
+                    user_shader: 0,
+                    parameters: 0,
                     pad2: 0,
                 };
                 if let Some(prepared) = &object.surface {

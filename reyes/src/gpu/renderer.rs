@@ -11,6 +11,7 @@
 //! the megakernel and renders one tile. Per-driver defaults come from the
 //! scheduler's [`scheduler::Quirks`].
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use image::RgbaImage;
@@ -19,11 +20,12 @@ use scheduler::{Capacities, CompiledGraph, Executor, Gpu, Quirks, RunError};
 
 use super::batches::TileRuns;
 use super::buffers::{FrameBuffers, GpuCounters};
-use super::graph::{self, REQUIRED_FEATURES};
+use super::graph::{self, REQUIRED_FEATURES, UserCode};
 use super::loop_limit::{LoopLimitContext, LoopLimitError};
 use super::resolve::{ResolveTarget, Resolver};
 use super::variant::KernelVariant;
 use crate::prepare::PreparedScene;
+use crate::surface_shader::SurfaceShader;
 
 pub use super::options::{
     DEFAULT_RENDER_TIMEOUT, DEFAULT_WORK_CAPACITY, FrameTimings, GpuOptions, GpuRendered,
@@ -59,6 +61,8 @@ const MAX_PARKED_PROGRAMS: usize = 3;
 struct ProgramKey {
     variant: KernelVariant,
     user: Option<String>,
+    /// The scene's surface shaders (compared by content).
+    surfaces: Vec<Arc<SurfaceShader>>,
     chunks: u32,
 }
 
@@ -107,7 +111,7 @@ impl<'a> GpuRenderer<'a> {
         let compiled = graph::compile_traced(
             scheduler::recommended_features(&gpu.device),
             KernelVariant::default(),
-            None,
+            &UserCode::NONE,
             (options.policy, chunks),
             options.trace,
         )?;
@@ -125,6 +129,7 @@ impl<'a> GpuRenderer<'a> {
             compiled_key: ProgramKey {
                 variant: KernelVariant::default(),
                 user: None,
+                surfaces: Vec::new(),
                 chunks,
             },
             resolver: Resolver::new(&gpu.device),
@@ -170,6 +175,7 @@ impl<'a> GpuRenderer<'a> {
         let key = ProgramKey {
             variant: KernelVariant::of(scene),
             user: user.map(str::to_owned),
+            surfaces: scene.shaders.shaders.clone(),
             chunks,
         };
         if key == self.compiled_key {
@@ -197,6 +203,7 @@ impl<'a> GpuRenderer<'a> {
         let ProgramKey {
             variant,
             ref user,
+            ref surfaces,
             chunks,
         } = key;
         let user = user.as_deref();
@@ -204,10 +211,14 @@ impl<'a> GpuRenderer<'a> {
             crate::displacement::user_wgsl::check(wgsl)?;
         }
         let features = scheduler::recommended_features(&self.gpu.device);
+        let code = UserCode {
+            displacement: user,
+            surfaces,
+        };
         let compiled = graph::compile_traced(
             features,
             variant,
-            user,
+            &code,
             (self.options.policy, chunks),
             self.options.trace,
         )

@@ -188,6 +188,11 @@ pub(super) fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, Consta
         ("SURFACE_MATTE", ConstantValue::U32(surface::MATTE)),
         ("SURFACE_METAL", ConstantValue::U32(surface::METAL)),
         ("SURFACE_PLASTIC", ConstantValue::U32(surface::PLASTIC)),
+        ("SURFACE_USER", ConstantValue::U32(surface::USER)),
+        (
+            "MAX_SPECULAR_EXPONENT",
+            ConstantValue::F32(crate::params::MAX_SPECULAR_EXPONENT),
+        ),
         (
             "SURFACE_DEFAULT_SURFACE",
             ConstantValue::U32(surface::DEFAULT_SURFACE),

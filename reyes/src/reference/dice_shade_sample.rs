@@ -3,7 +3,10 @@
 //! micropolygon. The twin of `shaders/reyes/dice_shade_sample.wgsl`: each
 //! step keeps the GPU's arithmetic in the GPU's order.
 
+use glam::Vec3;
+
 use super::ReferenceError;
+use super::dice::surface_normal;
 use super::dice::{Grid, dice};
 use super::framebuffer::Framebuffer;
 use super::limits::Budget;
@@ -12,15 +15,19 @@ use super::raster::{
     raster_triangle, shows_front, still_quad,
 };
 use super::raster5d::{Mode5d, MovingPoint, Sampler, raster_quad_5d};
-use super::shade::shade;
+use super::shade::{shade, shade_user};
 use super::work::WorkItem;
 use crate::aov::{self, Aov};
+use crate::bezier;
+use crate::camera::towards_eye;
 use crate::color::{average_rgb10, pack_rgb10};
-use crate::dicing::GridSize;
+use crate::dicing::{GridSize, grid_param};
 use crate::nonfinite::{Sources, camera_sources, close_sources};
 use crate::prepare::{PreparedObject, PreparedScene};
 use crate::scene::{Dicing, Sampling, ShadingInterpolation};
+use crate::shading::PreparedSurface;
 use crate::stats::RenderStats;
+use crate::surface_shader::ShadingContext;
 
 /// What stays fixed over a frame: the scene, its camera's view-projection,
 /// the sample positions and the time-and-lens sampler.
@@ -85,7 +92,7 @@ pub(super) fn dice_shade_sample(
     // all are known.
     let mut non_finite = grid.non_finite.clone();
     let screen = project(frame, &grid, &mut non_finite);
-    let colors = shade_points(scene, object, &grid, &screen);
+    let colors = shade_points(scene, object, item, &grid, &screen);
     let moving = frame
         .sampler
         .map(|sampler| place_in_time_and_lens(frame, sampler, object, &grid, &mut non_finite));
@@ -156,22 +163,86 @@ fn project(frame: &FrameContext<'_>, grid: &Grid, non_finite: &mut [Sources]) ->
 fn shade_points(
     scene: &PreparedScene,
     object: &PreparedObject,
+    item: &WorkItem,
     grid: &Grid,
     screen: &[ScreenPoint],
 ) -> Vec<u32> {
     let depth_range = aov::depth_range(&scene.camera);
+    let columns = grid.size.nu + 1;
     grid.positions
         .iter()
         .zip(&grid.normals)
         .zip(screen)
-        .map(|((&position, &normal), point)| {
+        .enumerate()
+        .map(|(k, ((&position, &normal), point))| {
             pack_rgb10(match scene.aov {
-                Aov::Shaded | Aov::Grids => shade(position, normal, object, scene),
+                Aov::Shaded | Aov::Grids => match object.surface {
+                    Some(PreparedSurface::User { shader, parameters }) => {
+                        let (i, j) = (k as u32 % columns, k as u32 / columns);
+                        let ctx = shading_context(
+                            scene,
+                            object,
+                            item,
+                            grid.size,
+                            (i, j),
+                            position,
+                            normal,
+                        );
+                        shade_user(&ctx, shader, parameters, scene).unwrap_or(object.color)
+                    }
+                    _ => shade(position, normal, object, scene),
+                },
                 Aov::Depth => aov::depth_color(point.w, depth_range),
                 Aov::Normal => aov::normal_color(normal),
             })
         })
         .collect()
+}
+
+/// The shading context of grid point `(i, j)` of `item`, moved to
+/// `position` with the eye-facing unit `normal` (the WGSL
+/// `shading_context`).
+fn shading_context(
+    scene: &PreparedScene,
+    object: &PreparedObject,
+    item: &WorkItem,
+    size: GridSize,
+    (i, j): (u32, u32),
+    position: Vec3,
+    normal: Vec3,
+) -> ShadingContext {
+    let patch = &scene.patches[item.patch as usize].points;
+    let uv = item.uv;
+    let (u, v) = (
+        grid_param(uv.x, uv.z, i, size.nu),
+        grid_param(uv.y, uv.w, j, size.nv),
+    );
+    let eye = scene.camera.homogeneous_eye();
+    let to_eye = towards_eye(eye, position);
+    let surface = bezier::evaluate(patch, u, v);
+    let ng = if object.displacement.is_some() {
+        surface_normal(patch, u, v, surface.position, eye)
+    } else {
+        normal
+    };
+    ShadingContext {
+        p: position,
+        n: normal,
+        ng,
+        i: -to_eye,
+        e: position + to_eye,
+        u,
+        v,
+        du: (uv.z - uv.x) / size.nu as f32,
+        dv: (uv.w - uv.y) / size.nv as f32,
+        s: u,
+        t: v,
+        dp_du: surface.d_ds,
+        dp_dv: surface.d_dt,
+        cs: object.color,
+        os: Vec3::ONE,
+        time: 0.0,
+    }
 }
 
 /// Every point at open and close, adding the motion's and the close

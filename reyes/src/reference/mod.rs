@@ -76,6 +76,18 @@ pub enum ReferenceError {
         /// Index of the object.
         object: usize,
     },
+    /// An object runs a user WGSL surface shader without a Rust twin
+    /// ([`crate::surface_shader::SurfaceShader::cpu`]): only the GPU can run it.
+    #[error(
+        "object {object} runs the WGSL surface shader {}, which the CPU reference cannot run; render it on the GPU (without --cpu), or give a Rust twin through the API (SurfaceShader::cpu)",
+        file.display()
+    )]
+    UserSurface {
+        /// Index of the object.
+        object: usize,
+        /// The shader file.
+        file: std::path::PathBuf,
+    },
     /// The RGBA image is larger than the renderers allow
     /// ([`ReferenceOptions::max_image_bytes`], by default
     /// [`limits::MAX_IMAGE_BYTES`], the GPU path's limit too).
@@ -162,6 +174,17 @@ pub fn try_render_with(
         .position(|o| o.displacement.as_ref().is_some_and(|d| !d.cpu_evaluable()))
     {
         return Err(ReferenceError::UserDisplacement { object });
+    }
+    for (object, prepared) in scene.objects.iter().enumerate() {
+        if let Some(crate::shading::PreparedSurface::User { shader, .. }) = prepared.surface
+            && let Some(shader) = scene.shaders.shaders.get(shader as usize)
+            && shader.cpu.is_none()
+        {
+            return Err(ReferenceError::UserSurface {
+                object,
+                file: shader.path.clone(),
+            });
+        }
     }
     render_bounded(scene, options)
 }

@@ -7,7 +7,8 @@ use glam::Vec3;
 
 use crate::camera::{HomogeneousEye, towards_eye};
 use crate::prepare::{PreparedLight, PreparedObject, PreparedScene, PreparedSurface};
-use crate::shading::pow_nonneg;
+use crate::shading::{pow_nonneg, specular_exponent};
+use crate::surface_shader::{Illumination, ShadingContext};
 
 /// What a surface sees of the scene: the eye, the lights and the ambient
 /// light.
@@ -63,6 +64,48 @@ impl<'a> Lighting<'a> {
     }
 }
 
+impl Illumination for Lighting<'_> {
+    fn ambient(&self) -> Vec3 {
+        self.ambient
+    }
+
+    fn diffuse(&self, ctx: &ShadingContext, n: Vec3) -> Vec3 {
+        Lighting::diffuse(self, ctx.p, n)
+    }
+
+    fn specular(&self, ctx: &ShadingContext, n: Vec3, v: Vec3, roughness: f32) -> Vec3 {
+        Lighting::specular(self, ctx.p, n, v, specular_exponent(roughness))
+    }
+
+    fn light_count(&self) -> u32 {
+        self.lights.len() as u32
+    }
+
+    fn light(&self, i: u32, p: Vec3) -> (Vec3, Vec3) {
+        self.lights
+            .get(i as usize)
+            .and_then(|light| light.at(p))
+            .unwrap_or((Vec3::ZERO, Vec3::ZERO))
+    }
+}
+
+/// `Ci` of a grid point of an object with the user shader `shader` (its
+/// parameters from slot `parameters`) through the shader's Rust twin,
+/// clamped to `[0, 1]`; `None` when the shader has no twin.
+pub fn shade_user(
+    ctx: &ShadingContext,
+    shader: u32,
+    parameters: u32,
+    scene: &PreparedScene,
+) -> Option<Vec3> {
+    let shader = scene.shaders.shaders.get(shader as usize)?;
+    let twin = shader.cpu.as_ref()?;
+    let start = (parameters as usize).min(scene.shaders.parameters.len());
+    let end = (start + shader.parameters.len()).min(scene.shaders.parameters.len());
+    let out = (twin.0)(ctx, &Lighting::of(scene), &scene.shaders.parameters[start..end]);
+    Some(out.ci.clamp(Vec3::ZERO, Vec3::ONE))
+}
+
 /// The linear RGB colour `Ci` of a grid point of `object`, each channel
 /// clamped to `[0, 1]`. `normal` is the unit normal facing the eye
 /// (RenderMan's `Nf = faceforward(normalize(N), I)`).
@@ -89,16 +132,18 @@ pub fn shade_surface(
         PreparedSurface::Matte { ka, kd } => {
             cs * (lighting.ambient * ka + lighting.diffuse(position, normal) * kd)
         }
-        PreparedSurface::Metal { ka, ks, exponent } => {
+        PreparedSurface::Metal { ka, ks, roughness } => {
+            let exponent = specular_exponent(roughness);
             cs * (lighting.ambient * ka + lighting.specular(position, normal, view, exponent) * ks)
         }
         PreparedSurface::Plastic {
             ka,
             kd,
             ks,
-            exponent,
+            roughness,
             specular_color,
         } => {
+            let exponent = specular_exponent(roughness);
             cs * (lighting.ambient * ka + lighting.diffuse(position, normal) * kd)
                 + specular_color * lighting.specular(position, normal, view, exponent) * ks
         }
@@ -107,6 +152,9 @@ pub fn shade_surface(
             let d = view.dot(normal);
             cs * (ka + kd * d * d)
         }
+        // A user shader runs through its Rust twin with the full context
+        // (`shade_user`); the reference refuses one without a twin first.
+        PreparedSurface::User { .. } => cs,
     };
     color.clamp(Vec3::ZERO, Vec3::ONE)
 }
@@ -170,7 +218,7 @@ mod tests {
                 ka: 1.0,
                 kd: 1.0,
                 ks: 0.5,
-                exponent: 8.0,
+                roughness: 0.125,
                 specular_color: Vec3::ONE,
             },
             &lighting(&lights, 0.1),
@@ -213,7 +261,7 @@ mod tests {
             shade(PreparedSurface::Metal {
                 ka: 1.0,
                 ks: 0.7,
-                exponent: 10.0,
+                roughness: 0.1,
             }),
             cs * (Vec3::splat(0.25) + specular(10.0) * 0.7),
         );
@@ -223,7 +271,7 @@ mod tests {
                 ka: 1.0,
                 kd: 0.5,
                 ks: 0.5,
-                exponent: 10.0,
+                roughness: 0.1,
                 specular_color: tint,
             }),
             cs * (Vec3::splat(0.25) + diffuse * 0.5) + tint * specular(10.0) * 0.5,
@@ -255,7 +303,7 @@ mod tests {
             ka: 1.0,
             kd: 1.0,
             ks: 1.0,
-            exponent: 1.0,
+            roughness: 1.0,
             specular_color: Vec3::ONE,
         };
         assert_eq!(

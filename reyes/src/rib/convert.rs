@@ -255,7 +255,7 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
                 model: format!("rib-object-{}", scene.objects.len()),
                 transform: Transform::default(),
                 color: key.0,
-                surface: Some(key.4),
+                surface: Some(key.4.clone()),
                 shading_rate: key.5.map(|r| r as f32),
                 displacement: None,
                 transform_close,
@@ -308,7 +308,7 @@ fn object_key(prim: &Prim) -> ObjectKey {
         prim.attrs.sides,
         prim.attrs.orientation_lh,
         prim.close,
-        prim.attrs.surface,
+        prim.attrs.surface.clone(),
         prim.attrs.shading_rate,
     )
 }

@@ -406,7 +406,7 @@ impl Interp {
         let moving = (self.xf.open != self.xf.close).then(|| close * open.inverse());
         self.prims.push(Prim {
             patches: out,
-            attrs: self.attrs,
+            attrs: self.attrs.clone(),
             close: moving,
             file: file.to_path_buf(),
             line,

@@ -334,7 +334,7 @@ impl Interp {
                 }
                 self.world_done = true;
             }
-            "AttributeBegin" => self.stack.push((Some(self.attrs), self.xf)),
+            "AttributeBegin" => self.stack.push((Some(self.attrs.clone()), self.xf)),
             "TransformBegin" => self.stack.push((None, self.xf)),
             "AttributeEnd" | "TransformEnd" => {
                 let Some((attrs, xf)) = self.stack.pop() else {

@@ -10,7 +10,7 @@ use super::parser::Value;
 use crate::scene::Surface;
 
 /// The attributes the renderer uses.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Attributes {
     /// `Color`.
     pub color: DVec3,

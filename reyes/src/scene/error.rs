@@ -87,6 +87,18 @@ pub enum SceneError {
         #[source]
         source: LoadError,
     },
+    /// An object's surface shader could not be loaded or checked, or the
+    /// scene's values do not fit its parameters.
+    #[error("object {index}: surface shader {}: {source}", file.display())]
+    SurfaceShader {
+        /// Index of the object in `objects`.
+        index: usize,
+        /// The shader file.
+        file: PathBuf,
+        /// Why.
+        #[source]
+        source: crate::surface_shader::SurfaceShaderError,
+    },
     /// An object's displacement could not be prepared (its height map could
     /// not be read, or its bound is too small for its source).
     #[error(

@@ -143,7 +143,7 @@ pub use light::{
     LightKind, Specular,
 };
 pub use object::{ModelSource, Scale, SceneObject, Transform};
-pub use surface::Surface;
+pub use surface::{ShaderValue, Surface};
 
 /// The warning for a scene without objects, which renders as its
 /// background: `reyes render`, `view` and `convert` print it, and

@@ -3,8 +3,13 @@
 //! (appendix "Standard RenderMan Shaders"). docs/reyes.md ("Surfaces")
 //! states their formulas; `crate::reference::shade` evaluates them.
 
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
+
+pub use crate::surface_shader::ShaderValue;
 
 fn one() -> f32 {
     1.0
@@ -39,7 +44,7 @@ fn default_kd() -> f32 {
 /// Ks = 0.8
 /// roughness = 0.05
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shader", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Surface {
     /// `Ci = Cs`: unlit.
@@ -97,6 +102,22 @@ pub enum Surface {
     },
     /// RenderMan's `null`: the object draws nothing into the image.
     Null,
+    /// A user's WGSL surface shader (docs/shaders.md):
+    ///
+    /// ```toml
+    /// [objects.surface]
+    /// shader = "wgsl"
+    /// file = "marble.wgsl"          # relative to the scene file
+    /// parameters = { Kd = 0.7, veincolor = [0.2, 0.1, 0.05] }
+    /// ```
+    Wgsl {
+        /// The shader file.
+        file: PathBuf,
+        /// Values for the shader's `Parameters`, by field name; the others
+        /// keep the shader's `DEFAULTS`.
+        #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+        parameters: BTreeMap<String, ShaderValue>,
+    },
 }
 
 impl Surface {
@@ -121,13 +142,14 @@ impl Surface {
             Surface::Plastic { .. } => "plastic",
             Surface::DefaultSurface { .. } => "defaultsurface",
             Surface::Null => "null",
+            Surface::Wgsl { .. } => "wgsl",
         }
     }
 
     /// The shader's parameters by name, for validation messages.
     pub fn params(&self) -> Vec<(&'static str, f32)> {
-        match *self {
-            Surface::Constant | Surface::Null => Vec::new(),
+        match self.clone() {
+            Surface::Constant | Surface::Null | Surface::Wgsl { .. } => Vec::new(),
             Surface::Matte { ka, kd } | Surface::DefaultSurface { ka, kd } => {
                 vec![("Ka", ka), ("Kd", kd)]
             }

@@ -1,0 +1,205 @@
+//! Surface shaders written by users in WGSL (docs/shaders.md).
+//!
+//! A shader is a `.wgsl` file that defines
+//! `fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput`
+//! (or `fn surface(ctx: ShadingContext) -> SurfaceOutput` without
+//! parameters), optionally a `struct Parameters` of `f32`, `i32`, `u32`,
+//! `bool` and `vecN<f32>` fields, and `const DEFAULTS = Parameters(...)`
+//! with their defaults. It is written against the interface in
+//! `shaders/reyes/surface_api.wgsl`, as the standard shaders are
+//! (`shaders/reyes/surfaces_standard.wgsl`).
+//!
+//! - `check`: naga's checks on the user's text with the interface, errors
+//!   at the user's line, and the reflection of the parameters;
+//! - `rename`: the prefix that keeps shaders apart in one module;
+//! - `values`: the scene's parameter values, typed against the shader;
+//! - `codegen`: what the megakernel compiles in for a frame's shaders.
+
+mod check;
+mod codegen;
+mod cpu;
+mod rename;
+mod table;
+mod values;
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+pub use check::{DEFAULTS, ENTRY, PARAMETERS, interface_wgsl};
+pub use codegen::megakernel_wgsl;
+pub use cpu::{CpuSurface, CpuSurfaceFn, Illumination, ShadingContext, SurfaceOutput};
+pub use table::{ShaderRef, ShaderTable};
+pub use values::{ParameterWarning, pack_parameters};
+
+use crate::displacement::user_wgsl::UserWgslError;
+use crate::input::{InputError, InputKind, read_text};
+
+/// What a shader parameter holds, from its WGSL type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParameterKind {
+    /// `f32`.
+    Float,
+    /// `i32`.
+    Int,
+    /// `u32`.
+    Uint,
+    /// `bool`.
+    Bool,
+    /// `vec2<f32>`.
+    Vec2,
+    /// `vec3<f32>` (a colour or a point).
+    Vec3,
+    /// `vec4<f32>`.
+    Vec4,
+}
+
+impl ParameterKind {
+    /// The WGSL type.
+    pub fn wgsl(self) -> &'static str {
+        match self {
+            ParameterKind::Float => "f32",
+            ParameterKind::Int => "i32",
+            ParameterKind::Uint => "u32",
+            ParameterKind::Bool => "bool",
+            ParameterKind::Vec2 => "vec2<f32>",
+            ParameterKind::Vec3 => "vec3<f32>",
+            ParameterKind::Vec4 => "vec4<f32>",
+        }
+    }
+}
+
+/// One field of a shader's `Parameters`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShaderParameter {
+    /// The field's name.
+    pub name: String,
+    /// Its type.
+    pub kind: ParameterKind,
+    /// Its default from `DEFAULTS`, as its slot stores it: four f32 words,
+    /// integers and booleans by their bits (zero without `DEFAULTS`).
+    pub default: [f32; 4],
+}
+
+/// A checked user surface shader.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceShader {
+    /// The file it came from (as the scene names it, for messages).
+    pub path: PathBuf,
+    /// The user's text.
+    pub source: String,
+    /// The parameters, in declaration order: parameter `k` is in slot `k`
+    /// of the object's block of `shader_parameters`.
+    pub parameters: Vec<ShaderParameter>,
+    /// Whether `surface` takes the parameters.
+    pub takes_parameters: bool,
+    /// A Rust twin for the CPU reference (only through the API): without
+    /// one, the reference cannot render objects with this shader.
+    pub cpu: Option<CpuSurface>,
+}
+
+impl SurfaceShader {
+    /// Checks `source`, the text of the shader file `path`.
+    pub fn from_source(path: &Path, source: String) -> Result<Self, SurfaceShaderError> {
+        let checked = check::check(&source)?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            source,
+            parameters: checked.parameters,
+            takes_parameters: checked.takes_parameters,
+            cpu: None,
+        })
+    }
+
+    /// Reads (within the WGSL input limit) and checks the shader file `path`.
+    pub fn load(path: &Path) -> Result<Self, SurfaceShaderError> {
+        let source = read_text(path, InputKind::Wgsl, InputKind::Wgsl.limit())
+            .map_err(SurfaceShaderError::Read)?;
+        Self::from_source(path, source)
+    }
+
+    /// The parameter called `name`, with its slot.
+    pub fn parameter(&self, name: &str) -> Option<(usize, &ShaderParameter)> {
+        self.parameters
+            .iter()
+            .enumerate()
+            .find(|(_, p)| p.name == name)
+    }
+}
+
+/// Why a surface shader is refused.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SurfaceShaderError {
+    /// The file cannot be read.
+    #[error(transparent)]
+    Read(InputError),
+    /// naga refuses the source, or it reaches outside the interface.
+    #[error(transparent)]
+    Wgsl(#[from] UserWgslError),
+    /// No `surface` function.
+    #[error(
+        "the shader defines no `fn {ENTRY}(ctx: ShadingContext, params: {PARAMETERS}) -> SurfaceOutput` (or `fn {ENTRY}(ctx: ShadingContext) -> SurfaceOutput`)"
+    )]
+    MissingEntry,
+    /// `surface` has another signature.
+    #[error(
+        "`fn {ENTRY}` must take `ctx: ShadingContext` (and `params: {PARAMETERS}`, if the shader declares it) and return `SurfaceOutput`"
+    )]
+    Signature,
+    /// An error in the interface's declarations, most likely caused by a
+    /// user declaration of one of its names.
+    #[error(
+        "{message} (the shader may redefine a name of the shader interface: ShadingContext, SurfaceOutput, LightSample, ambient, diffuse, specular, illuminance, ...)"
+    )]
+    Interface {
+        /// naga's message.
+        message: String,
+    },
+    /// A parameter of a type parameters cannot have.
+    #[error(
+        "line {line}: parameter `{name}` must be f32, i32, u32, bool, vec2<f32>, vec3<f32> or vec4<f32>"
+    )]
+    ParameterType {
+        /// The field.
+        name: String,
+        /// The struct's line.
+        line: u32,
+    },
+    /// `DEFAULTS` is not a constant `Parameters(...)` of literals.
+    #[error(
+        "line {line}: `{DEFAULTS}` must be `const {DEFAULTS} = {PARAMETERS}(...)` with one literal (or vector of literals) per field"
+    )]
+    Defaults {
+        /// Its line.
+        line: u32,
+    },
+    /// A scene value that does not fit its parameter.
+    #[error("parameter `{name}` is {expected}, but the scene gives {given}")]
+    Value {
+        /// The parameter.
+        name: String,
+        /// Its WGSL type.
+        expected: &'static str,
+        /// What the scene gives.
+        given: String,
+    },
+}
+
+/// A value for a user shader's parameter: a boolean, a number (`f32`,
+/// `i32`, `u32`), an array of 2 to 4 numbers (`vecN<f32>`), or a string.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ShaderValue {
+    /// `true` or `false`.
+    Bool(bool),
+    /// A number.
+    Number(f64),
+    /// An array of numbers.
+    Numbers(Vec<f64>),
+    /// A string.
+    Text(String),
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,55 @@
+//! The user shaders of a frame and their objects' parameter blocks.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use super::ShaderValue;
+use super::{ParameterWarning, SurfaceShader, SurfaceShaderError, pack_parameters};
+
+/// The distinct user surface shaders of a frame (shader `k` is what an
+/// object with [`crate::shading::PreparedSurface::User`]`{ shader: k, .. }`
+/// runs) and the objects' parameter blocks, one `[f32; 4]` slot per
+/// parameter, concatenated: the GPU's `shader_parameters` buffer.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ShaderTable {
+    /// The shaders, each file once.
+    pub shaders: Vec<Arc<SurfaceShader>>,
+    /// The parameter blocks.
+    pub parameters: Vec<[f32; 4]>,
+}
+
+/// Where an object's shader and parameters are in a [`ShaderTable`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShaderRef {
+    /// The shader's index.
+    pub shader: u32,
+    /// The first slot of the object's parameter block.
+    pub parameters: u32,
+}
+
+impl ShaderTable {
+    /// Adds an object running the shader file `path` with `values`,
+    /// loading the file unless an earlier object uses it. Names the shader
+    /// does not declare come back as warnings.
+    pub fn add(
+        &mut self,
+        path: &Path,
+        values: &BTreeMap<String, ShaderValue>,
+    ) -> Result<(ShaderRef, Vec<ParameterWarning>), SurfaceShaderError> {
+        let index = match self.shaders.iter().position(|s| s.path == path) {
+            Some(index) => index,
+            None => {
+                self.shaders.push(Arc::new(SurfaceShader::load(path)?));
+                self.shaders.len() - 1
+            }
+        };
+        let (slots, warnings) = pack_parameters(&self.shaders[index], values)?;
+        let reference = ShaderRef {
+            shader: index as u32,
+            parameters: self.parameters.len() as u32,
+        };
+        self.parameters.extend(slots);
+        Ok((reference, warnings))
+    }
+}

@@ -1,0 +1,183 @@
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use super::*;
+use crate::displacement::user_wgsl::UserWgslError;
+
+const MARBLE: &str = "struct Parameters {
+    Kd: f32,
+    veins: vec3<f32>,
+    octaves: u32,
+    sharp: bool,
+    offset: i32,
+}
+const DEFAULTS = Parameters(0.8, vec3<f32>(0.2, 0.1, 0.05), 4u, true, -2);
+
+fn stripes(x: f32) -> f32 { return 0.5 + 0.5 * sin(x); }
+
+fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput {
+    let d = diffuse(ctx, ctx.N) * params.Kd + ambient();
+    let c = mix(ctx.Cs, params.veins, stripes(ctx.P.x * f32(params.octaves)));
+    return SurfaceOutput(c * d, ctx.Os);
+}
+";
+
+fn shader(source: &str) -> Result<SurfaceShader, SurfaceShaderError> {
+    SurfaceShader::from_source(Path::new("test.wgsl"), source.to_owned())
+}
+
+#[test]
+fn parameters_and_defaults_are_reflected() {
+    let shader = shader(MARBLE).expect("the shader checks");
+    let names: Vec<(&str, ParameterKind)> = shader
+        .parameters
+        .iter()
+        .map(|p| (p.name.as_str(), p.kind))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("Kd", ParameterKind::Float),
+            ("veins", ParameterKind::Vec3),
+            ("octaves", ParameterKind::Uint),
+            ("sharp", ParameterKind::Bool),
+            ("offset", ParameterKind::Int),
+        ]
+    );
+    assert_eq!(shader.parameters[0].default, [0.8, 0.0, 0.0, 0.0]);
+    assert_eq!(shader.parameters[1].default, [0.2, 0.1, 0.05, 0.0]);
+    assert_eq!(shader.parameters[2].default[0].to_bits(), 4);
+    assert_eq!(shader.parameters[3].default[0], 1.0);
+    assert_eq!(shader.parameters[4].default[0].to_bits().cast_signed(), -2);
+    assert!(shader.takes_parameters);
+}
+
+#[test]
+fn scene_values_replace_defaults_and_unknown_names_warn() {
+    let shader = shader(MARBLE).unwrap();
+    let given = BTreeMap::from([
+        ("Kd".to_owned(), ShaderValue::Number(0.25)),
+        ("octaves".to_owned(), ShaderValue::Number(7.0)),
+        ("veinz".to_owned(), ShaderValue::Number(1.0)),
+    ]);
+    let (slots, warnings) = pack_parameters(&shader, &given).unwrap();
+    assert_eq!(slots[0][0], 0.25);
+    assert_eq!(slots[1], [0.2, 0.1, 0.05, 0.0], "the default stays");
+    assert_eq!(slots[2][0].to_bits(), 7);
+    assert_eq!(
+        warnings,
+        [ParameterWarning {
+            name: "veinz".to_owned()
+        }]
+    );
+    for (name, value) in [
+        ("Kd", ShaderValue::Text("x".to_owned())),
+        ("veins", ShaderValue::Numbers(vec![1.0, 2.0])),
+        ("octaves", ShaderValue::Number(1.5)),
+        ("octaves", ShaderValue::Number(-1.0)),
+        ("sharp", ShaderValue::Number(1.0)),
+        ("Kd", ShaderValue::Number(1e300)),
+    ] {
+        let given = BTreeMap::from([(name.to_owned(), value.clone())]);
+        let error = pack_parameters(&shader, &given).expect_err("a value that does not fit");
+        assert!(
+            error.to_string().contains(name),
+            "{name} {value:?}: {error}"
+        );
+    }
+}
+
+#[test]
+fn errors_name_the_line_in_the_users_text() {
+    let source = "fn surface(ctx: ShadingContext) -> SurfaceOutput {\n    let x: f32 = 1u;\n    return SurfaceOutput(ctx.Cs, ctx.Os);\n}\n";
+    match shader(source) {
+        Err(SurfaceShaderError::Wgsl(UserWgslError::Invalid { line, .. })) => assert_eq!(line, 2),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn the_renderers_buffers_are_out_of_reach() {
+    for name in [
+        "framebuffer",
+        "stats",
+        "lights",
+        "frame",
+        "height_texels",
+        "shader_parameter",
+    ] {
+        let source = format!(
+            "fn surface(ctx: ShadingContext) -> SurfaceOutput {{\n    let x = {name};\n    return SurfaceOutput(ctx.Cs, ctx.Os);\n}}\n"
+        );
+        match shader(&source) {
+            Err(SurfaceShaderError::Wgsl(UserWgslError::OutsideName {
+                name: found, line, ..
+            })) => {
+                assert_eq!((found.as_str(), line), (name, 2));
+            }
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+    let global = "var<private> counter: u32;\nfn surface(ctx: ShadingContext) -> SurfaceOutput { return SurfaceOutput(ctx.Cs, ctx.Os); }\n";
+    assert!(matches!(
+        shader(global),
+        Err(SurfaceShaderError::Wgsl(UserWgslError::Global {
+            line: 1,
+            ..
+        }))
+    ));
+}
+
+#[test]
+fn a_missing_or_wrong_entry_point_is_named() {
+    assert!(matches!(
+        shader(
+            "fn shade(ctx: ShadingContext) -> SurfaceOutput { return SurfaceOutput(ctx.Cs, ctx.Os); }"
+        ),
+        Err(SurfaceShaderError::MissingEntry)
+    ));
+    assert!(matches!(
+        shader("fn surface(ctx: ShadingContext) -> vec3<f32> { return ctx.Cs; }"),
+        Err(SurfaceShaderError::Signature)
+    ));
+    assert!(matches!(
+        shader(
+            "struct Parameters { m: mat3x3<f32> }\nfn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput { return SurfaceOutput(ctx.Cs, ctx.Os); }"
+        ),
+        Err(SurfaceShaderError::ParameterType { line: 1, .. })
+    ));
+    let redefined = "fn ambient() -> vec3<f32> { return vec3<f32>(1.0); }\nfn surface(ctx: ShadingContext) -> SurfaceOutput { return SurfaceOutput(ctx.Cs, ctx.Os); }";
+    let error = shader(redefined).expect_err("a redefined interface name");
+    assert!(error.to_string().contains("ambient"), "{error}");
+}
+
+/// Two shaders with the same helper names and the standard interface make
+/// one module that naga validates.
+#[test]
+fn several_shaders_live_side_by_side_in_one_module() {
+    let plain = shader(
+        "fn stripes(x: f32) -> f32 { return x; }\nfn surface(ctx: ShadingContext) -> SurfaceOutput { return SurfaceOutput(ctx.Cs * stripes(ctx.u), ctx.Os); }",
+    )
+    .unwrap();
+    let shaders = [Arc::new(shader(MARBLE).unwrap()), Arc::new(plain)];
+    let library = megakernel_wgsl(&shaders);
+    assert!(library.contains("fn surface0_stripes(") && library.contains("fn surface1_stripes("));
+    // The module as the megakernel holds it, with the interface's host side
+    // stubbed out and the parameters read from a buffer.
+    let module = format!(
+        "{library}\n{}\n{}\n{}\n{}\nfn shader_parameter(slot: u32) -> vec4<f32> {{ return vec4<f32>(f32(slot)); }}\nfn constant(ctx: ShadingContext) -> SurfaceOutput {{ return SurfaceOutput(ctx.Cs, ctx.Os); }}\nconst MAX_SPECULAR_EXPONENT: f32 = 1e4;",
+        include_str!("../../../shaders/reyes/library_math.wgsl"),
+        include_str!("../../../shaders/reyes/surface_api.wgsl"),
+        include_str!("../../../shaders/reyes/surface_host_stub.wgsl"),
+        "",
+    );
+    let parsed = naga::front::wgsl::parse_str(&module)
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&module)));
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&parsed)
+    .expect("the library validates");
+}

@@ -1,0 +1,178 @@
+//! A user's WGSL surface shader that reads every input of the shading
+//! context and every lighting helper, on the GPU against its Rust twin in
+//! the CPU reference: three spheres (two with the shader, one with other
+//! parameter values; one displaced in the whole frames, so that `N` and
+//! `Ng` differ) at 1 and 16 samples per pixel, whole and in screen tiles.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use glam::Vec3;
+use gpu_test::gpu_test;
+use reyes::displacement::DisplacementDesc;
+use reyes::gpu::GpuOptions;
+use reyes::model::Model;
+use reyes::prepare::PreparedScene;
+use reyes::reference;
+use reyes::scene::{Light, Scene, SceneObject, ShaderValue, Surface, Transform};
+use reyes::surface_shader::{CpuSurface, Illumination, ShadingContext, SurfaceOutput};
+use tests::reyes_support::{agreement, camera_down_z, gpu_turn, renderer};
+use tests::shapes::bezier_sphere;
+
+fn shader_path() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("shaders/every_input.wgsl")
+}
+
+/// The Rust twin of tests/shaders/every_input.wgsl, line for line.
+fn every_input(
+    ctx: &ShadingContext,
+    lights: &dyn Illumination,
+    slots: &[[f32; 4]],
+) -> SurfaceOutput {
+    let kd = slots[0][0];
+    let tint = Vec3::new(slots[1][0], slots[1][1], slots[1][2]);
+    let bands = slots[2][0].to_bits();
+    let striped = slots[3][0] != 0.0;
+    let v = -ctx.i.normalize();
+    let band = |x: f32| 0.5 + 0.5 * (std::f32::consts::TAU * x * bands as f32).sin();
+    let stripe = if striped {
+        0.6 + 0.4 * band(ctx.s + ctx.t)
+    } else {
+        1.0
+    };
+    let facing = ctx.ng.dot(v).abs();
+    let steps = ((ctx.du + ctx.dv) * 0.02).clamp(0.0, 0.2);
+    let tangents = (ctx.dp_du.cross(ctx.dp_dv).length() * 0.05).clamp(0.0, 0.2);
+    let eye = ((ctx.e - ctx.p).length() * 0.01).clamp(0.0, 0.1);
+    let lit = lights.ambient()
+        + lights.diffuse(ctx, ctx.n) * kd
+        + lights.specular(ctx, ctx.n, v, 0.2) * 0.5;
+    let rim = (0..lights.light_count())
+        .map(|i| {
+            let (l, cl) = lights.illuminance(i, ctx.p, ctx.n, 1.2);
+            cl * (l.dot(ctx.n) - 1.2f32.cos()).max(0.0) * 0.3
+        })
+        .sum::<Vec3>();
+    let base = ctx.cs * tint * stripe * (0.5 + 0.5 * facing);
+    let ci =
+        base * lit + Vec3::new(ctx.u * steps, ctx.v * tangents, eye) + rim + Vec3::splat(ctx.time);
+    SurfaceOutput {
+        ci: ctx.os * ci,
+        oi: ctx.os,
+    }
+}
+
+fn scene(spp: u32, displaced: bool) -> (Scene, Vec<Model>) {
+    let mut scene = Scene::default();
+    scene.resolution.width = 160;
+    scene.resolution.height = 120;
+    scene.spp = spp;
+    scene.camera = Some(camera_down_z());
+    scene.ambient = 0.1;
+    let mut models = Vec::new();
+    let other = BTreeMap::from([
+        ("Kd".to_owned(), ShaderValue::Number(0.9)),
+        ("tint".to_owned(), ShaderValue::Numbers(vec![0.5, 1.0, 0.7])),
+        ("bands".to_owned(), ShaderValue::Number(3.0)),
+        ("striped".to_owned(), ShaderValue::Bool(false)),
+    ]);
+    for (i, parameters) in [BTreeMap::new(), other.clone(), BTreeMap::new()]
+        .into_iter()
+        .enumerate()
+    {
+        let mut object = SceneObject {
+            model: format!("sphere-{i}"),
+            transform: Transform {
+                translate: Vec3::new((i as f32 - 1.0) * 1.2, 0.0, -5.0),
+                scale: reyes::scene::Scale::Uniform(0.58),
+                ..Transform::default()
+            },
+            color: Vec3::new(0.9, 0.6, 0.3 + 0.2 * i as f32),
+            surface: Some(Surface::Wgsl {
+                file: shader_path(),
+                parameters,
+            }),
+            shading_rate: None,
+            displacement: None,
+            transform_close: None,
+            sides: 2,
+            reverse_orientation: false,
+        };
+        if i == 2 && displaced {
+            object.displacement = Some(DisplacementDesc {
+                source: "sines".to_owned(),
+                scale: 0.03,
+                bound: None,
+                tiling: 2.0,
+                wgsl: None,
+            });
+        }
+        scene.objects.push(object);
+        models.push(bezier_sphere());
+    }
+    scene.lights = vec![
+        Light {
+            direction: Vec3::new(1.0, -1.0, -1.0),
+            intensity: 0.8,
+            ..Light::default()
+        },
+        Light::point(Vec3::new(-2.0, 1.0, -3.0), Vec3::new(1.0, 0.8, 0.6), 3.0),
+    ];
+    (scene, models)
+}
+
+/// The scene prepared, with the shader's Rust twin attached.
+fn prepared(spp: u32, displaced: bool) -> PreparedScene {
+    let (scene, models) = scene(spp, displaced);
+    let mut prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+    assert_eq!(prepared.shaders.shaders.len(), 1, "one shader, loaded once");
+    Arc::make_mut(&mut prepared.shaders.shaders[0]).cpu = Some(CpuSurface::new(every_input));
+    prepared
+}
+
+#[gpu_test]
+fn a_user_shader_with_every_input_matches_its_twin_whole_and_in_tiles() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let mut whole = renderer(gpu, GpuOptions::default());
+    for spp in [1, 16] {
+        // Small enough that the frame needs several tiles.
+        let mut tiled = renderer(
+            gpu,
+            GpuOptions {
+                max_tile_samples: Some(192 * 64 * u64::from(spp)),
+                ..GpuOptions::default()
+            },
+        );
+        for (what, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
+            // A displaced grid's normals come from its neighbours, so they
+            // follow the dicing, which tiles change a little near their
+            // edges: the tiled frames leave the displacement out.
+            let scene = prepared(spp, what == "whole");
+            let cpu = reference::try_render(&scene).expect("the reference runs the twin");
+            let frame = renderer.render(&scene).expect("GPU render");
+            let a = agreement(&frame, &cpu);
+            eprintln!("spp {spp}, {what} ({} tile(s)): {a:?}", frame.tiles);
+            assert_eq!(
+                frame.tiles > 1,
+                what == "tiled",
+                "{what}: {} tile(s)",
+                frame.tiles
+            );
+            a.assert_at_least(&format!("user shader at spp {spp}, {what}"), 0.995, 0.99);
+        }
+    }
+}
+
+#[test]
+fn the_reference_refuses_a_user_shader_without_a_twin() {
+    let (scene, models) = scene(1, false);
+    let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+    let error = reference::try_render(&prepared).expect_err("no twin");
+    let message = error.to_string();
+    assert!(
+        message.contains("every_input.wgsl") && message.contains("GPU"),
+        "{message}"
+    );
+}
