@@ -46,6 +46,7 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), BoxError> {
                 .into(),
         );
     }
+    super::args::set_patch_budget(render.max_patches);
     if let Some(bytes) = render.max_input_bytes {
         crate::input::set_limits(Limits::all(bytes));
     }

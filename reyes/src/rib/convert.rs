@@ -235,11 +235,13 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
     // Objects: consecutive primitives with the same look and motion share one.
     let mut models: Vec<Model> = Vec::new();
     let mut keys: Vec<ObjectKey> = Vec::new();
-    for prim in &interp.prims {
+    // Each primitive's patches are dropped once copied into its object's
+    // model: the two never both hold the whole scene.
+    for prim in std::mem::take(&mut interp.prims) {
         if prim.patches.is_empty() {
             continue;
         }
-        let key = object_key(prim);
+        let key = object_key(&prim);
         if keys.last() != Some(&key) {
             let transform_close = match prim.close {
                 None => None,

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{DMat4, DVec3};
 
 use super::basis::{self, MeshDir, Wrap};
-use super::interp::{Interp, MAX_PATCHES, Motion, Prim, camera_to_world};
+use super::interp::{Interp, Motion, Prim, RequestError, camera_to_world};
 use super::parser::Value;
 use super::state;
 
@@ -49,7 +49,7 @@ impl Interp {
         v: &[Value],
         file: &Path,
         line: usize,
-    ) -> Result<(), String> {
+    ) -> Result<(), RequestError> {
         let supported = matches!(
             name,
             "Patch"
@@ -64,7 +64,7 @@ impl Interp {
             return Ok(());
         }
         if self.camera.is_none() {
-            return Err("geometry before WorldBegin".into());
+            return Err("geometry before WorldBegin".to_owned().into());
         }
         if super::quadrics::arity(name).is_some() {
             self.quadric(name, v, file, line)
@@ -213,13 +213,25 @@ impl Interp {
         Ok(())
     }
 
+    /// Takes `patches` from the scene's budget before they are made;
+    /// `what` says what they are, for the error.
+    pub(super) fn take_patches(
+        &mut self,
+        patches: usize,
+        what: impl FnOnce() -> String,
+    ) -> Result<(), RequestError> {
+        self.patches
+            .take(patches as u64)
+            .map_err(|e| RequestError::Budget(what(), e))
+    }
+
     pub(super) fn geometry(
         &mut self,
         name: &str,
         v: &[Value],
         file: &Path,
         line: usize,
-    ) -> Result<(), String> {
+    ) -> Result<(), RequestError> {
         let positional = match name {
             "Patch" => 1,
             "PatchMesh" => 5,
@@ -248,11 +260,12 @@ impl Interp {
             return Ok(());
         }
         let Some(p) = state::points(&params)? else {
-            return Err("needs \"P\"".into());
+            return Err("needs \"P\"".to_owned().into());
         };
         let patches = match name {
             "Patch" => match state::arg_str(&args, 0, "the type")? {
                 "bicubic" => {
+                    self.take_patches(1, String::new)?;
                     let g: [DVec3; 16] = p.try_into().map_err(|p: Vec<DVec3>| {
                         format!("bicubic needs 16 points, found {}", p.len())
                     })?;
@@ -263,18 +276,19 @@ impl Interp {
                     )]
                 }
                 "bilinear" => {
+                    self.take_patches(1, String::new)?;
                     let c: [DVec3; 4] = p.try_into().map_err(|p: Vec<DVec3>| {
                         format!("bilinear needs 4 points, found {}", p.len())
                     })?;
                     vec![basis::bilinear_to_bezier(&c)]
                 }
-                other => return Err(format!("unknown patch type {other:?}")),
+                other => return Err(format!("unknown patch type {other:?}").into()),
             },
             "PatchMesh" => {
                 let bicubic = match state::arg_str(&args, 0, "the type")? {
                     "bicubic" => true,
                     "bilinear" => false,
-                    other => return Err(format!("unknown patch type {other:?}")),
+                    other => return Err(format!("unknown patch type {other:?}").into()),
                 };
                 let count = |i: usize, what: &str| -> Result<usize, String> {
                     let n = state::arg_f(&args, i, what)?;
@@ -300,9 +314,13 @@ impl Interp {
                     wrap: wrap(4)?,
                     basis: self.attrs.vbasis,
                 };
+                let (nup, nvp) = basis::patch_mesh_counts(bicubic, u, vd, p.len())?;
+                self.take_patches(nup.saturating_mul(nvp), || format!("{nup} x {nvp} patches"))?;
                 basis::patch_mesh(bicubic, u, vd, &p)?
             }
             "PointsPolygons" | "GeneralPolygon" | "PointsGeneralPolygons" => {
+                let estimate = super::polygons::estimate(name, &args)?;
+                self.take_patches(estimate, || "their fans".to_owned())?;
                 let made = if name == "PointsPolygons" {
                     super::polygons::points_polygons(&args, &p)?
                 } else if name == "PointsGeneralPolygons" {
@@ -339,8 +357,9 @@ impl Interp {
             }
             _ => {
                 if p.len() < 3 {
-                    return Err(format!("needs at least 3 points, found {}", p.len()));
+                    return Err(format!("needs at least 3 points, found {}", p.len()).into());
                 }
+                self.take_patches(basis::fan_patches(p.len()), || "its fan".to_owned())?;
                 if !basis::convex(&p) {
                     self.warn(
                         file,
@@ -373,13 +392,10 @@ impl Interp {
         patches: Vec<[DVec3; 16]>,
         file: &Path,
         line: usize,
-    ) -> Result<(), String> {
+    ) -> Result<(), RequestError> {
         let camera = self.camera.unwrap_or(DMat4::IDENTITY);
         let open = camera_to_world() * camera * self.xf.open;
         let close = camera_to_world() * camera * self.xf.close;
-        if self.patch_count + patches.len() > MAX_PATCHES {
-            return Err(format!("the scene has more than {MAX_PATCHES} patches"));
-        }
         let mut out = Vec::with_capacity(patches.len());
         for patch in &patches {
             let pts = patch.map(|p| open.transform_point3(p).as_vec3());
@@ -401,7 +417,8 @@ impl Interp {
                 ),
             );
         }
-        self.patch_count += out.len();
+        // The budget took them all before they were made.
+        self.patches.give_back(skipped as u64);
         self.lights_for_primitive();
         let moving = (self.xf.open != self.xf.close).then(|| close * open.inverse());
         self.prims.push(Prim {
