@@ -35,6 +35,18 @@ const GEOMETRY: [&str; 21] = [
     "TrimCurve",
 ];
 
+/// The requests that change the current transform.
+const TRANSFORMS: [&str; 8] = [
+    "Identity",
+    "Transform",
+    "ConcatTransform",
+    "Translate",
+    "Rotate",
+    "Scale",
+    "Skew",
+    "CoordSysTransform",
+];
+
 /// Whether `name` is a geometry request ([`Interp::geometry_request`]).
 pub(super) fn is_geometry(name: &str) -> bool {
     GEOMETRY.contains(&name) || name == "ObjectInstance"
@@ -371,24 +383,80 @@ impl Interp {
                 basis::polygon(&p)
             }
         };
-        self.emit(patches, file, line)
+        self.emit(name, patches, file, line)
     }
 
     /// Why points through the current transform leave f32 (for messages):
-    /// the camera transform, the current transform, or the points.
-    pub(super) fn overflow_cause(&self) -> &'static str {
+    /// the camera transform, the current transform (each with the request
+    /// from which on it does), or the points.
+    pub(super) fn overflow_cause(&self) -> String {
         let camera = camera_to_world() * self.camera.unwrap_or(DMat4::IDENTITY);
         if !camera.as_mat4().is_finite() {
-            "the camera transform (the transforms before WorldBegin) overflows f32"
+            format!(
+                "the camera transform (the transforms before WorldBegin) overflows f32{}",
+                self.origin_text(self.camera_overflow)
+            )
         } else if !(camera * self.xf.open).as_mat4().is_finite() {
-            "the current transform overflows f32"
+            format!(
+                "the current transform overflows f32{}",
+                self.origin_text(self.xf.overflow)
+            )
         } else {
-            "the points through the current transform overflow f32"
+            "the points through the current transform overflow f32".to_owned()
         }
     }
 
+    /// ` (from the Scale at scene.rib:2 on)`, or nothing without an origin.
+    fn origin_text(&self, origin: Option<state::Origin>) -> String {
+        origin.map_or_else(String::new, |o| {
+            let file = self
+                .origin_files
+                .get(o.file)
+                .map_or_else(|| "?".to_owned(), |f| f.display().to_string());
+            format!(" (from the {} at {file}:{} on)", o.request, o.line)
+        })
+    }
+
+    /// Records in the current transform the request `name` at `line` of
+    /// `file` if the transform to camera space leaves f32 there (keeping
+    /// an earlier one), or clears it when it is back within f32. Before
+    /// `WorldBegin` the current transform is the camera's; after, an
+    /// overflowing camera is named by its own origin instead.
+    pub(super) fn track_overflow(&mut self, name: &str, file: &Path, line: usize) {
+        let fits = |m: DMat4| m.as_mat4().is_finite();
+        let camera = camera_to_world() * self.camera.unwrap_or(DMat4::IDENTITY);
+        if !fits(camera) {
+            self.xf.overflow = None;
+            return;
+        }
+        if fits(camera * self.xf.open) && fits(camera * self.xf.close) {
+            self.xf.overflow = None;
+        } else if self.xf.overflow.is_none() {
+            let request = TRANSFORMS
+                .iter()
+                .copied()
+                .find(|t| *t == name)
+                .unwrap_or("transform");
+            let index = match self.origin_files.iter().position(|f| f == file) {
+                Some(i) => i,
+                None => {
+                    self.origin_files.push(file.to_path_buf());
+                    self.origin_files.len() - 1
+                }
+            };
+            self.xf.overflow = Some(state::Origin {
+                request,
+                file: index,
+                line,
+            });
+        }
+    }
+
+    /// Adds the primitive of request `name` made of `patches` (already
+    /// taken from the budget) at `line` of `file`.
     pub(super) fn emit(
         &mut self,
+        name: &str,
         patches: Vec<[DVec3; 16]>,
         file: &Path,
         line: usize,
@@ -425,6 +493,11 @@ impl Interp {
             patches: out,
             attrs: self.attrs,
             close: moving,
+            request: GEOMETRY
+                .iter()
+                .copied()
+                .find(|g| *g == name)
+                .unwrap_or("primitive"),
             file: file.to_path_buf(),
             line,
         });

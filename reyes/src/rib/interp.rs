@@ -95,6 +95,8 @@ pub struct Prim {
     pub attrs: Attributes,
     /// The world-space motion from shutter open to close, if it moves.
     pub close: Option<DMat4>,
+    /// Its request (`Sphere`, `PatchMesh`...).
+    pub request: &'static str,
     /// The file of its request.
     pub file: PathBuf,
     /// The line of its request.
@@ -123,6 +125,11 @@ pub struct Interp {
     pub(super) coordsys: HashMap<String, Xform>,
     /// The world-to-camera transform, from `WorldBegin` on.
     pub camera: Option<DMat4>,
+    /// The request from which on the camera transform leaves f32, if it
+    /// does ([`state::Xform::overflow`] at `WorldBegin`).
+    pub(super) camera_overflow: Option<state::Origin>,
+    /// The files [`state::Origin`]s name.
+    pub(super) origin_files: Vec<PathBuf>,
     /// The world-to-camera transform at shutter close, if the camera
     /// moves, and the line of its `WorldBegin`.
     pub camera_close: Option<(DMat4, usize)>,
@@ -171,6 +178,8 @@ impl Interp {
             coordsys: HashMap::new(),
             camera: None,
             camera_close: None,
+            camera_overflow: None,
+            origin_files: Vec::new(),
             world_done: false,
             motion: None,
             prims: Vec::new(),
@@ -361,6 +370,7 @@ impl Interp {
                     self.camera_close = Some((self.xf.close, line));
                 }
                 self.camera = Some(self.xf.open);
+                self.camera_overflow = self.xf.overflow;
                 self.xf = Xform::default();
                 self.stack.clear();
             }
@@ -422,8 +432,14 @@ impl Interp {
             "Opacity" => self.opacity(v, file, line)?,
             "Basis" => self.basis(v)?,
             "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale"
-            | "Skew" => self.transform(name, v)?,
-            "CoordinateSystem" | "CoordSysTransform" => self.coordinate_system(name, v)?,
+            | "Skew" => {
+                self.transform(name, v)?;
+                self.track_overflow(name, file, line);
+            }
+            "CoordinateSystem" | "CoordSysTransform" => {
+                self.coordinate_system(name, v)?;
+                self.track_overflow(name, file, line);
+            }
             name if super::geometry::is_geometry(name) => {
                 self.geometry_request(name, v, file, line)?
             }

@@ -299,7 +299,7 @@ impl Interp {
         let Some(px) = self.world_per_pixel(to_camera, &quadric) else {
             // Behind the camera: not seen.
             self.take_patches(nu0 * nv0, || format!("{nu0} x {nv0} segments"))?;
-            return self.emit(quadric.patches(nu0, nv0), file, line);
+            return self.emit(name, quadric.patches(nu0, nv0), file, line);
         };
         let (nu, nv, clamped) = quadric.segments(MAX_ERROR_PX * px);
         // Counted before they are made: 64 x 64 segments are 4096 patches.
@@ -314,7 +314,7 @@ impl Interp {
                 ),
             );
         }
-        self.emit(quadric.patches(nu, nv), file, line)
+        self.emit(name, quadric.patches(nu, nv), file, line)
     }
 
     /// The object-space length of a pixel (a bound on how far a step of
