@@ -40,6 +40,10 @@ struct Run {
 fn measured(args: &[&str]) -> Run {
     use std::io::Read;
     let start = Instant::now();
+    #[expect(
+        clippy::zombie_processes,
+        reason = "reaped by wait4 below, which also reads its peak memory"
+    )]
     let mut child = Command::new(env!("CARGO_BIN_EXE_reyes"))
         .args(args)
         .stdin(Stdio::null())
@@ -53,7 +57,7 @@ fn measured(args: &[&str]) -> Run {
         let _ = pipe.read_to_string(&mut text);
         text
     });
-    let pid = child.id() as libc::pid_t;
+    let pid = libc::pid_t::try_from(child.id()).expect("a pid fits pid_t");
     let (status, usage) = loop {
         let mut status = 0;
         // SAFETY: both pointers are to locals of the right types.
@@ -74,6 +78,7 @@ fn measured(args: &[&str]) -> Run {
         assert!(done == 0, "wait4 failed");
         if start.elapsed() > Duration::from_secs(60) {
             let _ = child.kill();
+            let _ = child.wait();
             panic!("reyes {args:?} ran for more than a minute");
         }
         std::thread::sleep(Duration::from_millis(5));

@@ -341,7 +341,7 @@ impl Interp {
         let stretch =
             (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared())
                 .sqrt();
-        if !(stretch > 0.0) {
+        if stretch.is_nan() || stretch <= 0.0 {
             return None;
         }
         // The exact surface is within this of the pieces (camera space).
