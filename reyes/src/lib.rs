@@ -77,6 +77,7 @@ macro_rules! internal_modules {
 }
 
 pub mod aov;
+pub mod budget;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod displacement;

@@ -275,18 +275,74 @@ fn prepare_dir(file: &Path) -> Result<(), OutputError> {
     })
 }
 
-/// Encodes `image` in `format` to a temporary file beside `path`.
+/// Encodes `image` in `format` to a temporary file beside `path`. A
+/// failure of the file itself (a full disk, a size limit) is reported as
+/// the write error it is, with its path: the EXR encoder reports one as
+/// "Format error decoding OpenExr".
 fn stage_image(image: &RgbaImage, path: &Path, format: ImageFormat) -> Result<Staged, OutputError> {
     Staged::write(path, |writer| {
+        let mut file = FirstIoError::new(writer);
         let encoded = match format {
-            ImageFormat::Png => image.write_to(writer, image::ImageFormat::Png),
-            ImageFormat::Exr => to_linear(image).write_to(writer, image::ImageFormat::OpenExr),
+            ImageFormat::Png => image.write_to(&mut file, image::ImageFormat::Png),
+            ImageFormat::Exr => to_linear(image).write_to(&mut file, image::ImageFormat::OpenExr),
         };
-        encoded.map_err(|source| OutputError::Encode {
-            path: path.to_path_buf(),
-            source,
+        encoded.map_err(|source| match file.error.take() {
+            Some(io) => OutputError::Write {
+                path: path.to_path_buf(),
+                source: io,
+            },
+            None => OutputError::Encode {
+                path: path.to_path_buf(),
+                source,
+            },
         })
     })
+}
+
+/// A writer that keeps (a copy of) the first error of the writer it wraps:
+/// what the file said, whatever an encoder makes of it.
+struct FirstIoError<'a, W> {
+    inner: &'a mut W,
+    error: Option<std::io::Error>,
+}
+
+impl<'a, W> FirstIoError<'a, W> {
+    fn new(inner: &'a mut W) -> Self {
+        FirstIoError { inner, error: None }
+    }
+
+    fn keep<T>(&mut self, result: std::io::Result<T>) -> std::io::Result<T> {
+        // An interrupted write is retried by its caller: no failure yet.
+        if let Err(e) = &result
+            && self.error.is_none()
+            && e.kind() != std::io::ErrorKind::Interrupted
+        {
+            self.error = Some(match e.raw_os_error() {
+                Some(code) => std::io::Error::from_raw_os_error(code),
+                None => std::io::Error::new(e.kind(), e.to_string()),
+            });
+        }
+        result
+    }
+}
+
+impl<W: std::io::Write> std::io::Write for FirstIoError<'_, W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let result = self.inner.write(buf);
+        self.keep(result)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        let result = self.inner.flush();
+        self.keep(result)
+    }
+}
+
+impl<W: std::io::Seek> std::io::Seek for FirstIoError<'_, W> {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        let result = self.inner.seek(pos);
+        self.keep(result)
+    }
 }
 
 /// The 8-bit sRGB image as float linear RGBA: colour channels decoded with

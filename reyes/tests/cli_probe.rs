@@ -513,7 +513,46 @@ fn cases() -> Vec<Case> {
             not_written: &["out.png"],
             ..BASE
         },
+        // Issue 42, item 2: 4,096 spheres of 4096 patches each once took
+        // 6.8 GB and 178 s; the 257th passes the default patch budget of
+        // 2^20 (at line 258, after WorldBegin), before it is made.
+        Case {
+            name: "I42 4096 x Sphere 1e12, render --cpu",
+            setup: huge_spheres,
+            args: &["render", "--cpu", "spheres.rib", "-o", "out.png"],
+            words: &[
+                "spheres.rib:258:1: Sphere: 64 x 64 segments: 4096 patches",
+                "--max-patches",
+            ],
+            max_ms: 10_000,
+            max_kb: 1024 * 1024,
+            not_written: &["out.png"],
+            ..BASE
+        },
+        Case {
+            name: "I42 4096 x Sphere 1e12, convert",
+            setup: huge_spheres,
+            args: &["convert", "spheres.rib", "-o", "out.toml"],
+            words: &[
+                "spheres.rib:258:1: Sphere: 64 x 64 segments: 4096 patches",
+                "--max-patches",
+            ],
+            max_ms: 10_000,
+            max_kb: 1024 * 1024,
+            not_written: &["out.toml", "out-0.bpt"],
+            ..BASE
+        },
     ]
+}
+
+/// 4,096 lines of `Sphere 1e12 -1e12 1e12 360` in a world block (123 KB).
+fn huge_spheres(dir: &Path) -> Result<(), String> {
+    let spheres = "Sphere 1e12 -1e12 1e12 360\n".repeat(4096);
+    write(
+        dir,
+        "spheres.rib",
+        &format!("WorldBegin\n{spheres}WorldEnd\n"),
+    )
 }
 
 #[test]

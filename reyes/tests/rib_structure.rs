@@ -3,7 +3,8 @@
 //! line of the unclosed request and what is missing (a warning under
 //! `RibOptions::lenient`, which uses what was read); out-of-range values
 //! are errors naming the request and the valid range; a scene without
-//! geometry warns; overflows name the transform that overflows.
+//! geometry warns; overflows name the transform that overflows and the
+//! request from which on it does.
 
 use reyes::rib::{RibError, RibOptions, RibScene};
 
@@ -278,20 +279,53 @@ fn an_overflowing_camera_transform_is_named() {
     let all = warnings(&scene);
     assert_eq!(scene.scene.lights.len(), 1, "{all}");
     assert!(scene.scene.lights[0].direction.is_finite());
+    // The second Scale (line 2) is where the camera leaves f32.
     assert!(
         all.contains("t.rib:6: 1 of the primitive's 1 patches have control points beyond f32")
-            && all
-                .contains("the camera transform (the transforms before WorldBegin) overflows f32"),
+            && all.contains(
+                "the camera transform (the transforms before WorldBegin) overflows f32 (from the Scale at t.rib:2 on)"
+            ),
         "{all}"
     );
     assert!(!all.contains("from = to"), "{all}");
 }
 
 #[test]
+fn an_overflowing_world_transform_names_its_request() {
+    // Inside the world: the Rotate keeps the Scale's overflow, the
+    // AttributeEnd restores a transform within f32 (nothing to name).
+    let text = "WorldBegin
+AttributeBegin
+Scale 1e20 1e20 1e20
+ConcatTransform [1e20 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1]
+Rotate 10 0 0 1
+Translate 0 0 5
+Patch \"bilinear\" \"P\" [0 0 0 1 0 0 0 1 0 1 1 0]
+AttributeEnd
+Translate 0 0 5
+Patch \"bilinear\" \"P\" [0 0 0 1 0 0 0 1 0 1 1 0]
+WorldEnd
+";
+    let scene = strict(text).unwrap();
+    let all = warnings(&scene);
+    assert!(
+        all.contains(
+            "t.rib:7: 1 of the primitive's 1 patches have control points beyond f32 in camera space: the current transform overflows f32 (from the ConcatTransform at t.rib:4 on)"
+        ),
+        "{all}"
+    );
+    assert!(!all.contains("t.rib:10"), "{all}");
+    assert_eq!(
+        scene.models.iter().map(|m| m.patches.len()).sum::<usize>(),
+        1
+    );
+}
+
+#[test]
 fn a_far_plane_beyond_f32_names_the_primitive() {
     let (message, _) = error("WorldBegin\nTranslate 0 0 5\nSphere 3e38 -3e38 3e38 360\nWorldEnd\n");
     assert!(
-        message.contains("the primitive at t.rib:3 reaches z = ")
+        message.contains("the Sphere at t.rib:3 reaches z = ")
             && message.contains("give Clipping")
             && !message.contains("camera.far must be finite"),
         "{message}"
@@ -307,11 +341,13 @@ fn a_far_plane_beyond_f32_names_the_primitive() {
 
 #[test]
 fn a_lens_beyond_f32_names_depth_of_field() {
-    let (message, _) = error(&format!(
+    let (message, position) = error(&format!(
         "Projection \"perspective\"\nDepthOfField 1e-30 1e30 5\nWorldBegin\n{SPHERE}WorldEnd\n"
     ));
+    // At the request, before the world block is read.
+    assert_eq!(position, (2, 1), "{message}");
     assert!(
-        message.contains("DepthOfField: the lens radius")
+        message.starts_with("t.rib:2:1: DepthOfField: the lens radius")
             && !message.contains("lens.aperture must be finite"),
         "{message}"
     );

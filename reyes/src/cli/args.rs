@@ -176,6 +176,13 @@ pub(crate) struct RenderArgs {
     /// .wgsl files, 64M for height maps. Only regular files are read.
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
     pub(crate) max_input_bytes: Option<u64>,
+    /// Most bicubic patches the scene may make, in all (default 1048576 =
+    /// 2^20, 192 MiB of control points; see docs/reyes.md, "Patch
+    /// budget"). RIB quadrics, polygons and patch meshes and model files
+    /// are counted before their patches are made; a scene past it is
+    /// refused, naming the RIB request and line or the object and model.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub(crate) max_patches: Option<u64>,
     /// Read a RIB scene whose block structure is unbalanced or truncated (a
     /// missing `WorldEnd`, an unclosed `AttributeBegin`, an `AttributeEnd`
     /// without its begin) with warnings instead of an error, and render
@@ -199,5 +206,12 @@ impl RenderArgs {
             );
         }
         Ok(())
+    }
+}
+
+/// Sets the process's patch budget from `--max-patches`, if given.
+pub(crate) fn set_patch_budget(max_patches: Option<u64>) {
+    if let Some(patches) = max_patches {
+        crate::budget::set_max_patches(patches);
     }
 }

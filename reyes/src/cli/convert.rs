@@ -20,6 +20,10 @@ pub(crate) struct ConvertArgs {
     /// what was read.
     #[arg(long)]
     pub(crate) lenient: bool,
+    /// Most bicubic patches the scene may make, in all (default 1048576 =
+    /// 2^20; see `reyes render --help`).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub(crate) max_patches: Option<u64>,
 }
 
 /// `reyes convert`: RIB to TOML plus `.bpt` files.
@@ -28,6 +32,7 @@ pub(crate) fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
     // another extension or is no file is refused at once.
     // [`crate::rib::RibScene::write`] checks every output again against
     // every file the RIB read (its archives).
+    super::args::set_patch_budget(args.max_patches);
     let mut guard = OutputGuard::new();
     guard.add_input("RIB scene", &args.input)?;
     guard.add_output(OutputKind::Toml, "TOML scene", &args.output)?;

@@ -19,8 +19,10 @@ pub(crate) type ReadFile = (&'static str, PathBuf);
 pub(crate) struct BaseScene {
     /// The scene.
     pub(crate) scene: Scene,
-    /// The models of a scene that brings them in memory (RIB) rather than
-    /// by path.
+    /// The models of a scene that brings them in memory (a RIB, a bare
+    /// model read once here) rather than by path. A bare model's object
+    /// names its file only for messages (a model name is text): the file
+    /// is read by its path as given, which need not be UTF-8.
     pub(crate) models: Option<Vec<Model>>,
     /// The files read for it: the scene file, and a RIB's archives. (The
     /// models a scene names by path are read later, see
@@ -97,7 +99,7 @@ pub(crate) fn base_scene(path: Option<&Path>, lenient: bool) -> Result<BaseScene
             })?;
             Ok(BaseScene {
                 scene: Scene::for_model(path.to_string_lossy(), &model),
-                models: None,
+                models: Some(vec![model]),
                 read: vec![("model", path.to_path_buf())],
             })
         }

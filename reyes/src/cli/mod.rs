@@ -12,7 +12,7 @@
 //!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
 //!              [--chunks N] [--dicing rate|fixed] [--shading-rate R] [--shading-interpolation smooth|constant] [--flat-shading]
 //!              [--aov shaded|grids|depth|normal] [--sides 1|2] [--reverse-orientation]
-//!              [--max-input-bytes BYTES] [--no-pipeline-cache] [--lenient]
+//!              [--max-input-bytes BYTES] [--max-patches N] [--no-pipeline-cache] [--lenient]
 //! reyes cache info|clear
 //! reyes view [SCENE] [the options of render] [--frames N --screenshot IMAGE] [--hide-overlay]
 //! ```

@@ -42,7 +42,7 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<Prepared, BoxError> {
     override_frame(&mut scene, args);
     override_objects(&mut scene, args);
     override_lens(&mut scene, args);
-    reframe_model(&mut scene, args)?;
+    reframe_model(&mut scene, args, in_memory.as_deref())?;
     if camera_overridden(args) || camera_moves(args) {
         // A camera framed automatically (a bare model, the teapot, a scene
         // without `[camera]`) chose its clipping planes for its own eye.
@@ -148,14 +148,26 @@ fn override_lens(scene: &mut Scene, args: &RenderArgs) {
 /// A bare model or the teapot was framed for 800x600: frames it again for
 /// the requested aspect ratio (through the same helper), unless the user
 /// places the camera. Scene files (TOML, RIB) keep their own camera.
-fn reframe_model(scene: &mut Scene, args: &RenderArgs) -> Result<(), BoxError> {
+fn reframe_model(
+    scene: &mut Scene,
+    args: &RenderArgs,
+    in_memory: Option<&[Model]>,
+) -> Result<(), BoxError> {
     let is_model = is_bare_model(args);
     let resized = args.width.is_some() || args.height.is_some();
     let moved = objects_move(args);
     if !(is_model && (resized || moved) && scene.camera.is_some()) {
         return Ok(());
     }
-    let models: Vec<Model> = scene.load_models()?;
+    // A bare model is in memory; the teapot is loaded by name.
+    let loaded;
+    let models = match in_memory {
+        Some(models) => models,
+        None => {
+            loaded = scene.load_models()?;
+            &loaded
+        }
+    };
     if resized {
         let (lo, hi) = models[0].bounds();
         let aspect = scene.resolution.width as f32 / scene.resolution.height.max(1) as f32;
@@ -164,7 +176,7 @@ fn reframe_model(scene: &mut Scene, args: &RenderArgs) -> Result<(), BoxError> {
     // The framing sees the model at open: its far plane must also cover
     // where `--move` and `--spin` take it.
     if let Some(mut camera) = scene.camera.filter(|_| moved && !camera_overridden(args)) {
-        camera.far = far_plane_covering_motion(&camera, scene, &models);
+        camera.far = far_plane_covering_motion(&camera, scene, models);
         scene.camera = Some(camera);
     }
     Ok(())

@@ -20,6 +20,7 @@ use crate::stats::RenderStats;
 /// reference, and writes the image (and the statistics).
 pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
     args.check_backend()?;
+    super::args::set_patch_budget(args.max_patches);
     if let Some(bytes) = args.max_input_bytes {
         crate::input::set_limits(Limits::all(bytes));
     }

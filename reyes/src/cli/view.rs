@@ -46,6 +46,7 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), BoxError> {
                 .into(),
         );
     }
+    super::args::set_patch_budget(render.max_patches);
     if let Some(bytes) = render.max_input_bytes {
         crate::input::set_limits(Limits::all(bytes));
     }
@@ -79,7 +80,13 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), BoxError> {
     gpu_options.chunks_per_batch = render.chunks;
     gpu_options.pipeline_cache_dir = render.pipeline_cache_dir();
     let command = crate::view::save::CommandBase {
-        prefix: render_prefix(std::env::args().collect()),
+        // `args_os`: `args` panics on an argument that is not UTF-8 (a
+        // file name); the printed command shows it as `to_string_lossy`.
+        prefix: render_prefix(
+            std::env::args_os()
+                .map(|a| a.to_string_lossy().into_owned())
+                .collect(),
+        ),
         shutter: render.shutter,
         dice_threshold: scene.dicing.fixed_threshold(),
     };

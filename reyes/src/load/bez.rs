@@ -15,14 +15,24 @@ use std::fmt::Write as _;
 use glam::Vec3;
 
 use super::LoadError;
-use super::lines::{Lines, capacity_hint, exactly, parse_point};
+use super::lines::{Lines, capacity_hint, exactly, parse_point, take_declared};
+use crate::budget::PatchBudget;
 use crate::input::excerpt;
 use crate::model::{Model, Patch};
 
-/// Parses a `.bez` text.
+/// Parses a `.bez` text, within a scene's patch budget of its own
+/// ([`PatchBudget::from_setting`]).
 pub fn parse(text: &str) -> Result<Model, LoadError> {
+    parse_within(text, &mut PatchBudget::from_setting())
+}
+
+/// Parses a `.bez` text, taking its declared patch count from `budget`
+/// before reading any patch (a patch line of 16 indices makes 16 points:
+/// 32 bytes of text become 192 of patch).
+pub fn parse_within(text: &str, budget: &mut PatchBudget) -> Result<Model, LoadError> {
     let mut lines = Lines::new(text);
-    let (_, patch_count) = lines.expect_count("patch count")?;
+    let (line, patch_count) = lines.expect_count("patch count")?;
+    take_declared(budget, line, patch_count)?;
 
     // Indices are checked against the vertex count once it is known, so keep
     // each patch's line number for the error message.

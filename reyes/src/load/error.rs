@@ -106,6 +106,16 @@ pub enum LoadError {
         /// Number of vertices in the file.
         vertex_count: usize,
     },
+    /// The declared patch count is more than the scene's patch budget has
+    /// left ([`crate::budget`]); no patch was read.
+    #[error("line {line}: the declared patch count: {source}")]
+    PatchBudget {
+        /// Line of the count.
+        line: usize,
+        /// The count and the budget.
+        #[source]
+        source: crate::budget::BudgetExceeded,
+    },
     /// A `.bez` patch line does not have exactly 16 vertex indices.
     #[error("line {line}: expected 16 comma-separated vertex indices, found {found}")]
     WrongIndexCount {
@@ -131,7 +141,8 @@ impl LoadError {
             | LoadError::Truncated { line, .. }
             | LoadError::TrailingGarbage { line, .. }
             | LoadError::VertexIndexOutOfRange { line, .. }
-            | LoadError::WrongIndexCount { line, .. } => Some(*line),
+            | LoadError::WrongIndexCount { line, .. }
+            | LoadError::PatchBudget { line, .. } => Some(*line),
         }
     }
 }

@@ -8,6 +8,7 @@
 use glam::Vec3;
 
 use super::LoadError;
+use crate::budget::PatchBudget;
 use crate::input::{excerpt, strip_bom};
 
 /// A cursor over the non-blank, trimmed lines of a text, remembering line numbers.
@@ -126,4 +127,17 @@ pub(crate) fn parse_point<'a>(
 /// small file cannot make us allocate gigabytes before failing as truncated.
 pub(crate) fn capacity_hint(declared: usize, text_len: usize) -> usize {
     declared.min(text_len / 8 + 1)
+}
+
+/// Takes the `count` patches a file declares on `line` from `budget`,
+/// before any is read: the count, not the file's size, says what loading
+/// it will hold.
+pub(crate) fn take_declared(
+    budget: &mut PatchBudget,
+    line: usize,
+    count: usize,
+) -> Result<(), LoadError> {
+    budget
+        .take(count as u64)
+        .map_err(|source| LoadError::PatchBudget { line, source })
 }

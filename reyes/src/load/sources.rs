@@ -6,6 +6,7 @@
 
 use std::path::Path;
 
+use crate::budget::PatchBudget;
 use crate::input::{self, InputKind};
 use crate::model::Model;
 
@@ -34,23 +35,35 @@ impl Model {
     /// [`Model::load`] with an explicit size cap in bytes instead of the
     /// process-wide one.
     pub fn load_with_limit(path: impl AsRef<Path>, limit: u64) -> Result<Model, LoadError> {
+        Model::load_within(path, limit, &mut PatchBudget::from_setting())
+    }
+
+    /// [`Model::load_with_limit`], taking the patches the file declares
+    /// from `budget` (a scene's, shared by all its models) before reading
+    /// them: [`LoadError::PatchBudget`] when they would pass it.
+    pub fn load_within(
+        path: impl AsRef<Path>,
+        limit: u64,
+        budget: &mut PatchBudget,
+    ) -> Result<Model, LoadError> {
         let path = path.as_ref();
         let extension = path
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
-        let parse: fn(&str) -> Result<Model, LoadError> = match extension.as_deref() {
-            Some("bpt") => bpt::parse,
-            Some("bez") => bez::parse,
-            _ => {
-                return Err(LoadError::UnknownExtension {
-                    path: path.to_path_buf(),
-                });
-            }
-        };
+        let parse: fn(&str, &mut PatchBudget) -> Result<Model, LoadError> =
+            match extension.as_deref() {
+                Some("bpt") => bpt::parse_within,
+                Some("bez") => bez::parse_within,
+                _ => {
+                    return Err(LoadError::UnknownExtension {
+                        path: path.to_path_buf(),
+                    });
+                }
+            };
         // The parsers need the whole text; the cap bounds it (and the error
         // messages quote at most an excerpt of it).
         let text = input::read_text(path, InputKind::Model, limit)?;
-        parse(&text)
+        parse(&text, budget)
     }
 }

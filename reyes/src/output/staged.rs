@@ -149,6 +149,22 @@ impl StagedFiles {
         Ok(())
     }
 
+    /// [`StagedFiles::write`] with the content streamed by `write` instead
+    /// of held in memory (a model's text can be several times its patches).
+    pub fn write_with(
+        &mut self,
+        target: &Path,
+        write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+    ) -> Result<(), OutputError> {
+        self.staged.push(Staged::write(target, |writer| {
+            write(writer).map_err(|source| OutputError::Write {
+                path: target.to_path_buf(),
+                source,
+            })
+        })?);
+        Ok(())
+    }
+
     /// Renames every temporary file over its target, in the order written
     /// (so a file that names the others, such as a scene naming its models,
     /// goes last). Renames within one directory do not fail for lack of

@@ -199,20 +199,19 @@ pub struct MeshDir {
     pub basis: Basis,
 }
 
-/// The Bezier patches of a `PatchMesh`: `bicubic` (else bilinear), points
-/// `p[v * nu + u]`.
-pub fn patch_mesh(
+/// The patches of a `PatchMesh` along u and along v (what [`patch_mesh`]
+/// makes, `nu * nv` of them), from `points` control points; or why they do
+/// not make whole patches.
+pub fn patch_mesh_counts(
     bicubic: bool,
     u: MeshDir,
     v: MeshDir,
-    p: &[DVec3],
-) -> Result<Vec<[DVec3; 16]>, String> {
-    if u.n.checked_mul(v.n) != Some(p.len()) {
+    points: usize,
+) -> Result<(usize, usize), String> {
+    if u.n.checked_mul(v.n) != Some(points) {
         return Err(format!(
-            "\"P\" has {} points but nu * nv is {} * {}",
-            p.len(),
-            u.n,
-            v.n
+            "\"P\" has {points} points but nu * nv is {} * {}",
+            u.n, v.n
         ));
     }
     let (order, ustep, vstep) = if bicubic {
@@ -225,6 +224,29 @@ pub fn patch_mesh(
     }
     let nup = patch_count(u.n, u.wrap, ustep, order).map_err(|e| format!("u: {e}"))?;
     let nvp = patch_count(v.n, v.wrap, vstep, order).map_err(|e| format!("v: {e}"))?;
+    Ok((nup, nvp))
+}
+
+/// The patches of the fan [`polygon`] makes of a polygon of `n` vertices
+/// (at least 3): one per two triangles.
+pub fn fan_patches(n: usize) -> usize {
+    n.saturating_sub(1) / 2
+}
+
+/// The Bezier patches of a `PatchMesh`: `bicubic` (else bilinear), points
+/// `p[v * nu + u]`.
+pub fn patch_mesh(
+    bicubic: bool,
+    u: MeshDir,
+    v: MeshDir,
+    p: &[DVec3],
+) -> Result<Vec<[DVec3; 16]>, String> {
+    let (nup, nvp) = patch_mesh_counts(bicubic, u, v, p.len())?;
+    let (ustep, vstep) = if bicubic {
+        (u.basis.step, v.basis.step)
+    } else {
+        (1, 1)
+    };
     let at = |i: usize, j: usize| p[(j % v.n) * u.n + (i % u.n)];
     let mut out = Vec::with_capacity(nup.saturating_mul(nvp).min(p.len()));
     for pv in 0..nvp {

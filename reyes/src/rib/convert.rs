@@ -135,7 +135,8 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
                 return Err(scene_error(
                     file,
                     format!(
-                        "the primitive at {}:{} reaches z = {z:e} in camera space: the default far plane, twice the farthest control point, is beyond f32; give Clipping near far, or scale the scene down",
+                        "the {} at {}:{} reaches z = {z:e} in camera space: the default far plane, twice the farthest control point, is beyond f32; give Clipping near far, or scale the scene down",
+                        prim.request,
                         prim.file.display(),
                         prim.line
                     ),
@@ -186,15 +187,8 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
         warn("DepthOfField needs a perspective camera (the thin lens of an orthographic one is not supported): a pinhole camera is used".into());
     } else if let Some((fstop, focal_length, focal_distance)) = opts.dof {
         if fstop > 0.0 && focal_length > 0.0 && focal_distance > 0.0 && fstop.is_finite() {
+            // The request checked that f32 holds them.
             let aperture = focal_length / (2.0 * fstop);
-            if !((aperture as f32).is_finite() && (focal_distance as f32).is_finite()) {
-                return Err(scene_error(
-                    file,
-                    format!(
-                        "DepthOfField: the lens radius (focallength / (2 fstop) = {aperture:e}) or the focal distance ({focal_distance:e}) is beyond f32"
-                    ),
-                ));
-            }
             scene.lens = Lens {
                 aperture: aperture as f32,
                 focus_distance: Some(focal_distance as f32),
@@ -235,11 +229,13 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
     // Objects: consecutive primitives with the same look and motion share one.
     let mut models: Vec<Model> = Vec::new();
     let mut keys: Vec<ObjectKey> = Vec::new();
-    for prim in &interp.prims {
+    // Each primitive's patches are dropped once copied into its object's
+    // model: the two never both hold the whole scene.
+    for prim in std::mem::take(&mut interp.prims) {
         if prim.patches.is_empty() {
             continue;
         }
-        let key = object_key(prim);
+        let key = object_key(&prim);
         if keys.last() != Some(&key) {
             let transform_close = match prim.close {
                 None => None,

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{DMat4, DVec3};
 
 use super::basis::{self, MeshDir, Wrap};
-use super::interp::{Interp, MAX_PATCHES, Motion, Prim, camera_to_world};
+use super::interp::{Interp, Motion, Prim, RequestError, camera_to_world};
 use super::parser::Value;
 use super::state;
 
@@ -35,6 +35,18 @@ const GEOMETRY: [&str; 21] = [
     "TrimCurve",
 ];
 
+/// The requests that change the current transform.
+const TRANSFORMS: [&str; 8] = [
+    "Identity",
+    "Transform",
+    "ConcatTransform",
+    "Translate",
+    "Rotate",
+    "Scale",
+    "Skew",
+    "CoordSysTransform",
+];
+
 /// Whether `name` is a geometry request ([`Interp::geometry_request`]).
 pub(super) fn is_geometry(name: &str) -> bool {
     GEOMETRY.contains(&name) || name == "ObjectInstance"
@@ -49,7 +61,7 @@ impl Interp {
         v: &[Value],
         file: &Path,
         line: usize,
-    ) -> Result<(), String> {
+    ) -> Result<(), RequestError> {
         let supported = matches!(
             name,
             "Patch"
@@ -64,7 +76,7 @@ impl Interp {
             return Ok(());
         }
         if self.camera.is_none() {
-            return Err("geometry before WorldBegin".into());
+            return Err("geometry before WorldBegin".to_owned().into());
         }
         if super::quadrics::arity(name).is_some() {
             self.quadric(name, v, file, line)
@@ -213,13 +225,25 @@ impl Interp {
         Ok(())
     }
 
+    /// Takes `patches` from the scene's budget before they are made;
+    /// `what` says what they are, for the error.
+    pub(super) fn take_patches(
+        &mut self,
+        patches: usize,
+        what: impl FnOnce() -> String,
+    ) -> Result<(), RequestError> {
+        self.patches
+            .take(patches as u64)
+            .map_err(|e| RequestError::Budget(what(), e))
+    }
+
     pub(super) fn geometry(
         &mut self,
         name: &str,
         v: &[Value],
         file: &Path,
         line: usize,
-    ) -> Result<(), String> {
+    ) -> Result<(), RequestError> {
         let positional = match name {
             "Patch" => 1,
             "PatchMesh" => 5,
@@ -248,11 +272,12 @@ impl Interp {
             return Ok(());
         }
         let Some(p) = state::points(&params)? else {
-            return Err("needs \"P\"".into());
+            return Err("needs \"P\"".to_owned().into());
         };
         let patches = match name {
             "Patch" => match state::arg_str(&args, 0, "the type")? {
                 "bicubic" => {
+                    self.take_patches(1, String::new)?;
                     let g: [DVec3; 16] = p.try_into().map_err(|p: Vec<DVec3>| {
                         format!("bicubic needs 16 points, found {}", p.len())
                     })?;
@@ -263,18 +288,19 @@ impl Interp {
                     )]
                 }
                 "bilinear" => {
+                    self.take_patches(1, String::new)?;
                     let c: [DVec3; 4] = p.try_into().map_err(|p: Vec<DVec3>| {
                         format!("bilinear needs 4 points, found {}", p.len())
                     })?;
                     vec![basis::bilinear_to_bezier(&c)]
                 }
-                other => return Err(format!("unknown patch type {other:?}")),
+                other => return Err(format!("unknown patch type {other:?}").into()),
             },
             "PatchMesh" => {
                 let bicubic = match state::arg_str(&args, 0, "the type")? {
                     "bicubic" => true,
                     "bilinear" => false,
-                    other => return Err(format!("unknown patch type {other:?}")),
+                    other => return Err(format!("unknown patch type {other:?}").into()),
                 };
                 let count = |i: usize, what: &str| -> Result<usize, String> {
                     let n = state::arg_f(&args, i, what)?;
@@ -300,9 +326,13 @@ impl Interp {
                     wrap: wrap(4)?,
                     basis: self.attrs.vbasis,
                 };
+                let (nup, nvp) = basis::patch_mesh_counts(bicubic, u, vd, p.len())?;
+                self.take_patches(nup.saturating_mul(nvp), || format!("{nup} x {nvp} patches"))?;
                 basis::patch_mesh(bicubic, u, vd, &p)?
             }
             "PointsPolygons" | "GeneralPolygon" | "PointsGeneralPolygons" => {
+                let estimate = super::polygons::estimate(name, &args)?;
+                self.take_patches(estimate, || "their fans".to_owned())?;
                 let made = if name == "PointsPolygons" {
                     super::polygons::points_polygons(&args, &p)?
                 } else if name == "PointsGeneralPolygons" {
@@ -339,8 +369,9 @@ impl Interp {
             }
             _ => {
                 if p.len() < 3 {
-                    return Err(format!("needs at least 3 points, found {}", p.len()));
+                    return Err(format!("needs at least 3 points, found {}", p.len()).into());
                 }
+                self.take_patches(basis::fan_patches(p.len()), || "its fan".to_owned())?;
                 if !basis::convex(&p) {
                     self.warn(
                         file,
@@ -352,34 +383,87 @@ impl Interp {
                 basis::polygon(&p)
             }
         };
-        self.emit(patches, file, line)
+        self.emit(name, patches, file, line)
     }
 
     /// Why points through the current transform leave f32 (for messages):
-    /// the camera transform, the current transform, or the points.
-    pub(super) fn overflow_cause(&self) -> &'static str {
+    /// the camera transform, the current transform (each with the request
+    /// from which on it does), or the points.
+    pub(super) fn overflow_cause(&self) -> String {
         let camera = camera_to_world() * self.camera.unwrap_or(DMat4::IDENTITY);
         if !camera.as_mat4().is_finite() {
-            "the camera transform (the transforms before WorldBegin) overflows f32"
+            format!(
+                "the camera transform (the transforms before WorldBegin) overflows f32{}",
+                self.origin_text(self.camera_overflow)
+            )
         } else if !(camera * self.xf.open).as_mat4().is_finite() {
-            "the current transform overflows f32"
+            format!(
+                "the current transform overflows f32{}",
+                self.origin_text(self.xf.overflow)
+            )
         } else {
-            "the points through the current transform overflow f32"
+            "the points through the current transform overflow f32".to_owned()
         }
     }
 
+    /// ` (from the Scale at scene.rib:2 on)`, or nothing without an origin.
+    fn origin_text(&self, origin: Option<state::Origin>) -> String {
+        origin.map_or_else(String::new, |o| {
+            let file = self
+                .origin_files
+                .get(o.file)
+                .map_or_else(|| "?".to_owned(), |f| f.display().to_string());
+            format!(" (from the {} at {file}:{} on)", o.request, o.line)
+        })
+    }
+
+    /// Records in the current transform the request `name` at `line` of
+    /// `file` if the transform to camera space leaves f32 there (keeping
+    /// an earlier one), or clears it when it is back within f32. Before
+    /// `WorldBegin` the current transform is the camera's; after, an
+    /// overflowing camera is named by its own origin instead.
+    pub(super) fn track_overflow(&mut self, name: &str, file: &Path, line: usize) {
+        let fits = |m: DMat4| m.as_mat4().is_finite();
+        let camera = camera_to_world() * self.camera.unwrap_or(DMat4::IDENTITY);
+        if !fits(camera) {
+            self.xf.overflow = None;
+            return;
+        }
+        if fits(camera * self.xf.open) && fits(camera * self.xf.close) {
+            self.xf.overflow = None;
+        } else if self.xf.overflow.is_none() {
+            let request = TRANSFORMS
+                .iter()
+                .copied()
+                .find(|t| *t == name)
+                .unwrap_or("transform");
+            let index = match self.origin_files.iter().position(|f| f == file) {
+                Some(i) => i,
+                None => {
+                    self.origin_files.push(file.to_path_buf());
+                    self.origin_files.len() - 1
+                }
+            };
+            self.xf.overflow = Some(state::Origin {
+                request,
+                file: index,
+                line,
+            });
+        }
+    }
+
+    /// Adds the primitive of request `name` made of `patches` (already
+    /// taken from the budget) at `line` of `file`.
     pub(super) fn emit(
         &mut self,
+        name: &str,
         patches: Vec<[DVec3; 16]>,
         file: &Path,
         line: usize,
-    ) -> Result<(), String> {
+    ) -> Result<(), RequestError> {
         let camera = self.camera.unwrap_or(DMat4::IDENTITY);
         let open = camera_to_world() * camera * self.xf.open;
         let close = camera_to_world() * camera * self.xf.close;
-        if self.patch_count + patches.len() > MAX_PATCHES {
-            return Err(format!("the scene has more than {MAX_PATCHES} patches"));
-        }
         let mut out = Vec::with_capacity(patches.len());
         for patch in &patches {
             let pts = patch.map(|p| open.transform_point3(p).as_vec3());
@@ -401,13 +485,19 @@ impl Interp {
                 ),
             );
         }
-        self.patch_count += out.len();
+        // The budget took them all before they were made.
+        self.patches.give_back(skipped as u64);
         self.lights_for_primitive();
         let moving = (self.xf.open != self.xf.close).then(|| close * open.inverse());
         self.prims.push(Prim {
             patches: out,
             attrs: self.attrs.clone(),
             close: moving,
+            request: GEOMETRY
+                .iter()
+                .copied()
+                .find(|g| *g == name)
+                .unwrap_or("primitive"),
             file: file.to_path_buf(),
             line,
         });

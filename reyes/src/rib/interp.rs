@@ -11,7 +11,34 @@ use super::lights::RibLight;
 use super::parser::Call;
 use super::state::{self, Attributes, Decl, Xform};
 use super::{RibError, Warning};
+use crate::budget::{BudgetExceeded, PatchBudget};
 use crate::input::{self, InputKind};
+
+/// Why a request failed: a message, or the patch budget it would pass.
+#[derive(Debug)]
+pub(super) enum RequestError {
+    /// What is wrong with the request.
+    Message(String),
+    /// The request would make more patches than the scene has left; the
+    /// text says what it would make (`64 x 64 segments`), if anything.
+    Budget(String, BudgetExceeded),
+}
+
+impl From<String> for RequestError {
+    fn from(message: String) -> RequestError {
+        RequestError::Message(message)
+    }
+}
+
+impl std::fmt::Display for RequestError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RequestError::Message(m) => f.write_str(m),
+            RequestError::Budget(what, e) if what.is_empty() => write!(f, "{e}"),
+            RequestError::Budget(what, e) => write!(f, "{what}: {e}"),
+        }
+    }
+}
 
 /// Deepest `ReadArchive` nesting.
 const MAX_INCLUDE_DEPTH: usize = 64;
@@ -24,8 +51,6 @@ const MAX_MESSAGE_CHARS: usize = 512;
 /// Longest `ReadArchive` name, in bytes: far beyond any real archive name,
 /// and short enough for the messages that quote it.
 const MAX_ARCHIVE_NAME_BYTES: usize = 1024;
-/// Most Bezier patches one scene may produce (bounds memory: 16 points each).
-pub(super) const MAX_PATCHES: usize = 1 << 24;
 
 /// Options set before `WorldBegin`.
 #[derive(Debug, Clone, Default)]
@@ -70,6 +95,8 @@ pub struct Prim {
     pub attrs: Attributes,
     /// The world-space motion from shutter open to close, if it moves.
     pub close: Option<DMat4>,
+    /// Its request (`Sphere`, `PatchMesh`...).
+    pub request: &'static str,
     /// The file of its request.
     pub file: PathBuf,
     /// The line of its request.
@@ -98,6 +125,11 @@ pub struct Interp {
     pub(super) coordsys: HashMap<String, Xform>,
     /// The world-to-camera transform, from `WorldBegin` on.
     pub camera: Option<DMat4>,
+    /// The request from which on the camera transform leaves f32, if it
+    /// does ([`state::Xform::overflow`] at `WorldBegin`).
+    pub(super) camera_overflow: Option<state::Origin>,
+    /// The files [`state::Origin`]s name.
+    pub(super) origin_files: Vec<PathBuf>,
     /// The world-to-camera transform at shutter close, if the camera
     /// moves, and the line of its `WorldBegin`.
     pub camera_close: Option<(DMat4, usize)>,
@@ -105,7 +137,8 @@ pub struct Interp {
     pub(super) motion: Option<Motion>,
     /// The primitives.
     pub prims: Vec<Prim>,
-    pub(super) patch_count: usize,
+    /// The patches the primitives may still make ([`crate::budget`]).
+    pub(super) patches: PatchBudget,
     /// The distant and point lights, in declaration order.
     pub lights: Vec<RibLight>,
     pub(super) includes: Vec<PathBuf>,
@@ -145,10 +178,12 @@ impl Interp {
             coordsys: HashMap::new(),
             camera: None,
             camera_close: None,
+            camera_overflow: None,
+            origin_files: Vec::new(),
             world_done: false,
             motion: None,
             prims: Vec::new(),
-            patch_count: 0,
+            patches: PatchBudget::from_setting(),
             lights: Vec::new(),
             includes: Vec::new(),
             sources: Vec::new(),
@@ -255,10 +290,20 @@ impl Interp {
                 other => other,
             });
         }
-        self.request(call, file).map_err(at)
+        self.request(call, file).map_err(|e| match e {
+            RequestError::Message(message) => at(message),
+            RequestError::Budget(what, source) => RibError::PatchBudget {
+                file: file.to_path_buf(),
+                line: call.line,
+                col: call.col,
+                request: input::excerpt(&call.name),
+                what,
+                source,
+            },
+        })
     }
 
-    pub(super) fn request(&mut self, call: &Call, file: &Path) -> Result<(), String> {
+    pub(super) fn request(&mut self, call: &Call, file: &Path) -> Result<(), RequestError> {
         // Before anything skips the request: the structure is checked
         // everywhere.
         if !self.structure(call, file)? {
@@ -319,18 +364,19 @@ impl Interp {
             | "ShadingInterpolation" => self.option(name, v, file, line)?,
             "WorldBegin" => {
                 if world {
-                    return Err("WorldBegin inside a world block".into());
+                    return Err("WorldBegin inside a world block".to_owned().into());
                 }
                 if self.xf.open != self.xf.close {
                     self.camera_close = Some((self.xf.close, line));
                 }
                 self.camera = Some(self.xf.open);
+                self.camera_overflow = self.xf.overflow;
                 self.xf = Xform::default();
                 self.stack.clear();
             }
             "WorldEnd" => {
                 if !world {
-                    return Err("WorldEnd without WorldBegin".into());
+                    return Err("WorldEnd without WorldBegin".to_owned().into());
                 }
                 self.world_done = true;
             }
@@ -338,10 +384,10 @@ impl Interp {
             "TransformBegin" => self.stack.push((None, self.xf)),
             "AttributeEnd" | "TransformEnd" => {
                 let Some((attrs, xf)) = self.stack.pop() else {
-                    return Err("without a matching begin".into());
+                    return Err("without a matching begin".to_owned().into());
                 };
                 if attrs.is_some() != (name == "AttributeEnd") {
-                    return Err("does not match the innermost begin".into());
+                    return Err("does not match the innermost begin".to_owned().into());
                 }
                 if let Some(a) = attrs {
                     self.attrs = a;
@@ -367,7 +413,7 @@ impl Interp {
                 } else if n == 2.0 {
                     2
                 } else {
-                    return Err(format!("{n} is out of range: must be 1 or 2"));
+                    return Err(format!("{n} is out of range: must be 1 or 2").into());
                 };
             }
             "Orientation" => {
@@ -377,7 +423,7 @@ impl Interp {
                     "rh" => false,
                     "outside" => lh_now,
                     "inside" => !lh_now,
-                    other => return Err(format!("unknown orientation {other:?}")),
+                    other => return Err(format!("unknown orientation {other:?}").into()),
                 };
             }
             "ReverseOrientation" => self.attrs.orientation_lh = !self.attrs.orientation_lh,
@@ -386,8 +432,14 @@ impl Interp {
             "Opacity" => self.opacity(v, file, line)?,
             "Basis" => self.basis(v)?,
             "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale"
-            | "Skew" => self.transform(name, v)?,
-            "CoordinateSystem" | "CoordSysTransform" => self.coordinate_system(name, v)?,
+            | "Skew" => {
+                self.transform(name, v)?;
+                self.track_overflow(name, file, line);
+            }
+            "CoordinateSystem" | "CoordSysTransform" => {
+                self.coordinate_system(name, v)?;
+                self.track_overflow(name, file, line);
+            }
             name if super::geometry::is_geometry(name) => {
                 self.geometry_request(name, v, file, line)?
             }

@@ -60,6 +60,24 @@ pub enum RibError {
         /// What is wrong.
         message: String,
     },
+    /// A request would make more patches than the scene's budget has left
+    /// ([`crate::budget`]); nothing of it was made.
+    #[error("{}:{line}:{col}: {request}: {}{source}", file.display(), if what.is_empty() { String::new() } else { format!("{what}: ") })]
+    PatchBudget {
+        /// The file (the archive, for a request inside one).
+        file: PathBuf,
+        /// 1-based line of the request.
+        line: usize,
+        /// 1-based column of the request.
+        col: usize,
+        /// The request (`Sphere`, `PointsPolygons`...).
+        request: String,
+        /// What it would make (`64 x 64 segments`), or empty.
+        what: String,
+        /// The estimate and the budget.
+        #[source]
+        source: crate::budget::BudgetExceeded,
+    },
     /// The file was refused or could not be read (see `crate::input`).
     #[error(transparent)]
     Input(InputError),
@@ -78,7 +96,9 @@ impl RibError {
     /// The `(line, column)` of a syntax or request error.
     pub fn position(&self) -> Option<(usize, usize)> {
         match self {
-            RibError::Syntax { line, col, .. } => Some((*line, *col)),
+            RibError::Syntax { line, col, .. } | RibError::PatchBudget { line, col, .. } => {
+                Some((*line, *col))
+            }
             _ => None,
         }
     }
@@ -260,9 +280,10 @@ impl RibScene {
         }
         guard.prepare_dirs()?;
         let mut staged = StagedFiles::new();
-        // One model's text at a time: the set holds files, not their bytes.
+        // Streamed: the set holds files, not their bytes (a model's text
+        // is several times its patches).
         for ((_, file), model) in models.iter().zip(&self.models) {
-            staged.write(file, crate::load::bpt::write(model).as_bytes())?;
+            staged.write_with(file, |out| crate::load::bpt::write_to(model, out))?;
         }
         let header = "# Converted from RenderMan RIB by `reyes convert`.\n";
         let text = format!("{header}{}", scene.to_toml_string());

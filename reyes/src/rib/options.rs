@@ -155,7 +155,19 @@ impl Interp {
             }
             "DepthOfField" => {
                 let n = state::all_nums(v, 3)?;
-                self.opts.dof = Some((n[0], n[1], n[2]));
+                let (fstop, focal_length, focal_distance) = (n[0], n[1], n[2]);
+                // Checked here, where the request is, rather than as the
+                // scene's lens: the lens radius is derived, and the f32
+                // overflow is this request's.
+                if fstop > 0.0 && focal_length > 0.0 && focal_distance > 0.0 && fstop.is_finite() {
+                    let aperture = focal_length / (2.0 * fstop);
+                    if !((aperture as f32).is_finite() && (focal_distance as f32).is_finite()) {
+                        return Err(format!(
+                            "the lens radius (focallength / (2 fstop) = {aperture:e}) or the focal distance ({focal_distance:e}) is beyond f32"
+                        ));
+                    }
+                }
+                self.opts.dof = Some((fstop, focal_length, focal_distance));
             }
             "Display" => {
                 let (args, _, _) = state::split_params(v, 3, &self.declared)?;

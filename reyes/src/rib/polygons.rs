@@ -24,6 +24,40 @@ fn counts(args: &[Value], i: usize, what: &str) -> Result<Vec<usize>, String> {
         .collect()
 }
 
+/// The patches request `name` (`PointsPolygons`, `GeneralPolygon` or
+/// `PointsGeneralPolygons`) with positional values `args` will make, from
+/// its counts alone, before any point is read: one fan
+/// ([`basis::fan_patches`]) per polygon of one loop. Counts the request
+/// gets wrong are left to its conversion to report (they count 0 here).
+pub(super) fn estimate(name: &str, args: &[Value]) -> Result<usize, String> {
+    let fans = |n: &[usize]| {
+        n.iter()
+            .fold(0usize, |a, &n| a.saturating_add(basis::fan_patches(n)))
+    };
+    Ok(match name {
+        "PointsPolygons" => fans(&counts(args, 0, "nverts")?),
+        "GeneralPolygon" => match counts(args, 0, "nverts")?.as_slice() {
+            [n] => basis::fan_patches(*n),
+            _ => 0,
+        },
+        _ => {
+            let nloops = counts(args, 0, "nloops")?;
+            let nverts = counts(args, 1, "nverts")?;
+            let mut at = 0usize;
+            let mut total = 0usize;
+            for nl in nloops {
+                if nl == 1
+                    && let Some(&n) = nverts.get(at)
+                {
+                    total = total.saturating_add(basis::fan_patches(n));
+                }
+                at = at.saturating_add(nl);
+            }
+            total
+        }
+    })
+}
+
 /// Converts one convex polygon, counting it if it is not convex.
 fn convert(poly: &[DVec3], out: &mut Polygons) {
     if !basis::convex(poly) {

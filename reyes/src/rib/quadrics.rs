@@ -15,7 +15,7 @@ use std::path::Path;
 
 use glam::{DMat4, DVec2, DVec3};
 
-use super::interp::Interp;
+use super::interp::{Interp, RequestError};
 use super::parser::Value;
 use super::state;
 
@@ -23,6 +23,10 @@ use super::state;
 pub const MAX_SEGMENTS: usize = 64;
 /// The error allowed at the render's resolution, in pixels.
 pub const MAX_ERROR_PX: f64 = 0.1;
+/// The pieces per fewest segment (a quarter turn) whose bounding spheres
+/// bound the depth of a quadric's visible points: pieces of 22.5 degrees,
+/// whose bounding spheres stay within a third of their radius of the surface.
+const PROBE_SPLIT: usize = 4;
 
 /// The largest radial error of the cubic Bezier of a unit circular arc of
 /// angle `phi` (radians, at most a quarter turn) with the standard handles.
@@ -266,13 +270,13 @@ impl Interp {
         v: &[Value],
         file: &Path,
         line: usize,
-    ) -> Result<(), String> {
+    ) -> Result<(), RequestError> {
         let count = arity(name).expect("a quadric");
         // The positional numbers, bare or in arrays, before the parameters.
         let head = v.iter().take_while(|x| x.nums().is_some()).count();
         let nums: Vec<f64> = v[..head].iter().flat_map(|x| x.nums().unwrap()).collect();
         if nums.len() != count {
-            return Err(format!("expected {count} numbers, found {}", nums.len()));
+            return Err(format!("expected {count} numbers, found {}", nums.len()).into());
         }
         let (_, _, unknown) = state::split_params(&v[head..], 0, &self.declared)?;
         for u in unknown {
@@ -292,11 +296,14 @@ impl Interp {
         };
         let to_camera = self.camera.unwrap_or(DMat4::IDENTITY) * self.xf.open;
         let (nu0, nv0) = quadric.min_segments();
-        let Some(px) = self.world_per_pixel(to_camera, &quadric.patches(nu0, nv0)) else {
+        let Some(px) = self.world_per_pixel(to_camera, &quadric) else {
             // Behind the camera: not seen.
-            return self.emit(quadric.patches(nu0, nv0), file, line);
+            self.take_patches(nu0 * nv0, || format!("{nu0} x {nv0} segments"))?;
+            return self.emit(name, quadric.patches(nu0, nv0), file, line);
         };
         let (nu, nv, clamped) = quadric.segments(MAX_ERROR_PX * px);
+        // Counted before they are made: 64 x 64 segments are 4096 patches.
+        self.take_patches(nu * nv, || format!("{nu} x {nv} segments"))?;
         if clamped {
             let error = quadric.error_bound(nu, nv) / px;
             self.warn(
@@ -307,55 +314,81 @@ impl Interp {
                 ),
             );
         }
-        self.emit(quadric.patches(nu, nv), file, line)
+        self.emit(name, quadric.patches(nu, nv), file, line)
     }
 
     /// The object-space length of a pixel (a bound on how far a step of
-    /// that length moves in the image) at the nearest depth of the
-    /// bounding sphere of `patches` under `to_camera`; `None` if they are
-    /// all behind the near plane.
-    fn world_per_pixel(&self, to_camera: DMat4, patches: &[[DVec3; 16]]) -> Option<f64> {
-        let points: Vec<DVec3> = patches
-            .iter()
-            .flatten()
-            .map(|&p| to_camera.transform_point3(p))
-            .collect();
-        let lo = points.iter().fold(DVec3::INFINITY, |a, &p| a.min(p));
-        let hi = points.iter().fold(DVec3::NEG_INFINITY, |a, &p| a.max(p));
-        let center = (lo + hi) / 2.0;
-        let radius = points
-            .iter()
-            .fold(0.0f64, |a, &p| a.max(p.distance(center)));
-        let near = self
-            .opts
-            .clipping
-            .map_or(0.1, |(n, _)| n.max(f64::from(crate::params::NEAR_EPS)));
-        if center.z + radius < near {
-            return None;
-        }
-        let depth = (center.z - radius).max(near);
-        let (w, h) = self.opts.image_size();
-        let (w, h) = (f64::from(w), f64::from(h));
-        let [_, _, bottom, top] = self.opts.screen_window_or_default();
-        let camera_px = if self.opts.perspective {
-            let fov = self.opts.fov.filter(|f| *f > 0.0 && *f < 180.0);
-            // tan of half the vertical field of view.
-            let tan_y = (fov.unwrap_or(90.0).to_radians() / 2.0).tan() * (top - bottom) / 2.0;
-            // A step d at depth z moves the projection (x/z, y/z) by at most
-            // |d| sqrt(1 + tx^2 + ty^2) / z, tx, ty the image's half extents.
-            let (tx, ty) = (tan_y * w / h, tan_y);
-            let slope = (1.0 + tx * tx + ty * ty).sqrt();
-            depth * 2.0 * tan_y / (h * slope)
-        } else {
-            // Orthographic: a pixel is the same size at every depth.
-            (top - bottom) / h
-        };
+    /// that length moves in the image) at a lower bound of the depth of the
+    /// points of `quadric` that are in view under `to_camera`; `None` if it
+    /// is all behind the near plane.
+    ///
+    /// The depth bound is the larger of two: the nearest depth of the
+    /// bounding sphere of the whole quadric, and the nearest over its
+    /// pieces ([`PROBE_SPLIT`] per fewest segment) of what each piece's
+    /// bounding sphere allows. A point in view at distance `D` from the eye
+    /// has `z >= D / sqrt(1 + tx^2 + ty^2)`, so a piece at distance `D`
+    /// cannot be nearer in depth than that even when the whole quadric
+    /// surrounds the eye (a large sphere around the camera, whose bounding
+    /// sphere reaches the near plane: bounding the error there asked for
+    /// the most segments, 4096 patches, at any radius).
+    fn world_per_pixel(&self, to_camera: DMat4, quadric: &Quadric) -> Option<f64> {
+        let (nu0, nv0) = quadric.min_segments();
+        let (nu, nv) = (nu0 * PROBE_SPLIT, nv0 * PROBE_SPLIT);
+        let pieces = quadric.patches(nu, nv);
         // Object space to camera space stretches by at most the Frobenius
         // norm of the linear part.
         let m = glam::DMat3::from_mat4(to_camera);
         let stretch =
             (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared())
                 .sqrt();
-        (stretch > 0.0).then(|| camera_px / stretch)
+        if stretch.is_nan() || stretch <= 0.0 {
+            return None;
+        }
+        // The exact surface is within this of the pieces (camera space).
+        let slack = quadric.error_bound(nu, nv) * stretch;
+        let near = self
+            .opts
+            .clipping
+            .map_or(0.1, |(n, _)| n.max(f64::from(crate::params::NEAR_EPS)));
+        let (w, h) = self.opts.image_size();
+        let (w, h) = (f64::from(w), f64::from(h));
+        let [_, _, bottom, top] = self.opts.screen_window_or_default();
+        // tan of half the vertical field of view, and the image's half
+        // extents over the depth.
+        let fov = self.opts.fov.filter(|f| *f > 0.0 && *f < 180.0);
+        let tan_y = (fov.unwrap_or(90.0).to_radians() / 2.0).tan() * (top - bottom) / 2.0;
+        let (tx, ty) = (tan_y * w / h, tan_y);
+        let slope = (1.0 + tx * tx + ty * ty).sqrt();
+        let sphere = |points: &mut dyn Iterator<Item = DVec3>| {
+            let points: Vec<DVec3> = points.map(|p| to_camera.transform_point3(p)).collect();
+            let lo = points.iter().fold(DVec3::INFINITY, |a, &p| a.min(p));
+            let hi = points.iter().fold(DVec3::NEG_INFINITY, |a, &p| a.max(p));
+            let center = (lo + hi) / 2.0;
+            let radius = points
+                .iter()
+                .fold(0.0f64, |a, &p| a.max(p.distance(center)));
+            (center, radius + slack)
+        };
+        let (center, radius) = sphere(&mut pieces.iter().flatten().copied());
+        if center.z + radius < near {
+            return None;
+        }
+        let whole = center.z - radius;
+        let pieces_depth = pieces
+            .iter()
+            .map(|piece| sphere(&mut piece.iter().copied()))
+            .filter(|(c, r)| c.z + r >= near)
+            .map(|(c, r)| (c.z - r).max((c.length() - r) / slope))
+            .fold(f64::INFINITY, f64::min);
+        let depth = whole.max(pieces_depth).max(near);
+        let camera_px = if self.opts.perspective {
+            // A step d at depth z moves the projection (x/z, y/z) by at most
+            // |d| sqrt(1 + tx^2 + ty^2) / z, tx, ty the image's half extents.
+            depth * 2.0 * tan_y / (h * slope)
+        } else {
+            // Orthographic: a pixel is the same size at every depth.
+            (top - bottom) / h
+        };
+        Some(camera_px / stretch)
     }
 }

@@ -32,6 +32,7 @@ impl Interp {
                 state::Xform {
                     open: camera,
                     close: camera,
+                    overflow: None,
                 }
             }
             (None, other) => return Err(format!("unknown coordinate system {other:?}")),

@@ -53,6 +53,10 @@ pub struct Xform {
     pub open: DMat4,
     /// At shutter close.
     pub close: DMat4,
+    /// The request from which on the transform to camera space leaves f32,
+    /// if it does (saved and restored with the transform, so it names the
+    /// request of the transform in force).
+    pub overflow: Option<Origin>,
 }
 
 impl Default for Xform {
@@ -60,8 +64,21 @@ impl Default for Xform {
         Xform {
             open: DMat4::IDENTITY,
             close: DMat4::IDENTITY,
+            overflow: None,
         }
     }
+}
+
+/// A request, for messages about what it caused later: its name, its file
+/// (an index into the interpreter's list of files) and its line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Origin {
+    /// The request.
+    pub request: &'static str,
+    /// The file's index.
+    pub file: usize,
+    /// 1-based line.
+    pub line: usize,
 }
 
 /// One `"name" value` pair of a parameter list.

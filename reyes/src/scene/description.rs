@@ -7,7 +7,10 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::aov::Aov;
+use crate::budget::PatchBudget;
 use crate::filter::PixelFilter;
+use crate::input::InputKind;
+use crate::load::LoadError;
 use crate::model::Model;
 use crate::modes::{Dicing, Sampling, ShadingInterpolation};
 #[cfg(doc)]
@@ -252,18 +255,35 @@ impl Scene {
             .collect()
     }
 
-    /// Loads every object's model, in object order.
+    /// Loads every object's model, in object order, within one patch
+    /// budget for the whole scene ([`crate::budget`]): each file's declared
+    /// count is taken before it is read, so an object that would pass the
+    /// budget is refused before its patches are made (the same model named
+    /// by many objects counts each time: each object holds its copy).
     pub fn load_models(&self) -> Result<Vec<Model>, SceneError> {
+        let mut budget = PatchBudget::from_setting();
         self.objects
             .iter()
             .enumerate()
-            .map(|(index, object)| match self.model_source(object) {
-                ModelSource::Teapot => Ok(Model::teapot()),
-                ModelSource::File(path) => Model::load(&path).map_err(|source| SceneError::Model {
+            .map(|(index, object)| {
+                let error = |source| SceneError::Model {
                     index,
                     model: object.model.clone(),
                     source,
-                }),
+                };
+                match self.model_source(object) {
+                    ModelSource::Teapot => {
+                        let teapot = Model::teapot();
+                        budget
+                            .take(teapot.patches.len() as u64)
+                            .map_err(|source| error(LoadError::PatchBudget { line: 1, source }))?;
+                        Ok(teapot)
+                    }
+                    ModelSource::File(path) => {
+                        Model::load_within(&path, InputKind::Model.limit(), &mut budget)
+                            .map_err(error)
+                    }
+                }
             })
             .collect()
     }
