@@ -12,6 +12,7 @@ use crate::filter::PixelFilter;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
 use crate::params::DEGENERATE_NORMAL_REL_EPS;
+use crate::quantize::Encoding;
 use crate::scene::{
     CameraDesc, FramingError, LightKind, Sampling, Scene, SceneError, ShadingInterpolation, Surface,
 };
@@ -133,6 +134,11 @@ pub struct PreparedScene {
     /// picture, whose pixels average their own samples (a box over one
     /// pixel) so that its colours stay the grid classes'.
     pub pixel_filter: PixelFilter,
+    /// How the resolved linear image becomes the 8-bit one: the scene's
+    /// exposure and quantization, except for the pictures of data (every
+    /// [`Aov`] but `shaded`), whose colours are encoded plainly
+    /// ([`Encoding::PLAIN`]: no exposure, no dither).
+    pub encoding: Encoding,
 }
 
 impl PreparedScene {
@@ -310,6 +316,14 @@ impl PreparedScene {
                 PixelFilter::PIXEL_BOX
             } else {
                 scene.pixel_filter
+            },
+            encoding: if scene.aov == Aov::Shaded {
+                Encoding {
+                    exposure: scene.exposure,
+                    quantize: scene.quantize,
+                }
+            } else {
+                Encoding::PLAIN
             },
         })
     }
