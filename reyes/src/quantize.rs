@@ -30,7 +30,7 @@
 //! equal float values give equal 8-bit images. The EXR output is the float
 //! image itself: neither exposure nor quantization touches it.
 
-use image::{Rgba, Rgba32FImage, RgbaImage};
+use image::{Rgba32FImage, RgbaImage};
 use serde::{Deserialize, Serialize};
 
 use crate::sampling::hash;
@@ -305,17 +305,6 @@ impl Encoding {
         });
         image
     }
-}
-
-/// A linear RGBA image from row-major RGBA floats (as the GPU resolve
-/// writes them); `None` when the length is not `4 * width * height`.
-pub fn linear_image(width: u32, height: u32, rgba: Vec<f32>) -> Option<Rgba32FImage> {
-    Rgba32FImage::from_raw(width, height, rgba)
-}
-
-/// One opaque linear pixel.
-pub fn opaque(rgb: [f32; 3]) -> Rgba<f32> {
-    Rgba([rgb[0], rgb[1], rgb[2], 1.0])
 }
 
 #[cfg(test)]

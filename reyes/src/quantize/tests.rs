@@ -1,5 +1,7 @@
 //! The encoding against its formulas, computed here in f64.
 
+use image::Rgba;
+
 use super::*;
 
 /// The sRGB transfer function in f64 (IEC 61966-2-1), continued above 1.
