@@ -141,7 +141,11 @@ fn dither_keeps_the_mean_between_the_two_neighbouring_codes() {
             .all(|p| p.0 == [rounded, rounded, rounded, 255])
     );
     // The dither is the same on every run.
-    assert_eq!(render_flat(c, 256, "").image, dithered.image);
+    assert_same(
+        &render_flat(c, 256, "").image,
+        &dithered.image,
+        "a second run",
+    );
 }
 
 #[test]
@@ -239,6 +243,27 @@ fn teapot_scene(dir: &Path, name: &str, extra: &str) -> std::path::PathBuf {
     path
 }
 
+/// Asserts two images are equal, naming the first pixel that differs (an
+/// image is too long to print whole).
+fn assert_same<P>(
+    a: &image::ImageBuffer<P, Vec<P::Subpixel>>,
+    b: &image::ImageBuffer<P, Vec<P::Subpixel>>,
+    what: &str,
+) where
+    P: image::Pixel + PartialEq + std::fmt::Debug,
+{
+    assert_eq!(a.dimensions(), b.dimensions(), "{what}: sizes");
+    if let Some((x, y, p)) = a
+        .enumerate_pixels()
+        .find(|&(x, y, p)| p != b.get_pixel(x, y))
+    {
+        panic!(
+            "{what}: pixel ({x}, {y}) is {p:?} and {:?}",
+            b.get_pixel(x, y)
+        );
+    }
+}
+
 /// `reyes render --cpu scene -o out` in `dir`.
 fn render_cli(dir: &Path, scene: &Path, out: &str) {
     let mut command = Command::new(env!("CARGO_BIN_EXE_reyes"));
@@ -273,12 +298,12 @@ fn the_exr_holds_the_resolve_s_floats_whatever_the_exposure() {
             .clone()
     };
     let exr = read_exr("plain.exr");
-    assert_eq!(exr, read_exr("exposed.exr"), "exposure changed the EXR");
+    assert_same(&exr, &read_exr("exposed.exr"), "exposure changed the EXR");
     // The float resolve of the same scene, in this process.
     let scene = Scene::load(&exposed).unwrap();
     let prepared = PreparedScene::load(&scene).unwrap();
     let reference = reyes::reference::render(&prepared);
-    assert_eq!(exr, reference.linear, "the EXR is not the float resolve");
+    assert_same(&exr, &reference.linear, "the EXR against the float resolve");
     // Values no 8-bit image holds: neither multiples of 1/255 nor the
     // linear value of any sRGB code.
     let codes: Vec<f32> = (0..=255)
@@ -317,7 +342,7 @@ fn the_exr_holds_the_resolve_s_floats_whatever_the_exposure() {
         let png = image::open(dir.join(format!("{stem}.png")))
             .unwrap()
             .to_rgba8();
-        assert_eq!(png, encoding.encode(&exr, [0, 0]), "{stem}.png");
+        assert_same(&png, &encoding.encode(&exr, [0, 0]), &format!("{stem}.png"));
     }
     assert_eq!(
         prepared.encoding.exposure,

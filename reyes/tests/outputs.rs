@@ -115,7 +115,10 @@ fn the_exr_holds_the_floats_the_png_encodes() {
     // The PNG is the default encoding (RenderMan's exposure and
     // quantization, with its dither) of the EXR's floats, and each code is
     // within one of the float's nearest sRGB code.
-    assert_eq!(&Encoding::default().encode(exr, [0, 0]), &png);
+    assert!(
+        Encoding::default().encode(exr, [0, 0]) == png,
+        "the PNG is not the encoding of the EXR"
+    );
     let mut lit = 0;
     let mut between_codes = 0;
     for (x, y, pixel) in png.enumerate_pixels() {

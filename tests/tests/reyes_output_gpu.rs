@@ -23,6 +23,27 @@ fn srgb(c: f64) -> f64 {
     }
 }
 
+/// Asserts two images are equal, naming the first pixel that differs (an
+/// image is too long to print whole).
+fn assert_same<P>(
+    a: &image::ImageBuffer<P, Vec<P::Subpixel>>,
+    b: &image::ImageBuffer<P, Vec<P::Subpixel>>,
+    what: &str,
+) where
+    P: image::Pixel + PartialEq + std::fmt::Debug,
+{
+    assert_eq!(a.dimensions(), b.dimensions(), "{what}: sizes");
+    if let Some((x, y, p)) = a
+        .enumerate_pixels()
+        .find(|&(x, y, p)| p != b.get_pixel(x, y))
+    {
+        panic!(
+            "{what}: pixel ({x}, {y}) is {p:?} and {:?}",
+            b.get_pixel(x, y)
+        );
+    }
+}
+
 /// An empty frame whose every pixel is the grey background `c`: one
 /// sample per pixel through a box over the pixel.
 fn flat(c: f32, size: u32, exposure: Exposure, quantize: Quantize) -> PreparedScene {
@@ -59,7 +80,11 @@ fn a_flat_field_encodes_as_on_the_cpu() {
     assert!(values.iter().all(|&v| v == 87 || v == 88));
     let mean = values.iter().map(|&v| f64::from(v)).sum::<f64>() / values.len() as f64;
     assert!((mean - x).abs() < 0.01, "mean {mean} vs one * c = {x}");
-    assert_eq!(frame.image, reference::render(&scene).image);
+    assert_same(
+        &frame.image,
+        &reference::render(&scene).image,
+        "GPU and CPU codes",
+    );
     // Gain 2, no dither: the doubled value, rounded.
     let gained = flat(
         0.18,
@@ -105,7 +130,11 @@ fn the_teapot_s_floats_match_the_reference_and_are_encoded_the_same() {
     let cpu = reference::render(&scene);
     agreement(&frame, &cpu).assert_at_least("exposed teapot", 0.995, 0.99);
     // The 8-bit image is the host's encoding of the floats read back.
-    assert_eq!(frame.image, scene.encoding.encode(&frame.linear, [0, 0]));
+    assert_same(
+        &frame.image,
+        &scene.encoding.encode(&frame.linear, [0, 0]),
+        "the GPU's codes against the encoding of its floats",
+    );
     // Equal floats give equal codes on both renderers. Many floats differ
     // in their last bits (the GPU contracts the filter's sums into fused
     // multiply-adds), so only about a sixth are equal here (1,072 of
@@ -126,16 +155,21 @@ fn the_teapot_s_floats_match_the_reference_and_are_encoded_the_same() {
     assert!(equal * 10 > pixels, "only {equal} of {pixels} equal floats");
     // The EXR is the floats, whatever the exposure.
     let other = whole.render(&exposed_teapot(0.3)).expect("GPU render");
-    assert_eq!(
-        other.linear, frame.linear,
-        "the exposure changed the floats"
+    assert_same(
+        &other.linear,
+        &frame.linear,
+        "the exposure changed the floats",
     );
-    assert_ne!(other.image, frame.image);
+    assert!(other.image != frame.image, "the exposure changed no code");
     let dir = std::env::temp_dir().join(format!("reyes-output-gpu-{}", std::process::id()));
     let exr = dir.join("teapot.exr");
     reyes::output::write_rendered_image(&frame.image, &frame.linear, &exr).unwrap();
     let back = image::open(&exr).unwrap();
-    assert_eq!(back.as_rgba32f(), Some(&frame.linear));
+    assert_same(
+        back.as_rgba32f().expect("the EXR holds Rgba32F"),
+        &frame.linear,
+        "the EXR against the floats",
+    );
     std::fs::remove_dir_all(&dir).unwrap();
     // In tiles the dither follows absolute pixels: where a tile's floats
     // equal the whole frame's, so do the codes.

@@ -25,8 +25,9 @@ pub struct SampleLayout {
 /// mean of the samples of the pixels around it within the filter's window
 /// (those outside the framebuffer are missing, and the weights of the
 /// others are normalized), taken in linear space and kept as it is (no
-/// clamping, no encoding), alpha 1. A pixel whose window holds no weight (a window narrower than the
-/// sample spacing) takes the plain mean of its own samples. Also returns,
+/// clamping, no encoding), alpha 1. A pixel whose window holds no weight
+/// (a window narrower than the sample spacing) takes the plain mean of its
+/// own samples. Also returns,
 /// row-major, the number of covered samples of every pixel.
 /// `shaders/reyes/resolve.wgsl` mirrors it operation for operation.
 pub fn resolve(
