@@ -24,10 +24,10 @@
 //! r = 2 * (hash(x, y, DITHER_STREAM, channel) >> 8) / 2^24 - 1
 //! ```
 //!
-//! with `hash` the sample jitter's hash ([`crate::sampling::hash`]) and
-//! `channel` 0, 1, 2, 3 for r, g, b, a. Both the GPU renderer and the CPU
-//! reference read the float image back and encode it here, on the host, so
-//! equal float values give equal 8-bit images. The EXR output is the float
+//! with `hash` the sample jitter's hash (`reyes::sampling::hash`) and
+//! `channel` 0, 1, 2, 3 for r, g, b, a. The GPU renderer reads its float
+//! image back and the CPU reference resolves into one; both encode it
+//! here, on the host, so equal float values give equal 8-bit images. The EXR output is the float
 //! image itself: neither exposure nor quantization touches it.
 
 use image::{Rgba32FImage, RgbaImage};
@@ -35,7 +35,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::sampling::hash;
 
-/// The `s` argument of the dither's [`hash`]: sample indices are below 64,
+/// The `s` argument of the dither's `hash`: sample indices are below 64,
 /// so no sample's jitter shares the dither's values.
 pub const DITHER_STREAM: u32 = u32::MAX;
 
