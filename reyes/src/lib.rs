@@ -34,7 +34,9 @@
 //! * [`gpu`]: the GPU renderer; [`reference`](mod@reference): the CPU
 //!   reference renderer;
 //! * [`stats`]: render statistics; [`output`]: PNG and EXR output;
-//!   [`progress`]: what the GPU renderer is doing while a caller waits;
+//!   [`quantize`]: the 8-bit encoding (RenderMan's `Exposure` and
+//!   `Quantize`); [`progress`]: what the GPU renderer is doing while a
+//!   caller waits;
 //! * `view` (feature `viewer`, on by default): the interactive viewer;
 //! * `cli` (feature `cli`, on by default): the `reyes` command line.
 //!
@@ -89,6 +91,7 @@ pub mod modes;
 pub mod output;
 pub mod prepare;
 pub mod progress;
+pub mod quantize;
 pub mod reference;
 pub mod rib;
 pub mod scene;

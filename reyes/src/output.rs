@@ -1,7 +1,9 @@
 //! Writing rendered images (and their statistics) to disk.
 //!
 //! The file extension chooses the format ([`ImageFormat`]): `.png` for
-//! 8-bit sRGB PNG, `.exr` for OpenEXR in float linear RGBA. Every file is
+//! the 8-bit sRGB image (exposed and quantized, [`crate::quantize`]),
+//! `.exr` for OpenEXR in float linear RGBA (the resolve's values as they
+//! are). Every file is
 //! written to a temporary file beside its target and renamed over it once
 //! complete, so a failed write leaves no truncated file and destroys no old
 //! one. [`OutputGuard`] checks every output of a command against every
@@ -17,7 +19,7 @@ mod warnings;
 
 use std::path::{Path, PathBuf};
 
-use image::{ImageBuffer, Rgba, RgbaImage};
+use image::{ImageBuffer, Rgba, Rgba32FImage, RgbaImage};
 
 pub use self::guard::{OutputGuard, OutputKind};
 use self::staged::Staged;
@@ -159,10 +161,12 @@ pub enum OutputError {
 /// An image file format, chosen by the file's extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ImageFormat {
-    /// `.png`: the 8-bit sRGB image as rendered.
+    /// `.png`: the 8-bit sRGB image as rendered (exposed and quantized).
     Png,
-    /// `.exr`: OpenEXR, 32-bit float linear RGBA (the 8-bit sRGB result
-    /// decoded with the exact sRGB transfer function; alpha as is).
+    /// `.exr`: OpenEXR, 32-bit float linear RGBA: a render's resolved
+    /// linear values (not clamped, exposed or quantized); for an image that
+    /// has only 8 bits ([`write_image`]), those decoded with the exact sRGB
+    /// transfer function (alpha scaled to [0, 1]).
     Exr,
 }
 
@@ -237,10 +241,16 @@ impl OutputPlan {
 
     /// Writes the image and, if planned, `stats` as pretty JSON: both go to
     /// temporary files first and are renamed over their targets only when
-    /// both were written, so a failure leaves neither new file behind.
-    pub fn write(&self, image: &RgbaImage, stats: &RenderStats) -> Result<(), OutputError> {
+    /// both were written, so a failure leaves neither new file behind. A
+    /// PNG holds `image` (8-bit), an EXR `linear` (the resolve's floats).
+    pub fn write(
+        &self,
+        image: &RgbaImage,
+        linear: &Rgba32FImage,
+        stats: &RenderStats,
+    ) -> Result<(), OutputError> {
         let (path, format) = &self.image;
-        let staged_image = stage_image(image, path, *format)?;
+        let staged_image = stage_image(image, Some(linear), path, *format)?;
         let staged_stats = match &self.stats_json {
             Some(path) => {
                 let json =
@@ -275,16 +285,27 @@ fn prepare_dir(file: &Path) -> Result<(), OutputError> {
     })
 }
 
-/// Encodes `image` in `format` to a temporary file beside `path`. A
+/// Encodes `image` (as PNG) or `linear` (as EXR; without it, `image`
+/// decoded to linear) in `format` to a temporary file beside `path`. A
 /// failure of the file itself (a full disk, a size limit) is reported as
 /// the write error it is, with its path: the EXR encoder reports one as
 /// "Format error decoding OpenExr".
-fn stage_image(image: &RgbaImage, path: &Path, format: ImageFormat) -> Result<Staged, OutputError> {
+fn stage_image(
+    image: &RgbaImage,
+    linear: Option<&Rgba32FImage>,
+    path: &Path,
+    format: ImageFormat,
+) -> Result<Staged, OutputError> {
     Staged::write(path, |writer| {
         let mut file = FirstIoError::new(writer);
-        let encoded = match format {
-            ImageFormat::Png => image.write_to(&mut file, image::ImageFormat::Png),
-            ImageFormat::Exr => to_linear(image).write_to(&mut file, image::ImageFormat::OpenExr),
+        let encoded = match (format, linear) {
+            (ImageFormat::Png, _) => image.write_to(&mut file, image::ImageFormat::Png),
+            (ImageFormat::Exr, Some(linear)) => {
+                linear.write_to(&mut file, image::ImageFormat::OpenExr)
+            }
+            (ImageFormat::Exr, None) => {
+                to_linear(image).write_to(&mut file, image::ImageFormat::OpenExr)
+            }
         };
         encoded.map_err(|source| match file.error.take() {
             Some(io) => OutputError::Write {
@@ -372,15 +393,29 @@ fn single_output(kind: OutputKind, label: &str, path: &Path) -> Result<PathBuf, 
     Ok(file)
 }
 
-/// Writes an image in the format its extension names (see
-/// [`ImageFormat`]), creating the parent directory if needed, through a
-/// temporary file renamed over `path` once complete. The path is checked
-/// on its own: a command that also reads files records it in its
-/// [`OutputGuard`] first.
+/// Writes an 8-bit image in the format its extension names (see
+/// [`ImageFormat`]; an EXR holds it decoded to linear, so a render's
+/// floats go through [`write_rendered_image`] instead), creating the parent
+/// directory if needed, through a temporary file renamed over `path` once
+/// complete. The path is checked on its own: a command that also reads
+/// files records it in its [`OutputGuard`] first.
 pub fn write_image(image: &RgbaImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
     let path = path.as_ref();
     let file = single_output(OutputKind::Image, "image", path)?;
-    stage_image(image, &file, ImageFormat::from_path(path)?)?.commit()
+    stage_image(image, None, &file, ImageFormat::from_path(path)?)?.commit()
+}
+
+/// Writes a render's image as [`write_image`] does, an EXR from `linear`
+/// (the resolve's floats, e.g. [`crate::GpuRendered::linear`]) and a PNG
+/// from `image` (its 8-bit encoding).
+pub fn write_rendered_image(
+    image: &RgbaImage,
+    linear: &Rgba32FImage,
+    path: impl AsRef<Path>,
+) -> Result<(), OutputError> {
+    let path = path.as_ref();
+    let file = single_output(OutputKind::Image, "image", path)?;
+    stage_image(image, Some(linear), &file, ImageFormat::from_path(path)?)?.commit()
 }
 
 /// Writes an image as PNG to a `.png` path (any other extension is

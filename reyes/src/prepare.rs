@@ -12,6 +12,7 @@ use crate::filter::PixelFilter;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
 use crate::params::DEGENERATE_NORMAL_REL_EPS;
+use crate::quantize::Encoding;
 use crate::scene::{
     CameraDesc, FramingError, LightKind, Sampling, Scene, SceneError, ShadingInterpolation, Surface,
 };
@@ -136,6 +137,11 @@ pub struct PreparedScene {
     pub pixel_filter: PixelFilter,
     /// The user surface shaders the objects run, with their parameters.
     pub shaders: ShaderTable,
+    /// How the resolved linear image becomes the 8-bit one: the scene's
+    /// exposure and quantization, except for the pictures of data (every
+    /// [`Aov`] but `shaded`), whose colours are encoded plainly
+    /// ([`Encoding::PLAIN`]: no exposure, no dither).
+    pub encoding: Encoding,
 }
 
 impl PreparedScene {
@@ -341,6 +347,14 @@ impl PreparedScene {
                 scene.pixel_filter
             },
             shaders,
+            encoding: if scene.aov == Aov::Shaded {
+                Encoding {
+                    exposure: scene.exposure,
+                    quantize: scene.quantize,
+                }
+            } else {
+                Encoding::PLAIN
+            },
         })
     }
 

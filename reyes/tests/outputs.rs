@@ -12,7 +12,8 @@ use std::path::Path;
 use std::process::Command;
 
 use files::{TempDir, run_cli, run_command, symlink};
-use reyes::color::srgb_to_linear;
+use reyes::color::{linear_to_srgb8, srgb_to_linear};
+use reyes::quantize::Encoding;
 use reyes::stats::RenderStats;
 
 /// A path as the command line takes it.
@@ -101,7 +102,7 @@ fn unknown_image_formats_are_refused_without_a_file() {
 }
 
 #[test]
-fn exr_round_trips_as_linear_floats() {
+fn the_exr_holds_the_floats_the_png_encodes() {
     let temp = TempDir::new("out-exr");
     let (ok, stderr) = render_in(&temp.path(""), &["-o", "r.png"]);
     assert!(ok, "{stderr}");
@@ -111,20 +112,35 @@ fn exr_round_trips_as_linear_floats() {
     let exr = image::open(temp.path("r.Exr")).unwrap();
     let exr = exr.as_rgba32f().expect("the EXR holds Rgba32F");
     assert_eq!(exr.dimensions(), (32, 24));
+    // The PNG is the default encoding (RenderMan's exposure and
+    // quantization, with its dither) of the EXR's floats, and each code is
+    // within one of the float's nearest sRGB code.
+    assert!(
+        Encoding::default().encode(exr, [0, 0]) == png,
+        "the PNG is not the encoding of the EXR"
+    );
     let mut lit = 0;
+    let mut between_codes = 0;
     for (x, y, pixel) in png.enumerate_pixels() {
         let float = exr.get_pixel(x, y);
         for c in 0..3 {
-            let linear = srgb_to_linear(f32::from(pixel[c]) / 255.0);
+            let nearest = linear_to_srgb8(float[c]);
             assert!(
-                (float[c] - linear).abs() < 1e-6,
+                pixel[c].abs_diff(nearest) <= 1,
                 "{x},{y}: {float:?} vs {pixel:?}"
             );
+            let decoded = srgb_to_linear(f32::from(pixel[c]) / 255.0);
+            between_codes += usize::from((float[c] - decoded).abs() > 1e-6);
         }
         assert_eq!(float[3], 1.0);
         lit += usize::from(pixel[0] > 100);
     }
     assert!(lit > 0, "the teapot is in the frame");
+    // The floats are not the 8-bit image decoded.
+    assert!(
+        between_codes > 32 * 24,
+        "{between_codes} channels off the codes"
+    );
 }
 
 #[test]

@@ -22,10 +22,12 @@ const CENTRE: DVec3 = DVec3::new(0.0, 0.0, 5.0);
 /// across each micropolygon, and across the terminator, where `max(0, N.L)`
 /// has its kink, that interpolation is off by up to half a micropolygon's
 /// change of `N.L` (about 0.01 at a shading rate of 1/4 here, more than the
-/// 2/255 these tests allow).
+/// 2/255 these tests allow). The codes are rounded without dither
+/// (`Quantize ... 0`): the tolerances below allow the rounding alone.
 fn render(lights: &str, surface: &str) -> image::RgbaImage {
     let text = format!(
         "Format {SIZE} {SIZE} 1\nPixelSamples 4 4\nPixelFilter \"box\" 1 1\nShadingRate 0.0625\n\
+         Quantize \"rgba\" 255 0 255 0\n\
          Projection \"perspective\" \"fov\" [{FOV}]\nWorldBegin\n{lights}\n{surface}\n\
          Translate 0 0 5\nSphere 1 -1 1 360\nWorldEnd\n"
     );

@@ -11,8 +11,10 @@
 
 @group(0) @binding(0) var<uniform> params: ResolveParams;
 @group(0) @binding(1) var<storage, read_write> keys: array<vec2<u32>>;
-// One RGBA8 pixel per word (r in the low byte), row-major.
-@group(0) @binding(2) var<storage, read_write> image: array<u32>;
+// One linear RGBA pixel per vec4, row-major: the filtered value as it is
+// (not clamped, not encoded), alpha 1. The host encodes it as 8 bits
+// (reyes::quantize) and writes it as EXR.
+@group(0) @binding(2) var<storage, read_write> image: array<vec4<f32>>;
 // The number of the pixel's samples that were covered.
 @group(0) @binding(3) var<storage, read_write> coverage: array<u32>;
 
@@ -31,18 +33,6 @@ fn clear(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) 
     if (i < arrayLength(&keys)) {
         keys[i] = vec2<u32>(CLEAR_WORD, CLEAR_WORD);
     }
-}
-
-// reyes::color::linear_to_srgb, then * 255 rounded half away from zero.
-fn linear_to_srgb8(c_in: f32) -> u32 {
-    let c = clamp(c_in, 0.0, 1.0);
-    var s = c * 12.92;
-    if (c > 0.0031308) {
-        s = 1.055 * pow(c, 1.0 / 2.4) - 0.055;
-    }
-    let x = s * 255.0;
-    let f = floor(x);
-    return u32(select(f, f + 1.0, x - f >= 0.5));
 }
 
 // The colour of a sample's key: its packed colour, or the background.
@@ -121,7 +111,7 @@ fn filter_weight(x: f32, y: f32) -> f32 {
 // samples of the pixels around this one (uncovered ones take the
 // background; pixels outside the frame are missing and the weights are
 // normalized), or the plain mean of its own samples where the window holds
-// no weight; sRGB-encoded, alpha 255.
+// no weight; linear, alpha 1.
 @compute @workgroup_size(8, 8)
 fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= params.width || id.y >= params.height) {
@@ -162,7 +152,6 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     if (weights > 0.0) {
         c = sum / weights;
     }
-    image[pixel] = linear_to_srgb8(c.x) | (linear_to_srgb8(c.y) << 8u)
-        | (linear_to_srgb8(c.z) << 16u) | (255u << 24u);
+    image[pixel] = vec4<f32>(c, 1.0);
     coverage[pixel] = covered;
 }

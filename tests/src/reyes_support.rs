@@ -167,6 +167,7 @@ pub fn framed_teapot(width: u32, height: u32, spp: u32) -> Scene {
 pub fn as_reference(frame: &GpuRendered) -> Rendered {
     Rendered {
         image: frame.image.clone(),
+        linear: frame.linear.clone(),
         coverage: frame.coverage.clone(),
         covered_samples: frame.covered_samples.clone(),
         stats: frame.stats.clone(),

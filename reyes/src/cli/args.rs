@@ -15,8 +15,9 @@ pub(crate) struct RenderArgs {
     /// A scene file (.toml) or a bare model (.bpt/.bez, framed automatically
     /// with a default light). Default: the embedded teapot.
     pub(crate) scene: Option<PathBuf>,
-    /// Output image; the extension chooses the format: `.png` (8-bit sRGB)
-    /// or `.exr` (OpenEXR, float linear RGBA), case-insensitive. Missing
+    /// Output image; the extension chooses the format: `.png` (8-bit sRGB,
+    /// with the scene's exposure and quantization) or `.exr` (OpenEXR, the
+    /// resolve's float linear RGBA as it is), case-insensitive. Missing
     /// directories are created. Checked before rendering, written through a
     /// temporary file renamed over it, so a failure leaves no partial file.
     /// Default: a RIB scene's `Display` file (relative to the current

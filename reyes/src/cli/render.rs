@@ -33,6 +33,7 @@ pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
     guard.prepare_dirs()?;
     let Frame {
         image,
+        linear,
         stats,
         backend,
     } = if args.cpu {
@@ -42,7 +43,7 @@ pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
     };
     // The image and the statistics are renamed into place together, or
     // neither is.
-    outputs.write(&image, &stats)?;
+    outputs.write(&image, &linear, &stats)?;
     println!(
         "wrote {} ({}x{}, {} spp)",
         output.display(),
@@ -64,6 +65,8 @@ pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
 /// A rendered frame and the renderer that timed it.
 struct Frame {
     image: image::RgbaImage,
+    /// The resolve's linear floats (what an EXR holds).
+    linear: image::Rgba32FImage,
     stats: RenderStats,
     /// What the frame time measures, for the statistics table.
     backend: String,
@@ -79,6 +82,7 @@ fn render_cpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxErro
     let rendered = crate::reference::try_render_with(scene, &options)?;
     Ok(Frame {
         image: rendered.image,
+        linear: rendered.linear,
         stats: rendered.stats,
         backend: "CPU wall".to_owned(),
     })
@@ -140,6 +144,7 @@ fn render_gpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxErro
     };
     Ok(Frame {
         image: rendered.image,
+        linear: rendered.linear,
         stats: rendered.stats,
         backend: format!("{timer}, {}", gpu.describe()),
     })

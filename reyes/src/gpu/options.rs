@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use image::RgbaImage;
+use image::{Rgba32FImage, RgbaImage};
 use scheduler::{Policy, RunReport, Strategy};
 
 use crate::progress::Progress;
@@ -108,8 +108,14 @@ pub struct FrameTimings {
 /// A frame rendered on the GPU.
 #[derive(Debug, Clone)]
 pub struct GpuRendered {
-    /// The resolved image, 8-bit sRGB, alpha 255.
+    /// The 8-bit image: [`GpuRendered::linear`] exposed, encoded as sRGB
+    /// and quantized on the host
+    /// ([`PreparedScene::encoding`](crate::prepare::PreparedScene::encoding),
+    /// see [`crate::quantize`]), as the CPU reference does.
     pub image: RgbaImage,
+    /// The resolve's filtered linear RGB, alpha 1, read back as floats:
+    /// not clamped, not exposed, not quantized (what the EXR output holds).
+    pub linear: Rgba32FImage,
     /// Per pixel (row-major): whether any sample was covered.
     pub coverage: Vec<bool>,
     /// Per pixel (row-major): how many of its samples were covered.

@@ -14,7 +14,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use image::RgbaImage;
+use image::Rgba32FImage;
 use scheduler::readback::read_buffer;
 use scheduler::{Capacities, CompiledGraph, Executor, Gpu, Quirks, RunError};
 
@@ -344,8 +344,11 @@ impl<'a> GpuRenderer<'a> {
             &buffers.framebuffer,
             self.options.timeout,
         )?;
-        let image = RgbaImage::from_raw(target.width, target.height, resolved.rgba)
-            .expect("the image buffer holds width * height RGBA8 pixels");
+        let linear = Rgba32FImage::from_raw(target.width, target.height, resolved.linear)
+            .expect("the image buffer holds width * height RGBA f32 pixels");
+        // Encoded on the host, as the CPU reference does: equal floats give
+        // equal 8-bit images, and the dither follows absolute pixels.
+        let image = scene.encoding.encode(&linear, scene.camera.origin);
         let total_wall = start.elapsed();
         let mut stats = counters.to_stats();
         // Bound counts the patches it ran; a scene without patches runs nothing.
@@ -354,6 +357,7 @@ impl<'a> GpuRenderer<'a> {
         stats.frame_time_ms = Some(megakernel_gpu_ms.unwrap_or(total_wall.as_secs_f64() * 1e3));
         Ok(GpuRendered {
             image,
+            linear,
             coverage: resolved.coverage,
             covered_samples: resolved.covered_samples,
             stats,

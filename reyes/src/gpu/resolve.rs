@@ -130,11 +130,15 @@ pub struct Resolver {
     resolve: wgpu::ComputePipeline,
 }
 
+/// Bytes per pixel of the resolved image: linear RGBA, one `f32` each.
+pub const IMAGE_BYTES_PER_PIXEL: u64 = 16;
+
 /// The resolved frame, read back.
 #[derive(Debug)]
 pub struct Resolved {
-    /// RGBA8 bytes, row-major.
-    pub rgba: Vec<u8>,
+    /// Linear RGBA floats, row-major (alpha 1): the filtered values, not
+    /// clamped or encoded.
+    pub linear: Vec<f32>,
     /// Per pixel: any sample covered.
     pub coverage: Vec<bool>,
     /// Per pixel: how many samples were covered.
@@ -266,13 +270,17 @@ impl Resolver {
             pass.dispatch_workgroups(target.width.div_ceil(8), target.height.div_ceil(8), 1);
         }
         queue.submit([encoder.finish()]);
-        let rgba = read_buffer(device, queue, &target.image, timeout)?;
+        let bytes = read_buffer(device, queue, &target.image, timeout)?;
+        let linear = bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
         let coverage_words = read_buffer(device, queue, &target.coverage, timeout)?;
         // At most 64 samples per pixel: the count is the low byte.
         let covered_samples: Vec<u8> = coverage_words.chunks_exact(4).map(|w| w[0]).collect();
         let coverage = covered_samples.iter().map(|&n| n != 0).collect();
         Ok(Resolved {
-            rgba,
+            linear,
             coverage,
             covered_samples,
         })
@@ -306,10 +314,10 @@ impl ResolveTarget {
         let params = ResolveParams::of(scene);
         let (width, height) = (params.width, params.height);
         let pixels = u64::from(width) * u64::from(height);
-        let buffer = |label: &str| {
+        let buffer = |label: &str, bytes_per_pixel: u64| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: 4 * pixels,
+                size: bytes_per_pixel * pixels,
                 usage: U::STORAGE | U::COPY_SRC,
                 mapped_at_creation: false,
             })
@@ -322,8 +330,8 @@ impl ResolveTarget {
                 contents: bytemuck::bytes_of(&params),
                 usage: U::UNIFORM | U::COPY_DST,
             }),
-            image: buffer("reyes image"),
-            coverage: buffer("reyes coverage"),
+            image: buffer("reyes image", IMAGE_BYTES_PER_PIXEL),
+            coverage: buffer("reyes coverage", 4),
         }
     }
 }

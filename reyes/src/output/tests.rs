@@ -21,6 +21,15 @@ fn sample_image() -> RgbaImage {
     })
 }
 
+/// A small linear image with values no 8-bit code decodes to, negative
+/// ones and ones above 1 (a sinc filter's ringing, a bright light).
+fn sample_linear() -> Rgba32FImage {
+    Rgba32FImage::from_fn(3, 2, |x, y| {
+        let v = 0.1234 + 0.377 * x as f32 - 0.2 * y as f32;
+        Rgba([v, 2.5 * v, -0.01 * (x as f32), 1.0])
+    })
+}
+
 #[test]
 fn writes_and_reports_errors() {
     let dir = scratch("write");
@@ -80,6 +89,34 @@ fn exr_holds_linear_floats() {
     }
     // sRGB 200 is linear 0.578 (not 200/255 = 0.784).
     assert!((back.get_pixel(0, 0)[1] - 0.577_580).abs() < 1e-5);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_render_s_exr_holds_its_floats_as_they_are() {
+    let dir = scratch("exr-floats");
+    let linear = sample_linear();
+    for (path, plan) in [
+        (dir.join("direct.exr"), None),
+        (
+            dir.join("plan.exr"),
+            Some(OutputPlan::check(&dir.join("plan.exr"), None, &[]).unwrap()),
+        ),
+    ] {
+        match plan {
+            None => write_rendered_image(&sample_image(), &linear, &path).unwrap(),
+            Some(plan) => plan
+                .write(&sample_image(), &linear, &RenderStats::default())
+                .unwrap(),
+        }
+        let back = image::open(&path).unwrap();
+        let back = back.as_rgba32f().expect("an Rgba32F image");
+        assert_eq!(back, &linear, "{}", path.display());
+    }
+    // The PNG beside it is the 8-bit image.
+    let png = dir.join("r.png");
+    write_rendered_image(&sample_image(), &linear, &png).unwrap();
+    assert_eq!(image::open(&png).unwrap().to_rgba8(), sample_image());
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -146,7 +183,7 @@ fn both_outputs_get_their_directories() {
     let stats = dir.join("stats").join("deep").join("r.json");
     let plan = OutputPlan::check(&image, Some(&stats), &[]).unwrap();
     assert!(dir.join("images").is_dir() && dir.join("stats/deep").is_dir());
-    plan.write(&sample_image(), &RenderStats::default())
+    plan.write(&sample_image(), &sample_linear(), &RenderStats::default())
         .unwrap();
     let json: RenderStats = serde_json::from_str(&fs::read_to_string(&stats).unwrap()).unwrap();
     assert_eq!(json, RenderStats::default());
@@ -185,7 +222,7 @@ fn a_failing_stats_write_leaves_the_old_image() {
     // The statistics' directory goes away while the frame renders.
     fs::remove_dir_all(dir.join("stats")).unwrap();
     let error = plan
-        .write(&sample_image(), &RenderStats::default())
+        .write(&sample_image(), &sample_linear(), &RenderStats::default())
         .unwrap_err();
     assert!(matches!(error, OutputError::Write { .. }), "{error}");
     assert_eq!(fs::read(&image).unwrap(), b"old image");

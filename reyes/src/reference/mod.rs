@@ -31,7 +31,7 @@ mod shutter;
 
 use std::time::{Duration, Instant};
 
-use image::RgbaImage;
+use image::{Rgba32FImage, RgbaImage};
 
 use self::bound::{
     BoundDecision, DiceRule, Growth, ScreenPiece, back_facing, bound, input_edges, split_edges,
@@ -53,8 +53,12 @@ use crate::uvt::{PixelTuples, UvtTables};
 /// The result of a render.
 #[derive(Debug, Clone)]
 pub struct Rendered {
-    /// The resolved image, 8-bit sRGB, alpha 255.
+    /// The 8-bit image: [`Rendered::linear`] exposed, encoded as sRGB and
+    /// quantized ([`PreparedScene::encoding`], see [`crate::quantize`]).
     pub image: RgbaImage,
+    /// The resolve's filtered linear RGB, alpha 1: not clamped, not
+    /// exposed, not quantized (what the EXR output holds).
+    pub linear: Rgba32FImage,
     /// Per pixel (row-major): whether any sample was covered.
     pub coverage: Vec<bool>,
     /// Per pixel (row-major): how many of its samples were covered.
@@ -216,12 +220,14 @@ fn render_bounded(
         k: crate::sampling::grid_size(scene.spp),
         jitter: scene.jitter,
     };
-    let (image, covered_samples) =
+    let (linear, covered_samples) =
         resolve::resolve(&framebuffer, scene.background, &scene.pixel_filter, layout);
     let coverage = covered_samples.iter().map(|&n| n != 0).collect();
+    let image = scene.encoding.encode(&linear, scene.camera.origin);
     stats.frame_time_ms = Some(start.elapsed().as_secs_f64() * 1000.0);
     Ok(Rendered {
         image,
+        linear,
         coverage,
         covered_samples,
         stats,

@@ -1,10 +1,11 @@
-//! Resolve: filter the samples around each pixel into an 8-bit sRGB image.
+//! Resolve: filter the samples around each pixel into a linear float image
+//! (which `crate::quantize` encodes as the 8-bit one).
 
 use glam::Vec3;
-use image::{Rgba, RgbaImage};
+use image::{Rgba, Rgba32FImage};
 
 use super::framebuffer::Framebuffer;
-use crate::color::{CLEAR_KEY, key_color, linear_to_srgb8, unpack_rgb10};
+use crate::color::{CLEAR_KEY, key_color, unpack_rgb10};
 use crate::filter::PixelFilter;
 use crate::sampling::sample_offset;
 
@@ -23,9 +24,10 @@ pub struct SampleLayout {
 /// covered samples their unpacked colour; each pixel is the `filter`-weighted
 /// mean of the samples of the pixels around it within the filter's window
 /// (those outside the framebuffer are missing, and the weights of the
-/// others are normalized), taken in linear space and encoded as sRGB, alpha
-/// 255. A pixel whose window holds no weight (a window narrower than the
-/// sample spacing) takes the plain mean of its own samples. Also returns,
+/// others are normalized), taken in linear space and kept as it is (no
+/// clamping, no encoding), alpha 1. A pixel whose window holds no weight
+/// (a window narrower than the sample spacing) takes the plain mean of its
+/// own samples. Also returns,
 /// row-major, the number of covered samples of every pixel.
 /// `shaders/reyes/resolve.wgsl` mirrors it operation for operation.
 pub fn resolve(
@@ -33,9 +35,9 @@ pub fn resolve(
     background: Vec3,
     filter: &PixelFilter,
     layout: SampleLayout,
-) -> (RgbaImage, Vec<u8>) {
+) -> (Rgba32FImage, Vec<u8>) {
     let (width, height) = (framebuffer.width, framebuffer.height);
-    let mut image = RgbaImage::new(width, height);
+    let mut image = Rgba32FImage::new(width, height);
     let mut coverage = vec![0u8; width as usize * height as usize];
     let color = |key: u64| {
         if key == CLEAR_KEY {
@@ -78,16 +80,7 @@ pub fn resolve(
             } else {
                 own * (1.0 / framebuffer.spp as f32)
             };
-            image.put_pixel(
-                x,
-                y,
-                Rgba([
-                    linear_to_srgb8(c.x),
-                    linear_to_srgb8(c.y),
-                    linear_to_srgb8(c.z),
-                    255,
-                ]),
-            );
+            image.put_pixel(x, y, Rgba([c.x, c.y, c.z, 1.0]));
             coverage[y as usize * width as usize + x as usize] = covered;
         }
     }

@@ -58,6 +58,8 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
     }
 
     scene.pixel_filter = opts.pixel_filter.unwrap_or_default();
+    scene.exposure = opts.exposure.unwrap_or_default();
+    scene.quantize = opts.quantize.unwrap_or_default();
     if let Some(smooth) = opts.smooth {
         scene.shading_interpolation = if smooth {
             ShadingInterpolation::Smooth

@@ -82,6 +82,11 @@ pub struct Options {
     pub smooth: Option<bool>,
     /// `PixelFilter` (RenderMan's default, `gaussian` 2 2, when absent).
     pub pixel_filter: Option<crate::filter::PixelFilter>,
+    /// `Exposure` (RenderMan's default, gain 1 gamma 1, when absent).
+    pub exposure: Option<crate::quantize::Exposure>,
+    /// `Quantize "rgba"` (RenderMan's 8-bit default, 255 0 255 0.5, when
+    /// absent).
+    pub quantize: Option<crate::quantize::Quantize>,
     /// The times of the first `MotionBegin` block.
     pub motion_times: Option<(f64, f64)>,
 }
@@ -361,6 +366,8 @@ impl Interp {
             | "DepthOfField"
             | "Display"
             | "PixelFilter"
+            | "Exposure"
+            | "Quantize"
             | "ShadingInterpolation" => self.option(name, v, file, line)?,
             "WorldBegin" => {
                 if world {

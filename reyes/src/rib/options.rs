@@ -1,5 +1,6 @@
 //! The interpreter's options: the requests that set up the camera and the
-//! image (before `WorldBegin`, except `ShadingRate`).
+//! image (before `WorldBegin`, except `ShadingRate`), and the 8-bit
+//! output's `Exposure` and `Quantize`.
 
 use std::path::Path;
 
@@ -8,6 +9,7 @@ use super::parser::Value;
 use super::state;
 use crate::filter::{FilterKind, PixelFilter};
 use crate::params::MAX_SHADING_RATE;
+use crate::quantize::{Exposure, Quantize};
 
 /// RenderMan's default `Format`.
 pub(super) const DEFAULT_FORMAT: (u32, u32) = (640, 480);
@@ -203,6 +205,23 @@ impl Interp {
                 }
                 self.opts.pixel_filter = Some(pixel_filter);
             }
+            "Exposure" | "Quantize" if world => self.warn(
+                file,
+                line,
+                format!("{name} inside the world block is ignored (it is an option)"),
+            ),
+            "Exposure" => {
+                let n = state::all_nums(v, 2)?;
+                let exposure = Exposure {
+                    gain: n[0] as f32,
+                    gamma: n[1] as f32,
+                };
+                if let Some(problem) = exposure.problem() {
+                    return Err(format!("Exposure {} {}: {problem}", n[0], n[1]));
+                }
+                self.opts.exposure = Some(exposure);
+            }
+            "Quantize" => self.quantize(v, file, line)?,
             "ShadingInterpolation" => {
                 let smooth = match state::arg_str(v, 0, "the interpolation")? {
                     "smooth" => true,
@@ -215,6 +234,43 @@ impl Interp {
                 self.opts.smooth = Some(smooth);
             }
             _ => unreachable!("only option requests"),
+        }
+        Ok(())
+    }
+
+    /// `Quantize type one min max ditheramplitude`: `"rgba"` sets the
+    /// 8-bit image's quantization; `"z"` is accepted and ignored with a
+    /// warning (no depth image is written); any other type is an error.
+    fn quantize(&mut self, v: &[Value], file: &Path, line: usize) -> Result<(), String> {
+        let kind = state::arg_str(v, 0, "the quantization type")?;
+        let n = state::all_nums(&v[1..], 4)?;
+        match kind {
+            "rgba" => {
+                let quantize = Quantize {
+                    one: n[0] as f32,
+                    min: n[1] as f32,
+                    max: n[2] as f32,
+                    dither_amplitude: n[3] as f32,
+                };
+                if let Some(problem) = quantize.problem() {
+                    return Err(format!(
+                        "Quantize \"rgba\" {} {} {} {}: {problem}",
+                        n[0], n[1], n[2], n[3]
+                    ));
+                }
+                self.opts.quantize = Some(quantize);
+            }
+            "z" => self.warn(
+                file,
+                line,
+                "Quantize \"z\": no depth image is written; ignored".into(),
+            ),
+            other => {
+                return Err(format!(
+                    "unknown quantization type {:?}; RenderMan's are \"rgba\" and \"z\"",
+                    crate::input::excerpt(other)
+                ));
+            }
         }
         Ok(())
     }

@@ -16,6 +16,7 @@ use crate::modes::{Dicing, Sampling, ShadingInterpolation};
 #[cfg(doc)]
 use crate::params::VALID_SPP;
 use crate::params::{DEFAULT_DICE_THRESHOLD, DEFAULT_MAX_SPLIT_DEPTH, DEFAULT_SHADING_RATE};
+use crate::quantize::{Exposure, Quantize};
 
 use super::defaults::{
     default_ambient, default_background, default_color, default_dice_threshold,
@@ -96,6 +97,15 @@ pub struct Scene {
     /// `PixelFilter` (default `gaussian` 2 x 2, RenderMan's).
     #[serde(default)]
     pub pixel_filter: PixelFilter,
+    /// RenderMan's `Exposure` of the 8-bit image (default gain 1, gamma
+    /// 1); the EXR output is not exposed.
+    #[serde(default)]
+    pub exposure: Exposure,
+    /// RenderMan's `Quantize "rgba"` of the 8-bit image (default one 255,
+    /// min 0, max 255, dither 0.5, RenderMan's); the EXR output is not
+    /// quantized.
+    #[serde(default)]
+    pub quantize: Quantize,
     /// The target area of a micropolygon in pixels, RenderMan's
     /// `ShadingRate` (default `DEFAULT_SHADING_RATE`); used by
     /// [`Dicing::Rate`].
@@ -152,6 +162,8 @@ impl Default for Scene {
             aov: Aov::default(),
             shading_interpolation: ShadingInterpolation::default(),
             pixel_filter: PixelFilter::default(),
+            exposure: Exposure::default(),
+            quantize: Quantize::default(),
             shading_rate: DEFAULT_SHADING_RATE,
             dice_threshold: DEFAULT_DICE_THRESHOLD,
             max_split_depth: DEFAULT_MAX_SPLIT_DEPTH,

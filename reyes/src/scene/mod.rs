@@ -21,6 +21,8 @@
 //! interleave_tile = 2                # Interleave UVT's tile side in pixels: 2, 3 or 4
 //! jitter = false                     # jitter samples within their strata
 //! pixel_filter = { filter = "gaussian", xwidth = 2.0, ywidth = 2.0 }  # box, triangle, gaussian, catmull-rom or sinc
+//! exposure = { gain = 1.0, gamma = 1.0 }  # the 8-bit image's (c * gain)^(1/gamma); not the EXR's
+//! quantize = { one = 255.0, min = 0.0, max = 255.0, dither = 0.5 }  # the 8-bit codes; not the EXR's
 //! shutter = 1.0                      # fraction of the open-to-close motion the shutter sees
 //! background = [0.05, 0.05, 0.07]    # linear RGB
 //! ambient = 0.1                      # an ambient light of this intensity (white)

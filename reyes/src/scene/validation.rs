@@ -56,8 +56,9 @@ impl Scene {
         Ok(())
     }
 
-    /// The image: its size, samples per pixel, Interleave UVT's tile side
-    /// and the background colour.
+    /// The image: its size, samples per pixel, Interleave UVT's tile side,
+    /// the background colour, the pixel filter and the 8-bit encoding
+    /// (exposure and quantization).
     fn check_image(&self) -> Result<(), SceneError> {
         let Resolution { width, height } = self.resolution;
         if width == 0 || height == 0 {
@@ -75,6 +76,12 @@ impl Scene {
         finite("background", self.background.to_array())?;
         if let Some(problem) = self.pixel_filter.problem() {
             return Err(invalid("pixel_filter", &problem));
+        }
+        if let Some(problem) = self.exposure.problem() {
+            return Err(invalid("exposure", &problem));
+        }
+        if let Some(problem) = self.quantize.problem() {
+            return Err(invalid("quantize", &problem));
         }
         Ok(())
     }

@@ -9,7 +9,7 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use image::RgbaImage;
+use image::{Rgba32FImage, RgbaImage};
 use winit::application::ApplicationHandler;
 use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoopProxy};
@@ -47,7 +47,7 @@ struct Running {
     /// Whether `shown` has been presented.
     presented: bool,
     /// The last refined frame, for `P`.
-    refined: Option<(FrameSpec, RgbaImage)>,
+    refined: Option<(FrameSpec, RgbaImage, Rgba32FImage)>,
     /// `P` was pressed before the view was refined.
     save_pending: bool,
     /// The driver's compile of the megakernel, while it lasts, and when
@@ -200,7 +200,7 @@ impl App {
         let Some(running) = &mut self.running else {
             return;
         };
-        let Some((spec, image)) = &running.refined else {
+        let Some((spec, image, linear)) = &running.refined else {
             return;
         };
         if !running.save_pending || spec.generation != running.generation {
@@ -208,7 +208,7 @@ impl App {
         }
         running.save_pending = false;
         let path = &self.config.save_path;
-        match crate::output::write_image(image, path) {
+        match crate::output::write_rendered_image(image, linear, path) {
             Ok(()) => {
                 let (line, note) =
                     save::render_command(&self.config.command, &spec.camera, &spec.settings, path);
@@ -234,7 +234,7 @@ impl App {
             .frames
             .push(FrameRecord::of(&frame, running.generation));
         if frame.spec.quality == Quality::Full {
-            running.refined = Some((frame.spec, frame.image));
+            running.refined = Some((frame.spec, frame.image, frame.linear));
         }
         running.shown = Some(frame.spec);
         running.info = Some(info);

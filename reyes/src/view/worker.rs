@@ -13,7 +13,7 @@ use std::sync::mpsc::{Receiver, Sender, channel};
 use std::thread::JoinHandle;
 use std::time::Instant;
 
-use image::RgbaImage;
+use image::{Rgba32FImage, RgbaImage};
 
 use crate::camera::Camera;
 use crate::dicing::DicingRule;
@@ -55,6 +55,8 @@ pub struct Frame {
     pub spec: FrameSpec,
     /// The image (8-bit sRGB RGBA, straight from the renderer).
     pub image: RgbaImage,
+    /// The resolve's linear floats, which `P` saves as EXR.
+    pub linear: Rgba32FImage,
     /// The renderer's counters.
     pub stats: RenderStats,
     /// Megakernel time measured on the GPU, when the adapter has timestamps.
@@ -183,6 +185,7 @@ fn run(
             Ok(rendered) => report(WorkerEvent::Frame(Box::new(Frame {
                 spec,
                 image: rendered.image,
+                linear: rendered.linear,
                 stats: rendered.stats,
                 gpu_ms: rendered.timings.megakernel_gpu_ms,
                 wall_ms: start.elapsed().as_secs_f64() * 1e3,

@@ -10,6 +10,7 @@ use crate::gpu::batches::{MIN_WORK_CAPACITY, plan_batch};
 use crate::gpu::buffers::texel_buffer_bytes;
 use crate::gpu::graph::{BOUND, DICE, SPLIT_U, SPLIT_V};
 use crate::gpu::render_error::RenderError;
+use crate::gpu::resolve::IMAGE_BYTES_PER_PIXEL;
 use crate::gpu::tiles::{TILE_ALIGN, Tile, plan_tiles_with_margin};
 use crate::prepare::PreparedScene;
 
@@ -85,9 +86,12 @@ impl GpuRenderer<'_> {
         };
         let spp64 = u64::from(spp.max(1));
         // A pixel filter wider than a pixel reads its neighbours' samples:
-        // every tile renders that margin around it too.
+        // every tile renders that margin around it too. A tile's float
+        // image must fit one buffer too (it is larger than the samples'
+        // framebuffer below 2 spp).
         let margin = scene.pixel_filter.radius();
-        plan_tiles_with_margin(width, height, max_samples / spp64, margin).ok_or_else(|| {
+        let max_pixels = (max_samples / spp64).min(limit / IMAGE_BYTES_PER_PIXEL);
+        plan_tiles_with_margin(width, height, max_pixels, margin).ok_or_else(|| {
             // The smallest tile with the margin its filter renders.
             let align = u64::from(TILE_ALIGN);
             let side = |extent: u32, margin: u32| {

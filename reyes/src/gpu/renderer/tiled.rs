@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use image::RgbaImage;
+use image::{Rgba32FImage, RgbaImage};
 
 use super::GpuRenderer;
 use crate::gpu::options::{FrameTimings, GpuRendered};
@@ -78,6 +78,7 @@ impl GpuRenderer<'_> {
         // uniform and the tables derive from the scene stays the frame's.
         let mut tile_scene = scene.clone();
         let mut image = RgbaImage::new(width, height);
+        let mut linear = Rgba32FImage::new(width, height);
         let mut coverage = vec![false; width as usize * height as usize];
         let mut covered_samples = vec![0u8; width as usize * height as usize];
         let mut stats = RenderStats {
@@ -133,6 +134,8 @@ impl GpuRenderer<'_> {
                     .copy_from_slice(&rendered.covered_samples[source.clone()]);
                 image.as_mut()[4 * target.start..4 * target.end]
                     .copy_from_slice(&rendered.image.as_raw()[4 * source.start..4 * source.end]);
+                linear.as_mut()[4 * target.start..4 * target.end]
+                    .copy_from_slice(&rendered.linear.as_raw()[4 * source.start..4 * source.end]);
             }
             add_tile_stats(&mut stats, &rendered.stats);
             megakernel_gpu_ms = megakernel_gpu_ms
@@ -149,6 +152,7 @@ impl GpuRenderer<'_> {
         stats.frame_time_ms = Some(megakernel_gpu_ms.unwrap_or(total_wall_ms));
         Ok(GpuRendered {
             image,
+            linear,
             coverage,
             covered_samples,
             stats,
