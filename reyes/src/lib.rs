@@ -33,6 +33,7 @@
 //! * [`prepare`]: host preparation of a frame;
 //! * [`gpu`]: the GPU renderer; [`reference`](mod@reference): the CPU
 //!   reference renderer;
+//! * [`texture`]: image textures, their mip chains and their filtering;
 //! * [`stats`]: render statistics; [`output`]: PNG and EXR output;
 //!   [`progress`]: what the GPU renderer is doing while a caller waits;
 //! * `view` (feature `viewer`, on by default): the interactive viewer;
@@ -93,6 +94,7 @@ pub mod rib;
 pub mod scene;
 pub mod shading;
 pub mod stats;
+pub mod texture;
 #[cfg(feature = "viewer")]
 pub mod view;
 
