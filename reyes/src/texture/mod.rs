@@ -2,11 +2,11 @@
 //! GPU and in the CPU reference.
 //!
 //! A [`TextureSet`] holds the textures of a frame. [`TextureSet::add`] reads
-//! an image file ([`load`]: PNG of 8 or 16 bits, OpenEXR of half or single
+//! an image file (`load`: PNG of 8 or 16 bits, OpenEXR of half or single
 //! floats, TIFF), converts it to linear RGBA ([`ColorSpace`]), builds its
 //! mip chain ([`mipmap`]) and stores it as f16 texels, 8 bytes each, in one
 //! flat buffer shared with the GPU ([`gpu`]). [`TextureSet::sample`]
-//! filters on the CPU ([`sample`](mod@sample)); `texture_sample` in
+//! filters on the CPU (`sample`); `texture_sample` in
 //! `shaders/reyes/library_texture.wgsl` does the same on the GPU, over the
 //! tables of [`TextureSet::gpu_tables`].
 //!
@@ -339,7 +339,9 @@ impl TextureSet {
     /// The filtered colour (linear RGBA) of texture `id` at `st`, for a
     /// shading point whose footprint spans `axis_a` and `axis_b` in (s, t):
     /// the micropolygon's extent along u, `(ds/du du, dt/du du)`, and along
-    /// v, `(ds/dv dv, dt/dv dv)`. Trilinear: see [`sample`](mod@sample).
+    /// v, `(ds/dv dv, dt/dv dv)`. Trilinear: `lod = log2` of the longer
+    /// axis in level-0 texels, bilinear within the two levels around it
+    /// (wrap modes per tap), blended linearly ("Textures" in `docs/reyes.md`).
     /// An id from another set, or a non-finite `st`, gives transparent
     /// black, as on the GPU.
     pub fn sample(&self, id: TextureId, st: Vec2, axis_a: Vec2, axis_b: Vec2) -> Vec4 {
