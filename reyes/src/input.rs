@@ -1,5 +1,5 @@
 //! Reading input files: every file the renderer reads from disk (models,
-//! scenes, user WGSL, height-map PNGs) goes through [`read_input`] or
+//! scenes, user WGSL, height-map PNGs, textures) goes through [`read_input`] or
 //! [`read_text`].
 //!
 //! They guard against paths that would make a plain `std::fs::read` hang or
@@ -13,7 +13,7 @@
 //!   opened file is checked again;
 //! * at most a cap of bytes is read ([`InputError::TooLarge`]). The defaults
 //!   ([`InputKind::default_limit`]) are 1 GiB for models, 16 MiB for scenes
-//!   and WGSL, 64 MiB for height-map PNGs. [`set_limits`] changes them for the
+//!   and WGSL, 64 MiB for height-map PNGs, 512 MiB for textures. [`set_limits`] changes them for the
 //!   process (the CLI's `--max-input-bytes`). The read goes through
 //!   `Read::take(limit + 1)`, so even a file that grows while it is read (or a
 //!   device swapped in) cannot exceed the cap;
@@ -60,6 +60,8 @@ pub enum InputKind {
     Wgsl,
     /// A PNG height map.
     HeightMap,
+    /// A texture image (PNG, OpenEXR or TIFF; `crate::texture`).
+    Texture,
 }
 
 impl InputKind {
@@ -70,12 +72,17 @@ impl InputKind {
     /// * scenes and WGSL: 16 MiB, thousands of times a hand-written file;
     /// * height maps: 64 MiB. The largest accepted map
     ///   (`crate::params::MAX_HEIGHT_MAP_SIDE`² texels of 16 bits) is 32 MiB
-    ///   of pixel data even stored uncompressed.
+    ///   of pixel data even stored uncompressed;
+    /// * textures: 512 MiB, an uncompressed 4096 x 4096 RGBA float EXR
+    ///   twice over. The image size has its own limits
+    ///   (`crate::texture::MAX_TEXTURE_SIDE` and the texture budget), checked
+    ///   from the header before decoding.
     pub const fn default_limit(self) -> u64 {
         match self {
             InputKind::Model => GIB,
             InputKind::Scene | InputKind::Wgsl => 16 * MIB,
             InputKind::HeightMap => 64 * MIB,
+            InputKind::Texture => 512 * MIB,
         }
     }
 
@@ -92,6 +99,7 @@ impl fmt::Display for InputKind {
             InputKind::Scene => "scene file",
             InputKind::Wgsl => "WGSL file",
             InputKind::HeightMap => "height map",
+            InputKind::Texture => "texture",
         })
     }
 }
@@ -108,6 +116,8 @@ pub struct Limits {
     /// PNG height maps (the file; the image size has its own limit,
     /// [`crate::params::MAX_HEIGHT_MAP_SIDE`]).
     pub height_map: u64,
+    /// Texture images (the file; the image size is checked separately).
+    pub texture: u64,
 }
 
 impl Limits {
@@ -117,6 +127,7 @@ impl Limits {
         scene: InputKind::Scene.default_limit(),
         wgsl: InputKind::Wgsl.default_limit(),
         height_map: InputKind::HeightMap.default_limit(),
+        texture: InputKind::Texture.default_limit(),
     };
 
     /// The same cap for every kind (what `--max-input-bytes` sets).
@@ -126,6 +137,7 @@ impl Limits {
             scene: bytes,
             wgsl: bytes,
             height_map: bytes,
+            texture: bytes,
         }
     }
 
@@ -136,6 +148,7 @@ impl Limits {
             InputKind::Scene => self.scene,
             InputKind::Wgsl => self.wgsl,
             InputKind::HeightMap => self.height_map,
+            InputKind::Texture => self.texture,
         }
     }
 }

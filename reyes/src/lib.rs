@@ -33,6 +33,8 @@
 //! * [`prepare`]: host preparation of a frame;
 //! * [`gpu`]: the GPU renderer; [`reference`](mod@reference): the CPU
 //!   reference renderer;
+//! * [`texture`]: image textures, their mip chains and their filtering;
+//!   [`surface_shader`]: user WGSL surface shaders;
 //! * [`stats`]: render statistics; [`output`]: PNG and EXR output;
 //!   [`quantize`]: the 8-bit encoding (RenderMan's `Exposure` and
 //!   `Quantize`); [`progress`]: what the GPU renderer is doing while a
@@ -98,6 +100,7 @@ pub mod scene;
 pub mod shading;
 pub mod stats;
 pub mod surface_shader;
+pub mod texture;
 #[cfg(feature = "viewer")]
 pub mod view;
 

@@ -1,0 +1,163 @@
+//! Trilinear filtering on the CPU, over the same tables the GPU reads.
+//!
+//! `shaders/reyes/library_texture.wgsl` repeats every function here
+//! operation for operation (each WGSL function names its twin), on the same
+//! f16 texels, so the two agree to float rounding.
+//!
+//! * Level of detail: `lod = log2(L)`, `L` the longer footprint axis
+//!   measured in level-0 texels (`|(a.s * width, a.t * height)|`), clamped
+//!   to `[0, levels - 1]`; `L <= 1` is level 0, a non-finite `L` the
+//!   coarsest level.
+//! * Within a level: bilinear between texel centres. `s = 0` is the left
+//!   edge of texel 0 and `s = 1` the right edge of the last, so texel `i` of
+//!   an `n`-texel level has its centre at `(i + 0.5) / n`. The wrap mode of
+//!   each axis is applied to each of the four taps.
+//! * Between levels: `c0 + (c1 - c0) * fract(lod)`.
+//!
+//! A non-finite s or t samples transparent black, and so does an unknown
+//! texture id.
+
+use glam::{Vec2, Vec4};
+
+use super::Wrap;
+use super::gpu::TextureInfo;
+use super::mipmap::{next_side, unpack};
+
+/// One level of a texture: where its texels start, and its size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Level {
+    /// First texel of the level in the texel buffer.
+    pub(super) offset: u32,
+    /// Width in texels.
+    pub(super) width: u32,
+    /// Height in texels.
+    pub(super) height: u32,
+}
+
+/// `x` is neither NaN nor infinite, judged on its bits as the WGSL must
+/// (WGSL has no `isNan`, and a fast-math compiler may fold comparisons).
+fn is_finite(x: f32) -> bool {
+    x.to_bits() & 0x7f80_0000 != 0x7f80_0000
+}
+
+/// Level `level` of `info`: the levels before it, walked from level 0.
+pub(super) fn level(info: &TextureInfo, level: u32) -> Level {
+    let mut at = Level {
+        offset: info.offset,
+        width: info.width,
+        height: info.height,
+    };
+    for _ in 0..level {
+        at.offset += at.width * at.height;
+        at.width = next_side(at.width);
+        at.height = next_side(at.height);
+    }
+    at
+}
+
+/// `i` folded into `0..n` by `wrap`, or -1 for a black tap outside.
+fn wrap_index(i: i32, n: u32, wrap: u32) -> i32 {
+    let n = n.cast_signed();
+    if wrap == Wrap::Periodic.code() {
+        ((i % n) + n) % n
+    } else if wrap == Wrap::Clamp.code() {
+        i.clamp(0, n - 1)
+    } else if i < 0 || i >= n {
+        -1
+    } else {
+        i
+    }
+}
+
+/// The two taps along one axis of an `n`-texel level and the blend between
+/// them, for coordinate `s`.
+///
+/// Periodic coordinates are first reduced to `[0, 1]` (`s - floor(s)`), and
+/// the others clamped to `[-1, n]` texels, which changes no result (beyond
+/// the edge every tap is the edge texel, or black) but keeps the texel
+/// indices small, exact in `f32` and in range for the conversion to `i32`.
+fn taps(s: f32, n: u32, wrap: u32) -> (i32, i32, f32) {
+    let size = n as f32;
+    let x = if wrap == Wrap::Periodic.code() {
+        (s - s.floor()) * size - 0.5
+    } else {
+        (s * size - 0.5).clamp(-1.0, size)
+    };
+    let x0 = x.floor();
+    let i = x0 as i32;
+    (wrap_index(i, n, wrap), wrap_index(i + 1, n, wrap), x - x0)
+}
+
+/// Texel `(i, j)` of `level`; black for a tap outside (-1).
+fn texel(texels: &[[u32; 2]], level: Level, i: i32, j: i32) -> Vec4 {
+    if i < 0 || j < 0 {
+        return Vec4::ZERO;
+    }
+    let at = level.offset as usize + j as usize * level.width as usize + i as usize;
+    texels.get(at).map_or(Vec4::ZERO, |&t| unpack(t))
+}
+
+/// Bilinear sample of level `index` of `info` at `st`.
+fn bilinear(info: &TextureInfo, texels: &[[u32; 2]], index: u32, st: Vec2) -> Vec4 {
+    let at = level(info, index);
+    let (i0, i1, fx) = taps(st.x, at.width, info.wrap_s);
+    let (j0, j1, fy) = taps(st.y, at.height, info.wrap_t);
+    let t00 = texel(texels, at, i0, j0);
+    let t10 = texel(texels, at, i1, j0);
+    let t01 = texel(texels, at, i0, j1);
+    let t11 = texel(texels, at, i1, j1);
+    let top = t00 + (t10 - t00) * fx;
+    let bottom = t01 + (t11 - t01) * fx;
+    top + (bottom - top) * fy
+}
+
+/// Length of a footprint axis in level-0 texels.
+fn axis_texels(info: &TextureInfo, axis: Vec2) -> f32 {
+    let x = axis.x * info.width as f32;
+    let y = axis.y * info.height as f32;
+    (x * x + y * y).sqrt()
+}
+
+/// The level of detail of the footprint `(axis_a, axis_b)`, in
+/// `[0, levels - 1]`.
+pub(super) fn level_of_detail(info: &TextureInfo, axis_a: Vec2, axis_b: Vec2) -> f32 {
+    let coarsest = (info.levels - 1) as f32;
+    let a = axis_texels(info, axis_a);
+    let b = axis_texels(info, axis_b);
+    if !is_finite(a) || !is_finite(b) {
+        return coarsest;
+    }
+    let longest = a.max(b);
+    if longest <= 1.0 {
+        return 0.0;
+    }
+    longest.log2().min(coarsest)
+}
+
+/// The filtered texture `id` of `infos` at `st`, for a shading point whose
+/// footprint spans `axis_a` and `axis_b` in (s, t).
+pub(super) fn sample(
+    infos: &[TextureInfo],
+    texels: &[[u32; 2]],
+    id: u32,
+    st: Vec2,
+    axis_a: Vec2,
+    axis_b: Vec2,
+) -> Vec4 {
+    let Some(info) = infos.get(id as usize) else {
+        return Vec4::ZERO;
+    };
+    if !is_finite(st.x) || !is_finite(st.y) {
+        return Vec4::ZERO;
+    }
+    let lod = level_of_detail(info, axis_a, axis_b);
+    let base = lod.floor();
+    let blend = lod - base;
+    let fine = base as u32;
+    let c0 = bilinear(info, texels, fine, st);
+    if blend <= 0.0 {
+        return c0;
+    }
+    let c1 = bilinear(info, texels, (fine + 1).min(info.levels - 1), st);
+    c0 + (c1 - c0) * blend
+}

@@ -1,0 +1,171 @@
+// Textures: trilinear filtering of mip-mapped RGBA textures stored as f16
+// pairs (two pack2x16float words per texel, decoded by texture_unpack). Every function repeats its
+// Rust twin in reyes/src/texture/sample.rs operation for operation, on the
+// same texels, so the GPU and the CPU reference filter alike.
+//
+// The module declares the TextureInfo struct (reyes::texture::TextureInfo)
+// and two read-only storage buffers (reyes::texture::TextureSet::gpu_tables):
+//   texture_infos: array<TextureInfo>   one entry per texture id
+//   texels: array<vec2<u32>>            every mip chain, level 0 first
+
+// reyes::texture::Wrap::code.
+const TEXTURE_WRAP_PERIODIC: u32 = 0u;
+const TEXTURE_WRAP_CLAMP: u32 = 1u;
+const TEXTURE_WRAP_BLACK: u32 = 2u;
+
+// reyes::texture::sample::Level.
+struct TextureLevel {
+    offset: u32,
+    width: u32,
+    height: u32,
+}
+
+// The two taps along one axis and the blend between them
+// (reyes::texture::sample::taps returns them as a tuple).
+struct TextureTaps {
+    i0: i32,
+    i1: i32,
+    f: f32,
+}
+
+// reyes::texture::sample::is_finite.
+fn texture_is_finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+// reyes::texture::sample::level.
+fn texture_level(info: TextureInfo, level: u32) -> TextureLevel {
+    var at = TextureLevel(info.offset, info.width, info.height);
+    for (var k = 0u; k < level; k++) {
+        at.offset += at.width * at.height;
+        at.width = max(at.width / 2u, 1u);
+        at.height = max(at.height / 2u, 1u);
+    }
+    return at;
+}
+
+// reyes::texture::sample::wrap_index.
+fn texture_wrap_index(i: i32, n: u32, wrap: u32) -> i32 {
+    let size = i32(n);
+    if (wrap == TEXTURE_WRAP_PERIODIC) {
+        return ((i % size) + size) % size;
+    } else if (wrap == TEXTURE_WRAP_CLAMP) {
+        return clamp(i, 0, size - 1);
+    } else if (i < 0 || i >= size) {
+        return -1;
+    }
+    return i;
+}
+
+// reyes::texture::sample::taps.
+fn texture_taps(s: f32, n: u32, wrap: u32) -> TextureTaps {
+    let size = f32(n);
+    var x: f32;
+    if (wrap == TEXTURE_WRAP_PERIODIC) {
+        x = (s - floor(s)) * size - 0.5;
+    } else {
+        x = clamp(s * size - 0.5, -1.0, size);
+    }
+    let x0 = floor(x);
+    let i = i32(x0);
+    return TextureTaps(texture_wrap_index(i, n, wrap), texture_wrap_index(i + 1, n, wrap), x - x0);
+}
+
+// One f16 (the low 16 bits of `bits`) as f32, exactly: WGSL's
+// unpack2x16float done with integer operations, which need no shader
+// capability (naga asks SHADER_FLOAT16_IN_FLOAT32 for unpack2x16float).
+// The set stores no infinity or NaN. Twin of half::f16::to_f32 in
+// reyes::texture::mipmap::unpack.
+fn texture_half(bits: u32) -> f32 {
+    let sign = (bits & 0x8000u) << 16u;
+    let exponent = (bits >> 10u) & 0x1fu;
+    let mantissa = bits & 0x3ffu;
+    if (exponent == 0u) {
+        // Zero or subnormal: mantissa * 2^-24, a normal f32.
+        return bitcast<f32>(sign | bitcast<u32>(ldexp(f32(mantissa), -24)));
+    }
+    // Normal: the exponent rebiased from 15 to 127.
+    return bitcast<f32>(sign | ((exponent + 112u) << 23u) | (mantissa << 13u));
+}
+
+// reyes::texture::mipmap::unpack.
+fn texture_unpack(packed: vec2<u32>) -> vec4<f32> {
+    return vec4<f32>(
+        texture_half(packed.x & 0xffffu),
+        texture_half(packed.x >> 16u),
+        texture_half(packed.y & 0xffffu),
+        texture_half(packed.y >> 16u),
+    );
+}
+
+// reyes::texture::sample::texel.
+fn texture_texel(level: TextureLevel, i: i32, j: i32) -> vec4<f32> {
+    if (i < 0 || j < 0) {
+        return vec4<f32>(0.0);
+    }
+    let at = level.offset + u32(j) * level.width + u32(i);
+    if (at >= arrayLength(&texels)) {
+        return vec4<f32>(0.0);
+    }
+    return texture_unpack(texels[at]);
+}
+
+// reyes::texture::sample::bilinear.
+fn texture_bilinear(info: TextureInfo, index: u32, st: vec2<f32>) -> vec4<f32> {
+    let at = texture_level(info, index);
+    let s = texture_taps(st.x, at.width, info.wrap_s);
+    let t = texture_taps(st.y, at.height, info.wrap_t);
+    let t00 = texture_texel(at, s.i0, t.i0);
+    let t10 = texture_texel(at, s.i1, t.i0);
+    let t01 = texture_texel(at, s.i0, t.i1);
+    let t11 = texture_texel(at, s.i1, t.i1);
+    let top = t00 + (t10 - t00) * s.f;
+    let bottom = t01 + (t11 - t01) * s.f;
+    return top + (bottom - top) * t.f;
+}
+
+// reyes::texture::sample::axis_texels.
+fn texture_axis_texels(info: TextureInfo, axis: vec2<f32>) -> f32 {
+    let x = axis.x * f32(info.width);
+    let y = axis.y * f32(info.height);
+    return sqrt(x * x + y * y);
+}
+
+// reyes::texture::sample::level_of_detail.
+fn texture_level_of_detail(info: TextureInfo, axis_a: vec2<f32>, axis_b: vec2<f32>) -> f32 {
+    let coarsest = f32(info.levels - 1u);
+    let a = texture_axis_texels(info, axis_a);
+    let b = texture_axis_texels(info, axis_b);
+    if (!texture_is_finite(a) || !texture_is_finite(b)) {
+        return coarsest;
+    }
+    let longest = max(a, b);
+    if (longest <= 1.0) {
+        return 0.0;
+    }
+    return min(log2(longest), coarsest);
+}
+
+// reyes::texture::sample::sample (reyes::texture::TextureSet::sample): the
+// filtered linear RGBA of texture `id` at `st`, for a footprint spanning
+// `axis_a` and `axis_b` in (s, t). An unknown id or a non-finite `st` gives
+// transparent black.
+fn texture_sample(id: u32, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) -> vec4<f32> {
+    if (id >= arrayLength(&texture_infos)) {
+        return vec4<f32>(0.0);
+    }
+    if (!texture_is_finite(st.x) || !texture_is_finite(st.y)) {
+        return vec4<f32>(0.0);
+    }
+    let info = texture_infos[id];
+    let lod = texture_level_of_detail(info, axis_a, axis_b);
+    let base = floor(lod);
+    let blend = lod - base;
+    let fine = u32(base);
+    let c0 = texture_bilinear(info, fine, st);
+    if (blend <= 0.0) {
+        return c0;
+    }
+    let c1 = texture_bilinear(info, min(fine + 1u, info.levels - 1u), st);
+    return c0 + (c1 - c0) * blend;
+}
