@@ -74,7 +74,7 @@ pub fn parse(text: &str) -> Result<Model, LoadError> {
         }
         patches.push(patch);
     }
-    Ok(Model { patches })
+    Ok(Model::new(patches))
 }
 
 /// Writes a model as `.bez` text, sharing vertices whose coordinates are

@@ -3,12 +3,13 @@
 
 use std::path::Path;
 
-use glam::{DMat4, DVec3};
+use glam::{DMat4, DVec2, DVec3};
 
 use super::basis::{self, MeshDir, Wrap};
 use super::interp::{Interp, MAX_PATCHES, Motion, Prim, camera_to_world};
 use super::parser::Value;
 use super::state;
+use super::texcoords::{self, CornerRef, Layout, UNIT_SQUARE};
 
 /// The geometric primitives, supported or not (`ObjectInstance` too).
 const GEOMETRY: [&str; 21] = [
@@ -250,23 +251,33 @@ impl Interp {
         let Some(p) = state::points(&params)? else {
             return Err("needs \"P\"".into());
         };
-        let patches = match name {
+        let vars = texcoords::st_vars(v, positional, &self.declared)?;
+        let coords = self.attrs.texture_coords;
+        let (patches, st) = match name {
             "Patch" => match state::arg_str(&args, 0, "the type")? {
                 "bicubic" => {
                     let g: [DVec3; 16] = p.try_into().map_err(|p: Vec<DVec3>| {
                         format!("bicubic needs 16 points, found {}", p.len())
                     })?;
-                    vec![basis::bicubic_to_bezier(
-                        &g,
-                        &self.attrs.ubasis,
-                        &self.attrs.vbasis,
-                    )]
+                    let (ub, vb) = (&self.attrs.ubasis, &self.attrs.vbasis);
+                    let corners = std::array::from_fn(|c| CornerRef {
+                        vertex: texcoords::spline_corner(ub, vb, c, |i, j| j * 4 + i),
+                        ..CornerRef::at(0, c)
+                    });
+                    (
+                        vec![basis::bicubic_to_bezier(&g, ub, vb)],
+                        texcoords::resolve(&vars, &Layout::patch(16), &[corners], &[coords])?,
+                    )
                 }
                 "bilinear" => {
                     let c: [DVec3; 4] = p.try_into().map_err(|p: Vec<DVec3>| {
                         format!("bilinear needs 4 points, found {}", p.len())
                     })?;
-                    vec![basis::bilinear_to_bezier(&c)]
+                    let corners = std::array::from_fn(|c| CornerRef::at(0, c));
+                    (
+                        vec![basis::bilinear_to_bezier(&c)],
+                        texcoords::resolve(&vars, &Layout::patch(4), &[corners], &[coords])?,
+                    )
                 }
                 other => return Err(format!("unknown patch type {other:?}")),
             },
@@ -300,7 +311,9 @@ impl Interp {
                     wrap: wrap(4)?,
                     basis: self.attrs.vbasis,
                 };
-                basis::patch_mesh(bicubic, u, vd, &p)?
+                let patches = basis::patch_mesh(bicubic, u, vd, &p)?;
+                let st = texcoords::mesh(&vars, coords, bicubic, u, vd)?;
+                (patches, st)
             }
             "PointsPolygons" | "GeneralPolygon" | "PointsGeneralPolygons" => {
                 let made = if name == "PointsPolygons" {
@@ -328,14 +341,18 @@ impl Interp {
                     };
                     made
                 };
-                if made.1 > 0 {
+                if made.nonconvex > 0 {
                     self.warn(
                         file,
                         line,
-                        format!("{name}: {} polygon(s) not convex (or not planar): their fans of patches cover a different area", made.1),
+                        format!("{name}: {} polygon(s) not convex (or not planar): their fans of patches cover a different area", made.nonconvex),
                     );
                 }
-                made.0
+                // A polygon has no (u, v) of its own: each patch of its fan
+                // takes the unit square, whatever `TextureCoordinates` says.
+                let defaults = vec![UNIT_SQUARE; made.patches.len()];
+                let st = texcoords::resolve(&vars, &made.layout, &made.corners, &defaults)?;
+                (made.patches, st)
             }
             _ => {
                 if p.len() < 3 {
@@ -349,10 +366,21 @@ impl Interp {
                             .into(),
                     );
                 }
-                basis::polygon(&p)
+                let fan = basis::polygon_fan(p.len());
+                let corners: Vec<[CornerRef; 4]> =
+                    fan.iter().map(|f| f.map(|k| CornerRef::at(0, k))).collect();
+                let layout = Layout {
+                    uniform: 1,
+                    varying: p.len(),
+                    vertex: p.len(),
+                    facevarying: p.len(),
+                };
+                let defaults = vec![UNIT_SQUARE; fan.len()];
+                let st = texcoords::resolve(&vars, &layout, &corners, &defaults)?;
+                (basis::polygon(&p), st)
             }
         };
-        self.emit(patches, file, line)
+        self.emit(patches, st, file, line)
     }
 
     /// Why points through the current transform leave f32 (for messages):
@@ -368,12 +396,17 @@ impl Interp {
         }
     }
 
+    /// Adds a primitive of `patches` with the corner texture coordinates
+    /// `st` (one entry per patch).
     pub(super) fn emit(
         &mut self,
         patches: Vec<[DVec3; 16]>,
+        st: Vec<[DVec2; 4]>,
         file: &Path,
         line: usize,
     ) -> Result<(), String> {
+        debug_assert_eq!(patches.len(), st.len(), "one st per patch");
+        let st = texcoords::to_f32(st)?;
         let camera = self.camera.unwrap_or(DMat4::IDENTITY);
         let open = camera_to_world() * camera * self.xf.open;
         let close = camera_to_world() * camera * self.xf.close;
@@ -381,10 +414,12 @@ impl Interp {
             return Err(format!("the scene has more than {MAX_PATCHES} patches"));
         }
         let mut out = Vec::with_capacity(patches.len());
-        for patch in &patches {
+        let mut out_st = Vec::with_capacity(patches.len());
+        for (patch, st) in patches.iter().zip(st) {
             let pts = patch.map(|p| open.transform_point3(p).as_vec3());
             if pts.iter().all(|p| p.is_finite()) {
                 out.push(pts);
+                out_st.push(st);
             }
         }
         // One warning per primitive, naming the transform that overflows
@@ -406,6 +441,7 @@ impl Interp {
         let moving = (self.xf.open != self.xf.close).then(|| close * open.inverse());
         self.prims.push(Prim {
             patches: out,
+            st: out_st,
             attrs: self.attrs,
             close: moving,
             file: file.to_path_buf(),

@@ -275,6 +275,7 @@ impl Interp {
             return Err(format!("expected {count} numbers, found {}", nums.len()));
         }
         let (_, _, unknown) = state::split_params(&v[head..], 0, &self.declared)?;
+        let vars = super::texcoords::st_vars(&v[head..], 0, &self.declared)?;
         for u in unknown {
             self.warn_once(
                 &format!("#param {u}"),
@@ -294,7 +295,9 @@ impl Interp {
         let (nu0, nv0) = quadric.min_segments();
         let Some(px) = self.world_per_pixel(to_camera, &quadric.patches(nu0, nv0)) else {
             // Behind the camera: not seen.
-            return self.emit(quadric.patches(nu0, nv0), file, line);
+            let patches = quadric.patches(nu0, nv0);
+            let st = super::texcoords::quadric(&vars, self.attrs.texture_coords, nu0, patches.len())?;
+            return self.emit(patches, st, file, line);
         };
         let (nu, nv, clamped) = quadric.segments(MAX_ERROR_PX * px);
         if clamped {
@@ -307,7 +310,9 @@ impl Interp {
                 ),
             );
         }
-        self.emit(quadric.patches(nu, nv), file, line)
+        let patches = quadric.patches(nu, nv);
+        let st = super::texcoords::quadric(&vars, self.attrs.texture_coords, nu, patches.len())?;
+        self.emit(patches, st, file, line)
     }
 
     /// The object-space length of a pixel (a bound on how far a step of
