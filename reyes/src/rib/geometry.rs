@@ -358,7 +358,8 @@ impl Interp {
                 if p.len() < 3 {
                     return Err(format!("needs at least 3 points, found {}", p.len()));
                 }
-                if !basis::convex(&p) {
+                let made = super::polygons::polygon(&p);
+                if made.nonconvex > 0 {
                     self.warn(
                         file,
                         line,
@@ -366,18 +367,9 @@ impl Interp {
                             .into(),
                     );
                 }
-                let fan = basis::polygon_fan(p.len());
-                let corners: Vec<[CornerRef; 4]> =
-                    fan.iter().map(|f| f.map(|k| CornerRef::at(0, k))).collect();
-                let layout = Layout {
-                    uniform: 1,
-                    varying: p.len(),
-                    vertex: p.len(),
-                    facevarying: p.len(),
-                };
-                let defaults = vec![UNIT_SQUARE; fan.len()];
-                let st = texcoords::resolve(&vars, &layout, &corners, &defaults)?;
-                (basis::polygon(&p), st)
+                let defaults = vec![UNIT_SQUARE; made.patches.len()];
+                let st = texcoords::resolve(&vars, &made.layout, &made.corners, &defaults)?;
+                (made.patches, st)
             }
         };
         self.emit(patches, st, file, line)

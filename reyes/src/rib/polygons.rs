@@ -1,6 +1,6 @@
-//! `PointsPolygons` and `GeneralPolygon`: convex polygons by vertex index,
-//! each converted as a `Polygon` (see [`super::basis::polygon`]), with
-//! where each patch corner finds its primitive variables
+//! `Polygon`, `PointsPolygons` and `GeneralPolygon`: convex polygons (by
+//! vertex index), each a fan of patches (see [`super::basis::polygon`]),
+//! with where each patch corner finds its primitive variables
 //! ([`super::texcoords`]).
 
 use glam::DVec3;
@@ -126,10 +126,16 @@ pub(super) fn general_polygon(args: &[Value], p: &[DVec3]) -> Result<Option<Poly
     if nverts.len() > 1 {
         return Ok(None);
     }
+    Ok(Some(polygon(p)))
+}
+
+/// `Polygon "P"`: one convex polygon of the points `p` (at least 3), every
+/// class of primitive variable one value per point (uniform: one).
+pub(super) fn polygon(p: &[DVec3]) -> Polygons {
     let mut out = Polygons::new(1, p.len(), p.len());
     let ids: Vec<usize> = (0..p.len()).collect();
     convert(p, 0, &ids, 0, &mut out);
-    Ok(Some(out))
+    out
 }
 
 /// `PointsGeneralPolygons nloops nverts vertids`: polygon `i` has
