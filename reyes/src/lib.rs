@@ -30,6 +30,7 @@
 //!   [`aov`]: what the image shows;
 //! * [`model`] and [`load`]: patch models and their loaders; [`rib`]:
 //!   RenderMan RIB input; [`displacement`]: displacement sources;
+//! * [`noise`]: RenderMan's `noise` on the CPU, and its WGSL twin;
 //! * [`prepare`]: host preparation of a frame;
 //! * [`gpu`]: the GPU renderer; [`reference`](mod@reference): the CPU
 //!   reference renderer;
@@ -90,6 +91,7 @@ pub mod gpu;
 pub mod load;
 pub mod model;
 pub mod modes;
+pub mod noise;
 pub mod output;
 pub mod prepare;
 pub mod progress;

@@ -4,7 +4,7 @@
 //! embedded teapot) lives in [`crate::load`], which builds on these types, so
 //! that the arrow between the two modules points one way.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 /// One bicubic Bezier patch: 16 control points, row by row.
 ///
@@ -23,14 +23,64 @@ impl Patch {
     }
 }
 
+/// The texture coordinates `s, t` of a patch's corners `(u, v) = (0,0),
+/// (1,0), (0,1), (1,1)` when the model gives none: `s, t = u, v`.
+pub const DEFAULT_ST: [Vec2; 4] = [
+    Vec2::new(0.0, 0.0),
+    Vec2::new(1.0, 0.0),
+    Vec2::new(0.0, 1.0),
+    Vec2::new(1.0, 1.0),
+];
+
 /// A model: a list of bicubic Bezier patches in the model's own space.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Model {
     /// The patches.
     pub patches: Vec<Patch>,
+    /// The texture coordinates `s, t` of each patch's corners, in the order
+    /// of [`DEFAULT_ST`] (inside a patch they are the bilinear blend of
+    /// its corners'); `None`: every patch has [`DEFAULT_ST`]. When present
+    /// it has one entry per patch ([`Model::st_of`]; preparing a scene
+    /// checks it).
+    pub st: Option<Vec<[Vec2; 4]>>,
 }
 
 impl Model {
+    /// A model of `patches` with the default texture coordinates.
+    pub fn new(patches: Vec<Patch>) -> Model {
+        Model { patches, st: None }
+    }
+
+    /// The corner texture coordinates of patch `index`: the model's, or
+    /// [`DEFAULT_ST`] without any (or past their end, which
+    /// [`Model::st_problem`] reports).
+    pub fn st_of(&self, index: usize) -> [Vec2; 4] {
+        self.st
+            .as_ref()
+            .and_then(|st| st.get(index).copied())
+            .unwrap_or(DEFAULT_ST)
+    }
+
+    /// Why the texture coordinates do not fit the patches (a count that is
+    /// not one per patch, a coordinate that is not finite), if they do not.
+    pub fn st_problem(&self) -> Option<String> {
+        let st = self.st.as_ref()?;
+        if st.len() != self.patches.len() {
+            return Some(format!(
+                "{} texture coordinate entries for {} patches",
+                st.len(),
+                self.patches.len()
+            ));
+        }
+        let (index, _) = st
+            .iter()
+            .enumerate()
+            .find(|(_, c)| !c.iter().all(|p| p.is_finite()))?;
+        Some(format!(
+            "the texture coordinates of patch {index} are not finite"
+        ))
+    }
+
     /// The axis-aligned bounding box `(min, max)` of all control points (which
     /// contains the surface, by the convex-hull property of Bezier patches).
     /// An empty model gives `(Vec3::ZERO, Vec3::ZERO)`.

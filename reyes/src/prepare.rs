@@ -2,7 +2,7 @@
 //! control points transformed to world space once, the camera built (or
 //! framed automatically), lights normalized.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::aov::Aov;
 use crate::camera::Camera;
@@ -59,6 +59,10 @@ pub struct WorldPatch {
     pub points: [Vec3; 16],
     /// Index of the object (in [`PreparedScene::objects`]).
     pub object: u32,
+    /// The texture coordinates `s, t` at the corners `(u, v) = (0,0),
+    /// (1,0), (0,1), (1,1)` ([`crate::model::Model::st`]; the unit square
+    /// by default); inside the patch, their bilinear blend at `(u, v)`.
+    pub st: [Vec2; 4],
 }
 
 /// Per-object shading and displacement data.
@@ -181,7 +185,14 @@ impl PreparedScene {
                 field,
                 model: object.model.clone(),
             };
-            for patch in &model.patches {
+            if let Some(reason) = model.st_problem() {
+                return Err(SceneError::InvalidSt {
+                    index,
+                    model: object.model.clone(),
+                    reason,
+                });
+            }
+            for (patch_index, patch) in model.patches.iter().enumerate() {
                 let points = patch.points.map(|p| matrix.transform_point3(p));
                 if !points.iter().all(|p| p.is_finite()) {
                     return Err(overflow("transform"));
@@ -205,6 +216,7 @@ impl PreparedScene {
                 patches.push(WorldPatch {
                     points,
                     object: index as u32,
+                    st: model.st_of(patch_index),
                 });
             }
         }

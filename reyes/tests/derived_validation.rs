@@ -249,7 +249,7 @@ fn with_patches(extra: &[[Vec3; 16]]) -> Model {
     let teapot = Model::teapot();
     let mut patches = vec![teapot.patches[0]];
     patches.extend(extra.iter().map(|&points| Patch { points }));
-    Model { patches }
+    Model::new(patches)
 }
 
 #[test]
@@ -274,11 +274,9 @@ fn degenerate_patches_are_skipped_with_a_count() {
 #[test]
 fn a_patch_of_16_identical_points_renders_nothing() {
     // Alone in front of a camera: before, it rendered a blob of float noise.
-    let model = Model {
-        patches: vec![Patch {
-            points: [Vec3::ZERO; 16],
-        }],
-    };
+    let model = Model::new(vec![Patch {
+        points: [Vec3::ZERO; 16],
+    }]);
     let mut scene = Scene::for_model("point.bpt", &model);
     scene.camera = Some(reyes::scene::CameraDesc {
         eye: Vec3::new(0.0, -5.0, 0.0),

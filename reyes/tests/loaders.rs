@@ -408,7 +408,7 @@ fn random_model(rng: &mut StdRng) -> Model {
             }),
         })
         .collect();
-    Model { patches }
+    Model::new(patches)
 }
 
 #[test]

@@ -87,7 +87,7 @@ pub fn bezier_sphere() -> Model {
             }
         }
     }
-    Model { patches }
+    Model::new(patches)
 }
 
 /// The sphere point of an integer cube lattice coordinate: the cube
@@ -181,7 +181,7 @@ pub fn bezier_sphere_with_poles() -> Model {
             });
         }
     }
-    Model { patches }
+    Model::new(patches)
 }
 
 /// The control points of edge `edge` (numbered as in

@@ -489,6 +489,7 @@ mod tests {
             patches: vec![Patch {
                 points: points.map(Into::into),
             }],
+            st: None,
         }
     }
 

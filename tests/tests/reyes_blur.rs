@@ -184,9 +184,7 @@ fn card(centre: Vec3, half: f32) -> Model {
         let (u, v) = ((k % 4) as f32 / 3.0, (k / 4) as f32 / 3.0);
         centre + Vec3::new(-half + 2.0 * half * u, half - 2.0 * half * v, 0.0)
     });
-    Model {
-        patches: vec![Patch { points }],
-    }
+    Model::new(vec![Patch { points }])
 }
 
 /// The card scene: the eye at the origin looking down -z with a 60 degree

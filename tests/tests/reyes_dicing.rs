@@ -246,12 +246,7 @@ fn card_scene() -> (Scene, Vec<Model>) {
         sides: 2,
         reverse_orientation: false,
     });
-    (
-        scene,
-        vec![Model {
-            patches: vec![Patch { points }],
-        }],
-    )
+    (scene, vec![Model::new(vec![Patch { points }])])
 }
 
 /// A one-sided card facing away is culled in Bound and draws nothing; with

@@ -154,9 +154,7 @@ fn wall(x0: f32) -> Model {
     let patch = Patch { points };
     let n = (patch.point(1, 0) - patch.point(0, 0)).cross(patch.point(0, 1) - patch.point(0, 0));
     assert!(n.x > 0.0, "the wall's normal points +x");
-    Model {
-        patches: vec![patch],
-    }
+    Model::new(vec![patch])
 }
 
 /// The wall scene: the eye at the origin looking down -z (60 degree square

@@ -231,9 +231,7 @@ fn defocused_card(dicing: Dicing, dice_threshold: f32) -> PreparedScene {
         let (u, v) = ((k % 4) as f32 / 3.0, (k / 4) as f32 / 3.0);
         centre + Vec3::new(-half + 2.0 * half * u, half - 2.0 * half * v, 0.0)
     });
-    let model = Model {
-        patches: vec![Patch { points }],
-    };
+    let model = Model::new(vec![Patch { points }]);
     PreparedScene::new(&scene, &[model]).expect("scene prepares")
 }
 

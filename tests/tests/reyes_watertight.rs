@@ -291,9 +291,7 @@ fn shots() -> &'static [Shot] {
                 // The kept patches' indices in the whole model, and the
                 // whole model's open seams renumbered to the kept patches.
                 let kept: Vec<usize> = (0..whole.patches.len()).filter(|&p| visible[p]).collect();
-                let model = Model {
-                    patches: kept.iter().map(|&p| whole.patches[p]).collect(),
-                };
+                let model = Model::new(kept.iter().map(|&p| whole.patches[p]).collect());
                 let seams: Vec<(usize, usize)> = unmatched_edges(&whole)
                     .into_iter()
                     .filter_map(|(patch, edge)| Some((kept.binary_search(&patch).ok()?, edge)))

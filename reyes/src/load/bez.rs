@@ -84,7 +84,7 @@ pub fn parse_within(text: &str, budget: &mut PatchBudget) -> Result<Model, LoadE
         }
         patches.push(patch);
     }
-    Ok(Model { patches })
+    Ok(Model::new(patches))
 }
 
 /// Writes a model as `.bez` text, sharing vertices whose coordinates are

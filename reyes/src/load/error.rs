@@ -72,6 +72,26 @@ pub enum LoadError {
         /// The token.
         token: String,
     },
+    /// A `.bpt` texture coordinate header is not `st <number of patches>`.
+    #[error(
+        "line {line}: expected \"st {patches}\" (one texture coordinate line per patch), found {found:?}"
+    )]
+    StCount {
+        /// Line of the header.
+        line: usize,
+        /// The model's patch count.
+        patches: usize,
+        /// The header found.
+        found: String,
+    },
+    /// A `.bpt` texture coordinate line does not have 8 numbers.
+    #[error("line {line}: expected 8 texture coordinates (s t of 4 corners), found {found}")]
+    WrongStCount {
+        /// Line of the coordinates.
+        line: usize,
+        /// Number of values found.
+        found: usize,
+    },
     /// A coordinate is NaN or infinite.
     #[error("line {line}: coordinate {token:?} is not finite")]
     NonFiniteCoordinate {
@@ -142,7 +162,9 @@ impl LoadError {
             | LoadError::TrailingGarbage { line, .. }
             | LoadError::VertexIndexOutOfRange { line, .. }
             | LoadError::WrongIndexCount { line, .. }
-            | LoadError::PatchBudget { line, .. } => Some(*line),
+            | LoadError::PatchBudget { line, .. }
+            | LoadError::StCount { line, .. }
+            | LoadError::WrongStCount { line, .. } => Some(*line),
         }
     }
 }

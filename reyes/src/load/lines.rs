@@ -40,6 +40,15 @@ impl<'a> Lines<'a> {
         None
     }
 
+    /// The next non-blank line, without consuming it.
+    pub(crate) fn peek_line(&self) -> Option<(usize, &'a str)> {
+        let mut ahead = Lines {
+            inner: self.inner.clone(),
+            last_line: self.last_line,
+        };
+        ahead.next_line()
+    }
+
     /// The next non-blank line, or [`LoadError::Truncated`] saying what was expected.
     pub(crate) fn expect_line(
         &mut self,

@@ -165,7 +165,12 @@ pub enum Wrap {
 
 /// The patch count along one direction of `n` control points, or why the
 /// count does not fit the step.
-fn patch_count(n: usize, wrap: Wrap, step: usize, order: usize) -> Result<usize, String> {
+pub(super) fn patch_count(
+    n: usize,
+    wrap: Wrap,
+    step: usize,
+    order: usize,
+) -> Result<usize, String> {
     match wrap {
         Wrap::Nonperiodic => {
             if n < order || !(n - order).is_multiple_of(step) {
@@ -279,13 +284,22 @@ pub fn patch_mesh(
 /// third corner doubled), raised to bicubic. `dP/du x dP/dv` has the sign
 /// of `(p1 - p0) x (p2 - p0)`.
 pub fn polygon(p: &[DVec3]) -> Vec<[DVec3; 16]> {
+    polygon_fan(p.len())
+        .into_iter()
+        .map(|corners| bilinear_to_bezier(&corners.map(|k| p[k])))
+        .collect()
+}
+
+/// The vertices (positions in the polygon) at the corners `(u, v) = (0,0),
+/// (1,0), (0,1), (1,1)` of each patch of [`polygon`]'s fan over `n`
+/// vertices: `(0, i, i+2, i+1)`, or `(0, i, i+1, i+1)` for a last triangle.
+pub fn polygon_fan(n: usize) -> Vec<[usize; 4]> {
     let mut out = Vec::new();
     let mut i = 1;
-    while i + 1 < p.len() {
-        let (a, b, c) = (p[0], p[i], p[i + 1]);
-        let d = if i + 2 < p.len() { p[i + 2] } else { c };
+    while i + 1 < n {
+        let d = if i + 2 < n { i + 2 } else { i + 1 };
         // Corners (u, v): a (0,0), b (1,0), d (0,1), c (1,1).
-        out.push(bilinear_to_bezier(&[a, b, d, c]));
+        out.push([0, i, d, i + 1]);
         i += 2;
     }
     out

@@ -6,7 +6,7 @@ use glam::{DMat4, EulerRot, Vec3};
 
 use super::interp::{Interp, Prim};
 use super::{RibError, RibScene, Warning};
-use crate::model::{Model, Patch};
+use crate::model::{DEFAULT_ST, Model, Patch};
 use crate::params::NEAR_EPS;
 use crate::scene::{
     CameraDesc, CameraPose, Lens, Projection, Resolution, Scale, Scene, SceneObject,
@@ -264,6 +264,14 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
             keys.push(key);
         }
         let model = models.last_mut().expect("pushed");
+        // A model keeps `st: None` while all its patches have the default
+        // texture coordinates (so plain geometry converts as before).
+        if model.st.is_none() && prim.st.iter().any(|&st| st != DEFAULT_ST) {
+            model.st = Some(vec![DEFAULT_ST; model.patches.len()]);
+        }
+        if let Some(st) = &mut model.st {
+            st.extend_from_slice(&prim.st);
+        }
         model
             .patches
             .extend(prim.patches.iter().map(|&points| Patch { points }));

@@ -3,12 +3,13 @@
 
 use std::path::Path;
 
-use glam::{DMat4, DVec3};
+use glam::{DMat4, DVec2, DVec3};
 
 use super::basis::{self, MeshDir, Wrap};
 use super::interp::{Interp, Motion, Prim, RequestError, camera_to_world};
 use super::parser::Value;
 use super::state;
+use super::texcoords::{self, CornerRef, Layout, UNIT_SQUARE};
 
 /// The geometric primitives, supported or not (`ObjectInstance` too).
 const GEOMETRY: [&str; 21] = [
@@ -274,25 +275,35 @@ impl Interp {
         let Some(p) = state::points(&params)? else {
             return Err("needs \"P\"".to_owned().into());
         };
-        let patches = match name {
+        let vars = texcoords::st_vars(v, positional, &self.declared)?;
+        let coords = self.attrs.texture_coords;
+        let (patches, st) = match name {
             "Patch" => match state::arg_str(&args, 0, "the type")? {
                 "bicubic" => {
                     self.take_patches(1, String::new)?;
                     let g: [DVec3; 16] = p.try_into().map_err(|p: Vec<DVec3>| {
                         format!("bicubic needs 16 points, found {}", p.len())
                     })?;
-                    vec![basis::bicubic_to_bezier(
-                        &g,
-                        &self.attrs.ubasis,
-                        &self.attrs.vbasis,
-                    )]
+                    let (ub, vb) = (&self.attrs.ubasis, &self.attrs.vbasis);
+                    let corners = std::array::from_fn(|c| CornerRef {
+                        vertex: texcoords::spline_corner(ub, vb, c, |i, j| j * 4 + i),
+                        ..CornerRef::at(0, c)
+                    });
+                    (
+                        vec![basis::bicubic_to_bezier(&g, ub, vb)],
+                        texcoords::resolve(&vars, &Layout::patch(16), &[corners], &[coords])?,
+                    )
                 }
                 "bilinear" => {
                     self.take_patches(1, String::new)?;
                     let c: [DVec3; 4] = p.try_into().map_err(|p: Vec<DVec3>| {
                         format!("bilinear needs 4 points, found {}", p.len())
                     })?;
-                    vec![basis::bilinear_to_bezier(&c)]
+                    let corners = std::array::from_fn(|c| CornerRef::at(0, c));
+                    (
+                        vec![basis::bilinear_to_bezier(&c)],
+                        texcoords::resolve(&vars, &Layout::patch(4), &[corners], &[coords])?,
+                    )
                 }
                 other => return Err(format!("unknown patch type {other:?}").into()),
             },
@@ -328,7 +339,9 @@ impl Interp {
                 };
                 let (nup, nvp) = basis::patch_mesh_counts(bicubic, u, vd, p.len())?;
                 self.take_patches(nup.saturating_mul(nvp), || format!("{nup} x {nvp} patches"))?;
-                basis::patch_mesh(bicubic, u, vd, &p)?
+                let patches = basis::patch_mesh(bicubic, u, vd, &p)?;
+                let st = texcoords::mesh(&vars, coords, bicubic, u, vd)?;
+                (patches, st)
             }
             "PointsPolygons" | "GeneralPolygon" | "PointsGeneralPolygons" => {
                 let estimate = super::polygons::estimate(name, &args)?;
@@ -358,21 +371,26 @@ impl Interp {
                     };
                     made
                 };
-                if made.1 > 0 {
+                if made.nonconvex > 0 {
                     self.warn(
                         file,
                         line,
-                        format!("{name}: {} polygon(s) not convex (or not planar): their fans of patches cover a different area", made.1),
+                        format!("{name}: {} polygon(s) not convex (or not planar): their fans of patches cover a different area", made.nonconvex),
                     );
                 }
-                made.0
+                // A polygon has no (u, v) of its own: each patch of its fan
+                // takes the unit square, whatever `TextureCoordinates` says.
+                let defaults = vec![UNIT_SQUARE; made.patches.len()];
+                let st = texcoords::resolve(&vars, &made.layout, &made.corners, &defaults)?;
+                (made.patches, st)
             }
             _ => {
                 if p.len() < 3 {
                     return Err(format!("needs at least 3 points, found {}", p.len()).into());
                 }
                 self.take_patches(basis::fan_patches(p.len()), || "its fan".to_owned())?;
-                if !basis::convex(&p) {
+                let made = super::polygons::polygon(&p);
+                if made.nonconvex > 0 {
                     self.warn(
                         file,
                         line,
@@ -380,10 +398,12 @@ impl Interp {
                             .into(),
                     );
                 }
-                basis::polygon(&p)
+                let defaults = vec![UNIT_SQUARE; made.patches.len()];
+                let st = texcoords::resolve(&vars, &made.layout, &made.corners, &defaults)?;
+                (made.patches, st)
             }
         };
-        self.emit(name, patches, file, line)
+        self.emit(name, patches, st, file, line)
     }
 
     /// Why points through the current transform leave f32 (for messages):
@@ -453,22 +473,28 @@ impl Interp {
     }
 
     /// Adds the primitive of request `name` made of `patches` (already
-    /// taken from the budget) at `line` of `file`.
+    /// taken from the budget) at `line` of `file`, with the corner texture
+    /// coordinates `st` (one entry per patch).
     pub(super) fn emit(
         &mut self,
         name: &str,
         patches: Vec<[DVec3; 16]>,
+        st: Vec<[DVec2; 4]>,
         file: &Path,
         line: usize,
     ) -> Result<(), RequestError> {
+        debug_assert_eq!(patches.len(), st.len(), "one st per patch");
+        let st = texcoords::to_f32(st)?;
         let camera = self.camera.unwrap_or(DMat4::IDENTITY);
         let open = camera_to_world() * camera * self.xf.open;
         let close = camera_to_world() * camera * self.xf.close;
         let mut out = Vec::with_capacity(patches.len());
-        for patch in &patches {
+        let mut out_st = Vec::with_capacity(patches.len());
+        for (patch, st) in patches.iter().zip(st) {
             let pts = patch.map(|p| open.transform_point3(p).as_vec3());
             if pts.iter().all(|p| p.is_finite()) {
                 out.push(pts);
+                out_st.push(st);
             }
         }
         // One warning per primitive, naming the transform that overflows
@@ -491,6 +517,7 @@ impl Interp {
         let moving = (self.xf.open != self.xf.close).then(|| close * open.inverse());
         self.prims.push(Prim {
             patches: out,
+            st: out_st,
             attrs: self.attrs.clone(),
             close: moving,
             request: GEOMETRY

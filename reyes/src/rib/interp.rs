@@ -5,7 +5,7 @@
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
-use glam::{DMat4, DVec3, Vec3};
+use glam::{DMat4, DVec3, Vec2, Vec3};
 
 use super::lights::RibLight;
 use super::parser::Call;
@@ -96,6 +96,9 @@ pub struct Options {
 pub struct Prim {
     /// Its Bezier patches at shutter open.
     pub patches: Vec<[Vec3; 16]>,
+    /// The texture coordinates of each patch's corners `(u, v) = (0,0),
+    /// (1,0), (0,1), (1,1)` (`super::texcoords`).
+    pub st: Vec<[Vec2; 4]>,
     /// The attributes it was made with.
     pub attrs: Attributes,
     /// The world-space motion from shutter open to close, if it moves.
@@ -438,6 +441,7 @@ impl Interp {
             "Displacement" => self.displacement(v, file, line)?,
             "Opacity" => self.opacity(v, file, line)?,
             "Basis" => self.basis(v)?,
+            "TextureCoordinates" => self.texture_coordinates(v)?,
             "Identity" | "Transform" | "ConcatTransform" | "Translate" | "Rotate" | "Scale"
             | "Skew" => {
                 self.transform(name, v)?;

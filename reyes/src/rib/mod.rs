@@ -16,7 +16,8 @@
 //!   `geometry`: its transform, motion, basis and geometry requests;
 //!   `quadrics`: the quadrics as Bezier patches; `polygons`:
 //!   `PointsPolygons` and `GeneralPolygon`; `spaces`: coordinate systems
-//!   and `Skew`; `blocks`: the begin/end structure); `convert`: the
+//!   and `Skew`; `blocks`: the begin/end structure; `texcoords`: `s`, `t`
+//!   of the patches' corners); `convert`: the
 //!   [`Scene`] it makes.
 
 mod attributes;
@@ -36,6 +37,7 @@ mod options;
 mod polygons;
 mod spaces;
 mod surfaces;
+mod texcoords;
 
 use std::path::{Path, PathBuf};
 

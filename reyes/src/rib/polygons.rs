@@ -1,14 +1,43 @@
-//! `PointsPolygons` and `GeneralPolygon`: convex polygons by vertex index,
-//! each converted as a `Polygon` (see [`super::basis::polygon`]).
+//! `Polygon`, `PointsPolygons` and `GeneralPolygon`: convex polygons (by
+//! vertex index), each a fan of patches (see [`super::basis::polygon`]),
+//! with where each patch corner finds its primitive variables
+//! ([`super::texcoords`]).
 
 use glam::DVec3;
 
 use super::basis;
 use super::parser::Value;
 use super::state;
+use super::texcoords::{CornerRef, Layout, VertexRef};
 
-/// Patches of some polygons plus how many of them are not convex.
-pub(super) type Polygons = (Vec<[DVec3; 16]>, usize);
+/// Patches of some polygons.
+#[derive(Debug)]
+pub(super) struct Polygons {
+    /// The patches.
+    pub(super) patches: Vec<[DVec3; 16]>,
+    /// How many polygons are not convex.
+    pub(super) nonconvex: usize,
+    /// Per patch, where its corners' primitive variables are.
+    pub(super) corners: Vec<[CornerRef; 4]>,
+    /// How many elements each storage class has.
+    pub(super) layout: Layout,
+}
+
+impl Polygons {
+    fn new(uniform: usize, vertex: usize, facevarying: usize) -> Polygons {
+        Polygons {
+            patches: Vec::new(),
+            nonconvex: 0,
+            corners: Vec::new(),
+            layout: Layout {
+                uniform,
+                varying: vertex,
+                vertex,
+                facevarying,
+            },
+        }
+    }
+}
 
 /// The non-negative integers of positional value `i` of `args`.
 fn counts(args: &[Value], i: usize, what: &str) -> Result<Vec<usize>, String> {
@@ -58,12 +87,22 @@ pub(super) fn estimate(name: &str, args: &[Value]) -> Result<usize, String> {
     })
 }
 
-/// Converts one convex polygon, counting it if it is not convex.
-fn convert(poly: &[DVec3], out: &mut Polygons) {
+/// Converts one convex polygon, face `face`, counting it if it is not
+/// convex; its vertex `k` is point `ids[k]` and face corner `first + k`.
+fn convert(poly: &[DVec3], face: usize, ids: &[usize], first: usize, out: &mut Polygons) {
     if !basis::convex(poly) {
-        out.1 += 1;
+        out.nonconvex += 1;
     }
-    out.0.extend(basis::polygon(poly));
+    out.patches.extend(basis::polygon(poly));
+    out.corners
+        .extend(basis::polygon_fan(poly.len()).into_iter().map(|fan| {
+            fan.map(|k| CornerRef {
+                uniform: face,
+                varying: ids[k],
+                vertex: VertexRef::One(ids[k]),
+                facevarying: first + k,
+            })
+        }));
 }
 
 /// `PointsPolygons nverts vertids`: polygon `i` has `nverts[i]` (at least
@@ -88,11 +127,12 @@ pub(super) fn points_polygons(args: &[Value], p: &[DVec3]) -> Result<Polygons, S
             p.len()
         ));
     }
-    let mut out = (Vec::new(), 0);
+    let mut out = Polygons::new(nverts.len(), p.len(), ids.len());
     let mut start = 0;
-    for &n in &nverts {
-        let poly: Vec<DVec3> = ids[start..start + n].iter().map(|&id| p[id]).collect();
-        convert(&poly, &mut out);
+    for (face, &n) in nverts.iter().enumerate() {
+        let poly_ids = &ids[start..start + n];
+        let poly: Vec<DVec3> = poly_ids.iter().map(|&id| p[id]).collect();
+        convert(&poly, face, poly_ids, start, &mut out);
         start += n;
     }
     Ok(out)
@@ -120,9 +160,16 @@ pub(super) fn general_polygon(args: &[Value], p: &[DVec3]) -> Result<Option<Poly
     if nverts.len() > 1 {
         return Ok(None);
     }
-    let mut out = (Vec::new(), 0);
-    convert(p, &mut out);
-    Ok(Some(out))
+    Ok(Some(polygon(p)))
+}
+
+/// `Polygon "P"`: one convex polygon of the points `p` (at least 3), every
+/// class of primitive variable one value per point (uniform: one).
+pub(super) fn polygon(p: &[DVec3]) -> Polygons {
+    let mut out = Polygons::new(1, p.len(), p.len());
+    let ids: Vec<usize> = (0..p.len()).collect();
+    convert(p, 0, &ids, 0, &mut out);
+    out
 }
 
 /// `PointsGeneralPolygons nloops nverts vertids`: polygon `i` has
@@ -161,16 +208,17 @@ pub(super) fn points_general_polygons(
             p.len()
         ));
     }
-    let mut out = (Vec::new(), 0);
+    let mut out = Polygons::new(nloops.len(), p.len(), ids.len());
     let mut holes = 0;
     let (mut loop_at, mut id_at) = (0, 0);
-    for &nl in &nloops {
+    for (face, &nl) in nloops.iter().enumerate() {
         let len: usize = nverts[loop_at..loop_at + nl].iter().sum();
         if nl > 1 {
             holes += 1;
         } else {
-            let poly: Vec<DVec3> = ids[id_at..id_at + len].iter().map(|&id| p[id]).collect();
-            convert(&poly, &mut out);
+            let poly_ids = &ids[id_at..id_at + len];
+            let poly: Vec<DVec3> = poly_ids.iter().map(|&id| p[id]).collect();
+            convert(&poly, face, poly_ids, id_at, &mut out);
         }
         loop_at += nl;
         id_at += len;

@@ -279,6 +279,7 @@ impl Interp {
             return Err(format!("expected {count} numbers, found {}", nums.len()).into());
         }
         let (_, _, unknown) = state::split_params(&v[head..], 0, &self.declared)?;
+        let vars = super::texcoords::st_vars(&v[head..], 0, &self.declared)?;
         for u in unknown {
             self.warn_once(
                 &format!("#param {u}"),
@@ -299,7 +300,9 @@ impl Interp {
         let Some(px) = self.world_per_pixel(to_camera, &quadric) else {
             // Behind the camera: not seen.
             self.take_patches(nu0 * nv0, || format!("{nu0} x {nv0} segments"))?;
-            return self.emit(name, quadric.patches(nu0, nv0), file, line);
+            let patches = quadric.patches(nu0, nv0);
+            let st = super::texcoords::quadric(&vars, self.attrs.texture_coords, nu0, patches.len())?;
+            return self.emit(name, patches, st, file, line);
         };
         let (nu, nv, clamped) = quadric.segments(MAX_ERROR_PX * px);
         // Counted before they are made: 64 x 64 segments are 4096 patches.
@@ -314,7 +317,9 @@ impl Interp {
                 ),
             );
         }
-        self.emit(name, quadric.patches(nu, nv), file, line)
+        let patches = quadric.patches(nu, nv);
+        let st = super::texcoords::quadric(&vars, self.attrs.texture_coords, nu, patches.len())?;
+        self.emit(name, patches, st, file, line)
     }
 
     /// The object-space length of a pixel (a bound on how far a step of

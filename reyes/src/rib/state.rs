@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use glam::{DMat4, DVec3};
+use glam::{DMat4, DVec2, DVec3};
 
 use super::basis::{self, Basis};
 use super::parser::Value;
@@ -29,6 +29,9 @@ pub struct Attributes {
     /// Bit `i`: light `i` is on (`LightSource` turns it on, `Illuminate`
     /// switches it, `AttributeEnd` restores the enclosing block's set).
     pub lights_on: u64,
+    /// `TextureCoordinates`: the `st` of the corners `(u, v) = (0,0), (1,0),
+    /// (0,1), (1,1)` of parametric primitives.
+    pub texture_coords: [DVec2; 4],
 }
 
 impl Default for Attributes {
@@ -42,6 +45,7 @@ impl Default for Attributes {
             ubasis: basis::BEZIER,
             vbasis: basis::BEZIER,
             lights_on: 0,
+            texture_coords: super::texcoords::UNIT_SQUARE,
         }
     }
 }

@@ -151,6 +151,17 @@ pub enum SceneError {
         /// Number of models given.
         models: usize,
     },
+    /// A model's texture coordinates do not fit its patches
+    /// ([`crate::model::Model::st_problem`]).
+    #[error("objects[{index}]: model {model:?}: {reason}")]
+    InvalidSt {
+        /// Index of the object.
+        index: usize,
+        /// The object's `model` string.
+        model: String,
+        /// What is wrong.
+        reason: String,
+    },
 }
 
 /// A point in short scientific notation, e.g. `[1e19, -2.5e-30, 0e0]`.
