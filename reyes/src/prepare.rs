@@ -18,6 +18,7 @@ use crate::scene::{
 };
 pub use crate::shading::{PreparedLight, PreparedSurface};
 use crate::surface_shader::ShaderTable;
+use crate::texture::TextureSet;
 
 /// Largest RGBA image of a frame, in bytes, for both renderers: 128 MiB,
 /// WebGPU's default `max_storage_buffer_binding_size`, which is also what
@@ -63,6 +64,17 @@ pub struct WorldPatch {
     /// (1,0), (0,1), (1,1)` ([`crate::model::Model::st`]; the unit square
     /// by default); inside the patch, their bilinear blend at `(u, v)`.
     pub st: [Vec2; 4],
+}
+
+impl WorldPatch {
+    /// `s, t` at `(u, v)`: the bilinear blend of the corners' (the WGSL
+    /// `patch_st`).
+    pub fn st_at(&self, u: f32, v: f32) -> Vec2 {
+        let [a, b, c, d] = self.st;
+        let bottom = a + (b - a) * u;
+        let top = c + (d - c) * u;
+        bottom + (top - bottom) * v
+    }
 }
 
 /// Per-object shading and displacement data.
@@ -141,6 +153,8 @@ pub struct PreparedScene {
     pub pixel_filter: PixelFilter,
     /// The user surface shaders the objects run, with their parameters.
     pub shaders: ShaderTable,
+    /// The textures the shaders' parameters name.
+    pub textures: TextureSet,
     /// How the resolved linear image becomes the 8-bit one: the scene's
     /// exposure and quantization, except for the pictures of data (every
     /// [`Aov`] but `shaded`), whose colours are encoded plainly
@@ -268,6 +282,7 @@ impl PreparedScene {
         });
         let mut prepared_objects = Vec::with_capacity(scene.objects.len());
         let mut shaders = ShaderTable::default();
+        let mut textures = TextureSet::default();
         for (index, object) in scene.objects.iter().enumerate() {
             let open = object.transform.matrix();
             let mirrored = open.determinant() < 0.0;
@@ -299,14 +314,13 @@ impl PreparedScene {
                     Some(dir) if file.is_relative() => dir.join(file),
                     _ => file.to_path_buf(),
                 };
-                let (reference, warnings) =
-                    shaders
-                        .add(&path, values)
-                        .map_err(|source| SceneError::SurfaceShader {
-                            index,
-                            file: path.clone(),
-                            source,
-                        })?;
+                let (reference, warnings) = shaders
+                    .add(&path, values, &mut textures, scene.base_dir.as_deref())
+                    .map_err(|source| SceneError::SurfaceShader {
+                        index,
+                        file: path.clone(),
+                        source,
+                    })?;
                 for warning in warnings {
                     log::warn!(
                         "object {index}: surface shader {} has no parameter `{}`; the value is ignored",
@@ -359,6 +373,7 @@ impl PreparedScene {
                 scene.pixel_filter
             },
             shaders,
+            textures,
             encoding: if scene.aov == Aov::Shaded {
                 Encoding {
                     exposure: scene.exposure,

@@ -85,7 +85,7 @@ if (valid) {
             }
             default: {
                 let step = vec2<f32>((item.uv.z - item.uv.x) / f32(nu), (item.uv.w - item.uv.y) / f32(nv));
-                let context = shading_context(&q, object, moved, normal, geometric_normal, vec2<f32>(u, v), step);
+                let context = shading_context(&q, item.input_patch, object, moved, normal, geometric_normal, vec2<f32>(u, v), step);
                 color = shade(context, object);
             }
         }

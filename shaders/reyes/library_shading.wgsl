@@ -117,16 +117,58 @@ fn shader_parameter(slot: u32) -> vec4<f32> {
     return vec4<f32>(height_texels[base], height_texels[base + 1u], height_texels[base + 2u], height_texels[base + 3u]);
 }
 
+// The frame's textures (library_texture.wgsl), kept in height_texels by
+// their bits (reyes::gpu::buffers::FloatLayout).
+fn texture_count() -> u32 {
+    return frame.texture_count;
+}
+
+fn texture_info(id: u32) -> TextureInfo {
+    let base = frame.texture_floats + 8u * id;
+    var word: array<u32, 8>;
+    for (var k = 0u; k < 8u; k += 1u) {
+        word[k] = bitcast<u32>(height_texels[base + k]);
+    }
+    return TextureInfo(word[0], word[1], word[2], word[3], word[4], word[5], word[6], word[7]);
+}
+
+fn texture_packed_count() -> u32 {
+    return frame.texel_count;
+}
+
+fn texture_packed(at: u32) -> vec2<u32> {
+    let base = frame.texel_floats + 2u * at;
+    return vec2<u32>(bitcast<u32>(height_texels[base]), bitcast<u32>(height_texels[base + 1u]));
+}
+
+fn host_texture(index: u32, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) -> vec4<f32> {
+    return texture_sample(index, st, axis_a, axis_b);
+}
+
 fn host_ambient() -> vec3<f32> {
     return vec3<f32>(frame.ambient_red, frame.ambient_green, frame.ambient_blue);
 }
 
-// The shading context of a grid point of the input patch `q` at (u, v),
+// reyes::prepare::WorldPatch::st_at: input patch `index`'s s, t at (u, v).
+fn patch_st(index: u32, u: f32, v: f32) -> vec2<f32> {
+    let base = frame.st_floats + 8u * index;
+    let a = vec2<f32>(height_texels[base], height_texels[base + 1u]);
+    let b = vec2<f32>(height_texels[base + 2u], height_texels[base + 3u]);
+    let c = vec2<f32>(height_texels[base + 4u], height_texels[base + 5u]);
+    let d = vec2<f32>(height_texels[base + 6u], height_texels[base + 7u]);
+    let bottom = a + (b - a) * u;
+    let top = c + (d - c) * u;
+    return bottom + (top - bottom) * v;
+}
+
+// The shading context of a grid point of the input patch `q` (number
+// `input_patch`) at (u, v),
 // moved to `position` with the unit normal `normal` facing the eye; `ng`
 // is the undisplaced surface's (zero: the same as `normal`), `step` the
 // grid's (du, dv).
 fn shading_context(
     q: ptr<function, array<f32, 48>>,
+    input_patch: u32,
     object: Object,
     position: vec3<f32>,
     normal: vec3<f32>,
@@ -137,6 +179,9 @@ fn shading_context(
     let to_eye = towards_eye(position);
     let bu = bernstein(uv.x);
     let bv = bernstein(uv.y);
+    let st = patch_st(input_patch, uv.x, uv.y);
+    let dstdu = patch_st(input_patch, 1.0, uv.y) - patch_st(input_patch, 0.0, uv.y);
+    let dstdv = patch_st(input_patch, uv.x, 1.0) - patch_st(input_patch, uv.x, 0.0);
     return ShadingContext(
         position,
         normal,
@@ -147,10 +192,12 @@ fn shading_context(
         uv.y,
         step.x,
         step.y,
-        uv.x,
-        uv.y,
+        st.x,
+        st.y,
         tensor(q, bernstein_derivative(uv.x), bv),
         tensor(q, bu, bernstein_derivative(uv.y)),
+        dstdu,
+        dstdv,
         object.color.xyz,
         vec3<f32>(1.0),
         0.0,

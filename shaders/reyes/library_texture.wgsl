@@ -4,9 +4,12 @@
 // same texels, so the GPU and the CPU reference filter alike.
 //
 // The module declares the TextureInfo struct (reyes::texture::TextureInfo)
-// and two read-only storage buffers (reyes::texture::TextureSet::gpu_tables):
-//   texture_infos: array<TextureInfo>   one entry per texture id
-//   texels: array<vec2<u32>>            every mip chain, level 0 first
+// and four functions that read the tables of
+// reyes::texture::TextureSet::gpu_tables, wherever the module keeps them:
+//   texture_count() -> u32                  textures (ids 0 .. count)
+//   texture_info(id: u32) -> TextureInfo    one entry per texture id
+//   texture_packed_count() -> u32           texels of every mip chain
+//   texture_packed(at: u32) -> vec2<u32>    texel `at`, level 0 first
 
 // reyes::texture::Wrap::code.
 const TEXTURE_WRAP_PERIODIC: u32 = 0u;
@@ -104,10 +107,10 @@ fn texture_texel(level: TextureLevel, i: i32, j: i32) -> vec4<f32> {
         return vec4<f32>(0.0);
     }
     let at = level.offset + u32(j) * level.width + u32(i);
-    if (at >= arrayLength(&texels)) {
+    if (at >= texture_packed_count()) {
         return vec4<f32>(0.0);
     }
-    return texture_unpack(texels[at]);
+    return texture_unpack(texture_packed(at));
 }
 
 // reyes::texture::sample::bilinear.
@@ -151,13 +154,13 @@ fn texture_level_of_detail(info: TextureInfo, axis_a: vec2<f32>, axis_b: vec2<f3
 // `axis_a` and `axis_b` in (s, t). An unknown id or a non-finite `st` gives
 // transparent black.
 fn texture_sample(id: u32, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) -> vec4<f32> {
-    if (id >= arrayLength(&texture_infos)) {
+    if (id >= texture_count()) {
         return vec4<f32>(0.0);
     }
     if (!texture_is_finite(st.x) || !texture_is_finite(st.y)) {
         return vec4<f32>(0.0);
     }
-    let info = texture_infos[id];
+    let info = texture_info(id);
     let lod = texture_level_of_detail(info, axis_a, axis_b);
     let base = floor(lod);
     let blend = lod - base;

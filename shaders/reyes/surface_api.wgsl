@@ -32,6 +32,9 @@ struct ShadingContext {
     // The surface's derivatives along u and v.
     dPdu: vec3<f32>,
     dPdv: vec3<f32>,
+    // The derivatives of (s, t) along u and along v.
+    dstdu: vec2<f32>,
+    dstdv: vec2<f32>,
     // The object's colour and opacity.
     Cs: vec3<f32>,
     Os: vec3<f32>,
@@ -51,6 +54,26 @@ struct SurfaceOutput {
 struct LightSample {
     L: vec3<f32>,
     Cl: vec3<f32>,
+}
+
+// A texture, as a shader parameter of this type names one: the scene
+// gives its file (reyes::surface_shader::ParameterKind::Texture).
+struct TextureId {
+    index: u32,
+}
+
+// RenderMan's texture(name, s, t): the texture's filtered linear RGBA at
+// (s, t), over the shading point's footprint in (s, t) (the grid's step
+// along u and v). For coordinates that are not the context's s, t (scaled,
+// say), use texture_footprint with their own footprint.
+fn texture(ctx: ShadingContext, id: TextureId, s: f32, t: f32) -> vec4<f32> {
+    return host_texture(id.index, vec2<f32>(s, t), ctx.dstdu * ctx.du, ctx.dstdv * ctx.dv);
+}
+
+// The texture's filtered RGBA at `st` over the footprint spanned by
+// `axis_a` and `axis_b` in (s, t).
+fn texture_footprint(id: TextureId, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) -> vec4<f32> {
+    return host_texture(id.index, st, axis_a, axis_b);
 }
 
 // The number of lights that illuminate (ambient lights are in ambient()).

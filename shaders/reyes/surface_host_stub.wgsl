@@ -12,3 +12,7 @@ fn host_light(i: u32, position: vec3<f32>) -> LightSample {
 fn host_ambient() -> vec3<f32> {
     return vec3<f32>(0.0);
 }
+
+fn host_texture(index: u32, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) -> vec4<f32> {
+    return vec4<f32>(0.0);
+}

@@ -16,7 +16,7 @@ use reyes::model::Model;
 use reyes::prepare::PreparedScene;
 use reyes::reference;
 use reyes::scene::{Light, Scene, SceneObject, ShaderValue, Surface, Transform};
-use reyes::surface_shader::{CpuSurface, Illumination, ShadingContext, SurfaceOutput};
+use reyes::surface_shader::{CpuSurface, ShadingContext, ShadingHost, SurfaceOutput};
 use tests::reyes_support::{agreement, camera_down_z, gpu_turn, renderer};
 use tests::shapes::bezier_sphere;
 
@@ -27,7 +27,7 @@ fn shader_path() -> PathBuf {
 /// The Rust twin of tests/shaders/every_input.wgsl, line for line.
 fn every_input(
     ctx: &ShadingContext,
-    lights: &dyn Illumination,
+    lights: &dyn ShadingHost,
     slots: &[[f32; 4]],
 ) -> SurfaceOutput {
     let kd = slots[0][0];
@@ -163,6 +163,69 @@ fn a_user_shader_with_every_input_matches_its_twin_whole_and_in_tiles() {
             a.assert_at_least(&format!("user shader at spp {spp}, {what}"), 0.995, 0.99);
         }
     }
+}
+
+/// The Rust twin of tests/shaders/textured_noise.wgsl.
+fn textured_noise(
+    ctx: &ShadingContext,
+    host: &dyn ShadingHost,
+    slots: &[[f32; 4]],
+) -> SurfaceOutput {
+    let texel = host.texture(ctx, slots[0][0].to_bits(), ctx.s, ctx.t);
+    let marble = slots[1][0] * reyes::noise::snoise3(ctx.p * 3.0);
+    let lit = host.ambient() + host.diffuse(ctx, ctx.n);
+    SurfaceOutput {
+        ci: ctx.cs * texel.truncate() * lit + Vec3::splat(marble),
+        oi: ctx.os,
+    }
+}
+
+/// A 64 x 48 texture of coloured squares with smooth edges, written as a
+/// PNG (sRGB, as 8-bit PNGs are read).
+fn write_texture(dir: &std::path::Path) -> PathBuf {
+    let image = image::RgbaImage::from_fn(64, 48, |x, y| {
+        let fx = (x as f32 / 8.0).sin() * 0.5 + 0.5;
+        let fy = (y as f32 / 6.0).cos() * 0.5 + 0.5;
+        image::Rgba([(255.0 * fx) as u8, (255.0 * fy) as u8, 128, 255])
+    });
+    let path = dir.join("squares.png");
+    image.save(&path).expect("the texture is written");
+    path
+}
+
+/// Textures and noise in a user shader, on the GPU against the twin: a
+/// sphere whose texture covers its (s, t), at two sizes on screen (the
+/// mip level follows the footprint).
+#[gpu_test]
+fn a_textured_noisy_shader_matches_its_twin() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let dir = std::env::temp_dir().join(format!("reyes-textured-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let texture = write_texture(&dir);
+    let (mut scene, mut models) = scene(4, false);
+    scene.objects.truncate(2);
+    models.truncate(2);
+    scene.objects[1].transform.scale = reyes::scene::Scale::Uniform(0.2);
+    for object in &mut scene.objects {
+        object.surface = Some(Surface::Wgsl {
+            file: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("shaders/textured_noise.wgsl"),
+            parameters: BTreeMap::from([(
+                "map".to_owned(),
+                ShaderValue::Text(texture.to_string_lossy().into_owned()),
+            )]),
+        });
+    }
+    let mut prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+    assert_eq!(prepared.textures.len(), 1, "the texture is loaded once");
+    Arc::make_mut(&mut prepared.shaders.shaders[0]).cpu = Some(CpuSurface::new(textured_noise));
+    let cpu = reference::try_render(&prepared).expect("the reference runs the twin");
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let frame = renderer.render(&prepared).expect("GPU render");
+    let a = agreement(&frame, &cpu);
+    eprintln!("textured: {a:?}");
+    a.assert_at_least("textured noisy shader", 0.995, 0.99);
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

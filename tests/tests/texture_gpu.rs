@@ -40,6 +40,10 @@ fn module_source() -> String {
         "{}\n{}\n\
          @group(0) @binding(0) var<storage, read> texture_infos: array<TextureInfo>;\n\
          @group(0) @binding(1) var<storage, read> texels: array<vec2<u32>>;\n\
+         fn texture_count() -> u32 {{ return arrayLength(&texture_infos); }}\n\
+         fn texture_info(id: u32) -> TextureInfo {{ return texture_infos[id]; }}\n\
+         fn texture_packed_count() -> u32 {{ return arrayLength(&texels); }}\n\
+         fn texture_packed(at: u32) -> vec2<u32> {{ return texels[at]; }}\n\
          @group(0) @binding(2) var<storage, read> queries: array<Query>;\n\
          @group(0) @binding(3) var<storage, read_write> results: array<vec4<f32>>;\n\
          {TEXTURE_WGSL}\n\

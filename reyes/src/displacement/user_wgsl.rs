@@ -74,7 +74,7 @@ pub enum UserWgslError {
 /// helpers, on its own.
 pub fn check(wgsl: &str) -> Result<(), UserWgslError> {
     let module = parse(wgsl)?;
-    check_globals(&module, wgsl)?;
+    check_globals(&module, wgsl, wgsl.len())?;
     let user = module
         .functions
         .iter()
@@ -133,10 +133,26 @@ pub(crate) fn parse(wgsl: &str) -> Result<naga::Module, UserWgslError> {
     })
 }
 
-/// Refuses a module-scope variable: its binding or state would be shared
-/// with the renderer's.
-pub(crate) fn check_globals(module: &naga::Module, wgsl: &str) -> Result<(), UserWgslError> {
-    match module.global_variables.iter().next() {
+/// Refuses a module-scope variable declared in the user's text (the first
+/// `user_end` bytes of `wgsl`): its binding or state would be shared with
+/// the renderer's.
+pub(crate) fn check_globals(
+    module: &naga::Module,
+    wgsl: &str,
+    user_end: usize,
+) -> Result<(), UserWgslError> {
+    let in_user_text = |handle| {
+        module
+            .global_variables
+            .get_span(handle)
+            .to_range()
+            .is_some_and(|r| r.start < user_end)
+    };
+    match module
+        .global_variables
+        .iter()
+        .find(|(handle, _)| in_user_text(*handle))
+    {
         Some((handle, global)) => Err(UserWgslError::Global {
             name: global.name.clone().unwrap_or_default(),
             line: module

@@ -108,12 +108,23 @@ pub struct FrameUniform {
     /// Float offset in height_texels of the user shaders' parameter slots
     /// (4 floats each, reyes::surface_shader::ShaderTable::parameters).
     pub parameter_floats: u32,
+    /// Float offset in height_texels of the input patches' corner texture
+    /// coordinates (8 floats each: s, t at (u, v) = (0,0), (1,0), (0,1), (1,1)).
+    pub st_floats: u32,
+    /// Float offset in height_texels of the textures' TextureInfo entries
+    /// (8 words each, stored by their bits).
+    pub texture_floats: u32,
+    /// Float offset in height_texels of the textures' packed texels (2
+    /// words each, by their bits).
+    pub texel_floats: u32,
+    /// Textures in the frame.
+    pub texture_count: u32,
+    /// Packed texels of all textures.
+    pub texel_count: u32,
     /// Padding to the struct's 16-byte alignment.
     pub pad0: u32,
     /// Padding.
     pub pad1: u32,
-    /// Padding.
-    pub pad2: u32,
 }
 
 impl FrameUniform {
@@ -159,9 +170,14 @@ impl FrameUniform {
             micropolygon_side: scene.dicing.micropolygon_side(),
             patch_floats: 0,
             parameter_floats: 0,
+            st_floats: 0,
+            texture_floats: 0,
+            texel_floats: 0,
+            texture_count: scene.textures.len() as u32,
+            texel_count: texel_words(scene) as u32,
             pad0: 0,
             pad1: 0,
-            pad2: 0,
+            
             aov: scene.aov.code(),
             depth_range: crate::aov::depth_range(camera),
             smooth_shading: u32::from(
@@ -192,16 +208,24 @@ impl FrameUniform {
 /// Where the scene's floats lie in the `height_texels` buffer: the height
 /// maps from float 0, then (when samples carry time and lens) the
 /// [`UvtTables`], then the input patches' control points (48 floats each,
-/// which the dice procedures evaluate), then the user shaders' parameter
-/// slots (4 floats each).
+/// which the dice procedures evaluate), their corner texture coordinates
+/// (8 floats each), the user shaders' parameter slots (4 floats each), and
+/// the textures' tables ([`crate::texture::TextureSet::gpu_tables`], by
+/// their bits: 8 words per texture, 2 per texel).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct FloatLayout {
     /// First float of the time/lens tables.
     uvt: u64,
     /// First float of the patches.
     patches: u64,
+    /// First float of the patches' texture coordinates (8 each).
+    st: u64,
     /// First float of the shader parameters.
     parameters: u64,
+    /// First float of the texture table (8 words per texture).
+    textures: u64,
+    /// First float of the packed texels (2 words each).
+    texels: u64,
     /// Floats in all.
     total: u64,
 }
@@ -215,13 +239,29 @@ impl FloatLayout {
             0
         };
         let patches = uvt + uvt_floats;
-        let parameters = patches + 48 * scene.patches.len() as u64;
+        let st = patches + 48 * scene.patches.len() as u64;
+        let parameters = st + 8 * scene.patches.len() as u64;
+        let textures = parameters + 4 * scene.shaders.parameters.len() as u64;
+        let texels = textures + 8 * scene.textures.len() as u64;
         Self {
             uvt,
             patches,
+            st,
             parameters,
-            total: parameters + 4 * scene.shaders.parameters.len() as u64,
+            textures,
+            texels,
+            total: texels + 2 * texel_words(scene) as u64,
         }
+    }
+}
+
+/// Packed texels of `scene`'s textures (none without textures, although
+/// [`crate::texture::TextureSet::gpu_tables`] then gives a dummy one).
+fn texel_words(scene: &PreparedScene) -> usize {
+    if scene.textures.is_empty() {
+        0
+    } else {
+        scene.textures.gpu_tables().1.len()
     }
 }
 
@@ -379,6 +419,9 @@ impl FrameBuffers {
         // The renderer checks that every offset fits a u32 (texel_buffer_bytes).
         frame.patch_floats = layout.patches as u32;
         frame.parameter_floats = layout.parameters as u32;
+        frame.st_floats = layout.st as u32;
+        frame.texture_floats = layout.textures as u32;
+        frame.texel_floats = layout.texels as u32;
         let patches: Vec<f32> = scene
             .patches
             .iter()
@@ -390,6 +433,23 @@ impl FrameBuffers {
                 4 * layout.patches,
                 bytemuck::cast_slice(&patches),
             );
+        }
+        let st: Vec<f32> = scene
+            .patches
+            .iter()
+            .flat_map(|p| p.st.iter().flat_map(|c| c.to_array()))
+            .collect();
+        if !st.is_empty() {
+            queue.write_buffer(&self.height_texels, 4 * layout.st, bytemuck::cast_slice(&st));
+        }
+        if !scene.textures.is_empty() {
+            let (infos, texels) = scene.textures.gpu_tables();
+            queue.write_buffer(
+                &self.height_texels,
+                4 * layout.textures,
+                bytemuck::cast_slice(&infos),
+            );
+            queue.write_buffer(&self.height_texels, 4 * layout.texels, bytemuck::cast_slice(texels));
         }
         let parameters = &scene.shaders.parameters;
         if !parameters.is_empty() {

@@ -143,6 +143,12 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     graph.library(RASTER5D_WGSL);
     graph.library(DISPLACEMENT_WGSL);
     graph.library(user.displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));
+    graph.library(&<crate::texture::TextureInfo as scheduler::Item>::wgsl_declarations());
+    graph.library(crate::texture::TEXTURE_WGSL);
+    if !user.surfaces.is_empty() {
+        // Only user shaders call noise (its table is per-thread state).
+        graph.library(&crate::noise::noise_wgsl());
+    }
     graph.library(&megakernel_wgsl(user.surfaces));
     // Declaration order = binding order in group 1 (see `buffers.rs`).
     graph.resource(Resource::uniform::<FrameUniform>("frame"));

@@ -211,7 +211,8 @@ fn shading_context(
     position: Vec3,
     normal: Vec3,
 ) -> ShadingContext {
-    let patch = &scene.patches[item.patch as usize].points;
+    let world = &scene.patches[item.patch as usize];
+    let patch = &world.points;
     let uv = item.uv;
     let (u, v) = (
         grid_param(uv.x, uv.z, i, size.nu),
@@ -225,6 +226,9 @@ fn shading_context(
     } else {
         normal
     };
+    let st = world.st_at(u, v);
+    let dst_du = world.st_at(1.0, v) - world.st_at(0.0, v);
+    let dst_dv = world.st_at(u, 1.0) - world.st_at(u, 0.0);
     ShadingContext {
         p: position,
         n: normal,
@@ -235,10 +239,12 @@ fn shading_context(
         v,
         du: (uv.z - uv.x) / size.nu as f32,
         dv: (uv.w - uv.y) / size.nv as f32,
-        s: u,
-        t: v,
+        s: st.x,
+        t: st.y,
         dp_du: surface.d_ds,
         dp_dv: surface.d_dt,
+        dst_du,
+        dst_dv,
         cs: object.color,
         os: Vec3::ONE,
         time: 0.0,

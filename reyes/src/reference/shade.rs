@@ -3,12 +3,13 @@
 //! Specification 3.2 defines them (docs/reyes.md, "Surfaces and lights").
 //! `shaders/reyes/library_shading.wgsl` mirrors it operation for operation.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3, Vec4};
 
 use crate::camera::{HomogeneousEye, towards_eye};
 use crate::prepare::{PreparedLight, PreparedObject, PreparedScene, PreparedSurface};
 use crate::shading::{pow_nonneg, specular_exponent};
-use crate::surface_shader::{Illumination, ShadingContext};
+use crate::surface_shader::{ShadingContext, ShadingHost};
+use crate::texture::{TextureId, TextureSet};
 
 /// What a surface sees of the scene: the eye, the lights and the ambient
 /// light.
@@ -20,6 +21,8 @@ pub struct Lighting<'a> {
     pub lights: &'a [PreparedLight],
     /// `ambient()`: the sum of the ambient lights.
     pub ambient: Vec3,
+    /// The frame's textures, if any.
+    pub textures: Option<&'a TextureSet>,
 }
 
 impl<'a> Lighting<'a> {
@@ -29,6 +32,7 @@ impl<'a> Lighting<'a> {
             eye: scene.camera.homogeneous_eye(),
             lights: &scene.lights,
             ambient: scene.ambient,
+            textures: Some(&scene.textures),
         }
     }
 
@@ -64,7 +68,7 @@ impl<'a> Lighting<'a> {
     }
 }
 
-impl Illumination for Lighting<'_> {
+impl ShadingHost for Lighting<'_> {
     fn ambient(&self) -> Vec3 {
         self.ambient
     }
@@ -75,6 +79,10 @@ impl Illumination for Lighting<'_> {
 
     fn specular(&self, ctx: &ShadingContext, n: Vec3, v: Vec3, roughness: f32) -> Vec3 {
         Lighting::specular(self, ctx.p, n, v, specular_exponent(roughness))
+    }
+
+    fn texture_footprint(&self, index: u32, st: Vec2, axis_a: Vec2, axis_b: Vec2) -> Vec4 {
+        self.textures.map_or(Vec4::ZERO, |set| set.sample(TextureId(index), st, axis_a, axis_b))
     }
 
     fn light_count(&self) -> u32 {
@@ -170,6 +178,7 @@ mod tests {
             eye: Vec3::new(0.0, 0.0, 10.0).extend(1.0),
             lights,
             ambient: Vec3::splat(ambient),
+            textures: None,
         }
     }
 
@@ -297,6 +306,7 @@ mod tests {
             eye: (v * 10.0).extend(1.0),
             lights: &lights,
             ambient: Vec3::ZERO,
+            textures: None,
         };
         assert!(Vec3::Z.dot((l + v).normalize()) > 0.0);
         let plastic = PreparedSurface::Plastic {
@@ -320,6 +330,7 @@ mod tests {
             eye: Vec3::new(0.0, 10.0, 10.0).extend(1.0),
             lights: &[],
             ambient: Vec3::ZERO,
+            textures: None,
         };
         let c = shade_surface(
             Vec3::ZERO,

@@ -16,12 +16,13 @@ pub const PARAMETERS: &str = "Parameters";
 /// The name of the constant holding the parameters' defaults.
 pub const DEFAULTS: &str = "DEFAULTS";
 
-/// The pure helpers, the interface and its stubbed host side: what a
-/// user shader may use besides WGSL's built-ins.
+/// The pure helpers, noise, the interface and its stubbed host side: what
+/// a user shader may use besides WGSL's built-ins.
 pub fn interface_wgsl() -> String {
     format!(
-        "\n// ---- the surface shader interface\nconst MAX_SPECULAR_EXPONENT: f32 = {MAX_SPECULAR_EXPONENT:?};\n{}{}{}",
+        "\n// ---- the surface shader interface\nconst MAX_SPECULAR_EXPONENT: f32 = {MAX_SPECULAR_EXPONENT:?};\n{}{}{}{}",
         include_str!("../../../shaders/reyes/library_math.wgsl"),
+        crate::noise::noise_wgsl(),
         include_str!("../../../shaders/reyes/surface_api.wgsl"),
         include_str!("../../../shaders/reyes/surface_host_stub.wgsl"),
     )
@@ -41,7 +42,7 @@ pub(super) fn check(source: &str) -> Result<Checked, SurfaceShaderError> {
     let text = format!("{source}\n{}", interface_wgsl());
     let user_end = source.len();
     let module = user_wgsl::parse(&text).map_err(|e| in_user_text(e, source))?;
-    user_wgsl::check_globals(&module, &text)?;
+    user_wgsl::check_globals(&module, &text, user_end)?;
     let entry = module
         .functions
         .iter()
@@ -163,6 +164,9 @@ fn parameter_kind(module: &Module, ty: Handle<naga::Type>) -> Option<ParameterKi
             kind: ScalarKind::Bool,
             ..
         }) => Some(ParameterKind::Bool),
+        TypeInner::Struct { .. } if module.types[ty].name.as_deref() == Some("TextureId") => {
+            Some(ParameterKind::Texture)
+        }
         TypeInner::Vector { size, scalar } if scalar == float => Some(match size {
             VectorSize::Bi => ParameterKind::Vec2,
             VectorSize::Tri => ParameterKind::Vec3,

@@ -26,6 +26,7 @@ fn load_expression(kind: ParameterKind, slot: usize) -> String {
         ParameterKind::Vec2 => format!("{word}.xy"),
         ParameterKind::Vec3 => format!("{word}.xyz"),
         ParameterKind::Vec4 => word,
+        ParameterKind::Texture => format!("TextureId(bitcast<u32>({word}.x))"),
     }
 }
 

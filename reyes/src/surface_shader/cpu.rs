@@ -6,7 +6,7 @@
 use std::fmt;
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3, Vec4};
 
 /// What a surface shader sees at a shading point: the WGSL
 /// `ShadingContext`, field for field (RenderMan's names in the WGSL;
@@ -39,6 +39,10 @@ pub struct ShadingContext {
     pub dp_du: Vec3,
     /// `dPdv`.
     pub dp_dv: Vec3,
+    /// `dstdu`: the derivative of `(s, t)` along `u`.
+    pub dst_du: Vec2,
+    /// `dstdv`.
+    pub dst_dv: Vec2,
     /// `Cs`: the object's colour.
     pub cs: Vec3,
     /// `Os`: its opacity.
@@ -56,8 +60,9 @@ pub struct SurfaceOutput {
     pub oi: Vec3,
 }
 
-/// The interface's lighting functions, as the CPU reference provides them.
-pub trait Illumination {
+/// The interface's lighting and texture functions, as the CPU reference
+/// provides them.
+pub trait ShadingHost {
     /// `ambient()`.
     fn ambient(&self) -> Vec3;
     /// `diffuse(ctx, N)`.
@@ -68,6 +73,20 @@ pub trait Illumination {
     fn light_count(&self) -> u32;
     /// Light `i` seen from `p`: `(L, Cl)`, `Cl` zero where it gives nothing.
     fn light(&self, i: u32, p: Vec3) -> (Vec3, Vec3);
+
+    /// `texture_footprint(id, st, axis_a, axis_b)`: texture `index`'s
+    /// filtered RGBA.
+    fn texture_footprint(&self, index: u32, st: Vec2, axis_a: Vec2, axis_b: Vec2) -> Vec4;
+
+    /// `texture(ctx, id, s, t)`: over the context's footprint in `(s, t)`.
+    fn texture(&self, ctx: &ShadingContext, index: u32, s: f32, t: f32) -> Vec4 {
+        self.texture_footprint(
+            index,
+            Vec2::new(s, t),
+            ctx.dst_du * ctx.du,
+            ctx.dst_dv * ctx.dv,
+        )
+    }
 
     /// `illuminance(i, P, axis, angle)`: light `i`'s `(L, Cl)`, with `Cl`
     /// zero unless `L` lies within `angle` radians of `axis`.
@@ -84,7 +103,7 @@ pub trait Illumination {
 /// The signature of a twin: the context, the lighting, and the object's
 /// parameter slots (as [`super::pack_parameters`] packs them).
 pub type CpuSurfaceFn =
-    dyn Fn(&ShadingContext, &dyn Illumination, &[[f32; 4]]) -> SurfaceOutput + Send + Sync;
+    dyn Fn(&ShadingContext, &dyn ShadingHost, &[[f32; 4]]) -> SurfaceOutput + Send + Sync;
 
 /// A Rust function that reproduces a user's WGSL surface shader on the CPU.
 /// Compared by identity.
@@ -94,7 +113,7 @@ pub struct CpuSurface(pub Arc<CpuSurfaceFn>);
 impl CpuSurface {
     /// Wraps a function.
     pub fn new(
-        f: impl Fn(&ShadingContext, &dyn Illumination, &[[f32; 4]]) -> SurfaceOutput
+        f: impl Fn(&ShadingContext, &dyn ShadingHost, &[[f32; 4]]) -> SurfaceOutput
         + Send
         + Sync
         + 'static,

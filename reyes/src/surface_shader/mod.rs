@@ -28,7 +28,7 @@ use serde::{Deserialize, Serialize};
 
 pub use check::{DEFAULTS, ENTRY, PARAMETERS, interface_wgsl};
 pub use codegen::megakernel_wgsl;
-pub use cpu::{CpuSurface, CpuSurfaceFn, Illumination, ShadingContext, SurfaceOutput};
+pub use cpu::{CpuSurface, CpuSurfaceFn, ShadingContext, ShadingHost, SurfaceOutput};
 pub use table::{ShaderRef, ShaderTable};
 pub use values::{ParameterWarning, pack_parameters};
 
@@ -52,6 +52,8 @@ pub enum ParameterKind {
     Vec3,
     /// `vec4<f32>`.
     Vec4,
+    /// `TextureId`: the scene gives the texture's file.
+    Texture,
 }
 
 impl ParameterKind {
@@ -65,6 +67,7 @@ impl ParameterKind {
             ParameterKind::Vec2 => "vec2<f32>",
             ParameterKind::Vec3 => "vec3<f32>",
             ParameterKind::Vec4 => "vec4<f32>",
+            ParameterKind::Texture => "TextureId",
         }
     }
 }
@@ -158,7 +161,7 @@ pub enum SurfaceShaderError {
     },
     /// A parameter of a type parameters cannot have.
     #[error(
-        "line {line}: parameter `{name}` must be f32, i32, u32, bool, vec2<f32>, vec3<f32> or vec4<f32>"
+        "line {line}: parameter `{name}` must be f32, i32, u32, bool, vec2<f32>, vec3<f32>, vec4<f32> or TextureId"
     )]
     ParameterType {
         /// The field.
@@ -173,6 +176,15 @@ pub enum SurfaceShaderError {
     Defaults {
         /// Its line.
         line: u32,
+    },
+    /// A texture parameter's file cannot be used.
+    #[error("parameter `{name}`: {source}")]
+    Texture {
+        /// The parameter.
+        name: String,
+        /// Why.
+        #[source]
+        source: crate::texture::TextureError,
     },
     /// A scene value that does not fit its parameter.
     #[error("parameter `{name}` is {expected}, but the scene gives {given}")]

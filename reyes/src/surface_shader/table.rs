@@ -4,8 +4,8 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
 
-use super::ShaderValue;
-use super::{ParameterWarning, SurfaceShader, SurfaceShaderError, pack_parameters};
+use super::{ParameterWarning, ShaderValue, SurfaceShader, SurfaceShaderError, pack_parameters};
+use crate::texture::{TextureDesc, TextureSet};
 
 /// The distinct user surface shaders of a frame (shader `k` is what an
 /// object with [`crate::shading::PreparedSurface::User`]`{ shader: k, .. }`
@@ -32,10 +32,14 @@ impl ShaderTable {
     /// Adds an object running the shader file `path` with `values`,
     /// loading the file unless an earlier object uses it. Names the shader
     /// does not declare come back as warnings.
+    /// Texture parameters' files (relative to `base_dir`, if given) are
+    /// added to `textures`.
     pub fn add(
         &mut self,
         path: &Path,
         values: &BTreeMap<String, ShaderValue>,
+        textures: &mut TextureSet,
+        base_dir: Option<&Path>,
     ) -> Result<(ShaderRef, Vec<ParameterWarning>), SurfaceShaderError> {
         let index = match self.shaders.iter().position(|s| s.path == path) {
             Some(index) => index,
@@ -44,7 +48,19 @@ impl ShaderTable {
                 self.shaders.len() - 1
             }
         };
-        let (slots, warnings) = pack_parameters(&self.shaders[index], values)?;
+        let (slots, warnings) = pack_parameters(&self.shaders[index], values, |name, file| {
+            let path = match base_dir {
+                Some(dir) if Path::new(file).is_relative() => dir.join(file),
+                _ => file.into(),
+            };
+            textures
+                .add(&TextureDesc::new(path))
+                .map(|id| id.0)
+                .map_err(|source| SurfaceShaderError::Texture {
+                    name: name.to_owned(),
+                    source,
+                })
+        })?;
         let reference = ShaderRef {
             shader: index as u32,
             parameters: self.parameters.len() as u32,

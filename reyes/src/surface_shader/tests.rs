@@ -23,6 +23,10 @@ fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput {
 }
 ";
 
+fn no_textures(_: &str, _: &str) -> Result<u32, SurfaceShaderError> {
+    panic!("no texture parameter here")
+}
+
 fn shader(source: &str) -> Result<SurfaceShader, SurfaceShaderError> {
     SurfaceShader::from_source(Path::new("test.wgsl"), source.to_owned())
 }
@@ -61,7 +65,7 @@ fn scene_values_replace_defaults_and_unknown_names_warn() {
         ("octaves".to_owned(), ShaderValue::Number(7.0)),
         ("veinz".to_owned(), ShaderValue::Number(1.0)),
     ]);
-    let (slots, warnings) = pack_parameters(&shader, &given).unwrap();
+    let (slots, warnings) = pack_parameters(&shader, &given, no_textures).unwrap();
     assert_eq!(slots[0][0], 0.25);
     assert_eq!(slots[1], [0.2, 0.1, 0.05, 0.0], "the default stays");
     assert_eq!(slots[2][0].to_bits(), 7);
@@ -80,7 +84,8 @@ fn scene_values_replace_defaults_and_unknown_names_warn() {
         ("Kd", ShaderValue::Number(1e300)),
     ] {
         let given = BTreeMap::from([(name.to_owned(), value.clone())]);
-        let error = pack_parameters(&shader, &given).expect_err("a value that does not fit");
+        let error =
+            pack_parameters(&shader, &given, no_textures).expect_err("a value that does not fit");
         assert!(
             error.to_string().contains(name),
             "{name} {value:?}: {error}"

@@ -15,14 +15,27 @@ pub struct ParameterWarning {
 /// The slots of `shader`'s parameters (one `[f32; 4]` each, in declaration
 /// order): `given`'s values where it has them, the shader's defaults
 /// elsewhere. Names the shader does not declare come back as warnings.
+/// A texture parameter's file is handed to `texture` (with the
+/// parameter's name), which gives the texture's index.
 pub fn pack_parameters(
     shader: &SurfaceShader,
     given: &BTreeMap<String, ShaderValue>,
+    mut texture: impl FnMut(&str, &str) -> Result<u32, SurfaceShaderError>,
 ) -> Result<(Vec<[f32; 4]>, Vec<ParameterWarning>), SurfaceShaderError> {
     let mut slots: Vec<[f32; 4]> = shader.parameters.iter().map(|p| p.default).collect();
     let mut warnings = Vec::new();
     for (name, value) in given {
         match shader.parameter(name) {
+            Some((slot, parameter)) if parameter.kind == ParameterKind::Texture => {
+                let ShaderValue::Text(file) = value else {
+                    return Err(SurfaceShaderError::Value {
+                        name: name.clone(),
+                        expected: "TextureId (the texture's file)",
+                        given: describe(value),
+                    });
+                };
+                slots[slot] = [f32::from_bits(texture(name, file)?), 0.0, 0.0, 0.0];
+            }
             Some((slot, parameter)) => {
                 slots[slot] =
                     slot_of(parameter.kind, value).ok_or_else(|| SurfaceShaderError::Value {

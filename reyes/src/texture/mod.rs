@@ -158,7 +158,7 @@ struct Chain {
 /// Textures are deduplicated: adding a file again (by its canonical path)
 /// with the same colour space and wrap modes returns the first id, and one
 /// with other wrap modes gets an id of its own over the same texels.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct TextureSet {
     budget: TextureBudget,
     infos: Vec<TextureInfo>,

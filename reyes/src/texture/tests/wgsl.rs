@@ -36,7 +36,11 @@ fn the_library_validates_with_its_globals() {
     assert_eq!(std::mem::size_of::<TextureInfo>(), 32);
     let source = format!(
         "{}\n@group(0) @binding(0) var<storage, read> texture_infos: array<TextureInfo>;\n\
-         @group(0) @binding(1) var<storage, read> texels: array<vec2<u32>>;\n{TEXTURE_WGSL}",
+         @group(0) @binding(1) var<storage, read> texels: array<vec2<u32>>;\n\
+         fn texture_count() -> u32 {{ return arrayLength(&texture_infos); }}\n\
+         fn texture_info(id: u32) -> TextureInfo {{ return texture_infos[id]; }}\n\
+         fn texture_packed_count() -> u32 {{ return arrayLength(&texels); }}\n\
+         fn texture_packed(at: u32) -> vec2<u32> {{ return texels[at]; }}\n{TEXTURE_WGSL}",
         TextureInfo::wgsl_declarations()
     );
     let module = naga::front::wgsl::parse_str(&source)
