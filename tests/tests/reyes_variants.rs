@@ -113,3 +113,15 @@ fn blurred_displaced_megakernel_wgsl_snapshot() {
         .expect("the Reyes graph compiles");
     insta::assert_snapshot!(compiled.wgsl());
 }
+
+/// What the megakernel compiles in for a user surface shader: its text with
+/// its names prefixed, its parameter loader and the dispatch, for review.
+#[test]
+fn user_surface_library_wgsl_snapshot() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders/every_input.wgsl");
+    let shader = reyes::surface_shader::SurfaceShader::load(&path).expect("the shader checks");
+    let library = reyes::surface_shader::megakernel_wgsl(&[std::sync::Arc::new(shader)]);
+    // The path is the machine's; the snapshot names the file alone.
+    let library = library.replace(&path.display().to_string(), "shaders/every_input.wgsl");
+    insta::assert_snapshot!(library);
+}

@@ -54,6 +54,17 @@ const DICING_WGSL: &str = include_str!("../../../shaders/reyes/dicing.wgsl");
 const DISPLACEMENT_WGSL: &str = include_str!("../../../shaders/reyes/displacement.wgsl");
 const QUAD_WGSL: &str = include_str!("../../../shaders/reyes/quad.wgsl");
 const RASTER5D_WGSL: &str = include_str!("../../../shaders/reyes/raster5d.wgsl");
+/// The textures' host side (`host_texture` and the table accessors).
+const TEXTURE_HOST_WGSL: &str = include_str!("../../../shaders/reyes/library_texture_host.wgsl");
+
+/// `host_texture` of frames without user shaders, which alone sample
+/// textures.
+const NO_TEXTURES_WGSL: &str = "// No user shaders: nothing samples a texture.
+fn host_texture(index: u32, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) -> vec4<f32> {
+    return vec4<f32>(0.0);
+}
+";
+
 /// The `displacement_user` of scenes without a user function (returns 0).
 pub const DEFAULT_USER_DISPLACEMENT_WGSL: &str =
     include_str!("../../../shaders/reyes/displacement_user_default.wgsl");
@@ -143,10 +154,13 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     graph.library(RASTER5D_WGSL);
     graph.library(DISPLACEMENT_WGSL);
     graph.library(user.displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));
-    graph.library(&<crate::texture::TextureInfo as scheduler::Item>::wgsl_declarations());
-    graph.library(crate::texture::TEXTURE_WGSL);
-    if !user.surfaces.is_empty() {
-        // Only user shaders call noise (its table is per-thread state).
+    if user.surfaces.is_empty() {
+        graph.library(NO_TEXTURES_WGSL);
+    } else {
+        // Only user shaders sample textures and call noise.
+        graph.library(&<crate::texture::TextureInfo as scheduler::Item>::wgsl_declarations());
+        graph.library(crate::texture::TEXTURE_WGSL);
+        graph.library(TEXTURE_HOST_WGSL);
         graph.library(&crate::noise::noise_wgsl());
     }
     graph.library(&megakernel_wgsl(user.surfaces));

@@ -60,7 +60,7 @@ pub struct ObjectData {
     pub dice_threshold: f32,
     /// A user shader's index (SURFACE_USER).
     pub user_shader: u32,
-    /// The first slot of a user shader's parameters in `shader_parameters`.
+    /// The first of a user shader's parameter slots (FrameUniform::parameter_floats).
     pub parameters: u32,
     /// Padding.
     pub pad2: u32,

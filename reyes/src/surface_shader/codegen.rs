@@ -55,7 +55,7 @@ pub fn megakernel_wgsl(shaders: &[Arc<SurfaceShader>]) -> String {
                 .collect();
             let _ = writeln!(
                 out,
-                "\n// Shader {index}'s parameters from an object's block of shader_parameters.\nfn {prefix}load_parameters(base: u32) -> {prefix}{PARAMETERS} {{\n    return {prefix}{PARAMETERS}({});\n}}",
+                "\n// Shader {index}'s parameters from an object's slots (shader_parameter).\nfn {prefix}load_parameters(base: u32) -> {prefix}{PARAMETERS} {{\n    return {prefix}{PARAMETERS}({});\n}}",
                 fields.join(", ")
             );
             format!("{prefix}{ENTRY}(ctx, {prefix}load_parameters(base))")
