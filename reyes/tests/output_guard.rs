@@ -452,3 +452,39 @@ fn json_outputs_refuse_the_extensions_of_other_formats() {
         assert!(path.exists());
     }
 }
+
+/// A scene's surface shader and the texture its parameters name are inputs
+/// too: `render -o` refuses the texture by every spelling, and both
+/// survive.
+#[test]
+fn render_refuses_the_texture_its_shader_reads() {
+    let temp = inputs_dir("guard-render-shader-inputs");
+    let dir = temp.path("");
+    fs::write(
+        dir.join("paint.wgsl"),
+        "struct Parameters { map: TextureId }\n\
+         fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput {\n\
+             return SurfaceOutput(ctx.Cs * texture(ctx, params.map, ctx.s, ctx.t).rgb, ctx.Os);\n\
+         }\n",
+    )
+    .unwrap();
+    fs::write(
+        dir.join("shaded.toml"),
+        "[[objects]]\nmodel = \"model.bpt\"\n\n[objects.surface]\nshader = \"wgsl\"\nfile = \"paint.wgsl\"\nparameters = { map = \"hm.png\" }\n",
+    )
+    .unwrap();
+    let before = snapshot(&dir, &["paint.wgsl", "hm.png", "shaded.toml"]);
+    for (n, (output, how)) in spellings(&dir, "hm.png", 9, "png").into_iter().enumerate() {
+        let mut args = owned(&["render", "shaded.toml", "-o", &output]);
+        args.extend(owned(&TINY));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (ok, stderr) = reyes_in(&dir, &args);
+        assert_refused(
+            &format!("texture by {how} ({n})"),
+            (ok, stderr),
+            &[&output, "input texture"],
+            &dir,
+            &before,
+        );
+    }
+}

@@ -324,3 +324,48 @@ fn shading_rate_is_per_object() {
     // Each sphere dices as it would alone: the halves of both extremes.
     assert!(mixed.abs_diff((fine + coarse) / 2) * 20 < fine, "{mixed}");
 }
+
+/// `Surface "name"` with `name.wgsl` beside the RIB file is that user
+/// shader, with the request's parameters; without the file it warns and
+/// shades as `defaultsurface`.
+#[test]
+fn a_surface_named_after_a_wgsl_file_beside_the_rib_is_that_shader() {
+    let dir = std::env::temp_dir().join(format!("reyes-rib-wgsl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("stripes.wgsl"),
+        "struct Parameters { Kd: f32, tint: vec3<f32>, map: TextureId }\n\
+         fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput {\n\
+             return SurfaceOutput(ctx.Cs * params.tint * params.Kd, ctx.Os);\n\
+         }\n",
+    )
+    .unwrap();
+    let rib = dir.join("scene.rib");
+    let text = scene(
+        "",
+        [1.0, 1.0, 1.0],
+        "Surface \"stripes\" \"float Kd\" 0.5 \"color tint\" [1 0.5 0.25] \"string map\" \"wood.png\"",
+    );
+    std::fs::write(&rib, &text).unwrap();
+    let loaded = RibScene::load(&rib).expect("the RIB loads");
+    let Some(Surface::Wgsl { file, parameters }) = loaded.scene.objects[0].surface.clone() else {
+        panic!("{:?}", loaded.scene.objects[0].surface);
+    };
+    assert_eq!(file, dir.join("stripes.wgsl"));
+    use reyes::scene::ShaderValue;
+    assert_eq!(parameters["Kd"], ShaderValue::Number(0.5));
+    assert_eq!(
+        parameters["tint"],
+        ShaderValue::Numbers(vec![1.0, 0.5, 0.25])
+    );
+    assert_eq!(parameters["map"], ShaderValue::Text("wood.png".to_owned()));
+    // A name with no file beside the RIB.
+    let missing = read(&scene("", [1.0, 1.0, 1.0], "Surface \"marble\""));
+    assert_eq!(surface(&missing), Surface::DEFAULT_SURFACE);
+    assert!(
+        warnings(&missing).iter().any(|w| w.contains("marble.wgsl")),
+        "{:?}",
+        warnings(&missing)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -73,6 +73,19 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<Prepared, BoxError> {
             .into_iter()
             .map(|p| ("height map", p)),
     );
+    // The surface shaders and the textures their parameters name.
+    read.extend(
+        prepared
+            .shaders
+            .shaders
+            .iter()
+            .map(|s| ("surface shader", s.path.clone())),
+    );
+    read.extend(
+        (0..prepared.textures.len() as u32)
+            .filter_map(|i| prepared.textures.path(crate::texture::TextureId(i)))
+            .map(|p| ("texture", p.to_path_buf())),
+    );
     Ok(Prepared {
         scene: prepared,
         read,

@@ -6,16 +6,19 @@
 //! geometry with no `Surface`) and `null` are rendered as the specification
 //! defines them. `shinymetal` is `metal` without its environment map and
 //! `paintedplastic` is `plastic` without its texture (textures are not
-//! supported yet), each with a warning; any other shader warns and renders
-//! as `defaultsurface`. `docs/rib.md` lists what cannot be followed.
+//! supported yet), each with a warning. Any other name is a user's WGSL
+//! surface shader when `name.wgsl` lies beside the RIB file (its parameters
+//! go to the shader's `Parameters`); otherwise it warns and renders as
+//! `defaultsurface`. `docs/rib.md` lists what cannot be followed.
 
 use std::path::Path;
 
 use glam::DVec3;
 
 use super::interp::Interp;
+use super::parser::Value;
 use super::state::{self, Param};
-use crate::scene::Surface;
+use crate::scene::{ShaderValue, Surface};
 
 /// The smallest `roughness` used: the highlight's exponent `1 / roughness`
 /// is at most `crate::shading::MAX_SPECULAR_EXPONENT`.
@@ -37,6 +40,32 @@ fn known_params(shader: &str) -> Option<&'static [&'static str]> {
             "specularcolor",
             "texturename",
         ],
+        _ => return None,
+    })
+}
+
+/// The WGSL surface shader file a `Surface` request names: `name.wgsl` (or
+/// `name` itself when it ends in `.wgsl`) in the directory of the RIB
+/// file that makes the request, if it is there.
+fn wgsl_shader(name: &str, rib: &Path) -> Option<std::path::PathBuf> {
+    let file = if name.ends_with(".wgsl") {
+        name.to_owned()
+    } else {
+        format!("{name}.wgsl")
+    };
+    let path = rib.parent().unwrap_or(Path::new("")).join(file);
+    path.is_file().then_some(path)
+}
+
+/// A RIB parameter value as a user shader's parameter value: one number,
+/// several, or a string.
+fn shader_value(value: &Value) -> Option<ShaderValue> {
+    Some(match value {
+        Value::Num(n) => ShaderValue::Number(*n),
+        Value::Nums(v) if v.len() == 1 => ShaderValue::Number(v[0]),
+        Value::Nums(v) => ShaderValue::Numbers(v.clone()),
+        Value::Str(s) => ShaderValue::Text(s.clone()),
+        Value::Strs(v) if v.len() == 1 => ShaderValue::Text(v[0].clone()),
         _ => return None,
     })
 }
@@ -109,14 +138,26 @@ impl Interp {
                     specular_color: self.tint(params, &shown, file, line)?,
                 }
             }
-            _ => {
-                self.warn(
-                    file,
-                    line,
-                    format!("Surface {shown:?} is not supported; shading as \"defaultsurface\""),
-                );
-                Surface::DEFAULT_SURFACE
-            }
+            _ => match wgsl_shader(shader, file) {
+                Some(path) => Surface::Wgsl {
+                    file: path,
+                    parameters: params
+                        .iter()
+                        .filter_map(|p| Some((p.name.clone(), shader_value(&p.value)?)))
+                        .collect(),
+                },
+                None => {
+                    self.warn(
+                        file,
+                        line,
+                        format!(
+                            "Surface {shown:?} is not supported (no {}.wgsl beside the RIB file); shading as \"defaultsurface\"",
+                            crate::input::excerpt(shader.trim_end_matches(".wgsl"))
+                        ),
+                    );
+                    Surface::DEFAULT_SURFACE
+                }
+            },
         };
         Ok(surface)
     }
