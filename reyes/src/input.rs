@@ -56,8 +56,10 @@ pub enum InputKind {
     Model,
     /// A `.toml` scene.
     Scene,
-    /// A `.wgsl` user displacement function or surface shader.
+    /// A `.wgsl` user displacement function.
     Wgsl,
+    /// A `.wgsl` surface shader (the same cap as [`InputKind::Wgsl`]).
+    Shader,
     /// A PNG height map.
     HeightMap,
     /// A texture image (PNG, OpenEXR or TIFF; `crate::texture`).
@@ -80,7 +82,7 @@ impl InputKind {
     pub const fn default_limit(self) -> u64 {
         match self {
             InputKind::Model => GIB,
-            InputKind::Scene | InputKind::Wgsl => 16 * MIB,
+            InputKind::Scene | InputKind::Wgsl | InputKind::Shader => 16 * MIB,
             InputKind::HeightMap => 64 * MIB,
             InputKind::Texture => 512 * MIB,
         }
@@ -97,7 +99,8 @@ impl fmt::Display for InputKind {
         f.write_str(match self {
             InputKind::Model => "model file",
             InputKind::Scene => "scene file",
-            InputKind::Wgsl => "WGSL file",
+            InputKind::Wgsl => "displacement function",
+            InputKind::Shader => "surface shader",
             InputKind::HeightMap => "height map",
             InputKind::Texture => "texture",
         })
@@ -146,7 +149,7 @@ impl Limits {
         match kind {
             InputKind::Model => self.model,
             InputKind::Scene => self.scene,
-            InputKind::Wgsl => self.wgsl,
+            InputKind::Wgsl | InputKind::Shader => self.wgsl,
             InputKind::HeightMap => self.height_map,
             InputKind::Texture => self.texture,
         }
@@ -445,6 +448,7 @@ mod tests {
             InputKind::Model,
             InputKind::Scene,
             InputKind::Wgsl,
+            InputKind::Shader,
             InputKind::HeightMap,
         ] {
             assert_eq!(all.get(kind), 7);

@@ -359,6 +359,25 @@ fn a_surface_named_after_a_wgsl_file_beside_the_rib_is_that_shader() {
         ShaderValue::Numbers(vec![1.0, 0.5, 0.25])
     );
     assert_eq!(parameters["map"], ShaderValue::Text("wood.png".to_owned()));
+    // A texture made by MakeTexture reads its picture, beside the RIB.
+    let made = format!(
+        "MakeTexture \"wood.tif\" \"wood.tx\" \"periodic\" \"clamp\" \"gaussian\" 2 2\n{}",
+        text.replace("\"wood.png\"", "\"wood.tx\"")
+    );
+    std::fs::write(&rib, made).unwrap();
+    let loaded = RibScene::load(&rib).expect("the RIB loads");
+    let Some(Surface::Wgsl { parameters, .. }) = loaded.scene.objects[0].surface.clone() else {
+        panic!("{:?}", loaded.scene.objects[0].surface);
+    };
+    assert_eq!(
+        parameters["map"],
+        ShaderValue::Text(dir.join("wood.tif").to_string_lossy().into_owned())
+    );
+    assert!(
+        loaded.warnings.iter().any(|w| w.to_string().contains("twrap \"clamp\"")),
+        "{:?}",
+        loaded.warnings
+    );
     // A name with no file beside the RIB.
     let missing = read(&scene("", [1.0, 1.0, 1.0], "Surface \"marble\""));
     assert_eq!(surface(&missing), Surface::DEFAULT_SURFACE);

@@ -228,6 +228,78 @@ fn a_textured_noisy_shader_matches_its_twin() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A square that fills an orthographic view, textured at one texel per
+/// pixel, gives the texture back: PSNR at least 40 dB against the PNG's own
+/// values (image row r shows texel row height - 1 - r: t grows upwards).
+#[gpu_test]
+fn a_texture_at_one_texel_per_pixel_comes_back() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let (width, height) = (64u32, 48u32);
+    let dir = std::env::temp_dir().join(format!("reyes-texel-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let texture = image::RgbaImage::from_fn(width, height, |x, y| {
+        let r = 0.5 + 0.4 * (std::f32::consts::TAU * x as f32 / 16.0).sin();
+        let g = 0.5 + 0.4 * (std::f32::consts::TAU * y as f32 / 13.0).cos();
+        image::Rgba([(255.0 * r) as u8, (255.0 * g) as u8, 128, 255])
+    });
+    let path = dir.join("smooth.png");
+    texture.save(&path).unwrap();
+    let mut scene = Scene::default();
+    scene.resolution.width = width;
+    scene.resolution.height = height;
+    scene.spp = 4;
+    scene.pixel_filter = reyes::filter::PixelFilter::PIXEL_BOX;
+    scene.quantize.dither_amplitude = 0.0;
+    let aspect = width as f32 / height as f32;
+    scene.camera = Some(reyes::scene::CameraDesc {
+        projection: reyes::scene::Projection::Orthographic,
+        ortho_height: Some(2.0),
+        ..camera_down_z()
+    });
+    let mut square = reyes::model::Patch::default();
+    for (k, point) in square.points.iter_mut().enumerate() {
+        let (i, j) = ((k % 4) as f32, (k / 4) as f32);
+        *point = Vec3::new(aspect * (2.0 * i / 3.0 - 1.0), 2.0 * j / 3.0 - 1.0, -5.0);
+    }
+    scene.objects.push(SceneObject {
+        model: "square".to_owned(),
+        transform: Transform::default(),
+        color: Vec3::ONE,
+        surface: Some(Surface::Wgsl {
+            file: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("shaders/texture_only.wgsl"),
+            parameters: BTreeMap::from([(
+                "map".to_owned(),
+                ShaderValue::Text(path.to_string_lossy().into_owned()),
+            )]),
+        }),
+        shading_rate: None,
+        displacement: None,
+        transform_close: None,
+        sides: 2,
+        reverse_orientation: false,
+    });
+    let models = vec![Model::new(vec![square])];
+    let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let frame = renderer.render(&prepared).expect("GPU render");
+    let mut squared = 0.0f64;
+    for y in 0..height {
+        for x in 0..width {
+            let got = frame.image.get_pixel(x, y);
+            let want = texture.get_pixel(x, height - 1 - y);
+            for c in 0..3 {
+                squared += (f64::from(got[c]) - f64::from(want[c])).powi(2);
+            }
+        }
+    }
+    let mse = squared / f64::from(3 * width * height);
+    let psnr = 10.0 * (255.0f64 * 255.0 / mse.max(1e-12)).log10();
+    eprintln!("one texel per pixel: PSNR {psnr:.1} dB (mse {mse:.3})");
+    assert!(psnr >= 40.0, "PSNR {psnr:.1} dB < 40");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn the_reference_refuses_a_user_shader_without_a_twin() {
     let (scene, models) = scene(1, false);

@@ -163,6 +163,10 @@ pub struct Interp {
     /// Structure problems are warnings, not errors
     /// ([`super::RibOptions::lenient`]).
     pub lenient: bool,
+    /// `MakeTexture`'s texture names and the pictures they stand for
+    /// (resolved beside the RIB file that made them): shader parameters
+    /// naming a texture read the picture, which the renderer mipmaps itself.
+    pub(super) made_textures: HashMap<String, PathBuf>,
 }
 
 /// RenderMan's camera space is left-handed (x right, y up, z forward); the
@@ -198,6 +202,7 @@ impl Interp {
             budget,
             object_depth: 0,
             more_warnings: 0,
+            made_textures: HashMap::new(),
             options_only: false,
             blocks: Vec::new(),
             lenient: false,
@@ -413,6 +418,23 @@ impl Interp {
                 let (args, params, _) = state::split_params(v, 1, &self.declared)?;
                 let shader = state::arg_str(&args, 0, "the shader")?;
                 self.attrs.surface = self.surface(shader, &params, file, line)?;
+            }
+            "MakeTexture" => {
+                let (args, _, _) = state::split_params(v, 7, &self.declared)?;
+                let picture = state::arg_str(&args, 0, "the picture")?;
+                let texture = state::arg_str(&args, 1, "the texture name")?;
+                for (k, what) in [(2, "swrap"), (3, "twrap")] {
+                    let wrap = state::arg_str(&args, k, what)?;
+                    if wrap != "periodic" {
+                        self.warn(
+                            file,
+                            line,
+                            format!("MakeTexture: {what} {:?} is not carried to the texture yet; it wraps \"periodic\"", crate::input::excerpt(wrap)),
+                        );
+                    }
+                }
+                let path = file.parent().unwrap_or(Path::new("")).join(picture);
+                self.made_textures.insert(texture.to_owned(), path);
             }
             "LightSource" => self.light_source(v, file, line)?,
             "Illuminate" => self.illuminate(v, file, line)?,

@@ -143,7 +143,18 @@ impl Interp {
                     file: path,
                     parameters: params
                         .iter()
-                        .filter_map(|p| Some((p.name.clone(), shader_value(&p.value)?)))
+                        .filter_map(|p| {
+                            let value = match shader_value(&p.value)? {
+                                // A texture made by MakeTexture reads its picture.
+                                ShaderValue::Text(name) => ShaderValue::Text(
+                                    self.made_textures.get(&name).map_or(name, |picture| {
+                                        picture.to_string_lossy().into_owned()
+                                    }),
+                                ),
+                                other => other,
+                            };
+                            Some((p.name.clone(), value))
+                        })
                         .collect(),
                 },
                 None => {

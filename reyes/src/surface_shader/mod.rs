@@ -116,7 +116,7 @@ impl SurfaceShader {
 
     /// Reads (within the WGSL input limit) and checks the shader file `path`.
     pub fn load(path: &Path) -> Result<Self, SurfaceShaderError> {
-        let source = read_text(path, InputKind::Wgsl, InputKind::Wgsl.limit())
+        let source = read_text(path, InputKind::Shader, InputKind::Shader.limit())
             .map_err(SurfaceShaderError::Read)?;
         Self::from_source(path, source)
     }

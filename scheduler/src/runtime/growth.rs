@@ -28,9 +28,11 @@ const ESTIMATED_GENERATIONS: usize = 3;
 /// executed items did on average in this run. The estimate only adds room
 /// (capped by the device), never replaces the measurement, so a queue whose
 /// estimate is too low overflows once more and is measured again, and
-/// never grows the queue past twice its measured need (the high-water mark
-/// for a queue that did not overflow): a compounding estimate of a
-/// self-feeding queue overshoots by far more than one more attempt costs.
+/// never grows a queue that feeds itself past twice its measured need (the
+/// high-water mark for a queue that did not overflow): a compounding
+/// estimate of a self-feeding queue overshoots by far more than one more
+/// attempt costs. Any other queue gets the whole estimate: its own
+/// measurement is short by the refused items upstream.
 /// Capacities are powers of two (the ring's slots are addressed with a mask):
 /// the largest one within twice the need, which is never below the smallest
 /// one that holds the need.
@@ -99,8 +101,15 @@ pub(crate) fn grown_capacities(
         }
         let base = measured_need(&stats[q]);
         let room = headroom[q].ceil() as u64;
-        let wanted = power_of_two_at_least(base.saturating_add(room))
-            .min(power_of_two_at_most(base.max(1).saturating_mul(2)));
+        let mut wanted = power_of_two_at_least(base.saturating_add(room));
+        // A queue that feeds itself compounds its own estimate: at most
+        // twice its need. Any other queue with room to estimate was
+        // measured short (the refused items upstream never reached it), so
+        // the cap would hold it to a fraction of its need, one more
+        // attempt at a time.
+        if producers[q].contains(&q) {
+            wanted = wanted.min(power_of_two_at_most(base.max(1).saturating_mul(2)));
+        }
         let max = max_capacity(plan, limits, &capacities, q);
         capacities[q] = capacities[q].max(wanted.min(max));
     }
