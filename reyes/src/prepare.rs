@@ -310,8 +310,11 @@ impl PreparedScene {
                 Surface::scene_default(scene.specular.strength, scene.specular.shininess)
             });
             let surface = PreparedSurface::new(&surface, |file, values| {
+                let builtin = file
+                    .to_str()
+                    .is_some_and(|f| f.starts_with(crate::surface_shader::builtin::PREFIX));
                 let path = match &scene.base_dir {
-                    Some(dir) if file.is_relative() => dir.join(file),
+                    Some(dir) if file.is_relative() && !builtin => dir.join(file),
                     _ => file.to_path_buf(),
                 };
                 let (reference, warnings) = shaders

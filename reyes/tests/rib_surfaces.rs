@@ -165,21 +165,40 @@ fn unknown_parameters_negative_weights_and_tiny_roughness_warn() {
     let rib = read(&scene(AMBIENT, [0.5, 0.5, 0.5], "Surface \"wood\""));
     assert_eq!(surface(&rib), Surface::DEFAULT_SURFACE);
     assert!(warnings(&rib)[0].contains("Surface \"wood\" is not supported"));
+    // paintedplastic without a texture is plastic; with one, the built-in
+    // WGSL shader with the request's parameters.
+    let rib = read(&scene(
+        AMBIENT,
+        [0.5, 0.5, 0.5],
+        "Surface \"paintedplastic\" \"Ks\" 0.3",
+    ));
+    assert!(matches!(surface(&rib), Surface::Plastic { ks, .. } if ks == 0.3));
+    let rib = read(&scene(
+        AMBIENT,
+        [0.5, 0.5, 0.5],
+        "Surface \"paintedplastic\" \"texturename\" \"wood.png\" \"Kd\" 0.7",
+    ));
+    let Surface::Wgsl { file, parameters } = surface(&rib) else {
+        panic!("{:?}", surface(&rib));
+    };
+    assert_eq!(file.to_str(), Some("builtin:paintedplastic"));
+    assert_eq!(
+        parameters["Kd"],
+        reyes::scene::ShaderValue::Number(0.7f32.into())
+    );
+    assert_eq!(
+        parameters["texturename"],
+        reyes::scene::ShaderValue::Text("wood.png".to_owned())
+    );
     // What is not followed yet says so.
-    for (request, said) in [
-        (
-            "Surface \"shinymetal\"",
-            "environment maps are not supported",
-        ),
-        ("Surface \"paintedplastic\"", "textures are not supported"),
-    ] {
-        let rib = read(&scene(AMBIENT, [0.5, 0.5, 0.5], request));
-        assert!(
-            warnings(&rib).iter().any(|w| w.contains(said)),
-            "{request}: {:?}",
-            warnings(&rib)
-        );
-    }
+    let rib = read(&scene(AMBIENT, [0.5, 0.5, 0.5], "Surface \"shinymetal\""));
+    assert!(
+        warnings(&rib)
+            .iter()
+            .any(|w| w.contains("environment maps are not supported")),
+        "{:?}",
+        warnings(&rib)
+    );
 }
 
 #[test]
@@ -374,7 +393,10 @@ fn a_surface_named_after_a_wgsl_file_beside_the_rib_is_that_shader() {
         ShaderValue::Text(dir.join("wood.tif").to_string_lossy().into_owned())
     );
     assert!(
-        loaded.warnings.iter().any(|w| w.to_string().contains("twrap \"clamp\"")),
+        loaded
+            .warnings
+            .iter()
+            .any(|w| w.to_string().contains("twrap \"clamp\"")),
         "{:?}",
         loaded.warnings
     );

@@ -300,6 +300,39 @@ fn a_texture_at_one_texel_per_pixel_comes_back() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// RIB's `paintedplastic` with a texture made by `MakeTexture`: the
+/// built-in WGSL shader on the GPU against its Rust twin in the reference.
+#[gpu_test]
+fn rib_paintedplastic_matches_the_reference() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let dir = std::env::temp_dir().join(format!("reyes-painted-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    write_texture(&dir);
+    let rib = dir.join("painted.rib");
+    std::fs::write(
+        &rib,
+        "MakeTexture \"squares.png\" \"squares.tx\" \"periodic\" \"periodic\" \"gaussian\" 2 2\n\
+         Format 96 72 1\nPixelSamples 2 2\nProjection \"perspective\" \"fov\" [40]\n\
+         WorldBegin\nLightSource \"ambientlight\" 1 \"intensity\" [0.2]\n\
+         LightSource \"distantlight\" 2 \"from\" [0 0 0] \"to\" [0.3 -0.4 1]\n\
+         Color [1 0.9 0.8]\n\
+         Surface \"paintedplastic\" \"texturename\" \"squares.tx\" \"Ks\" 0.6 \"roughness\" 0.08\n\
+         Translate 0 0 5\nRotate 30 1 0 0\nSphere 1.5 -1.5 1.5 360\nWorldEnd\n",
+    )
+    .unwrap();
+    let loaded = reyes::rib::RibScene::load(&rib).expect("the RIB loads");
+    let prepared = loaded.prepare().expect("the scene prepares");
+    assert_eq!(prepared.textures.len(), 1);
+    let cpu = reference::try_render(&prepared).expect("the built-in shader has a twin");
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let frame = renderer.render(&prepared).expect("GPU render");
+    let a = agreement(&frame, &cpu);
+    eprintln!("paintedplastic: {a:?}");
+    a.assert_at_least("RIB paintedplastic", 0.995, 0.99);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn the_reference_refuses_a_user_shader_without_a_twin() {
     let (scene, models) = scene(1, false);

@@ -4,9 +4,10 @@
 //! gives each object its own ([`crate::scene::Surface`]): `constant`,
 //! `matte`, `metal`, `plastic`, `defaultsurface` (RenderMan's default for
 //! geometry with no `Surface`) and `null` are rendered as the specification
-//! defines them. `shinymetal` is `metal` without its environment map and
-//! `paintedplastic` is `plastic` without its texture (textures are not
-//! supported yet), each with a warning. Any other name is a user's WGSL
+//! defines them. `shinymetal` is `metal` without its environment map (with
+//! a warning); `paintedplastic` with a `texturename` runs the built-in WGSL
+//! `paintedplastic` (`crate::surface_shader::builtin`), without one it is
+//! `plastic`, which it then equals. Any other name is a user's WGSL
 //! surface shader when `name.wgsl` lies beside the RIB file (its parameters
 //! go to the shader's `Parameters`); otherwise it warns and renders as
 //! `defaultsurface`. `docs/rib.md` lists what cannot be followed.
@@ -55,6 +56,20 @@ fn wgsl_shader(name: &str, rib: &Path) -> Option<std::path::PathBuf> {
     };
     let path = rib.parent().unwrap_or(Path::new("")).join(file);
     path.is_file().then_some(path)
+}
+
+/// The `texturename` a `paintedplastic` request gives, if any (an empty
+/// name is none, as in RenderMan).
+fn texture_name(params: &[Param]) -> Option<&str> {
+    params
+        .iter()
+        .find(|p| p.name == "texturename")
+        .and_then(|p| match &p.value {
+            Value::Str(s) => Some(s.as_str()),
+            Value::Strs(v) if v.len() == 1 => Some(v[0].as_str()),
+            _ => None,
+        })
+        .filter(|name| !name.is_empty())
 }
 
 /// A RIB parameter value as a user shader's parameter value: one number,
@@ -121,23 +136,55 @@ impl Interp {
                     roughness: self.roughness(params, &shown, file, line)?,
                 }
             }
-            "plastic" | "paintedplastic" => {
-                if shader == "paintedplastic" {
-                    self.warn_once(
-                        "#surface-paintedplastic",
-                        file,
-                        line,
-                        "Surface \"paintedplastic\": textures are not supported yet; shaded as \"plastic\"".into(),
-                    );
-                }
-                Surface::Plastic {
-                    ka: self.weight(params, "Ka", 1.0, &shown, file, line)?,
-                    kd: self.weight(params, "Kd", 0.5, &shown, file, line)?,
-                    ks: self.weight(params, "Ks", 0.5, &shown, file, line)?,
-                    roughness: self.roughness(params, &shown, file, line)?,
-                    specular_color: self.tint(params, &shown, file, line)?,
+            "paintedplastic" if texture_name(params).is_some() => {
+                let name = texture_name(params).unwrap_or_default();
+                let picture = match self.made_textures.get(name) {
+                    Some(picture) => picture.clone(),
+                    None => file.parent().unwrap_or(Path::new("")).join(name),
+                };
+                let tint = self.tint(params, &shown, file, line)?;
+                let number = |x: f32| ShaderValue::Number(f64::from(x));
+                Surface::Wgsl {
+                    file: crate::surface_shader::builtin::PAINTED_PLASTIC.into(),
+                    parameters: [
+                        (
+                            "Ka",
+                            number(self.weight(params, "Ka", 1.0, &shown, file, line)?),
+                        ),
+                        (
+                            "Kd",
+                            number(self.weight(params, "Kd", 0.5, &shown, file, line)?),
+                        ),
+                        (
+                            "Ks",
+                            number(self.weight(params, "Ks", 0.5, &shown, file, line)?),
+                        ),
+                        (
+                            "roughness",
+                            number(self.roughness(params, &shown, file, line)?),
+                        ),
+                        (
+                            "specularcolor",
+                            ShaderValue::Numbers(tint.to_array().map(f64::from).to_vec()),
+                        ),
+                        (
+                            "texturename",
+                            ShaderValue::Text(picture.to_string_lossy().into_owned()),
+                        ),
+                    ]
+                    .into_iter()
+                    .map(|(k, v)| (k.to_owned(), v))
+                    .collect(),
                 }
             }
+            // paintedplastic without a texture is plastic exactly.
+            "plastic" | "paintedplastic" => Surface::Plastic {
+                ka: self.weight(params, "Ka", 1.0, &shown, file, line)?,
+                kd: self.weight(params, "Kd", 0.5, &shown, file, line)?,
+                ks: self.weight(params, "Ks", 0.5, &shown, file, line)?,
+                roughness: self.roughness(params, &shown, file, line)?,
+                specular_color: self.tint(params, &shown, file, line)?,
+            },
             _ => match wgsl_shader(shader, file) {
                 Some(path) => Surface::Wgsl {
                     file: path,

@@ -15,6 +15,7 @@
 //! - `values`: the scene's parameter values, typed against the shader;
 //! - `codegen`: what the megakernel compiles in for a frame's shaders.
 
+pub mod builtin;
 mod check;
 mod codegen;
 mod cpu;

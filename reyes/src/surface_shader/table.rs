@@ -44,7 +44,11 @@ impl ShaderTable {
         let index = match self.shaders.iter().position(|s| s.path == path) {
             Some(index) => index,
             None => {
-                self.shaders.push(Arc::new(SurfaceShader::load(path)?));
+                let shader = match super::builtin::shader(path) {
+                    Some(builtin) => builtin?,
+                    None => SurfaceShader::load(path)?,
+                };
+                self.shaders.push(Arc::new(shader));
                 self.shaders.len() - 1
             }
         };

@@ -1,4 +1,5 @@
-// RenderMan's paintedplastic written against the shader interface: plastic
+// RenderMan's paintedplastic, written against the shader interface as a user
+// shader is (a RIB "paintedplastic" with a "texturename" runs it): plastic
 // whose colour is Cs times a texture over s, t (docs/shaders.md).
 struct Parameters {
     Ka: f32,
