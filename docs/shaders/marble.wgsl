@@ -24,9 +24,10 @@ fn turbulence(p: vec3<f32>) -> f32 {
 }
 
 fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput {
-    let p = ctx.P * 0.5;
-    let vein = 0.5 + 0.5 * sin(params.veining * (p.x + 2.0 * turbulence(p)));
-    let base = mix(params.vein_color, ctx.Cs, smoothstep(0.1, 0.7, vein));
+    let p = ctx.P * 0.7;
+    // Thin dark veins where the turbulent stripes cross zero.
+    let vein = abs(sin(params.veining * (p.x + 1.5 * turbulence(p))));
+    let base = mix(params.vein_color, ctx.Cs, smoothstep(0.0, 0.4, vein));
     let V = view_direction(ctx);
     let Ci = base * (params.Ka * ambient() + params.Kd * diffuse(ctx, ctx.N))
         + params.Ks * specular(ctx, ctx.N, V, params.roughness);
