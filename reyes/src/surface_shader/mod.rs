@@ -200,7 +200,10 @@ pub enum SurfaceShaderError {
 }
 
 /// A value for a user shader's parameter: a boolean, a number (`f32`,
-/// `i32`, `u32`), an array of 2 to 4 numbers (`vecN<f32>`), or a string.
+/// `i32`, `u32`), an array of 2 to 4 numbers (`vecN<f32>`), a string (a
+/// `TextureId`'s file), or a texture table for a `TextureId`
+/// (`{ path = "wood.png", color_space = "linear", wrap_s = "clamp",
+/// wrap_t = "clamp" }`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum ShaderValue {
@@ -212,6 +215,8 @@ pub enum ShaderValue {
     Numbers(Vec<f64>),
     /// A string.
     Text(String),
+    /// A texture with its colour space and wrap modes.
+    Texture(crate::texture::TextureDesc),
 }
 
 #[cfg(test)]

@@ -52,13 +52,16 @@ impl ShaderTable {
                 self.shaders.len() - 1
             }
         };
-        let (slots, warnings) = pack_parameters(&self.shaders[index], values, |name, file| {
+        let (slots, warnings) = pack_parameters(&self.shaders[index], values, |name, desc| {
             let path = match base_dir {
-                Some(dir) if Path::new(file).is_relative() => dir.join(file),
-                _ => file.into(),
+                Some(dir) if desc.path.is_relative() => dir.join(&desc.path),
+                _ => desc.path.clone(),
             };
             textures
-                .add(&TextureDesc::new(path))
+                .add(&TextureDesc {
+                    path,
+                    ..desc.clone()
+                })
                 .map(|id| id.0)
                 .map_err(|source| SurfaceShaderError::Texture {
                     name: name.to_owned(),

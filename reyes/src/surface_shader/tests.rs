@@ -23,7 +23,7 @@ fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput {
 }
 ";
 
-fn no_textures(_: &str, _: &str) -> Result<u32, SurfaceShaderError> {
+fn no_textures(_: &str, _: &crate::texture::TextureDesc) -> Result<u32, SurfaceShaderError> {
     panic!("no texture parameter here")
 }
 
@@ -185,4 +185,50 @@ fn several_shaders_live_side_by_side_in_one_module() {
     )
     .validate(&parsed)
     .expect("the library validates");
+}
+
+/// A `TextureId` parameter takes a file, or a table with the texture's
+/// colour space and wrap modes, which reach the texture set.
+#[test]
+fn a_texture_parameter_takes_a_file_or_a_table() {
+    use crate::texture::{ColorSpace, TextureDesc, Wrap};
+    let shader = shader(
+        "struct Parameters { map: TextureId, Kd: f32 }\n\
+         fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput {\n\
+             return SurfaceOutput(texture(ctx, params.map, ctx.s, ctx.t).rgb * params.Kd, ctx.Os);\n\
+         }",
+    )
+    .unwrap();
+    assert_eq!(shader.parameters[0].kind, ParameterKind::Texture);
+    let given: BTreeMap<String, ShaderValue> = toml::from_str(
+        "map = { path = \"wood.exr\", color_space = \"linear\", wrap_s = \"clamp\", wrap_t = \"black\" }\nKd = 0.5",
+    )
+    .expect("the table parses");
+    let mut seen = Vec::new();
+    let (slots, _) = pack_parameters(&shader, &given, |_, desc: &TextureDesc| {
+        seen.push(desc.clone());
+        Ok(7)
+    })
+    .unwrap();
+    assert_eq!(slots[0][0].to_bits(), 7, "the texture's index");
+    assert_eq!(
+        seen,
+        [TextureDesc {
+            path: "wood.exr".into(),
+            color_space: ColorSpace::Linear,
+            wrap_s: Wrap::Clamp,
+            wrap_t: Wrap::Black,
+        }]
+    );
+    let plain: BTreeMap<String, ShaderValue> = toml::from_str("map = \"wood.png\"").unwrap();
+    seen.clear();
+    pack_parameters(&shader, &plain, |_, desc: &TextureDesc| {
+        seen.push(desc.clone());
+        Ok(0)
+    })
+    .unwrap();
+    assert_eq!(seen, [TextureDesc::new("wood.png")]);
+    let wrong: BTreeMap<String, ShaderValue> = toml::from_str("map = 3.0").unwrap();
+    let error = pack_parameters(&shader, &wrong, |_, _: &TextureDesc| Ok(0)).expect_err("a number");
+    assert!(error.to_string().contains("map"), "{error}");
 }

@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 
 use super::{ParameterKind, ShaderValue, SurfaceShader, SurfaceShaderError};
+use crate::texture::TextureDesc;
 
 /// A value the scene gives that the shader has no parameter for.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -20,21 +21,25 @@ pub struct ParameterWarning {
 pub fn pack_parameters(
     shader: &SurfaceShader,
     given: &BTreeMap<String, ShaderValue>,
-    mut texture: impl FnMut(&str, &str) -> Result<u32, SurfaceShaderError>,
+    mut texture: impl FnMut(&str, &TextureDesc) -> Result<u32, SurfaceShaderError>,
 ) -> Result<(Vec<[f32; 4]>, Vec<ParameterWarning>), SurfaceShaderError> {
     let mut slots: Vec<[f32; 4]> = shader.parameters.iter().map(|p| p.default).collect();
     let mut warnings = Vec::new();
     for (name, value) in given {
         match shader.parameter(name) {
             Some((slot, parameter)) if parameter.kind == ParameterKind::Texture => {
-                let ShaderValue::Text(file) = value else {
-                    return Err(SurfaceShaderError::Value {
-                        name: name.clone(),
-                        expected: "TextureId (the texture's file)",
-                        given: describe(value),
-                    });
+                let desc = match value {
+                    ShaderValue::Text(file) => TextureDesc::new(file),
+                    ShaderValue::Texture(desc) => desc.clone(),
+                    _ => {
+                        return Err(SurfaceShaderError::Value {
+                            name: name.clone(),
+                            expected: "TextureId (the texture's file, or a texture table)",
+                            given: describe(value),
+                        });
+                    }
                 };
-                slots[slot] = [f32::from_bits(texture(name, file)?), 0.0, 0.0, 0.0];
+                slots[slot] = [f32::from_bits(texture(name, &desc)?), 0.0, 0.0, 0.0];
             }
             Some((slot, parameter)) => {
                 slots[slot] =
@@ -104,5 +109,6 @@ fn describe(value: &ShaderValue) -> String {
         ShaderValue::Number(x) => format!("the number {x}"),
         ShaderValue::Numbers(xs) => format!("{} numbers", xs.len()),
         ShaderValue::Text(text) => format!("the string {text:?}"),
+        ShaderValue::Texture(desc) => format!("the texture {}", desc.path.display()),
     }
 }
