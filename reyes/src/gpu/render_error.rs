@@ -50,9 +50,10 @@ pub enum RenderError {
         /// Bytes allowed.
         limit: u64,
     },
-    /// The scene's height maps do not fit into one device buffer.
+    /// The scene's height maps and textures do not fit into one device
+    /// buffer.
     #[error(
-        "the scene's height maps, time/lens tables and patches need {needed} bytes but the device allows at most {limit} bytes per buffer; use fewer or smaller height maps, or fewer patches"
+        "the scene's height maps, textures, time/lens tables, patches and shader parameters need {needed} bytes but the device allows at most {limit} bytes per buffer; use fewer or smaller height maps or textures, or fewer patches"
     )]
     HeightMapsTooLarge {
         /// Bytes needed.
