@@ -29,7 +29,7 @@ fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput {
     // du, dv change with the dicing (as RenderMan's do), so weighted lightly.
     let steps = clamp((ctx.du + ctx.dv) * 0.02, 0.0, 0.2);
     let tangents = clamp(length(cross(ctx.dPdu, ctx.dPdv)) * 0.05, 0.0, 0.2);
-    let eye = clamp(length(ctx.E - ctx.P) * 0.01, 0.0, 0.1);
+    let eye = clamp(dot(normalize(ctx.E - ctx.P), ctx.N) * 0.1, 0.0, 0.1);
     let lit = ambient() + diffuse(ctx, ctx.N) * params.Kd
         + specular(ctx, ctx.N, V, 0.2) * 0.5;
     var rim = vec3<f32>(0.0);

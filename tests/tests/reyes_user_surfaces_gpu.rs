@@ -44,7 +44,7 @@ fn every_input(
     let facing = ctx.ng.dot(v).abs();
     let steps = ((ctx.du + ctx.dv) * 0.02).clamp(0.0, 0.2);
     let tangents = (ctx.dp_du.cross(ctx.dp_dv).length() * 0.05).clamp(0.0, 0.2);
-    let eye = ((ctx.e - ctx.p).length() * 0.01).clamp(0.0, 0.1);
+    let eye = ((ctx.e - ctx.p).normalize().dot(ctx.n) * 0.1).clamp(0.0, 0.1);
     let lit = lights.ambient()
         + lights.diffuse(ctx, ctx.n) * kd
         + lights.specular(ctx, ctx.n, v, 0.2) * 0.5;
