@@ -2,12 +2,14 @@
 //! control points transformed to world space once, the camera built (or
 //! framed automatically), lights normalized.
 
+use std::path::{Path, PathBuf};
+
 use glam::{Vec2, Vec3};
 
 use crate::aov::Aov;
 use crate::camera::Camera;
 use crate::dicing::DicingRule;
-use crate::displacement::PreparedDisplacement;
+use crate::displacement::{DisplacementError, PreparedDisplacement, ShaderDisplacement};
 use crate::filter::PixelFilter;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
@@ -17,7 +19,7 @@ use crate::scene::{
     CameraDesc, FramingError, LightKind, Sampling, Scene, SceneError, ShadingInterpolation, Surface,
 };
 pub use crate::shading::{PreparedLight, PreparedSurface};
-use crate::surface_shader::ShaderTable;
+use crate::surface_shader::{ParameterWarning, ShaderKind, ShaderTable};
 use crate::texture::TextureSet;
 
 /// Largest RGBA image of a frame, in bytes, for both renderers: 128 MiB,
@@ -74,6 +76,16 @@ impl WorldPatch {
         let bottom = a + (b - a) * u;
         let top = c + (d - c) * u;
         bottom + (top - bottom) * v
+    }
+
+    /// `s, t` at `(u, v)` with their derivatives along `u` and `v` (the
+    /// WGSL `patch_st_frame`).
+    pub fn st_frame(&self, u: f32, v: f32) -> [Vec2; 3] {
+        [
+            self.st_at(u, v),
+            self.st_at(1.0, v) - self.st_at(0.0, v),
+            self.st_at(u, 1.0) - self.st_at(u, 0.0),
+        ]
     }
 }
 
@@ -290,12 +302,39 @@ impl PreparedScene {
                 .displacement
                 .as_ref()
                 .map(|desc| {
-                    desc.prepare(scene.base_dir.as_deref(), mirrored)
-                        .map_err(|source| SceneError::Displacement {
-                            index,
-                            displacement: desc.source.clone(),
-                            source,
-                        })
+                    desc.prepare(scene.base_dir.as_deref(), mirrored, |file, values| {
+                        let path = shader_path(scene.base_dir.as_deref(), file);
+                        let (reference, warnings) = shaders
+                            .add(
+                                &path,
+                                ShaderKind::Displacement,
+                                values,
+                                &mut textures,
+                                scene.base_dir.as_deref(),
+                            )
+                            .map_err(|source| DisplacementError::Shader {
+                                file: path.clone(),
+                                source,
+                            })?;
+                        warn_unknown_parameters(index, "displacement", &path, &warnings);
+                        let shader = shaders.shaders[reference.shader as usize].clone();
+                        let own_bound = crate::surface_shader::builtin::displacement_bound(
+                            &path,
+                            shaders.slots(reference.parameters, &shader),
+                            &textures,
+                        );
+                        let prepared = ShaderDisplacement {
+                            shader,
+                            reference,
+                            orientation: 1.0,
+                        };
+                        Ok((prepared, own_bound))
+                    })
+                    .map_err(|source| SceneError::Displacement {
+                        index,
+                        displacement: desc.source.clone(),
+                        source,
+                    })
                 })
                 .transpose()?;
             let close = object.transform_close.as_ref().map_or(open, |close| {
@@ -310,27 +349,21 @@ impl PreparedScene {
                 Surface::scene_default(scene.specular.strength, scene.specular.shininess)
             });
             let surface = PreparedSurface::new(&surface, |file, values| {
-                let builtin = file
-                    .to_str()
-                    .is_some_and(|f| f.starts_with(crate::surface_shader::builtin::PREFIX));
-                let path = match &scene.base_dir {
-                    Some(dir) if file.is_relative() && !builtin => dir.join(file),
-                    _ => file.to_path_buf(),
-                };
+                let path = shader_path(scene.base_dir.as_deref(), file);
                 let (reference, warnings) = shaders
-                    .add(&path, values, &mut textures, scene.base_dir.as_deref())
+                    .add(
+                        &path,
+                        ShaderKind::Surface,
+                        values,
+                        &mut textures,
+                        scene.base_dir.as_deref(),
+                    )
                     .map_err(|source| SceneError::SurfaceShader {
                         index,
                         file: path.clone(),
                         source,
                     })?;
-                for warning in warnings {
-                    log::warn!(
-                        "object {index}: surface shader {} has no parameter `{}`; the value is ignored",
-                        path.display(),
-                        warning.name
-                    );
-                }
+                warn_unknown_parameters(index, "surface", &path, &warnings);
                 Ok(PreparedSurface::User {
                     shader: reference.shader,
                     parameters: reference.parameters,
@@ -432,6 +465,30 @@ impl PreparedScene {
     pub fn load(scene: &Scene) -> Result<PreparedScene, SceneError> {
         let models = scene.load_models()?;
         PreparedScene::new(scene, &models)
+    }
+}
+
+/// A shader file as the scene names it, relative to the scene file's
+/// directory (`base_dir`); a built-in shader's name stays as it is.
+fn shader_path(base_dir: Option<&Path>, file: &Path) -> PathBuf {
+    let builtin = file
+        .to_str()
+        .is_some_and(|f| f.starts_with(crate::surface_shader::builtin::PREFIX));
+    match base_dir {
+        Some(dir) if file.is_relative() && !builtin => dir.join(file),
+        _ => file.to_path_buf(),
+    }
+}
+
+/// Warns once per value the scene gives that object `index`'s `kind`
+/// shader at `path` has no parameter for.
+fn warn_unknown_parameters(index: usize, kind: &str, path: &Path, warnings: &[ParameterWarning]) {
+    for warning in warnings {
+        log::warn!(
+            "object {index}: {kind} shader {} has no parameter `{}`; the value is ignored",
+            path.display(),
+            warning.name
+        );
     }
 }
 

@@ -133,6 +133,8 @@ fn user_displaced(height: fn(f32, f32) -> f32) -> RenderStats {
         bound: Some(0.1),
         tiling: 1.0,
         wgsl: Some("fn displacement_user(u: f32, v: f32) -> f32 { return u; }".into()),
+        file: None,
+        parameters: Default::default(),
     });
     let mut prepared = PreparedScene::load(&scene).expect("scene prepares");
     if let Some(HeightSource::User(user)) = prepared.objects[0]

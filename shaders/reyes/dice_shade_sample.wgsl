@@ -46,12 +46,11 @@ if (valid) {
         var geometric_normal = vec3<f32>(0.0);
         if (VARIANT_DISPLACED) {
             if (object.displace_kind != DISPLACE_NONE) {
-                let offset = displacement_height(object, u, v) * object.displace_scale;
-                if (abs(offset) > object.displace_bound * DISPLACEMENT_BOUND_SLACK) {
+                moved = displaced_point(&q, object, item.input_patch, u, v);
+                if (length(moved - patch_point) > object.displace_bound * DISPLACEMENT_BOUND_SLACK) {
                     atomicAdd(&stats[STAT_DISPLACEMENT_BOUND_EXCEEDED], 1u);
                 }
-                moved = moved + displacement_normal(&q, u, v) * offset;
-                normal = displaced_grid_normal(&q, object, item.uv, nu, nv, i, j);
+                normal = displaced_grid_normal(&q, object, item.input_patch, item.uv, nu, nv, i, j);
                 geometric_normal = surface_normal(&q, u, v, patch_point);
                 if (dot3(normal, towards_eye(moved)) < 0.0) {
                     normal = -normal;
@@ -65,8 +64,8 @@ if (valid) {
         if (frame.dicing == DICING_RATE) {
             let chord = border_chord(nu, nv, item.edges, i, j, u, v);
             if (chord.f >= 0.0) {
-                let qa = displaced_point(&q, object, chord.a.x, chord.a.y);
-                let qb = displaced_point(&q, object, chord.b.x, chord.b.y);
+                let qa = displaced_point(&q, object, item.input_patch, chord.a.x, chord.a.y);
+                let qb = displaced_point(&q, object, item.input_patch, chord.b.x, chord.b.y);
                 moved = chord_point(qa, qb, chord.f);
             }
         }

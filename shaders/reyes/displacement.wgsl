@@ -1,5 +1,6 @@
 // Displacement: the height sources (grey height map, built-in sines, the
-// user's WGSL function) and the normals displacement needs. Every function
+// user's WGSL function), displacement shaders (user_displacement) and the
+// normals displacement needs. Every function
 // mirrors reyes::displacement and reyes::reference::displace operation for
 // operation. DISPLACE_*, TAU and SINES_* are generated from the Rust side;
 // `displacement_user` is the user's function (or a stub returning 0).
@@ -86,12 +87,51 @@ fn lerp_param(a: f32, b: f32, s: f32) -> f32 {
     return a + (b - a) * s;
 }
 
+// reyes::reference::displace::displacement_context: what a displacement
+// shader sees at (u, v) of input patch `input_patch` (`q`): the undisplaced
+// point, N = Ng its exact unit normal on the model's side, and no grid step
+// (du = dv = 0): a displaced point depends on (u, v) alone, so that grids
+// sharing an edge agree on it.
+fn displacement_context(q: ptr<function, array<f32, 48>>, input_patch: u32, object: Object, position: vec3<f32>, u: f32, v: f32) -> ShadingContext {
+    let normal = displacement_normal(q, u, v) * object.displace_orientation;
+    let to_eye = towards_eye(position);
+    let st = patch_st_frame(input_patch, u, v);
+    return ShadingContext(
+        position,
+        normal,
+        normal,
+        -to_eye,
+        position + to_eye,
+        u,
+        v,
+        0.0,
+        0.0,
+        st.st.x,
+        st.st.y,
+        tensor(q, bernstein_derivative(u), bernstein(v)),
+        tensor(q, bernstein(u), bernstein_derivative(v)),
+        st.dstdu,
+        st.dstdv,
+        object.color.xyz,
+        vec3<f32>(1.0),
+        0.0,
+    );
+}
+
 // reyes::reference::displace::displaced_point: the input patch at (u, v),
-// moved along the exact normal by the height times the scale when the
-// object is displaced.
-fn displaced_point(q: ptr<function, array<f32, 48>>, object: Object, u: f32, v: f32) -> vec3<f32> {
+// moved along the exact normal by the height times the scale, or where the
+// object's displacement shader puts it (its offset times the scale), when
+// the object is displaced.
+fn displaced_point(q: ptr<function, array<f32, 48>>, object: Object, input_patch: u32, u: f32, v: f32) -> vec3<f32> {
     let position = patch_position(q, u, v);
     if (VARIANT_DISPLACED) {
+        if (DISPLACEMENT_SHADERS) {
+            if (object.displace_kind == DISPLACE_SHADER) {
+                let ctx = displacement_context(q, input_patch, object, position, u, v);
+                let moved = user_displacement(object.displace_shader, ctx, object.displace_parameters);
+                return position + (moved - position) * object.displace_scale;
+            }
+        }
         if (object.displace_kind != DISPLACE_NONE) {
             let offset = displacement_height(object, u, v) * object.displace_scale;
             return position + displacement_normal(q, u, v) * offset;
@@ -104,15 +144,15 @@ fn displaced_point(q: ptr<function, array<f32, 48>>, object: Object, u: f32, v: 
 // nv micropolygons over `uv`: normalize(dS x dT) from the displaced
 // neighbours (central differences, one-sided at the grid's edges), each
 // evaluated here; not yet facing the eye; zero when degenerate.
-fn displaced_grid_normal(q: ptr<function, array<f32, 48>>, object: Object, uv: vec4<f32>, nu: u32, nv: u32, i: u32, j: u32) -> vec3<f32> {
+fn displaced_grid_normal(q: ptr<function, array<f32, 48>>, object: Object, input_patch: u32, uv: vec4<f32>, nu: u32, nv: u32, i: u32, j: u32) -> vec3<f32> {
     let u = grid_param(uv.x, uv.z, i, nu);
     let v = grid_param(uv.y, uv.w, j, nv);
     let u_next = grid_param(uv.x, uv.z, min(i + 1u, nu), nu);
     let u_prev = grid_param(uv.x, uv.z, max(i, 1u) - 1u, nu);
     let v_next = grid_param(uv.y, uv.w, min(j + 1u, nv), nv);
     let v_prev = grid_param(uv.y, uv.w, max(j, 1u) - 1u, nv);
-    let d_s = displaced_point(q, object, u_next, v) - displaced_point(q, object, u_prev, v);
-    let d_t = displaced_point(q, object, u, v_next) - displaced_point(q, object, u, v_prev);
+    let d_s = displaced_point(q, object, input_patch, u_next, v) - displaced_point(q, object, input_patch, u_prev, v);
+    let d_t = displaced_point(q, object, input_patch, u, v_next) - displaced_point(q, object, input_patch, u, v_prev);
     let n = cross3(d_s, d_t);
     if (degenerate(n, d_s, d_t)) {
         return vec3<f32>(0.0);

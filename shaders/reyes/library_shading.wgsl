@@ -133,6 +133,22 @@ fn patch_st(index: u32, u: f32, v: f32) -> vec2<f32> {
     return bottom + (top - bottom) * v;
 }
 
+// An input patch's s, t at (u, v) and their derivatives along u and v
+// (reyes::prepare::WorldPatch::st_frame).
+struct PatchSt {
+    st: vec2<f32>,
+    dstdu: vec2<f32>,
+    dstdv: vec2<f32>,
+}
+
+fn patch_st_frame(index: u32, u: f32, v: f32) -> PatchSt {
+    return PatchSt(
+        patch_st(index, u, v),
+        patch_st(index, 1.0, v) - patch_st(index, 0.0, v),
+        patch_st(index, u, 1.0) - patch_st(index, u, 0.0),
+    );
+}
+
 // The shading context of a grid point of the input patch `q` (number
 // `input_patch`) at (u, v),
 // moved to `position` with the unit normal `normal` facing the eye; `ng`
@@ -151,9 +167,7 @@ fn shading_context(
     let to_eye = towards_eye(position);
     let bu = bernstein(uv.x);
     let bv = bernstein(uv.y);
-    let st = patch_st(input_patch, uv.x, uv.y);
-    let dstdu = patch_st(input_patch, 1.0, uv.y) - patch_st(input_patch, 0.0, uv.y);
-    let dstdv = patch_st(input_patch, uv.x, 1.0) - patch_st(input_patch, uv.x, 0.0);
+    let st = patch_st_frame(input_patch, uv.x, uv.y);
     return ShadingContext(
         position,
         normal,
@@ -164,12 +178,12 @@ fn shading_context(
         uv.y,
         step.x,
         step.y,
-        st.x,
-        st.y,
+        st.st.x,
+        st.st.y,
         tensor(q, bernstein_derivative(uv.x), bv),
         tensor(q, bu, bernstein_derivative(uv.y)),
-        dstdu,
-        dstdv,
+        st.dstdu,
+        st.dstdv,
         object.color.xyz,
         vec3<f32>(1.0),
         0.0,

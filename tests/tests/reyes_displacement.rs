@@ -34,6 +34,8 @@ fn displacement(source: &str, scale: f32, tiling: f32) -> DisplacementDesc {
         bound: None,
         tiling,
         wgsl: None,
+        file: None,
+        parameters: Default::default(),
     }
 }
 

@@ -83,6 +83,8 @@ fn a_user_function_returning_nan_or_infinity_counts_as_displacement() {
         bound: Some(0.1),
         tiling: 1.0,
         wgsl: Some(NAN_OR_INFINITY_WGSL.into()),
+        file: None,
+        parameters: Default::default(),
     });
     let mut prepared = PreparedScene::load(&scene).expect("scene prepares");
     if let Some(HeightSource::User(user)) = prepared.objects[0]
@@ -108,6 +110,8 @@ fn a_displacement_beyond_the_projection_counts_as_camera() {
         bound: None,
         tiling: 1.0,
         wgsl: None,
+        file: None,
+        parameters: Default::default(),
     });
     if let Some(camera) = &mut scene.camera {
         camera.fov_y_degrees = 10.0;
@@ -130,6 +134,8 @@ fn a_motion_beyond_f32_counts_as_transform() {
         bound: None,
         tiling: 1.0,
         wgsl: None,
+        file: None,
+        parameters: Default::default(),
     });
     scene.objects[0].transform_close = Some(Transform {
         scale: Scale::Uniform(1e10),

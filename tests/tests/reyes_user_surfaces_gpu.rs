@@ -106,6 +106,8 @@ fn scene(spp: u32, displaced: bool) -> (Scene, Vec<Model>) {
                 bound: None,
                 tiling: 2.0,
                 wgsl: None,
+                file: None,
+                parameters: Default::default(),
             });
         }
         scene.objects.push(object);

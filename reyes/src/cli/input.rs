@@ -155,5 +155,7 @@ pub(crate) fn displacement(args: &RenderArgs) -> Result<Option<DisplacementDesc>
         bound: args.displace_bound,
         tiling: args.displace_tiling.unwrap_or(1.0),
         wgsl,
+        file: None,
+        parameters: Default::default(),
     }))
 }

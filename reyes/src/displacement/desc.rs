@@ -1,6 +1,7 @@
 //! The `[objects.displacement]` table of a scene file: what it may say,
 //! how it is checked, and how it becomes a [`PreparedDisplacement`].
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -17,6 +18,8 @@ pub const SOURCE_BUMPS: &str = "bumps";
 pub const SOURCE_SINES: &str = "sines";
 /// `source` value of a user WGSL function (given in `wgsl`).
 pub const SOURCE_WGSL: &str = "wgsl";
+/// `source` value of a displacement shader (its file in `file`).
+pub const SOURCE_SHADER: &str = "shader";
 /// The name the user WGSL must define.
 pub const USER_FUNCTION_NAME: &str = "displacement_user";
 
@@ -24,12 +27,18 @@ pub const USER_FUNCTION_NAME: &str = "displacement_user";
 ///
 /// ```toml
 /// [objects.displacement]
-/// source = "bumps"     # "bumps", "sines", "wgsl", or the path of a grey PNG
+/// source = "bumps"     # "bumps", "sines", "wgsl", "shader", or the path of a grey PNG
 /// scale = 0.05         # world units per unit of height (negative: inwards)
 /// bound = 0.05         # optional: default |scale| * max height
 /// tiling = 2.0         # optional: source repeats per patch (default 1)
 /// # wgsl = "fn displacement_user(u: f32, v: f32) -> f32 { ... }"   # for source = "wgsl"
+/// # file = "ripples.wgsl"            # for source = "shader"
+/// # parameters = { Km = 0.02 }       # the shader's parameters
 /// ```
+///
+/// A displacement shader (`source = "shader"`, docs/shaders.md) computes
+/// the displaced point itself; `scale` (default 1) multiplies its offset,
+/// `P + scale * (displacement(ctx) - P)`, and `tiling` does not apply.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DisplacementDesc {
@@ -39,7 +48,9 @@ pub struct DisplacementDesc {
     /// write `./sines` for a file of that name).
     pub source: String,
     /// World units of displacement per unit of height, along the surface
-    /// normal `dP/du x dP/dv`. Must be finite; may be negative or zero.
+    /// normal `dP/du x dP/dv` (default 1). Must be finite; may be negative
+    /// or zero. For a shader, the factor on its offset.
+    #[serde(default = "default_scale")]
     pub scale: f32,
     /// The displacement bound in world units (>= 0). Default: `|scale|` times
     /// the source's largest `|height|`. Required for `"wgsl"`, whose heights
@@ -53,9 +64,21 @@ pub struct DisplacementDesc {
     /// The WGSL of `fn displacement_user(u: f32, v: f32) -> f32` (source `"wgsl"` only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wgsl: Option<String>,
+    /// The displacement shader's file (source `"shader"` only), relative
+    /// to the scene file's directory; `builtin:bumpy` names the standard
+    /// `bumpy`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<PathBuf>,
+    /// The shader's parameters by name (source `"shader"` only).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub parameters: BTreeMap<String, crate::surface_shader::ShaderValue>,
 }
 
 fn default_tiling() -> f32 {
+    1.0
+}
+
+fn default_scale() -> f32 {
     1.0
 }
 
@@ -68,6 +91,8 @@ pub enum SourceKind {
     Sines,
     /// User WGSL.
     Wgsl,
+    /// A displacement shader.
+    Shader,
     /// A PNG file (not yet resolved against the scene's directory).
     Image(PathBuf),
 }
@@ -106,6 +131,7 @@ impl DisplacementDesc {
             SOURCE_BUMPS => SourceKind::Bumps,
             SOURCE_SINES => SourceKind::Sines,
             SOURCE_WGSL => SourceKind::Wgsl,
+            SOURCE_SHADER => SourceKind::Shader,
             path => SourceKind::Image(PathBuf::from(path)),
         }
     }
@@ -138,7 +164,36 @@ impl DisplacementDesc {
         if self.source.trim().is_empty() {
             return Err(DescProblem::invalid(
                 "source",
-                "must be \"bumps\", \"sines\", \"wgsl\" or the path of a grey PNG",
+                "must be \"bumps\", \"sines\", \"wgsl\", \"shader\" or the path of a grey PNG",
+            ));
+        }
+        let shader = self.kind() == SourceKind::Shader;
+        if shader && self.file.is_none() {
+            return Err(DescProblem::invalid(
+                "file",
+                "source = \"shader\" needs the shader's file in `file`",
+            ));
+        }
+        let bounds_itself = self
+            .file
+            .as_deref()
+            .is_some_and(crate::surface_shader::builtin::bounds_itself);
+        if shader && self.bound.is_none() && !bounds_itself {
+            return Err(DescProblem::invalid(
+                "bound",
+                "is required for source = \"shader\" (the host cannot know how far the shader moves points)",
+            ));
+        }
+        if !shader && self.file.is_some() {
+            return Err(DescProblem::invalid(
+                "file",
+                "is only used with source = \"shader\"",
+            ));
+        }
+        if !shader && !self.parameters.is_empty() {
+            return Err(DescProblem::invalid(
+                "parameters",
+                "are only used with source = \"shader\"",
             ));
         }
         match (self.kind(), &self.wgsl) {
@@ -180,11 +235,19 @@ impl DisplacementDesc {
     /// default bound and checks a declared one against the source's largest
     /// height. `mirrored` is whether the object's transform has a negative
     /// determinant (the scale is then negated, see
-    /// [`PreparedDisplacement::scale`]). Call [`DisplacementDesc::validate`] first.
+    /// [`PreparedDisplacement::scale`]). A shader source is added to the
+    /// scene's shaders by `add_shader` (given the file as the scene names
+    /// it and the parameters), which also gives the bound a built-in shader
+    /// knows for itself (per unit of scale). Call
+    /// [`DisplacementDesc::validate`] first.
     pub fn prepare(
         &self,
         base_dir: Option<&Path>,
         mirrored: bool,
+        add_shader: impl FnOnce(
+            &Path,
+            &BTreeMap<String, crate::surface_shader::ShaderValue>,
+        ) -> Result<(super::ShaderDisplacement, Option<f32>), DisplacementError>,
     ) -> Result<PreparedDisplacement, DisplacementError> {
         let (source, max_height) = match self.kind() {
             SourceKind::Bumps => {
@@ -200,6 +263,27 @@ impl DisplacementDesc {
                 }),
                 None,
             ),
+            SourceKind::Shader => {
+                let file = self.file.as_deref().unwrap_or(Path::new(""));
+                let (mut shader, own_bound) = add_shader(file, &self.parameters)?;
+                shader.orientation = if mirrored { -1.0 } else { 1.0 };
+                let needed = own_bound.map(|bound| bound * self.scale.abs());
+                let bound = match (self.bound, needed) {
+                    (Some(bound), Some(needed)) if bound < needed => {
+                        return Err(DisplacementError::BoundTooSmall { bound, needed });
+                    }
+                    (Some(bound), _) => bound,
+                    (None, Some(needed)) => needed,
+                    // validate() requires a bound for other shaders.
+                    (None, None) => 0.0,
+                };
+                return Ok(PreparedDisplacement {
+                    source: HeightSource::Shader(shader),
+                    scale: self.scale,
+                    bound,
+                    tiling: 1.0,
+                });
+            }
             SourceKind::Image(path) => {
                 let path = resolve_height_map(path, base_dir);
                 let map = HeightMap::load(&path)?;

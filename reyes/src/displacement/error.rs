@@ -77,6 +77,16 @@ pub enum DisplacementError {
         /// `|scale| * max height` of the source.
         needed: f32,
     },
+    /// The displacement shader cannot be loaded or checked, or the scene's
+    /// values do not fit its parameters.
+    #[error("displacement shader {}: {source}", shown(file))]
+    Shader {
+        /// The shader file.
+        file: PathBuf,
+        /// Why.
+        #[source]
+        source: crate::surface_shader::SurfaceShaderError,
+    },
 }
 
 impl From<InputError> for DisplacementError {

@@ -1,5 +1,7 @@
 //! Displacement mapping: grid points move along the exact normal of the
-//! undisplaced surface by `height(u, v) * scale`.
+//! undisplaced surface by `height(u, v) * scale`, or where a displacement
+//! shader puts them (`P + scale * (displacement(ctx) - P)`,
+//! [`ShaderDisplacement`]).
 //!
 //! * `desc`: the `[objects.displacement]` table of a scene and its checks;
 //! * `height_map`: grey PNG height maps and their bilinear wrap-around lookup;
@@ -65,6 +67,22 @@ pub struct UserFunction {
     pub cpu: Option<CpuHeight>,
 }
 
+/// A displacement shader as an object runs it (docs/shaders.md): the
+/// shader's context is the undisplaced point's, and it returns the
+/// displaced point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShaderDisplacement {
+    /// The shader; the CPU reference runs its twin
+    /// ([`crate::surface_shader::SurfaceShader::cpu_displacement`]).
+    pub shader: Arc<crate::surface_shader::SurfaceShader>,
+    /// Where it and the object's parameters are in the scene's
+    /// [`crate::surface_shader::ShaderTable`].
+    pub reference: crate::surface_shader::ShaderRef,
+    /// 1, or -1 for an object whose transform mirrors: the context's `N`
+    /// is `orientation * normalize(dP/du x dP/dv)`, the model's own side.
+    pub orientation: f32,
+}
+
 /// Where an object's heights come from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum HeightSource {
@@ -74,6 +92,8 @@ pub enum HeightSource {
     Sines,
     /// A user WGSL function.
     User(UserFunction),
+    /// A displacement shader: not a height, a displaced point.
+    Shader(ShaderDisplacement),
 }
 
 /// An object's displacement, ready for rendering.
@@ -95,22 +115,33 @@ pub struct PreparedDisplacement {
 
 impl PreparedDisplacement {
     /// The height at patch parameters `(u, v)` (before the tiling is
-    /// applied), or `None` for a user WGSL function without a CPU twin.
+    /// applied), or `None` for a user WGSL function without a CPU twin and
+    /// for a shader (which gives a point, not a height).
     pub fn height(&self, u: f32, v: f32) -> Option<f32> {
         let (u, v) = (u * self.tiling, v * self.tiling);
         match &self.source {
             HeightSource::Image(map) => Some(map.sample(u, v)),
             HeightSource::Sines => Some(sines::sines(u, v)),
             HeightSource::User(user) => user.cpu.as_ref().map(|f| (f.0)(u, v)),
+            HeightSource::Shader(_) => None,
+        }
+    }
+
+    /// The displacement shader, if this displacement runs one.
+    pub fn shader(&self) -> Option<&ShaderDisplacement> {
+        match &self.source {
+            HeightSource::Shader(shader) => Some(shader),
+            _ => None,
         }
     }
 
     /// Whether the CPU reference can evaluate this displacement.
     pub fn cpu_evaluable(&self) -> bool {
-        !matches!(
-            &self.source,
-            HeightSource::User(UserFunction { cpu: None, .. })
-        )
+        match &self.source {
+            HeightSource::User(UserFunction { cpu, .. }) => cpu.is_some(),
+            HeightSource::Shader(shader) => shader.shader.cpu_displacement.is_some(),
+            HeightSource::Image(_) | HeightSource::Sines => true,
+        }
     }
 
     /// The user WGSL function, if this displacement uses one.

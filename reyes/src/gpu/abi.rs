@@ -72,6 +72,8 @@ pub mod displace {
     pub const SINES: u32 = 2;
     /// The user's WGSL `displacement_user`.
     pub const USER: u32 = 3;
+    /// A displacement shader (`user_displacement`).
+    pub const SHADER: u32 = 4;
 }
 
 /// Surface shaders, as [`super::objects::ObjectData::surface`] encodes

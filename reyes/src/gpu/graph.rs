@@ -70,13 +70,14 @@ pub const DEFAULT_USER_DISPLACEMENT_WGSL: &str =
     include_str!("../../../shaders/reyes/displacement_user_default.wgsl");
 
 /// The user's WGSL a megakernel compiles in: the scene's displacement
-/// function (`None`: the default, zero) and its surface shaders, in the
-/// order objects index them.
+/// function (`None`: the default, zero) and its surface and displacement
+/// shaders, in the order objects index them.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UserCode<'a> {
     /// WGSL defining `fn displacement_user(u: f32, v: f32) -> f32`.
     pub displacement: Option<&'a str>,
-    /// The surface shaders.
+    /// The surface and displacement shaders
+    /// ([`crate::surface_shader::ShaderTable::shaders`]).
     pub surfaces: &'a [Arc<SurfaceShader>],
 }
 

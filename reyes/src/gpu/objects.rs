@@ -18,8 +18,8 @@ pub struct ObjectData {
     pub color: glam::Vec4,
     /// `plastic`'s `specularcolor` (w unused).
     pub specular_color: glam::Vec4,
-    /// DISPLACE_NONE, DISPLACE_IMAGE, DISPLACE_SINES or DISPLACE_USER
-    /// ([`displace`]).
+    /// DISPLACE_NONE, DISPLACE_IMAGE, DISPLACE_SINES, DISPLACE_USER or
+    /// DISPLACE_SHADER ([`displace`]).
     pub displace_kind: u32,
     /// First texel of the object's height map in the texel buffer.
     pub map_offset: u32,
@@ -27,7 +27,7 @@ pub struct ObjectData {
     pub map_width: u32,
     /// Height-map height in texels.
     pub map_height: u32,
-    /// World units per unit of height.
+    /// World units per unit of height (a shader's: the factor on its offset).
     pub displace_scale: f32,
     /// Displacement bound in world units (0 without displacement).
     pub displace_bound: f32,
@@ -62,8 +62,17 @@ pub struct ObjectData {
     pub user_shader: u32,
     /// The first of a user shader's parameter slots (FrameUniform::parameter_floats).
     pub parameters: u32,
+    /// A displacement shader's index (DISPLACE_SHADER).
+    pub displace_shader: u32,
+    /// The first of a displacement shader's parameter slots.
+    pub displace_parameters: u32,
+    /// [`crate::displacement::ShaderDisplacement::orientation`] (1 for
+    /// other sources).
+    pub displace_orientation: f32,
     /// Padding.
     pub pad2: u32,
+    /// Padding.
+    pub pad3: u32,
 }
 
 impl ObjectData {
@@ -141,7 +150,11 @@ impl ObjectTables {
                     dice_threshold: dicing.dice_threshold(),
                     user_shader: 0,
                     parameters: 0,
+                    displace_shader: 0,
+                    displace_parameters: 0,
+                    displace_orientation: 1.0,
                     pad2: 0,
+                    pad3: 0,
                 };
                 if let Some(prepared) = &object.surface {
                     data.set_surface(prepared);
@@ -174,6 +187,12 @@ impl ObjectTables {
                     }
                     HeightSource::Sines => displace::SINES,
                     HeightSource::User(_) => displace::USER,
+                    HeightSource::Shader(shader) => {
+                        data.displace_shader = shader.reference.shader;
+                        data.displace_parameters = shader.reference.parameters;
+                        data.displace_orientation = shader.orientation;
+                        displace::SHADER
+                    }
                 };
                 data
             })

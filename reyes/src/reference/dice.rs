@@ -4,13 +4,12 @@
 
 use glam::{Vec3, Vec4};
 
-use super::displace::{displaced_point, grid_normal};
+use super::displace::{Displacer, displaced_point, grid_normal};
 use crate::bezier;
 use crate::camera::{HomogeneousEye, towards_eye};
 use crate::dicing::{
     BorderPoint, GridSize, PieceEdges, border_point, chord_point, grid_param, patch_position,
 };
-use crate::displacement::PreparedDisplacement;
 use crate::nonfinite::{Sources, dice_sources};
 use crate::params::{DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX, DEGENERATE_PARAM_MIN};
 
@@ -25,7 +24,7 @@ pub struct Grid {
     /// Unit normals facing the eye (two-sided shading).
     pub normals: Vec<Vec3>,
     /// Grid points displaced further than their object's bound (see
-    /// [`PreparedDisplacement::exceeds_bound`]).
+    /// [`crate::displacement::PreparedDisplacement::exceeds_bound`]).
     pub bound_exceeded: u64,
     /// Per point, the stages that turned its position non-finite
     /// ([`dice_sources`]; the camera's are added when it is projected).
@@ -62,7 +61,7 @@ pub fn dice(
     size: GridSize,
     edges: Option<&PieceEdges>,
     eye: HomogeneousEye,
-    displacement: Option<&PreparedDisplacement>,
+    displacement: Option<&Displacer<'_>>,
 ) -> Option<Grid> {
     let (columns, rows) = (size.nu + 1, size.nv + 1);
     let param = |i: u32, j: u32| {

@@ -8,6 +8,7 @@ use glam::Vec3;
 use super::ReferenceError;
 use super::dice::surface_normal;
 use super::dice::{Grid, dice};
+use super::displace::{Displacer, ShaderInputs};
 use super::framebuffer::Framebuffer;
 use super::limits::Budget;
 use super::raster::{
@@ -15,7 +16,7 @@ use super::raster::{
     raster_triangle, shows_front, still_quad,
 };
 use super::raster5d::{Mode5d, MovingPoint, Sampler, raster_quad_5d};
-use super::shade::{shade, shade_user};
+use super::shade::{Lighting, shade, shade_user};
 use super::work::WorkItem;
 use crate::aov::{self, Aov};
 use crate::bezier;
@@ -136,9 +137,24 @@ fn count_grid(stats: &mut RenderStats, size: GridSize) {
 fn dice_piece(scene: &PreparedScene, item: &WorkItem, size: GridSize) -> Grid {
     let object = &scene.objects[item.object as usize];
     let eye = scene.camera.homogeneous_eye();
-    let patch = &scene.patches[item.patch as usize].points;
+    let world = &scene.patches[item.patch as usize];
+    let patch = &world.points;
     let edges = (scene.dicing.mode() == Dicing::Rate).then_some(&item.edges);
-    let displacement = object.displacement.as_ref();
+    let lighting = Lighting::of(scene);
+    let displacer = object.displacement.as_ref().map(|prepared| Displacer {
+        prepared,
+        shader: prepared.shader().map(|shader| ShaderInputs {
+            shader,
+            parameters: scene
+                .shaders
+                .slots(shader.reference.parameters, &shader.shader),
+            host: &lighting,
+            st: world,
+            eye,
+            color: object.color,
+        }),
+    });
+    let displacement = displacer.as_ref();
     dice(patch, item.uv, size, edges, eye, displacement)
         .or_else(|| dice(patch, item.uv, size, edges, eye, None))
         .expect("an undisplaced grid always evaluates")
@@ -226,9 +242,7 @@ fn shading_context(
     } else {
         normal
     };
-    let st = world.st_at(u, v);
-    let dst_du = world.st_at(1.0, v) - world.st_at(0.0, v);
-    let dst_dv = world.st_at(u, 1.0) - world.st_at(u, 0.0);
+    let [st, dst_du, dst_dv] = world.st_frame(u, v);
     ShadingContext {
         p: position,
         n: normal,

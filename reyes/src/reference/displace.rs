@@ -1,40 +1,139 @@
 //! Displacement: a diced point moves along the exact normal of the
-//! undisplaced surface, and a displaced grid takes its shading normals from
-//! its own displaced points. The GPU does the same in
-//! `shaders/reyes/dice_shade_sample.wgsl`.
+//! undisplaced surface, or where the object's displacement shader puts it,
+//! and a displaced grid takes its shading normals from its own displaced
+//! points. The GPU does the same in `shaders/reyes/displacement.wgsl` and
+//! `dice_shade_sample.wgsl`.
 
 use glam::Vec3;
 
 use super::dice::{degenerate, displacement_normal};
+use crate::bezier;
+use crate::camera::{HomogeneousEye, towards_eye};
 use crate::dicing::{GridSize, patch_position};
-use crate::displacement::PreparedDisplacement;
+use crate::displacement::{PreparedDisplacement, ShaderDisplacement};
+use crate::prepare::WorldPatch;
+use crate::surface_shader::{ShadingContext, ShadingHost};
 
 /// The parameter `a + (b - a) * s`, written once for both implementations.
 pub fn lerp_param(a: f32, b: f32, s: f32) -> f32 {
     a + (b - a) * s
 }
 
+/// An object's displacement as the reference evaluates it.
+#[derive(Debug)]
+pub struct Displacer<'a> {
+    /// The displacement.
+    pub prepared: &'a PreparedDisplacement,
+    /// What its shader's context needs, when it runs a shader.
+    pub shader: Option<ShaderInputs<'a>>,
+}
+
+impl<'a> Displacer<'a> {
+    /// A displacement by heights (no shader).
+    pub fn heights(prepared: &'a PreparedDisplacement) -> Self {
+        Displacer {
+            prepared,
+            shader: None,
+        }
+    }
+}
+
+/// What a displacement shader's context needs besides the patch and the
+/// point's `(u, v)`.
+pub struct ShaderInputs<'a> {
+    /// The shader.
+    pub shader: &'a ShaderDisplacement,
+    /// The object's parameter slots.
+    pub parameters: &'a [[f32; 4]],
+    /// Lights and textures.
+    pub host: &'a dyn ShadingHost,
+    /// The input patch's texture coordinates.
+    pub st: &'a WorldPatch,
+    /// The viewer.
+    pub eye: HomogeneousEye,
+    /// The object's colour, `Cs`.
+    pub color: Vec3,
+}
+
+impl std::fmt::Debug for ShaderInputs<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ShaderInputs")
+            .field("shader", &self.shader.shader.path)
+            .field("parameters", &self.parameters)
+            .field("eye", &self.eye)
+            .field("color", &self.color)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The context a displacement shader sees at `(u, v)` of `patch`, whose
+/// undisplaced point is `position` (the WGSL `displacement_context`): `N =
+/// Ng` the exact unit normal on the model's side, `du = dv = 0` (a
+/// displaced point depends on `(u, v)` alone, so grids that share an edge
+/// agree on it).
+pub fn displacement_context(
+    patch: &[Vec3; 16],
+    inputs: &ShaderInputs<'_>,
+    position: Vec3,
+    u: f32,
+    v: f32,
+) -> ShadingContext {
+    let normal = displacement_normal(patch, u, v) * inputs.shader.orientation;
+    let to_eye = towards_eye(inputs.eye, position);
+    let [st, dst_du, dst_dv] = inputs.st.st_frame(u, v);
+    let surface = bezier::evaluate(patch, u, v);
+    ShadingContext {
+        p: position,
+        n: normal,
+        ng: normal,
+        i: -to_eye,
+        e: position + to_eye,
+        u,
+        v,
+        du: 0.0,
+        dv: 0.0,
+        s: st.x,
+        t: st.y,
+        dp_du: surface.d_ds,
+        dp_dv: surface.d_dt,
+        dst_du,
+        dst_dv,
+        cs: inputs.color,
+        os: Vec3::ONE,
+        time: 0.0,
+    }
+}
+
 /// The point of the input patch at `(u, v)` ([`patch_position`]), displaced
 /// when the object is: `P + n * h(u, v) * scale` with `n` the
-/// [`displacement_normal`]; and whether it moved beyond the bound. `None`
-/// when the height cannot be evaluated on the CPU (a user WGSL function
-/// without a Rust twin).
+/// [`displacement_normal`], or `P + scale * (displacement(ctx) - P)` for a
+/// shader; and whether it moved beyond the bound. `None` when the
+/// displacement cannot be evaluated on the CPU (a user WGSL function or
+/// shader without a Rust twin).
 pub fn displaced_point(
     patch: &[Vec3; 16],
     u: f32,
     v: f32,
-    displacement: Option<&PreparedDisplacement>,
+    displacement: Option<&Displacer<'_>>,
 ) -> Option<(Vec3, bool)> {
     let position = patch_position(patch, u, v);
-    let Some(displacement) = displacement else {
+    let Some(displacer) = displacement else {
         return Some((position, false));
     };
-    let offset = displacement.height(u, v)? * displacement.scale;
-    let normal = displacement_normal(patch, u, v);
-    Some((
-        position + normal * offset,
-        displacement.exceeds_bound(offset),
-    ))
+    let prepared = displacer.prepared;
+    let moved = match &displacer.shader {
+        Some(inputs) => {
+            let twin = inputs.shader.shader.cpu_displacement.as_ref()?;
+            let ctx = displacement_context(patch, inputs, position, u, v);
+            let moved = (twin.0)(&ctx, inputs.host, inputs.parameters);
+            position + (moved - position) * prepared.scale
+        }
+        None => {
+            let offset = prepared.height(u, v)? * prepared.scale;
+            position + displacement_normal(patch, u, v) * offset
+        }
+    };
+    Some((moved, prepared.exceeds_bound((moved - position).length())))
 }
 
 /// The unit normal of a displaced grid at `(i, j)`, not yet facing the
@@ -83,7 +182,7 @@ mod tests {
         let d = sines(0.5);
         let eye = Vec3::new(0.5, 0.5, 5.0).extend(1.0);
         let size = GridSize::FIXED;
-        let out = dice(&square(), WHOLE, size, None, eye, Some(&d)).unwrap();
+        let out = dice(&square(), WHOLE, size, None, eye, Some(&Displacer::heights(&d))).unwrap();
         for j in 0..=size.nv {
             for i in 0..=size.nu {
                 let (s, t) = (i as f32 / 15.0, j as f32 / 15.0);
@@ -95,7 +194,7 @@ mod tests {
         }
         assert_eq!(out.bound_exceeded, 0);
         // A flat, undisplaced grid keeps the plane's normal.
-        let flat = dice(&square(), WHOLE, size, None, eye, Some(&sines(0.0))).unwrap();
+        let flat = dice(&square(), WHOLE, size, None, eye, Some(&Displacer::heights(&sines(0.0)))).unwrap();
         for n in flat.normals {
             assert!((n - Vec3::Z).length() < 1e-6, "{n}");
         }
@@ -107,7 +206,7 @@ mod tests {
         let eye = Vec3::new(0.5, 0.5, 5.0).extend(1.0);
         let uv = Vec4::new(0.5, 0.25, 0.75, 0.5);
         let size = GridSize { nu: 4, nv: 8 };
-        let out = dice(&square(), uv, size, None, eye, Some(&d)).unwrap();
+        let out = dice(&square(), uv, size, None, eye, Some(&Displacer::heights(&d))).unwrap();
         let corner = out.positions[out.index(4, 8)];
         let expected = crate::displacement::sines::sines(0.75, 0.5);
         assert!((corner.z - expected).abs() < 1e-6);
@@ -119,7 +218,7 @@ mod tests {
         let mut d = sines(1.0);
         d.bound = 0.5;
         let eye = Vec3::new(0.5, 0.5, 5.0).extend(1.0);
-        let out = dice(&square(), WHOLE, GridSize::FIXED, None, eye, Some(&d)).unwrap();
+        let out = dice(&square(), WHOLE, GridSize::FIXED, None, eye, Some(&Displacer::heights(&d))).unwrap();
         assert!(out.bound_exceeded > 0);
     }
 }

@@ -92,6 +92,18 @@ pub enum ReferenceError {
         /// The shader file.
         file: std::path::PathBuf,
     },
+    /// An object runs a WGSL displacement shader without a Rust twin
+    /// ([`crate::surface_shader::SurfaceShader::cpu_displacement`]).
+    #[error(
+        "object {object} runs the WGSL displacement shader {}, which the CPU reference cannot run; render it on the GPU (without --cpu), or give a Rust twin through the API (SurfaceShader::cpu_displacement)",
+        file.display()
+    )]
+    UserDisplacementShader {
+        /// Index of the object.
+        object: usize,
+        /// The shader file.
+        file: std::path::PathBuf,
+    },
     /// The RGBA image is larger than the renderers allow
     /// ([`ReferenceOptions::max_image_bytes`], by default
     /// [`limits::MAX_IMAGE_BYTES`], the GPU path's limit too).
@@ -177,7 +189,14 @@ pub fn try_render_with(
         .iter()
         .position(|o| o.displacement.as_ref().is_some_and(|d| !d.cpu_evaluable()))
     {
-        return Err(ReferenceError::UserDisplacement { object });
+        let displacement = scene.objects[object].displacement.as_ref();
+        return Err(match displacement.and_then(|d| d.shader()) {
+            Some(shader) => ReferenceError::UserDisplacementShader {
+                object,
+                file: shader.shader.path.clone(),
+            },
+            None => ReferenceError::UserDisplacement { object },
+        });
     }
     for (object, prepared) in scene.objects.iter().enumerate() {
         if let Some(crate::shading::PreparedSurface::User { shader, .. }) = prepared.surface
@@ -291,7 +310,7 @@ pub fn try_render_samples(
             .is_some_and(|d| !d.cpu_evaluable())
         {
             log::warn!(
-                "object {index}: the CPU reference cannot run a user WGSL displacement; rendering it undisplaced"
+                "object {index}: the CPU reference cannot run a user WGSL displacement (function or shader) without its Rust twin; rendering it undisplaced"
             );
         }
     }

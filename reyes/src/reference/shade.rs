@@ -108,9 +108,8 @@ pub fn shade_user(
 ) -> Option<Vec3> {
     let shader = scene.shaders.shaders.get(shader as usize)?;
     let twin = shader.cpu.as_ref()?;
-    let start = (parameters as usize).min(scene.shaders.parameters.len());
-    let end = (start + shader.parameters.len()).min(scene.shaders.parameters.len());
-    let out = (twin.0)(ctx, &Lighting::of(scene), &scene.shaders.parameters[start..end]);
+    let slots = scene.shaders.slots(parameters, shader);
+    let out = (twin.0)(ctx, &Lighting::of(scene), slots);
     Some(out.ci.clamp(Vec3::ZERO, Vec3::ONE))
 }
 

@@ -1,13 +1,16 @@
 //! Standard shaders written in WGSL against the surface shader interface
 //! and run as user shaders are, each with its Rust twin so that the CPU
-//! reference runs it too: `paintedplastic` (RenderMan Interface 3.2,
-//! "Standard RenderMan Shaders").
+//! reference runs it too: `paintedplastic` and `bumpy` (RenderMan
+//! Interface 3.2, "Standard RenderMan Shaders").
 
 use std::path::Path;
 
 use glam::Vec3;
 
-use super::{CpuSurface, ShadingContext, ShadingHost, SurfaceOutput, SurfaceShader};
+use super::{
+    CpuDisplacement, CpuSurface, ShadingContext, ShadingHost, SurfaceOutput, SurfaceShader,
+};
+use crate::texture::{TextureId, TextureSet};
 
 /// The file name that stands for a built-in shader (`builtin:NAME`).
 pub const PREFIX: &str = "builtin:";
@@ -15,23 +18,69 @@ pub const PREFIX: &str = "builtin:";
 /// `paintedplastic`'s path.
 pub const PAINTED_PLASTIC: &str = "builtin:paintedplastic";
 
+/// `bumpy`'s path.
+pub const BUMPY: &str = "builtin:bumpy";
+
+/// A built-in shader's source and its twin.
+enum Twin {
+    Surface(CpuSurface),
+    Displacement(CpuDisplacement),
+}
+
 /// The built-in shader `path` names, checked, with its twin; `None` when
 /// `path` names none.
 pub fn shader(path: &Path) -> Option<Result<SurfaceShader, super::SurfaceShaderError>> {
     let name = path.to_str()?.strip_prefix(PREFIX)?;
-    let (source, twin): (&str, CpuSurface) = match name {
+    let (source, twin) = match name {
         "paintedplastic" => (
             include_str!("../../../shaders/reyes/standard/paintedplastic.wgsl"),
-            CpuSurface::new(painted_plastic),
+            Twin::Surface(CpuSurface::new(painted_plastic)),
+        ),
+        "bumpy" => (
+            include_str!("../../../shaders/reyes/standard/bumpy.wgsl"),
+            Twin::Displacement(CpuDisplacement::new(bumpy)),
         ),
         _ => return None,
     };
     Some(
         SurfaceShader::from_source(path, source.to_owned()).map(|mut shader| {
-            shader.cpu = Some(twin);
+            match twin {
+                Twin::Surface(twin) => shader.cpu = Some(twin),
+                Twin::Displacement(twin) => shader.cpu_displacement = Some(twin),
+            }
             shader
         }),
     )
+}
+
+/// Whether the built-in displacement shader `path` knows its own bound
+/// ([`displacement_bound`]), so that a scene need not give one.
+pub fn bounds_itself(path: &Path) -> bool {
+    path.to_str() == Some(BUMPY)
+}
+
+/// The bound of the built-in displacement shader `path` with the
+/// parameter `slots`: for `bumpy`, `|Km|` times the largest `|value|` of
+/// its texture's first channel (no filtered lookup exceeds it). `None` for
+/// other shaders.
+pub fn displacement_bound(path: &Path, slots: &[[f32; 4]], textures: &TextureSet) -> Option<f32> {
+    if !bounds_itself(path) {
+        return None;
+    }
+    let word = |k: usize| slots.get(k).copied().unwrap_or_default();
+    let km = word(0)[0];
+    // A texture the scene does not give reads zero.
+    let largest = textures
+        .largest_magnitude(TextureId(word(1)[0].to_bits()), 0)
+        .unwrap_or(0.0);
+    Some(km.abs() * largest)
+}
+
+/// The twin of `shaders/reyes/standard/bumpy.wgsl`, term for term.
+fn bumpy(ctx: &ShadingContext, host: &dyn ShadingHost, slots: &[[f32; 4]]) -> Vec3 {
+    let word = |k: usize| slots.get(k).copied().unwrap_or_default();
+    let amp = word(0)[0] * host.texture(ctx, word(1)[0].to_bits(), ctx.s, ctx.t).x;
+    ctx.p + amp * ctx.n
 }
 
 /// The twin of `shaders/reyes/standard/paintedplastic.wgsl`, term for term.

@@ -5,16 +5,21 @@
 
 use naga::{Expression, Handle, Literal, Module, Scalar, ScalarKind, TypeInner, VectorSize};
 
-use super::{ParameterKind, ShaderParameter, SurfaceShaderError};
+use super::{ParameterKind, ShaderKind, ShaderParameter, SurfaceShaderError};
 use crate::displacement::user_wgsl::{self, UserWgslError};
 use crate::params::MAX_SPECULAR_EXPONENT;
 
 /// The name of the function a surface shader defines.
 pub const ENTRY: &str = "surface";
+/// The name of the function a displacement shader defines.
+pub const DISPLACEMENT_ENTRY: &str = "displacement";
 /// The name of its parameter struct.
 pub const PARAMETERS: &str = "Parameters";
 /// The name of the constant holding the parameters' defaults.
 pub const DEFAULTS: &str = "DEFAULTS";
+/// The id a `TextureId` parameter holds when the scene gives no texture:
+/// past every texture, so that it reads (0, 0, 0, 0).
+pub const NO_TEXTURE: u32 = u32::MAX;
 
 /// The pure helpers, noise, the interface and its stubbed host side: what
 /// a user shader may use besides WGSL's built-ins.
@@ -33,8 +38,10 @@ pub fn interface_wgsl() -> String {
 pub(super) struct Checked {
     /// Its parameters, in declaration order (empty without `Parameters`).
     pub(super) parameters: Vec<ShaderParameter>,
-    /// Whether `surface` takes the parameters as its second argument.
+    /// Whether the entry takes the parameters as its second argument.
     pub(super) takes_parameters: bool,
+    /// What the shader computes: the function it defines says.
+    pub(super) kind: ShaderKind,
 }
 
 /// Checks `source` against the interface.
@@ -43,20 +50,24 @@ pub(super) fn check(source: &str) -> Result<Checked, SurfaceShaderError> {
     let user_end = source.len();
     let module = user_wgsl::parse(&text).map_err(|e| in_user_text(e, source))?;
     user_wgsl::check_globals(&module, &text, user_end)?;
-    let entry = module
-        .functions
-        .iter()
-        .find(|(handle, f)| {
-            f.name.as_deref() == Some(ENTRY)
+    let defined = |name: &str| {
+        module.functions.iter().find(|(handle, f)| {
+            f.name.as_deref() == Some(name)
                 && span_start(module.functions.get_span(*handle)) < user_end
         })
-        .map(|(_, f)| f)
-        .ok_or(SurfaceShaderError::MissingEntry)?;
+    };
+    let (kind, entry) = match (defined(ENTRY), defined(DISPLACEMENT_ENTRY)) {
+        (Some((_, entry)), None) => (ShaderKind::Surface, entry),
+        (None, Some((_, entry))) => (ShaderKind::Displacement, entry),
+        (Some(_), Some(_)) => return Err(SurfaceShaderError::TwoEntries),
+        (None, None) => return Err(SurfaceShaderError::MissingEntry),
+    };
     let parameters_type = module.types.iter().find(|(handle, ty)| {
         ty.name.as_deref() == Some(PARAMETERS)
             && span_start(module.types.get_span(*handle)) < user_end
     });
     let named = |ty: Handle<naga::Type>, name: &str| module.types[ty].name.as_deref() == Some(name);
+    let signature = SurfaceShaderError::Signature { kind };
     let arguments: Vec<_> = entry.arguments.iter().map(|a| a.ty).collect();
     let takes_parameters = match (arguments.as_slice(), parameters_type) {
         ([ctx], _) if named(*ctx, "ShadingContext") => false,
@@ -65,14 +76,23 @@ pub(super) fn check(source: &str) -> Result<Checked, SurfaceShaderError> {
         {
             true
         }
-        _ => return Err(SurfaceShaderError::Signature),
+        _ => return Err(signature),
     };
-    if !entry
-        .result
-        .as_ref()
-        .is_some_and(|r| named(r.ty, "SurfaceOutput"))
-    {
-        return Err(SurfaceShaderError::Signature);
+    let returns = entry.result.as_ref().map(|r| &module.types[r.ty]);
+    let returns_right = match kind {
+        ShaderKind::Surface => {
+            returns.is_some_and(|ty| ty.name.as_deref() == Some("SurfaceOutput"))
+        }
+        ShaderKind::Displacement => returns.is_some_and(|ty| {
+            ty.inner
+                == TypeInner::Vector {
+                    size: VectorSize::Tri,
+                    scalar: Scalar::F32,
+                }
+        }),
+    };
+    if !returns_right {
+        return Err(signature);
     }
     user_wgsl::check_barriers(&module, &text)?;
     user_wgsl::validate(&module, &text).map_err(|e| in_user_text(e, source))?;
@@ -83,6 +103,7 @@ pub(super) fn check(source: &str) -> Result<Checked, SurfaceShaderError> {
     Ok(Checked {
         parameters,
         takes_parameters,
+        kind,
     })
 }
 
@@ -110,7 +131,7 @@ fn reflect(
     text: &str,
 ) -> Result<Vec<ShaderParameter>, SurfaceShaderError> {
     let TypeInner::Struct { members, .. } = &module.types[parameters].inner else {
-        return Err(SurfaceShaderError::Signature);
+        return Err(SurfaceShaderError::ParametersNotStruct);
     };
     let line = module.types.get_span(parameters).location(text).line_number;
     let mut out = Vec::with_capacity(members.len());
@@ -121,10 +142,17 @@ fn reflect(
                 name: name.clone(),
                 line,
             })?;
+        // A texture the scene does not give reads nothing: an id past
+        // every texture reads (0, 0, 0, 0), where id 0 would be another
+        // parameter's texture.
+        let default = match kind {
+            ParameterKind::Texture => [f32::from_bits(NO_TEXTURE), 0.0, 0.0, 0.0],
+            _ => [0.0; 4],
+        };
         out.push(ShaderParameter {
             name,
             kind,
-            default: [0.0; 4],
+            default,
         });
     }
     let defaults = module
@@ -141,7 +169,10 @@ fn reflect(
             return Err(not_literal());
         };
         for (parameter, &component) in out.iter_mut().zip(components) {
-            parameter.default = slot_value(module, component).ok_or_else(not_literal)?;
+            let value = slot_value(module, component).ok_or_else(not_literal)?;
+            if parameter.kind != ParameterKind::Texture {
+                parameter.default = value;
+            }
         }
     }
     Ok(out)

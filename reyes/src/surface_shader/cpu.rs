@@ -133,3 +133,35 @@ impl PartialEq for CpuSurface {
         Arc::ptr_eq(&self.0, &other.0)
     }
 }
+
+/// The signature of a displacement shader's twin: the context (of the
+/// undisplaced point), the host, and the object's parameter slots; it
+/// returns the displaced `P`.
+pub type CpuDisplacementFn =
+    dyn Fn(&ShadingContext, &dyn ShadingHost, &[[f32; 4]]) -> Vec3 + Send + Sync;
+
+/// A Rust function that reproduces a user's WGSL displacement shader on the
+/// CPU. Compared by identity.
+#[derive(Clone)]
+pub struct CpuDisplacement(pub Arc<CpuDisplacementFn>);
+
+impl CpuDisplacement {
+    /// Wraps a function.
+    pub fn new(
+        f: impl Fn(&ShadingContext, &dyn ShadingHost, &[[f32; 4]]) -> Vec3 + Send + Sync + 'static,
+    ) -> Self {
+        CpuDisplacement(Arc::new(f))
+    }
+}
+
+impl fmt::Debug for CpuDisplacement {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("CpuDisplacement(<fn>)")
+    }
+}
+
+impl PartialEq for CpuDisplacement {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}

@@ -1,9 +1,12 @@
-//! Surface shaders written by users in WGSL (docs/shaders.md).
+//! Surface and displacement shaders written by users in WGSL
+//! (docs/shaders.md).
 //!
-//! A shader is a `.wgsl` file that defines
+//! A surface shader is a `.wgsl` file that defines
 //! `fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput`
 //! (or `fn surface(ctx: ShadingContext) -> SurfaceOutput` without
-//! parameters), optionally a `struct Parameters` of `f32`, `i32`, `u32`,
+//! parameters); a displacement shader defines
+//! `fn displacement(ctx: ShadingContext, params: Parameters) -> vec3<f32>`
+//! (the displaced `P`) instead. Either may declare a `struct Parameters` of `f32`, `i32`, `u32`,
 //! `bool` and `vecN<f32>` fields, and `const DEFAULTS = Parameters(...)`
 //! with their defaults. It is written against the interface in
 //! `shaders/reyes/surface_api.wgsl`, as the standard shaders are
@@ -27,14 +30,44 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-pub use check::{DEFAULTS, ENTRY, PARAMETERS, interface_wgsl};
+pub use check::{DEFAULTS, DISPLACEMENT_ENTRY, ENTRY, PARAMETERS, interface_wgsl};
 pub use codegen::megakernel_wgsl;
-pub use cpu::{CpuSurface, CpuSurfaceFn, ShadingContext, ShadingHost, SurfaceOutput};
+pub use cpu::{
+    CpuDisplacement, CpuDisplacementFn, CpuSurface, CpuSurfaceFn, ShadingContext, ShadingHost,
+    SurfaceOutput,
+};
 pub use table::{ShaderRef, ShaderTable};
 pub use values::{ParameterWarning, pack_parameters};
 
 use crate::displacement::user_wgsl::UserWgslError;
 use crate::input::{InputError, InputKind, read_text};
+
+/// What a shader computes, known from the function it defines.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShaderKind {
+    /// `fn surface(...) -> SurfaceOutput`: the colour at a shading point.
+    Surface,
+    /// `fn displacement(...) -> vec3<f32>`: the displaced position.
+    Displacement,
+}
+
+impl ShaderKind {
+    /// The function a shader of this kind defines.
+    pub fn entry(self) -> &'static str {
+        match self {
+            ShaderKind::Surface => ENTRY,
+            ShaderKind::Displacement => DISPLACEMENT_ENTRY,
+        }
+    }
+
+    /// The kind's name in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShaderKind::Surface => "surface",
+            ShaderKind::Displacement => "displacement",
+        }
+    }
+}
 
 /// What a shader parameter holds, from its WGSL type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -85,7 +118,8 @@ pub struct ShaderParameter {
     pub default: [f32; 4],
 }
 
-/// A checked user surface shader.
+/// A checked user shader: a surface shader, or a displacement shader
+/// ([`SurfaceShader::kind`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SurfaceShader {
     /// The file it came from (as the scene names it, for messages).
@@ -95,11 +129,16 @@ pub struct SurfaceShader {
     /// The parameters, in declaration order: parameter `k` is in slot `k`
     /// of the object's block of `shader_parameters`.
     pub parameters: Vec<ShaderParameter>,
-    /// Whether `surface` takes the parameters.
+    /// Whether the entry function takes the parameters.
     pub takes_parameters: bool,
-    /// A Rust twin for the CPU reference (only through the API): without
-    /// one, the reference cannot render objects with this shader.
+    /// Surface or displacement: which function the file defines.
+    pub kind: ShaderKind,
+    /// A Rust twin of a surface shader for the CPU reference (only through
+    /// the API): without one, the reference cannot render objects with
+    /// this shader.
     pub cpu: Option<CpuSurface>,
+    /// A Rust twin of a displacement shader, likewise.
+    pub cpu_displacement: Option<CpuDisplacement>,
 }
 
 impl SurfaceShader {
@@ -111,7 +150,9 @@ impl SurfaceShader {
             source,
             parameters: checked.parameters,
             takes_parameters: checked.takes_parameters,
+            kind: checked.kind,
             cpu: None,
+            cpu_displacement: None,
         })
     }
 
@@ -120,6 +161,15 @@ impl SurfaceShader {
         let source = read_text(path, InputKind::Shader, InputKind::Shader.limit())
             .map_err(SurfaceShaderError::Read)?;
         Self::from_source(path, source)
+    }
+
+    /// Whether the CPU reference can run this shader (it has the twin of
+    /// its kind).
+    pub fn has_twin(&self) -> bool {
+        match self.kind {
+            ShaderKind::Surface => self.cpu.is_some(),
+            ShaderKind::Displacement => self.cpu_displacement.is_some(),
+        }
     }
 
     /// The parameter called `name`, with its slot.
@@ -141,16 +191,42 @@ pub enum SurfaceShaderError {
     /// naga refuses the source, or it reaches outside the interface.
     #[error(transparent)]
     Wgsl(#[from] UserWgslError),
-    /// No `surface` function.
+    /// No `surface` or `displacement` function.
     #[error(
-        "the shader defines no `fn {ENTRY}(ctx: ShadingContext, params: {PARAMETERS}) -> SurfaceOutput` (or `fn {ENTRY}(ctx: ShadingContext) -> SurfaceOutput`)"
+        "the shader defines no `fn {ENTRY}(ctx: ShadingContext, params: {PARAMETERS}) -> SurfaceOutput` (a surface shader) and no `fn {DISPLACEMENT_ENTRY}(ctx: ShadingContext, params: {PARAMETERS}) -> vec3<f32>` (a displacement shader); `params` is left out without `struct {PARAMETERS}`"
     )]
     MissingEntry,
-    /// `surface` has another signature.
+    /// Both entry functions.
     #[error(
-        "`fn {ENTRY}` must take `ctx: ShadingContext` (and `params: {PARAMETERS}`, if the shader declares it) and return `SurfaceOutput`"
+        "the shader defines both `fn {ENTRY}` and `fn {DISPLACEMENT_ENTRY}`; a file is one shader, of one kind"
     )]
-    Signature,
+    TwoEntries,
+    /// The entry function has another signature.
+    #[error(
+        "`fn {}` must take `ctx: ShadingContext` (and `params: {PARAMETERS}`, if the shader declares it) and return `{}`",
+        kind.entry(),
+        match kind { ShaderKind::Surface => "SurfaceOutput", ShaderKind::Displacement => "vec3<f32>" }
+    )]
+    Signature {
+        /// The kind the function's name makes the shader.
+        kind: ShaderKind,
+    },
+    /// `Parameters` is not a struct.
+    #[error("`{PARAMETERS}` must be a struct of the shader's parameters")]
+    ParametersNotStruct,
+    /// A shader of one kind where the scene needs the other.
+    #[error(
+        "the file is a {} shader (it defines `fn {}`), but the object uses it as its {} shader",
+        found.name(),
+        found.entry(),
+        expected.name()
+    )]
+    WrongKind {
+        /// What the scene uses the file as.
+        expected: ShaderKind,
+        /// What the file defines.
+        found: ShaderKind,
+    },
     /// An error in the interface's declarations, most likely caused by a
     /// user declaration of one of its names.
     #[error(

@@ -4,12 +4,15 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
 
-use super::{ParameterWarning, ShaderValue, SurfaceShader, SurfaceShaderError, pack_parameters};
+use super::{
+    ParameterWarning, ShaderKind, ShaderValue, SurfaceShader, SurfaceShaderError, pack_parameters,
+};
 use crate::texture::{TextureDesc, TextureSet};
 
-/// The distinct user surface shaders of a frame (shader `k` is what an
-/// object with [`crate::shading::PreparedSurface::User`]`{ shader: k, .. }`
-/// runs) and the objects' parameter blocks, one `[f32; 4]` slot per
+/// The distinct user shaders of a frame, surface and displacement (shader
+/// `k` is what an object with
+/// [`crate::shading::PreparedSurface::User`]`{ shader: k, .. }` runs, or
+/// with a displacement shader `k`) and the objects' parameter blocks, one `[f32; 4]` slot per
 /// parameter, concatenated: the GPU's `shader_parameters` buffer.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ShaderTable {
@@ -29,14 +32,16 @@ pub struct ShaderRef {
 }
 
 impl ShaderTable {
-    /// Adds an object running the shader file `path` with `values`,
-    /// loading the file unless an earlier object uses it. Names the shader
-    /// does not declare come back as warnings.
+    /// Adds an object running the shader file `path`, which must be a
+    /// shader of `kind`, with `values`, loading the file unless an earlier
+    /// object uses it. Names the shader does not declare come back as
+    /// warnings.
     /// Texture parameters' files (relative to `base_dir`, if given) are
     /// added to `textures`.
     pub fn add(
         &mut self,
         path: &Path,
+        kind: ShaderKind,
         values: &BTreeMap<String, ShaderValue>,
         textures: &mut TextureSet,
         base_dir: Option<&Path>,
@@ -52,6 +57,13 @@ impl ShaderTable {
                 self.shaders.len() - 1
             }
         };
+        let found = self.shaders[index].kind;
+        if found != kind {
+            return Err(SurfaceShaderError::WrongKind {
+                expected: kind,
+                found,
+            });
+        }
         let (slots, warnings) = pack_parameters(&self.shaders[index], values, |name, desc| {
             let path = match base_dir {
                 Some(dir) if desc.path.is_relative() => dir.join(&desc.path),
@@ -74,5 +86,13 @@ impl ShaderTable {
         };
         self.parameters.extend(slots);
         Ok((reference, warnings))
+    }
+
+    /// The parameter slots of `shader` in the block that starts at slot
+    /// `first` (cut short where the table ends).
+    pub fn slots(&self, first: u32, shader: &SurfaceShader) -> &[[f32; 4]] {
+        let start = (first as usize).min(self.parameters.len());
+        let end = (start + shader.parameters.len()).min(self.parameters.len());
+        &self.parameters[start..end]
     }
 }

@@ -144,7 +144,7 @@ fn a_missing_or_wrong_entry_point_is_named() {
     ));
     assert!(matches!(
         shader("fn surface(ctx: ShadingContext) -> vec3<f32> { return ctx.Cs; }"),
-        Err(SurfaceShaderError::Signature)
+        Err(SurfaceShaderError::Signature { .. })
     ));
     assert!(matches!(
         shader(

@@ -348,6 +348,23 @@ impl TextureSet {
         sample::sample(&self.infos, &self.texels, id.0, st, axis_a, axis_b)
     }
 
+    /// The largest `|value|` of `channel` (0 = red) over texture `id`'s
+    /// level 0, `None` for an id from another set. No filtered lookup
+    /// exceeds it: the other levels average level 0, and filtering blends
+    /// texels with weights that sum to 1 (or 0 outside a black wrap).
+    pub fn largest_magnitude(&self, id: TextureId, channel: usize) -> Option<f32> {
+        let info = self.infos.get(id.0 as usize)?;
+        let start = info.offset as usize;
+        let end = start + info.width as usize * info.height as usize;
+        let level0 = self.texels.get(start..end)?;
+        Some(
+            level0
+                .iter()
+                .map(|&texel| mipmap::unpack(texel)[channel.min(3)].abs())
+                .fold(0.0, f32::max),
+        )
+    }
+
     /// The GPU tables: the `texture_infos` entries (indexed by
     /// [`TextureId`]) and the `texels` buffer. A set without textures gives
     /// [`TextureInfo::DUMMY`] and [`DUMMY_TEXELS`], so that neither buffer
