@@ -314,19 +314,22 @@ impl PreparedScene {
                             )
                             .map_err(|source| DisplacementError::Shader {
                                 file: path.clone(),
-                                source,
+                                source: Box::new(source),
                             })?;
                         warn_unknown_parameters(index, "displacement", &path, &warnings);
-                        let shader = shaders.shaders[reference.shader as usize].clone();
+                        let shader = &shaders.shaders[reference.shader as usize];
                         let own_bound = crate::surface_shader::builtin::displacement_bound(
                             &path,
-                            shaders.slots(reference.parameters, &shader),
+                            shaders.slots(reference.parameters, shader),
                             &textures,
                         );
+                        // N is the front's normal, as RenderMan's
+                        // Orientation makes it: the model's dP/du x dP/dv
+                        // unless mirrored or reversed (once).
+                        let flipped = object.reverse_orientation != mirrored;
                         let prepared = ShaderDisplacement {
-                            shader,
                             reference,
-                            orientation: 1.0,
+                            orientation: if flipped { -1.0 } else { 1.0 },
                         };
                         Ok((prepared, own_bound))
                     })

@@ -238,7 +238,8 @@ impl DisplacementDesc {
     /// [`PreparedDisplacement::scale`]). A shader source is added to the
     /// scene's shaders by `add_shader` (given the file as the scene names
     /// it and the parameters), which also gives the bound a built-in shader
-    /// knows for itself (per unit of scale). Call
+    /// knows for itself (per unit of scale) and sets the shader's
+    /// orientation. Call
     /// [`DisplacementDesc::validate`] first.
     pub fn prepare(
         &self,
@@ -265,8 +266,7 @@ impl DisplacementDesc {
             ),
             SourceKind::Shader => {
                 let file = self.file.as_deref().unwrap_or(Path::new(""));
-                let (mut shader, own_bound) = add_shader(file, &self.parameters)?;
-                shader.orientation = if mirrored { -1.0 } else { 1.0 };
+                let (shader, own_bound) = add_shader(file, &self.parameters)?;
                 let needed = own_bound.map(|bound| bound * self.scale.abs());
                 let bound = match (self.bound, needed) {
                     (Some(bound), Some(needed)) if bound < needed => {

@@ -83,9 +83,9 @@ pub enum DisplacementError {
     Shader {
         /// The shader file.
         file: PathBuf,
-        /// Why.
+        /// Why (boxed: it is large, and rare).
         #[source]
-        source: crate::surface_shader::SurfaceShaderError,
+        source: Box<crate::surface_shader::SurfaceShaderError>,
     },
 }
 

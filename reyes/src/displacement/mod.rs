@@ -72,14 +72,15 @@ pub struct UserFunction {
 /// displaced point.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShaderDisplacement {
-    /// The shader; the CPU reference runs its twin
-    /// ([`crate::surface_shader::SurfaceShader::cpu_displacement`]).
-    pub shader: Arc<crate::surface_shader::SurfaceShader>,
-    /// Where it and the object's parameters are in the scene's
-    /// [`crate::surface_shader::ShaderTable`].
+    /// Where the shader and the object's parameters are in the scene's
+    /// [`crate::surface_shader::ShaderTable`] (the CPU reference runs the
+    /// shader's twin there,
+    /// [`crate::surface_shader::SurfaceShader::cpu_displacement`]).
     pub reference: crate::surface_shader::ShaderRef,
-    /// 1, or -1 for an object whose transform mirrors: the context's `N`
-    /// is `orientation * normalize(dP/du x dP/dv)`, the model's own side.
+    /// 1, or -1 for an object whose transform mirrors or whose orientation
+    /// is reversed (not both): the context's `N` is `orientation *
+    /// normalize(dP/du x dP/dv)`, the normal of the object's front, as
+    /// RenderMan's `N` follows `Orientation`.
     pub orientation: f32,
 }
 
@@ -135,11 +136,15 @@ impl PreparedDisplacement {
         }
     }
 
-    /// Whether the CPU reference can evaluate this displacement.
-    pub fn cpu_evaluable(&self) -> bool {
+    /// Whether the CPU reference can evaluate this displacement, whose
+    /// shader (if it runs one) is in `shaders`.
+    pub fn cpu_evaluable(&self, shaders: &crate::surface_shader::ShaderTable) -> bool {
         match &self.source {
             HeightSource::User(UserFunction { cpu, .. }) => cpu.is_some(),
-            HeightSource::Shader(shader) => shader.shader.cpu_displacement.is_some(),
+            HeightSource::Shader(shader) => shaders
+                .shaders
+                .get(shader.reference.shader as usize)
+                .is_some_and(|s| s.cpu_displacement.is_some()),
             HeightSource::Image(_) | HeightSource::Sines => true,
         }
     }

@@ -141,17 +141,20 @@ fn dice_piece(scene: &PreparedScene, item: &WorkItem, size: GridSize) -> Grid {
     let patch = &world.points;
     let edges = (scene.dicing.mode() == Dicing::Rate).then_some(&item.edges);
     let lighting = Lighting::of(scene);
+    let table = &scene.shaders;
     let displacer = object.displacement.as_ref().map(|prepared| Displacer {
         prepared,
-        shader: prepared.shader().map(|shader| ShaderInputs {
-            shader,
-            parameters: scene
-                .shaders
-                .slots(shader.reference.parameters, &shader.shader),
-            host: &lighting,
-            st: world,
-            eye,
-            color: object.color,
+        shader: prepared.shader().map(|shader| {
+            let code = table.shaders.get(shader.reference.shader as usize);
+            ShaderInputs {
+                shader,
+                twin: code.and_then(|c| c.cpu_displacement.as_ref()),
+                parameters: code.map_or(&[], |c| table.slots(shader.reference.parameters, c)),
+                host: &lighting,
+                st: world,
+                eye,
+                color: object.color,
+            }
         }),
     });
     let displacement = displacer.as_ref();

@@ -12,7 +12,7 @@ use crate::camera::{HomogeneousEye, towards_eye};
 use crate::dicing::{GridSize, patch_position};
 use crate::displacement::{PreparedDisplacement, ShaderDisplacement};
 use crate::prepare::WorldPatch;
-use crate::surface_shader::{ShadingContext, ShadingHost};
+use crate::surface_shader::{CpuDisplacement, ShadingContext, ShadingHost};
 
 /// The parameter `a + (b - a) * s`, written once for both implementations.
 pub fn lerp_param(a: f32, b: f32, s: f32) -> f32 {
@@ -41,8 +41,10 @@ impl<'a> Displacer<'a> {
 /// What a displacement shader's context needs besides the patch and the
 /// point's `(u, v)`.
 pub struct ShaderInputs<'a> {
-    /// The shader.
+    /// The object's use of the shader.
     pub shader: &'a ShaderDisplacement,
+    /// The shader's twin (`None`: the reference cannot displace).
+    pub twin: Option<&'a CpuDisplacement>,
     /// The object's parameter slots.
     pub parameters: &'a [[f32; 4]],
     /// Lights and textures.
@@ -58,7 +60,7 @@ pub struct ShaderInputs<'a> {
 impl std::fmt::Debug for ShaderInputs<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("ShaderInputs")
-            .field("shader", &self.shader.shader.path)
+            .field("shader", &self.shader)
             .field("parameters", &self.parameters)
             .field("eye", &self.eye)
             .field("color", &self.color)
@@ -123,7 +125,7 @@ pub fn displaced_point(
     let prepared = displacer.prepared;
     let moved = match &displacer.shader {
         Some(inputs) => {
-            let twin = inputs.shader.shader.cpu_displacement.as_ref()?;
+            let twin = inputs.twin?;
             let ctx = displacement_context(patch, inputs, position, u, v);
             let moved = (twin.0)(&ctx, inputs.host, inputs.parameters);
             position + (moved - position) * prepared.scale

@@ -184,16 +184,19 @@ pub fn try_render_with(
     scene: &PreparedScene,
     options: &ReferenceOptions,
 ) -> Result<Rendered, ReferenceError> {
-    if let Some(object) = scene
-        .objects
-        .iter()
-        .position(|o| o.displacement.as_ref().is_some_and(|d| !d.cpu_evaluable()))
-    {
+    if let Some(object) = scene.objects.iter().position(|o| {
+        o.displacement
+            .as_ref()
+            .is_some_and(|d| !d.cpu_evaluable(&scene.shaders))
+    }) {
         let displacement = scene.objects[object].displacement.as_ref();
-        return Err(match displacement.and_then(|d| d.shader()) {
+        let shader = displacement
+            .and_then(|d| d.shader())
+            .and_then(|s| scene.shaders.shaders.get(s.reference.shader as usize));
+        return Err(match shader {
             Some(shader) => ReferenceError::UserDisplacementShader {
                 object,
-                file: shader.shader.path.clone(),
+                file: shader.path.clone(),
             },
             None => ReferenceError::UserDisplacement { object },
         });
@@ -307,7 +310,7 @@ pub fn try_render_samples(
         if object
             .displacement
             .as_ref()
-            .is_some_and(|d| !d.cpu_evaluable())
+            .is_some_and(|d| !d.cpu_evaluable(&scene.shaders))
         {
             log::warn!(
                 "object {index}: the CPU reference cannot run a user WGSL displacement (function or shader) without its Rust twin; rendering it undisplaced"

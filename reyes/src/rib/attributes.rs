@@ -1,6 +1,6 @@
-//! `Attribute`, `Displacement` and `Opacity`: attributes the renderer cannot
-//! apply, checked and warned about (with their lines) rather than passed
-//! over in silence.
+//! `Attribute` and `Opacity`: the displacement bound, and attributes the
+//! renderer cannot apply, checked and warned about (with their lines)
+//! rather than passed over in silence.
 
 use std::path::Path;
 
@@ -11,8 +11,8 @@ use super::state;
 impl Interp {
     /// `Attribute "class" "name" value ...`. `"displacementbound"` is
     /// checked (`"sphere"` a finite radius >= 0, `"coordinatesystem"` a
-    /// string): the renderer runs no RIB displacement shader, so the bound
-    /// has nothing to bound and is not used. Other classes warn once each.
+    /// string) and bounds the displacement shaders of the primitives that
+    /// follow (`Interp::displacement_bound`). Other classes warn once each.
     pub(super) fn attribute(
         &mut self,
         v: &[Value],
@@ -34,6 +34,8 @@ impl Interp {
             );
             return Ok(());
         }
+        let mut radius = None;
+        let mut space = None;
         for pair in v[1..].chunks(2) {
             let name = pair[0]
                 .str()
@@ -41,20 +43,21 @@ impl Interp {
             // An inline declaration ("float sphere") names the same parameter.
             match name.rsplit(' ').next().unwrap_or(name) {
                 "sphere" => {
-                    let radius = pair[1]
+                    let r = pair[1]
                         .nums()
                         .filter(|n| n.len() == 1)
                         .ok_or("Attribute \"displacementbound\" \"sphere\" takes one number")?[0];
-                    if !(radius.is_finite() && radius >= 0.0) {
+                    if !(r.is_finite() && r >= 0.0) {
                         return Err(format!(
-                            "Attribute \"displacementbound\" \"sphere\" {radius}: the radius must be finite and >= 0"
+                            "Attribute \"displacementbound\" \"sphere\" {r}: the radius must be finite and >= 0"
                         ));
                     }
+                    radius = Some(r);
                 }
                 "coordinatesystem" => {
-                    pair[1].str().ok_or(
+                    space = Some(pair[1].str().ok_or(
                         "Attribute \"displacementbound\" \"coordinatesystem\" takes a string",
-                    )?;
+                    )?);
                 }
                 other => self.warn(
                     file,
@@ -63,23 +66,10 @@ impl Interp {
                 ),
             }
         }
-        Ok(())
-    }
-
-    /// `Displacement "shader" ...`: RIB shaders do not run here.
-    pub(super) fn displacement(
-        &mut self,
-        v: &[Value],
-        file: &Path,
-        line: usize,
-    ) -> Result<(), String> {
-        let shader = state::arg_str(v, 0, "the shader")?.to_owned();
-        self.warn_once(
-            &format!("Displacement {shader}"),
-            file,
-            line,
-            format!("Displacement {shader:?}: RIB displacement shaders cannot run in this renderer (its displacement comes from a TOML scene's height maps, sines or WGSL); the surface is not displaced"),
-        );
+        if let Some(radius) = radius {
+            let space = space.map(str::to_owned);
+            self.displacement_bound(radius, space.as_deref(), file, line);
+        }
         Ok(())
     }
 

@@ -6,6 +6,7 @@ use glam::{DMat4, EulerRot, Vec3};
 
 use super::interp::{Interp, Prim};
 use super::{RibError, RibScene, Warning};
+use crate::displacement::DisplacementDesc;
 use crate::model::{DEFAULT_ST, Model, Patch};
 use crate::params::NEAR_EPS;
 use crate::scene::{
@@ -233,11 +234,30 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
     let mut keys: Vec<ObjectKey> = Vec::new();
     // Each primitive's patches are dropped once copied into its object's
     // model: the two never both hold the whole scene.
+    // Displacement shaders without a bound, by request (one warning each).
+    let mut unbounded: Vec<Warning> = Vec::new();
     for prim in std::mem::take(&mut interp.prims) {
         if prim.patches.is_empty() {
             continue;
         }
         let key = object_key(&prim);
+        if let Some(desc) = &key.6
+            && desc.bound == Some(0.0)
+            && prim.attrs.displacement_bound.is_none()
+            && !unbounded
+                .iter()
+                .any(|w| w.file == prim.file && w.line == prim.line)
+        {
+            unbounded.push(Warning {
+                file: prim.file.clone(),
+                line: prim.line,
+                message: format!(
+                    "{}: displacement shader {} without Attribute \"displacementbound\": its bound is 0, so points it moves may be culled near the frame's edges (the render counts them)",
+                    prim.request,
+                    desc.file.as_deref().unwrap_or(Path::new("")).display()
+                ),
+            });
+        }
         if keys.last() != Some(&key) {
             let transform_close = match prim.close {
                 None => None,
@@ -255,7 +275,7 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
                 color: key.0,
                 surface: Some(key.4.clone()),
                 shading_rate: key.5.map(|r| r as f32),
-                displacement: None,
+                displacement: key.6.clone(),
                 transform_close,
                 sides: key.1,
                 reverse_orientation: key.2,
@@ -277,6 +297,7 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
             .extend(prim.patches.iter().map(|&points| Patch { points }));
     }
     warnings.extend(camera_warning);
+    warnings.extend(unbounded);
     if scene.objects.is_empty() {
         warnings.push(Warning {
             file: file.to_path_buf(),
@@ -301,8 +322,16 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
 }
 
 /// What a primitive's object is made of: colour, sides, reverse
-/// orientation, motion, surface and shading rate.
-type ObjectKey = (Vec3, u8, bool, Option<DMat4>, Surface, Option<f64>);
+/// orientation, motion, surface, shading rate and displacement.
+type ObjectKey = (
+    Vec3,
+    u8,
+    bool,
+    Option<DMat4>,
+    Surface,
+    Option<f64>,
+    Option<DisplacementDesc>,
+);
 
 /// The [`ObjectKey`] of a primitive.
 fn object_key(prim: &Prim) -> ObjectKey {
@@ -316,6 +345,22 @@ fn object_key(prim: &Prim) -> ObjectKey {
         prim.close,
         prim.attrs.surface.clone(),
         prim.attrs.shading_rate,
+        prim.attrs.displacement.clone().map(|mut desc| {
+            // The bound in force at the primitive; a shader that does not
+            // bound itself gets 0 without one (and a warning).
+            desc.bound = match prim.attrs.displacement_bound {
+                Some(bound) => Some(bound as f32),
+                None if desc
+                    .file
+                    .as_deref()
+                    .is_some_and(crate::surface_shader::builtin::bounds_itself) =>
+                {
+                    None
+                }
+                None => Some(0.0),
+            };
+            desc
+        }),
     )
 }
 

@@ -32,6 +32,7 @@ internal_modules! {
     state;
 }
 mod convert;
+mod displacements;
 mod geometry;
 mod options;
 mod polygons;

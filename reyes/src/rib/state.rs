@@ -32,6 +32,10 @@ pub struct Attributes {
     /// `TextureCoordinates`: the `st` of the corners `(u, v) = (0,0), (1,0),
     /// (0,1), (1,1)` of parametric primitives.
     pub texture_coords: [DVec2; 4],
+    /// `Displacement`: the shader, its bound still unset.
+    pub displacement: Option<crate::displacement::DisplacementDesc>,
+    /// `Attribute "displacementbound"`, in the renderer's world units.
+    pub displacement_bound: Option<f64>,
 }
 
 impl Default for Attributes {
@@ -46,6 +50,8 @@ impl Default for Attributes {
             vbasis: basis::BEZIER,
             lights_on: 0,
             texture_coords: super::texcoords::UNIT_SQUARE,
+            displacement: None,
+            displacement_bound: None,
         }
     }
 }

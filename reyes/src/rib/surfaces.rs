@@ -48,7 +48,7 @@ fn known_params(shader: &str) -> Option<&'static [&'static str]> {
 /// The WGSL surface shader file a `Surface` request names: `name.wgsl` (or
 /// `name` itself when it ends in `.wgsl`) in the directory of the RIB
 /// file that makes the request, if it is there.
-fn wgsl_shader(name: &str, rib: &Path) -> Option<std::path::PathBuf> {
+pub(super) fn wgsl_shader(name: &str, rib: &Path) -> Option<std::path::PathBuf> {
     let file = if name.ends_with(".wgsl") {
         name.to_owned()
     } else {
@@ -60,7 +60,7 @@ fn wgsl_shader(name: &str, rib: &Path) -> Option<std::path::PathBuf> {
 
 /// The `texturename` a `paintedplastic` request gives, if any (an empty
 /// name is none, as in RenderMan).
-fn texture_name(params: &[Param]) -> Option<&str> {
+pub(super) fn texture_name(params: &[Param]) -> Option<&str> {
     params
         .iter()
         .find(|p| p.name == "texturename")
@@ -74,7 +74,7 @@ fn texture_name(params: &[Param]) -> Option<&str> {
 
 /// A RIB parameter value as a user shader's parameter value: one number,
 /// several, or a string.
-fn shader_value(value: &Value) -> Option<ShaderValue> {
+pub(super) fn shader_value(value: &Value) -> Option<ShaderValue> {
     Some(match value {
         Value::Num(n) => ShaderValue::Number(*n),
         Value::Nums(v) if v.len() == 1 => ShaderValue::Number(v[0]),

@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-pub use check::{DEFAULTS, DISPLACEMENT_ENTRY, ENTRY, PARAMETERS, interface_wgsl};
+pub use check::{DEFAULTS, DISPLACEMENT_ENTRY, ENTRY, NO_TEXTURE, PARAMETERS, interface_wgsl};
 pub use codegen::megakernel_wgsl;
 pub use cpu::{
     CpuDisplacement, CpuDisplacementFn, CpuSurface, CpuSurfaceFn, ShadingContext, ShadingHost,

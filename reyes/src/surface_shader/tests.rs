@@ -23,6 +23,52 @@ fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput {
 }
 ";
 
+/// A displacement shader with a helper named as MARBLE's.
+const SWELL: &str = "struct Parameters { amount: f32, map: TextureId }
+const DEFAULTS = Parameters(0.1, TextureId(0u));
+fn stripes(x: f32) -> f32 { return 0.5 + 0.5 * sin(x); }
+fn displacement(ctx: ShadingContext, params: Parameters) -> vec3<f32> {
+    let h = params.amount * stripes(ctx.s) * texture(ctx, params.map, ctx.s, ctx.t).r;
+    return ctx.P + ctx.N * h;
+}
+";
+
+/// The function a file defines makes it a surface or a displacement
+/// shader; a displacement returns a point; a file is one shader.
+#[test]
+fn the_entry_function_says_what_a_shader_is() {
+    let swell = shader(SWELL).expect("a displacement shader checks");
+    assert_eq!(swell.kind, ShaderKind::Displacement);
+    assert!(swell.takes_parameters);
+    assert_eq!(shader(MARBLE).unwrap().kind, ShaderKind::Surface);
+    assert!(matches!(
+        shader("fn displacement(ctx: ShadingContext) -> f32 { return 0.0; }"),
+        Err(SurfaceShaderError::Signature {
+            kind: ShaderKind::Displacement
+        })
+    ));
+    let both = format!(
+        "{SWELL}\nfn surface(ctx: ShadingContext) -> SurfaceOutput {{ return SurfaceOutput(ctx.Cs, ctx.Os); }}"
+    );
+    assert!(matches!(shader(&both), Err(SurfaceShaderError::TwoEntries)));
+    let error = shader("fn shade() {}").unwrap_err().to_string();
+    assert!(
+        error.contains("fn surface") && error.contains("fn displacement"),
+        "{error}"
+    );
+}
+
+/// A `TextureId` the scene does not give reads no texture (an id past
+/// every texture), whatever `DEFAULTS` says: id 0 could be another
+/// parameter's texture.
+#[test]
+fn a_texture_parameter_left_out_reads_nothing() {
+    let swell = shader(SWELL).unwrap();
+    let (slots, _) = pack_parameters(&swell, &BTreeMap::new(), no_textures).unwrap();
+    assert_eq!(slots[1][0].to_bits(), NO_TEXTURE);
+    assert_eq!(slots[0][0], 0.1);
+}
+
 fn no_textures(_: &str, _: &crate::texture::TextureDesc) -> Result<u32, SurfaceShaderError> {
     panic!("no texture parameter here")
 }
@@ -165,9 +211,22 @@ fn several_shaders_live_side_by_side_in_one_module() {
         "fn stripes(x: f32) -> f32 { return x; }\nfn surface(ctx: ShadingContext) -> SurfaceOutput { return SurfaceOutput(ctx.Cs * stripes(ctx.u), ctx.Os); }",
     )
     .unwrap();
-    let shaders = [Arc::new(shader(MARBLE).unwrap()), Arc::new(plain)];
+    let swell = shader(SWELL).unwrap();
+    let shaders = [
+        Arc::new(shader(MARBLE).unwrap()),
+        Arc::new(plain),
+        Arc::new(swell),
+    ];
     let library = megakernel_wgsl(&shaders);
     assert!(library.contains("fn surface0_stripes(") && library.contains("fn surface1_stripes("));
+    assert!(library.contains("fn displacement2_stripes("));
+    assert!(library.contains("const DISPLACEMENT_SHADERS: bool = true;"));
+    // Each dispatcher calls only its own kind.
+    let displacement_dispatch = &library[library.find("fn user_displacement(").unwrap()..];
+    assert!(
+        displacement_dispatch.contains("case 2u") && !displacement_dispatch.contains("case 0u")
+    );
+    assert!(megakernel_wgsl(&shaders[..2]).contains("const DISPLACEMENT_SHADERS: bool = false;"));
     // The module as the megakernel holds it, with the interface's host side
     // stubbed out and the parameters read from a buffer.
     let module = format!(
