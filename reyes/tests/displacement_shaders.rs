@@ -192,6 +192,35 @@ fn a_wgsl_displacement_shader_beside_the_rib_runs_and_wants_a_bound() {
         error.contains("swell.wgsl") && error.contains("displacement shader"),
         "{error}"
     );
+    // A parameter the shader does not declare warns at the request's line
+    // (the Displacement request is line 9 of `sphere_rib`).
+    let rib = load(
+        &dir,
+        &sphere_rib(16, "Displacement \"swell\" \"amount\" [0.2] \"wobble\" [1]"),
+    );
+    let all = warnings(&rib);
+    assert!(
+        all.iter()
+            .any(|w| w.contains("scene.rib:9:") && w.contains("no parameter \"wobble\"")),
+        "{all:?}"
+    );
+    // A shader that does not compile, or of the other kind, is an error at
+    // the request's line that names the shader's own line.
+    std::fs::write(
+        dir.join("broken.wgsl"),
+        "fn displacement(ctx: ShadingContext) -> vec3<f32> {\n  return ctx.Q;\n}\n",
+    )
+    .unwrap();
+    let path = dir.join("scene.rib");
+    std::fs::write(&path, sphere_rib(16, "Displacement \"broken\"")).unwrap();
+    let error = RibScene::load(&path).unwrap_err().to_string();
+    assert!(
+        error.contains("scene.rib:9") && error.contains("broken.wgsl") && error.contains("line 2"),
+        "{error}"
+    );
+    std::fs::write(&path, sphere_rib(16, "Surface \"swell\"")).unwrap();
+    let error = RibScene::load(&path).unwrap_err().to_string();
+    assert!(error.contains("is a displacement shader"), "{error}");
     // With a bound, no warning.
     let rib = load(
         &dir,

@@ -400,6 +400,27 @@ fn a_surface_named_after_a_wgsl_file_beside_the_rib_is_that_shader() {
         "{:?}",
         loaded.warnings
     );
+    // A parameter the shader does not declare warns with the request's line
+    // and is dropped.
+    std::fs::write(
+        &rib,
+        text.replace("\"float Kd\" 0.5", "\"float Kd\" 0.5 \"float Ks\" 1"),
+    )
+    .unwrap();
+    let loaded = RibScene::load(&rib).expect("the RIB loads");
+    let line = text.lines().position(|l| l.starts_with("Surface")).unwrap() + 1;
+    assert!(
+        loaded.warnings.iter().any(|w| {
+            let w = w.to_string();
+            w.contains(&format!("scene.rib:{line}:")) && w.contains("no parameter \"Ks\"")
+        }),
+        "{:?}",
+        loaded.warnings
+    );
+    let Some(Surface::Wgsl { parameters, .. }) = loaded.scene.objects[0].surface.clone() else {
+        panic!("{:?}", loaded.scene.objects[0].surface);
+    };
+    assert!(!parameters.contains_key("Ks"));
     // A name with no file beside the RIB.
     let missing = read(&scene("", [1.0, 1.0, 1.0], "Surface \"marble\""));
     assert_eq!(surface(&missing), Surface::DEFAULT_SURFACE);

@@ -15,6 +15,7 @@ use super::surfaces::{shader_value, texture_name, wgsl_shader};
 use crate::displacement::DisplacementDesc;
 use crate::displacement::desc::SOURCE_SHADER;
 use crate::scene::ShaderValue;
+use crate::surface_shader::ShaderKind;
 use crate::surface_shader::builtin::BUMPY;
 use crate::texture::{ColorSpace, TextureDesc};
 
@@ -98,11 +99,23 @@ impl Interp {
             "" | "null" => None,
             "bumpy" => self.bumpy(&params, file, line)?,
             _ => match wgsl_shader(&shader, file) {
-                Some(path) => Some(DisplacementDesc {
-                    file: Some(path),
-                    parameters: self.shader_parameters(&params),
-                    ..shader_desc()
-                }),
+                Some(path) => {
+                    let given = self.shader_parameters(&params);
+                    let parameters = self.shader_parameters_checked(
+                        "Displacement",
+                        &shader,
+                        &path,
+                        ShaderKind::Displacement,
+                        given,
+                        file,
+                        line,
+                    )?;
+                    Some(DisplacementDesc {
+                        file: Some(path),
+                        parameters,
+                        ..shader_desc()
+                    })
+                }
                 None => {
                     self.warn(
                         file,
@@ -176,7 +189,7 @@ impl Interp {
 
     /// A user shader's parameters from the request's, textures made by
     /// `MakeTexture` read through their pictures.
-    fn shader_parameters(&self, params: &[Param]) -> BTreeMap<String, ShaderValue> {
+    pub(super) fn shader_parameters(&self, params: &[Param]) -> BTreeMap<String, ShaderValue> {
         params
             .iter()
             .filter_map(|p| {

@@ -167,6 +167,10 @@ pub struct Interp {
     /// (resolved beside the RIB file that made them): shader parameters
     /// naming a texture read the picture, which the renderer mipmaps itself.
     pub(super) made_textures: HashMap<String, PathBuf>,
+    /// The WGSL shaders requests have named, checked once per file: their
+    /// kind and parameter names, or why the file cannot be used
+    /// ([`super::shader_files`]).
+    pub(super) shader_files: HashMap<PathBuf, super::shader_files::ShaderFile>,
 }
 
 /// RenderMan's camera space is left-handed (x right, y up, z forward); the
@@ -203,6 +207,7 @@ impl Interp {
             object_depth: 0,
             more_warnings: 0,
             made_textures: HashMap::new(),
+            shader_files: HashMap::new(),
             options_only: false,
             blocks: Vec::new(),
             lenient: false,

@@ -36,6 +36,7 @@ mod displacements;
 mod geometry;
 mod options;
 mod polygons;
+mod shader_files;
 mod spaces;
 mod surfaces;
 mod texcoords;

@@ -20,6 +20,7 @@ use super::interp::Interp;
 use super::parser::Value;
 use super::state::{self, Param};
 use crate::scene::{ShaderValue, Surface};
+use crate::surface_shader::ShaderKind;
 
 /// The smallest `roughness` used: the highlight's exponent `1 / roughness`
 /// is at most `crate::shading::MAX_SPECULAR_EXPONENT`.
@@ -186,24 +187,22 @@ impl Interp {
                 specular_color: self.tint(params, &shown, file, line)?,
             },
             _ => match wgsl_shader(shader, file) {
-                Some(path) => Surface::Wgsl {
-                    file: path,
-                    parameters: params
-                        .iter()
-                        .filter_map(|p| {
-                            let value = match shader_value(&p.value)? {
-                                // A texture made by MakeTexture reads its picture.
-                                ShaderValue::Text(name) => ShaderValue::Text(
-                                    self.made_textures.get(&name).map_or(name, |picture| {
-                                        picture.to_string_lossy().into_owned()
-                                    }),
-                                ),
-                                other => other,
-                            };
-                            Some((p.name.clone(), value))
-                        })
-                        .collect(),
-                },
+                Some(path) => {
+                    let given = self.shader_parameters(params);
+                    let parameters = self.shader_parameters_checked(
+                        "Surface",
+                        shader,
+                        &path,
+                        ShaderKind::Surface,
+                        given,
+                        file,
+                        line,
+                    )?;
+                    Surface::Wgsl {
+                        file: path,
+                        parameters,
+                    }
+                }
                 None => {
                     self.warn(
                         file,
