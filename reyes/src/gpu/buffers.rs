@@ -326,6 +326,9 @@ pub struct FrameBuffers {
     /// time/lens tables last uploaded to `height_texels` (they stay valid
     /// while all three do).
     uvt: Option<(u32, u32, u32)>,
+    /// The texture set's revision and float offset last uploaded to
+    /// `height_texels` (they stay valid while both do).
+    textures: Option<(u64, u64)>,
 }
 
 impl FrameBuffers {
@@ -382,6 +385,7 @@ impl FrameBuffers {
             lights_len: scene.lights.len(),
             tables: None,
             uvt: None,
+            textures: None,
         };
         let mut buffers = buffers;
         buffers.write(queue, scene);
@@ -442,7 +446,11 @@ impl FrameBuffers {
         if !st.is_empty() {
             queue.write_buffer(&self.height_texels, 4 * layout.st, bytemuck::cast_slice(&st));
         }
-        if !scene.textures.is_empty() {
+        // Uploaded once per texture set and place in the buffer: a large set
+        // is not sent again with every frame.
+        let texture_key = (scene.textures.revision(), layout.textures);
+        if !scene.textures.is_empty() && self.textures != Some(texture_key) {
+            self.textures = Some(texture_key);
             let (infos, texels) = scene.textures.gpu_tables();
             queue.write_buffer(
                 &self.height_texels,

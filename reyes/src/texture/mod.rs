@@ -158,8 +158,12 @@ struct Chain {
 /// Textures are deduplicated: adding a file again (by its canonical path)
 /// with the same colour space and wrap modes returns the first id, and one
 /// with other wrap modes gets an id of its own over the same texels.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default)]
 pub struct TextureSet {
+    /// Changes with every texture added, and only then: a clone keeps it,
+    /// so the GPU path uploads a set's texels once for as long as it sees
+    /// the same revision ([`TextureSet::revision`]). 0 for an empty set.
+    revision: u64,
     budget: TextureBudget,
     infos: Vec<TextureInfo>,
     /// The path each texture was first added by, for messages.
@@ -167,6 +171,19 @@ pub struct TextureSet {
     texels: Vec<[u32; 2]>,
     chains: HashMap<(PathBuf, ColorSpace), Chain>,
     ids: HashMap<(PathBuf, ColorSpace, Wrap, Wrap), TextureId>,
+}
+
+/// Two sets are equal when they hold the same textures, whatever their
+/// revisions.
+impl PartialEq for TextureSet {
+    fn eq(&self, other: &Self) -> bool {
+        self.budget == other.budget
+            && self.infos == other.infos
+            && self.paths == other.paths
+            && self.texels == other.texels
+            && self.chains == other.chains
+            && self.ids == other.ids
+    }
 }
 
 impl TextureSet {
@@ -291,6 +308,9 @@ impl TextureSet {
     }
 
     fn push_info(&mut self, path: &Path, chain: Chain, wrap_s: Wrap, wrap_t: Wrap) -> TextureId {
+        // Unique over the process: sets made apart never share one.
+        static REVISIONS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        self.revision = REVISIONS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let id = TextureId(self.infos.len() as u32);
         self.infos.push(TextureInfo {
             offset: chain.offset,
@@ -304,6 +324,12 @@ impl TextureSet {
         });
         self.paths.push(path.to_path_buf());
         id
+    }
+
+    /// Identifies the set's contents: equal revisions mean the same
+    /// textures (a set and its clones), a texture added gives a new one.
+    pub fn revision(&self) -> u64 {
+        self.revision
     }
 
     /// Number of textures (ids).
