@@ -61,6 +61,23 @@ pub enum RenderError {
         /// Bytes allowed.
         limit: u64,
     },
+    /// A pass of the frame needs more workgroups than the device
+    /// dispatches, even spread over two dimensions.
+    #[error(
+        "the {pass} pass of a {width}x{height} frame needs {workgroups} workgroups, more than the device dispatches ({limit} per dimension, {limit}x{limit} in all); lower the resolution or spp"
+    )]
+    TooManyWorkgroups {
+        /// The pass.
+        pass: &'static str,
+        /// The frame's width.
+        width: u32,
+        /// Its height.
+        height: u32,
+        /// The workgroups the pass needs.
+        workgroups: u64,
+        /// The device's limit per dimension.
+        limit: u32,
+    },
     /// The megakernel did not compile (a bug in the renderer's WGSL).
     #[error("the Reyes megakernel did not compile: {0}")]
     Compile(#[from] CompileError),

@@ -317,7 +317,7 @@ impl<'a> GpuRenderer<'a> {
     fn render_tile(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
         let start = Instant::now();
         self.frame_buffers(scene);
-        self.clear_frame();
+        self.clear_frame()?;
         let (counters, runs) = if scene.patches.is_empty() {
             (self.read_counters()?, TileRuns::default())
         } else {
@@ -415,7 +415,7 @@ impl<'a> GpuRenderer<'a> {
     }
 
     /// Clears the framebuffer and zeroes the statistics.
-    fn clear_frame(&self) {
+    fn clear_frame(&self) -> Result<(), RenderError> {
         let (buffers, target) = self.frame.as_ref().expect("prepared before clearing");
         buffers.reset_stats(&self.gpu.queue);
         self.resolver.clear(
@@ -424,6 +424,6 @@ impl<'a> GpuRenderer<'a> {
             target,
             &buffers.framebuffer,
             buffers.samples,
-        );
+        )
     }
 }
