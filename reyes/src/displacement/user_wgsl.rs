@@ -57,29 +57,10 @@ pub enum UserWgslError {
         /// 1-based line.
         line: u32,
     },
-    /// A function of the user's text declares more function memory (its
-    /// local variables, array and struct values, the constants it uses)
-    /// than [`MAX_FUNCTION_MEMORY`]: drivers unroll such memory into
-    /// registers or scratch at compile time, and an array of a million
-    /// floats drove one driver's compile to 23 GB.
-    #[error(
-        "line {line} of the function's source: `{name}` in `{function}` takes {bytes} bytes of function memory ({total} bytes in all in `{function}`), more than the {limit} bytes a user function may use per invocation; use a smaller array"
-    )]
-    Memory {
-        /// The function.
-        function: String,
-        /// The variable, value or constant that goes over the limit (the
-        /// largest of the function's).
-        name: String,
-        /// 1-based line of its declaration.
-        line: u32,
-        /// Its size in bytes.
-        bytes: u64,
-        /// The function's total.
-        total: u64,
-        /// The limit ([`MAX_FUNCTION_MEMORY`]).
-        limit: u64,
-    },
+    /// A function of the user's text declares more function memory than
+    /// [`MAX_FUNCTION_MEMORY`] (boxed: the error stays small).
+    #[error(transparent)]
+    Memory(Box<FunctionMemory>),
     /// A barrier: the renderer calls the function from divergent control
     /// flow, where barriers are undefined behaviour on real GPUs.
     #[error(
@@ -91,6 +72,31 @@ pub enum UserWgslError {
         /// 1-based line.
         line: u32,
     },
+}
+
+/// A function of the user's text declares more function memory (its local
+/// variables, array and struct values, the constants it uses) than
+/// [`MAX_FUNCTION_MEMORY`]: drivers unroll such memory into registers or
+/// scratch at compile time, and an array of a million floats drove one
+/// driver's compile to 23 GB.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "line {line} of the function's source: `{name}` in `{function}` takes {bytes} bytes of function memory ({total} bytes in all in `{function}`), more than the {limit} bytes a user function may use per invocation; use a smaller array"
+)]
+pub struct FunctionMemory {
+    /// The function.
+    pub function: String,
+    /// The variable, value or constant that goes over the limit (the
+    /// largest of the function's).
+    pub name: String,
+    /// 1-based line of its declaration.
+    pub line: u32,
+    /// Its size in bytes.
+    pub bytes: u64,
+    /// The function's total.
+    pub total: u64,
+    /// The limit ([`MAX_FUNCTION_MEMORY`]).
+    pub limit: u64,
 }
 
 /// The most function memory (local variables, array and struct values,
@@ -265,14 +271,14 @@ pub(crate) fn check_memory(
                 .into_iter()
                 .max_by_key(|(_, bytes, _)| *bytes)
                 .expect("a total above zero has items");
-            return Err(UserWgslError::Memory {
+            return Err(UserWgslError::Memory(Box::new(FunctionMemory {
                 function: function.name.clone().unwrap_or_default(),
                 name: excerpt(&name),
                 line: span.location(wgsl).line_number,
                 bytes,
                 total,
                 limit: MAX_FUNCTION_MEMORY,
-            });
+            })));
         }
     }
     Ok(())
@@ -437,16 +443,9 @@ fn displacement_user(u: f32, v: f32) -> f32 {
     fn function_memory_past_the_limit_is_refused_with_its_name_and_line() {
         let var = "fn displacement_user(u: f32, v: f32) -> f32 {\n    var a: array<f32, 1000000>;\n    a[0] = u;\n    return a[0];\n}";
         match check(var) {
-            Err(UserWgslError::Memory {
-                function,
-                name,
-                line,
-                bytes,
-                limit,
-                ..
-            }) => {
+            Err(UserWgslError::Memory(m)) => {
                 assert_eq!(
-                    (function.as_str(), name.as_str(), line, bytes, limit),
+                    (m.function.as_str(), m.name.as_str(), m.line, m.bytes, m.limit),
                     ("displacement_user", "a", 2, 4_000_000, MAX_FUNCTION_MEMORY)
                 );
             }
@@ -456,7 +455,7 @@ fn displacement_user(u: f32, v: f32) -> f32 {
         let helper = "fn big(i: u32) -> f32 {\n    let t = array<f32, 8192>();\n    return t[i];\n}\nfn displacement_user(u: f32, v: f32) -> f32 { return big(0u) + u; }";
         let error = check(helper).unwrap_err();
         assert!(
-            matches!(&error, UserWgslError::Memory { function, line: 2, bytes: 32768, .. } if function == "big"),
+            matches!(&error, UserWgslError::Memory(m) if m.function == "big" && m.line == 2 && m.bytes == 32768),
             "{error:?}"
         );
         assert!(error.to_string().contains("more than the 16384 bytes"), "{error}");
@@ -464,14 +463,14 @@ fn displacement_user(u: f32, v: f32) -> f32 {
         let constant = "const T = array<f32, 5000>();\nfn displacement_user(u: f32, v: f32) -> f32 {\n    var i = 0u;\n    return T[i] + u;\n}";
         let error = check(constant).unwrap_err();
         assert!(
-            matches!(&error, UserWgslError::Memory { name, bytes: 20000, .. } if name == "T"),
+            matches!(&error, UserWgslError::Memory(m) if m.name == "T" && m.bytes == 20000),
             "{error:?}"
         );
         // Several locals that together go over the limit.
         let several = "fn displacement_user(u: f32, v: f32) -> f32 {\n    var a: array<vec4<f32>, 600>;\n    var b: array<vec4<f32>, 600>;\n    return a[0].x + b[0].x + u;\n}";
         assert!(matches!(
             check(several),
-            Err(UserWgslError::Memory { total: 19200, .. })
+            Err(UserWgslError::Memory(m)) if m.total == 19200
         ));
         // Within the limit: passes.
         let small = "fn displacement_user(u: f32, v: f32) -> f32 {\n    var a: array<f32, 1024>;\n    a[1] = v;\n    return a[1] + u;\n}";
@@ -492,12 +491,10 @@ fn displacement_user(u: f32, v: f32) -> f32 {
             )
         };
         match shader("    var big: array<f32, 1000000>;\n    big[0] = 1.0;\n") {
-            Err(SurfaceShaderError::Wgsl(UserWgslError::Memory {
-                function,
-                name,
-                line,
-                ..
-            })) => assert_eq!((function.as_str(), name.as_str(), line), ("surface", "big", 2)),
+            Err(SurfaceShaderError::Wgsl(UserWgslError::Memory(m))) => assert_eq!(
+                (m.function.as_str(), m.name.as_str(), m.line),
+                ("surface", "big", 2)
+            ),
             other => panic!("{other:?}"),
         }
         shader("").expect("a plain shader passes: the interface is not counted");

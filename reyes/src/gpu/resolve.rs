@@ -298,7 +298,7 @@ pub fn dispatch_grid(workgroups: u64, limit: u32) -> Option<(u32, u32)> {
     let limit = u64::from(limit.max(1));
     let x = workgroups.clamp(1, limit);
     let y = workgroups.div_ceil(x);
-    (y <= limit).then(|| (x as u32, y as u32))
+    (y <= limit).then_some((x as u32, y as u32))
 }
 
 /// Encodes the commands `record` writes and submits them inside a
