@@ -15,18 +15,22 @@ use serde::{Deserialize, Serialize};
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Sampling {
-    /// Bounding box: test every sample in each micropolygon triangle's
-    /// screen box, grown by its motion and circle of confusion, with the
-    /// sample's own time and lens position (default).
+    /// Bounding box: one screen box per micropolygon, over its positions at
+    /// shutter open and close and grown by its largest circle of confusion;
+    /// every sample in the pixel strata the box touches is tested against
+    /// the micropolygon's two triangles, at the sample's own time and lens
+    /// position (default).
     #[default]
     Bbox,
     /// Simple UVT: the `spp` time/lens tuples are shared by every pixel;
-    /// tuple `s` positions the triangle once and tests sample `s` of each
-    /// pixel in that box (an accumulation buffer in one pass).
+    /// tuple `s` positions the micropolygon once and tests sample `s` of
+    /// each pixel in its box (an accumulation buffer in one pass).
     Simple,
-    /// Interleave UVT (Fatahalian et al. 2009): 2x2-pixel tiles with
-    /// `4 * spp` distinct tuples each; a triangle positioned at a tuple tests
-    /// the one sample of that tuple in every tile its box overlaps.
+    /// Interleave UVT (Fatahalian et al. 2009): tiles of `interleave_tile`
+    /// pixels a side (`--interleave-tile` 2, 3 or 4; default 2) with
+    /// `tile * tile * spp` distinct time/lens tuples each; a micropolygon
+    /// positioned at a tuple tests the one sample of that tuple in every
+    /// tile its box overlaps.
     Interleave,
     /// INTERVAL: `spp` time intervals, one box per interval; a box tests
     /// the samples whose time lies in its interval.

@@ -12,6 +12,7 @@
 //! [`StagedFiles`] does the same for any set of files (`reyes convert`'s
 //! TOML and models).
 
+pub mod console;
 mod guard;
 mod paths;
 mod staged;

@@ -158,3 +158,33 @@ fn moving_a_framed_camera_recomputes_its_clipping_planes() {
     let drawn = image.pixels().filter(|&&p| p != background).count();
     assert!(drawn > 20, "{drawn} pixels show the teapot");
 }
+
+/// A `MotionBegin` without its `MotionEnd` before `WorldEnd` is an error
+/// naming both lines (it rendered a blank image with exit 0 before), and a
+/// warning under `--lenient`.
+#[test]
+fn an_unclosed_motion_block_is_an_error_unless_lenient() {
+    let dir = TempDir::new("cli-motion");
+    std::fs::write(
+        dir.path("m.rib"),
+        "Format 16 12 1\nProjection \"perspective\" \"fov\" 40\nWorldBegin\nTranslate 0 0 5\nMotionBegin [0 1]\nTranslate 0 0 0\nTranslate 0.2 0 0\nSphere 1 -1 1 360\nWorldEnd\n",
+    )
+    .unwrap();
+    let (ok, stderr, written) = render(&dir, "m.rib", &[]);
+    assert!(!ok && !written, "{stderr}");
+    assert!(
+        stderr.contains(
+            "m.rib:9:1: WorldEnd: the MotionBegin of line 5 is still open inside the WorldBegin of line 3 (MotionEnd missing before this WorldEnd)"
+        ) && stderr.contains("--lenient"),
+        "{stderr}"
+    );
+    let (ok, stderr, written) = render(&dir, "m.rib", &["--lenient"]);
+    assert!(ok && written, "{stderr}");
+    assert!(
+        stderr.contains("warning: ") && stderr.contains("MotionBegin of line 5 is still open"),
+        "{stderr}"
+    );
+    // The sphere counts as a later motion sample of the open block and is
+    // dropped; the image is the background, which is said too.
+    assert!(stderr.contains("the scene has no objects"), "{stderr}");
+}

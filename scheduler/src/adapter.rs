@@ -2,6 +2,7 @@
 //! `WGPU_ADAPTER_NAME`.
 
 use crate::DeviceError;
+use crate::UncapturedErrors;
 
 /// An adapter with its device and queue.
 #[derive(Debug)]
@@ -12,6 +13,10 @@ pub struct Gpu {
     pub device: wgpu::Device,
     /// The device's queue.
     pub queue: wgpu::Queue,
+    /// The device's errors that no error scope caught (see
+    /// [`UncapturedErrors::install`]); the code that submits work takes
+    /// them and returns them as its error.
+    pub uncaptured: UncapturedErrors,
 }
 
 /// What to ask of the device.
@@ -28,7 +33,8 @@ impl Gpu {
     /// (larger buffers than the WebGPU defaults where the hardware allows),
     /// plus `TIMESTAMP_QUERY`, `MEMORY_DECORATION_COHERENT` and
     /// `PIPELINE_CACHE` when available,
-    /// plus what `request` asks for.
+    /// plus what `request` asks for. The device's uncaptured errors are
+    /// recorded in [`Gpu::uncaptured`] instead of panicking.
     ///
     /// `WGPU_BACKEND` (e.g. `vulkan`) restricts the backends searched;
     /// `WGPU_ADAPTER_NAME` picks the first adapter whose name contains it
@@ -90,10 +96,12 @@ impl Gpu {
             })
             .await
             .map_err(|e| DeviceError::RequestDevice(e.to_string()))?;
+        let uncaptured = UncapturedErrors::install(&device);
         Ok(Self {
             adapter,
             device,
             queue,
+            uncaptured,
         })
     }
 

@@ -127,6 +127,7 @@ mod plan;
 mod quirks;
 mod resource;
 mod runtime;
+mod uncaptured;
 
 pub use adapter::{DeviceRequest, Gpu};
 pub use compile::{CompiledGraph, Specialization};
@@ -157,6 +158,7 @@ pub use runtime::seeds::Seeds;
 pub use runtime::strategy::{DEFAULT_ROUNDS_PER_BATCH, Strategy};
 pub use runtime::trace::{BatchRecord, SubmissionTrace, Trace};
 pub use scheduler_derive::{Item, item};
+pub use uncaptured::UncapturedErrors;
 
 // Re-exported so that users, the `item_type!` macro and `#[item]` name the
 // same versions.

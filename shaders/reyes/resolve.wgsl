@@ -112,8 +112,19 @@ fn filter_weight(x: f32, y: f32) -> f32 {
 // background; pixels outside the frame are missing and the weights are
 // normalized), or the plain mean of its own samples where the window holds
 // no weight; linear, alpha 1.
+//
+// One workgroup per 8x8 tile of pixels, the tiles numbered row by row and
+// dispatched over two dimensions (`tile_of`): a wide or a tall frame has
+// more tiles in a row or a column than one dimension allows.
 @compute @workgroup_size(8, 8)
-fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
+fn resolve(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let tiles_x = (params.width + 7u) / 8u;
+    let tile = group.y * groups.x + group.x;
+    let id = vec2<u32>((tile % tiles_x) * 8u + local.x, (tile / tiles_x) * 8u + local.y);
     if (id.x >= params.width || id.y >= params.height) {
         return;
     }

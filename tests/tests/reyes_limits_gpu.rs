@@ -11,6 +11,7 @@ use reyes::prepare::PreparedScene;
 use reyes::reference;
 use reyes::scene::{Dicing, Sampling, Scene, SceneObject, Transform};
 use reyes::stats::RenderStats;
+use scheduler::wgpu;
 use tests::reyes_support::{agreement, camera_down_z, gpu_turn, renderer};
 use tests::shapes::bezier_sphere;
 
@@ -325,4 +326,92 @@ fn chunk_counts_llvmpipe_compiles_too_slowly_are_refused(gpu: &scheduler::Gpu) {
         ..GpuOptions::default()
     };
     reyes::gpu::GpuRenderer::new(gpu, options).expect("the renderer takes 8 chunks per batch");
+}
+
+/// Issue D27: a frame 1,000,000 pixels wide and 1 high has 125,000 resolve
+/// tiles in its row, more workgroups than one dispatch dimension allows
+/// (65,535); the resolve spreads them over two dimensions. A sphere of 100
+/// pixels around column 900,000 (an orthographic view one unit per pixel)
+/// must show there, beyond the 524,280 columns one dimension reaches, as
+/// the CPU reference draws it.
+#[gpu_test]
+fn a_frame_wider_than_one_dispatch_dimension_resolves_every_column() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let width = 1_000_000;
+    let mut scene = Scene::default();
+    scene.resolution.width = width;
+    scene.resolution.height = 1;
+    scene.spp = 1;
+    scene.pixel_filter = reyes::filter::PixelFilter::PIXEL_BOX;
+    scene.camera = Some(reyes::scene::CameraDesc {
+        far: 1000.0,
+        projection: reyes::scene::Projection::Orthographic,
+        ortho_height: Some(1.0),
+        ..camera_down_z()
+    });
+    scene.objects.push(SceneObject {
+        model: "sphere".into(),
+        transform: Transform {
+            translate: Vec3::new(400_000.0, 0.0, -200.0),
+            scale: reyes::scene::Scale::Uniform(50.0),
+            ..Transform::default()
+        },
+        color: Vec3::new(0.9, 0.3, 0.2),
+        surface: None,
+        shading_rate: None,
+        displacement: None,
+        transform_close: None,
+        sides: 2,
+        reverse_orientation: false,
+    });
+    let prepared = PreparedScene::new(&scene, &[bezier_sphere()]).expect("scene prepares");
+    let frame = renderer(gpu, GpuOptions::default())
+        .render(&prepared)
+        .expect("the wide frame renders");
+    assert_eq!(frame.coverage.len(), width as usize);
+    let covered: Vec<usize> = (0..frame.coverage.len())
+        .filter(|&x| frame.coverage[x])
+        .collect();
+    let (first, last) = (covered[0], covered[covered.len() - 1]);
+    eprintln!("{} columns covered, {first}..={last}", covered.len());
+    assert!(
+        (899_940..=899_960).contains(&first) && (900_040..=900_060).contains(&last),
+        "the sphere covers columns {first}..={last}, not about 899,950..900,050"
+    );
+    let cpu = reference::render(&prepared);
+    agreement(&frame, &cpu).assert_at_least("wide", 0.95, 0.95);
+}
+
+/// A validation error no error scope catches (here a dispatch over the
+/// device's limit per dimension, encoded without a scope) is recorded on the
+/// device's [`scheduler::UncapturedErrors`] and logged, not handed to wgpu's
+/// default handler, which panics.
+#[gpu_test]
+fn an_uncaptured_validation_error_is_recorded_not_a_panic() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let device = &gpu.device;
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("empty"),
+        source: wgpu::ShaderSource::Wgsl("@compute @workgroup_size(1) fn main() {}".into()),
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("empty"),
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let over = device.limits().max_compute_workgroups_per_dimension + 1;
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.dispatch_workgroups(over, 1, 1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let error = gpu.uncaptured.take().expect("the error is recorded");
+    assert!(error.contains(&over.to_string()), "{error}");
 }

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use super::BoxError;
 use super::args::RenderArgs;
 use crate::gpu::pipeline_cache_dir;
+use crate::output::console::outln;
 
 /// The arguments of `reyes cache`.
 #[derive(Debug, clap::Args)]
@@ -50,30 +51,30 @@ pub(crate) fn cache(args: &CacheArgs) -> Result<(), BoxError> {
             } else {
                 " (does not exist)"
             };
-            println!("directory: {}{exists}", dir.display());
+            outln!("directory: {}{exists}", dir.display())?;
             for (path, bytes) in &files {
-                println!("  {} ({})", file_name(path), size(*bytes));
+                outln!("  {} ({})", file_name(path), size(*bytes))?;
             }
-            println!(
+            outln!(
                 "{} file(s), {} (kept at most: {} files, {})",
                 files.len(),
                 size(total),
                 scheduler::pipeline_cache::MAX_FILES,
                 size(scheduler::pipeline_cache::MAX_BYTES)
-            );
+            )?;
         }
         CacheAction::Clear => {
             for (path, bytes) in &files {
                 fs::remove_file(path)
                     .map_err(|e| format!("cannot remove {}: {e}", path.display()))?;
-                println!("removed {} ({})", path.display(), size(*bytes));
+                outln!("removed {} ({})", path.display(), size(*bytes))?;
             }
-            println!(
+            outln!(
                 "removed {} file(s), {} from {}",
                 files.len(),
                 size(total),
                 dir.display()
-            );
+            )?;
         }
     }
     Ok(())

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use super::BoxError;
+use crate::output::console::{errln, outln};
 use crate::output::{OutputGuard, OutputKind};
 
 /// The arguments of `reyes convert`.
@@ -41,16 +42,16 @@ pub(crate) fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
     };
     let rib = crate::rib::RibScene::load_with(&args.input, options)?;
     for warning in &rib.warnings {
-        eprintln!("warning: {warning}");
+        errln!("warning: {warning}")?;
     }
     let written = rib.write(&args.output)?;
     for path in &written {
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
     }
     if let Some(display) = &rib.display {
-        println!(
+        outln!(
             "the RIB's Display file is {display}: reyes render writes the image there unless -o is given"
-        );
+        )?;
     }
     Ok(())
 }

@@ -9,6 +9,7 @@ use crate::displacement::DisplacementDesc;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use crate::input::InputKind;
 use crate::model::Model;
+use crate::output::console::errln;
 use crate::scene::Scene;
 
 /// A file a command read, for its [`crate::output::OutputGuard`]: what it
@@ -51,11 +52,11 @@ pub(crate) fn base_scene(path: Option<&Path>, lenient: bool) -> Result<BaseScene
         Some("toml") => {
             let scene = Scene::load(path)?;
             if scene.objects.is_empty() {
-                eprintln!(
+                errln!(
                     "warning: {}: {}",
                     path.display(),
                     crate::scene::NO_OBJECTS_WARNING
-                );
+                )?;
             }
             Ok(BaseScene {
                 scene,
@@ -67,12 +68,12 @@ pub(crate) fn base_scene(path: Option<&Path>, lenient: bool) -> Result<BaseScene
             let options = crate::rib::RibOptions { lenient };
             let rib = crate::rib::RibScene::load_with(path, options)?;
             for warning in &rib.warnings {
-                eprintln!("warning: {warning}");
+                errln!("warning: {warning}")?;
             }
             if let Some(display) = &rib.display {
-                eprintln!(
+                errln!(
                     "note: the RIB's Display file is {display}: the image goes there unless -o is given"
-                );
+                )?;
             }
             // The first source is the scene itself, the others archives.
             let read = rib

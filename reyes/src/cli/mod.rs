@@ -92,17 +92,23 @@ pub fn run(cli: &Cli) -> Result<(), BoxError> {
 }
 
 /// Prints `error` to stderr, followed by the causes its message does not
-/// already include.
+/// already include. A failed write is ignored: standard error is where it
+/// would be reported, and the exit status says the run failed anyway.
 pub fn print_error(error: &dyn std::error::Error) {
-    eprintln!("error: {error}");
+    let mut lines = vec![format!("error: {error}")];
     let mut shown = error.to_string();
     let mut source = error.source();
     while let Some(cause) = source {
         let text = cause.to_string();
         if !shown.contains(&text) {
-            eprintln!("  caused by: {text}");
+            lines.push(format!("  caused by: {text}"));
             shown.push_str(&text);
         }
         source = cause.source();
+    }
+    for line in lines {
+        if crate::output::console::errln!("{line}").is_err() {
+            return;
+        }
     }
 }

@@ -11,10 +11,12 @@
 //! seconds count). No ANSI escape is used.
 
 use std::io::Write;
-use std::sync::{Arc, Condvar, Mutex, Once, PoisonError};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+use crate::output::console::{ConsoleError, errln};
 use crate::progress::{AdapterSummary, Progress, ProgressEvent, compile_label, elapsed_label};
 
 /// How often the ticker redraws the line.
@@ -35,10 +37,11 @@ pub(crate) fn software_notice(adapter: &AdapterSummary) -> Option<String> {
 }
 
 /// Prints [`software_notice`] on stderr, once per process.
-pub(crate) fn print_software_notice(adapter: &AdapterSummary) {
-    static PRINTED: Once = Once::new();
-    if let Some(notice) = software_notice(adapter) {
-        PRINTED.call_once(|| eprintln!("{notice}"));
+pub(crate) fn print_software_notice(adapter: &AdapterSummary) -> Result<(), ConsoleError> {
+    static PRINTED: AtomicBool = AtomicBool::new(false);
+    match software_notice(adapter) {
+        Some(notice) if !PRINTED.swap(true, Ordering::Relaxed) => errln!("{notice}"),
+        _ => Ok(()),
     }
 }
 

@@ -11,6 +11,7 @@ use super::stats::print_stats;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use crate::gpu::{GpuOptions, GpuRenderer};
 use crate::input::Limits;
+use crate::output::console::{errln, outln};
 use crate::output::{OutputGuard, OutputKind};
 use crate::prepare::PreparedScene;
 use crate::progress::AdapterSummary;
@@ -44,20 +45,20 @@ pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
     // The image and the statistics are renamed into place together, or
     // neither is.
     outputs.write(&image, &linear, &stats)?;
-    println!(
+    outln!(
         "wrote {} ({}x{}, {} spp)",
         output.display(),
         scene.camera.width,
         scene.camera.height,
         scene.spp
-    );
+    )?;
     if args.stats {
-        print_stats(&stats, &backend, &scene);
+        print_stats(&stats, &backend, &scene)?;
     }
     let warnings =
         crate::output::frame_warnings(&stats, scene.objects.len(), scene.max_split_depth);
     for warning in warnings {
-        eprintln!("warning: {warning}");
+        errln!("warning: {warning}")?;
     }
     Ok(())
 }
@@ -94,7 +95,7 @@ fn render_cpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxErro
 fn render_gpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxError> {
     let gpu = crate::gpu::create_gpu()?;
     if !args.quiet {
-        print_software_notice(&AdapterSummary::of(&gpu.adapter.get_info()));
+        print_software_notice(&AdapterSummary::of(&gpu.adapter.get_info()))?;
     }
     // Declared before the renderer, dropped after it: the line is blanked
     // before anything else is printed, error or not.

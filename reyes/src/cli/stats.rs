@@ -1,10 +1,16 @@
 //! The statistics table that `reyes render --stats` prints.
 
+use crate::output::console::{ConsoleError, outln};
 use crate::prepare::PreparedScene;
 use crate::stats::RenderStats;
 
-/// Prints the statistics table of a frame rendered by `backend`.
-pub(crate) fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedScene) {
+/// Prints the statistics table of a frame rendered by `backend` on standard
+/// output.
+pub(crate) fn print_stats(
+    stats: &RenderStats,
+    backend: &str,
+    scene: &PreparedScene,
+) -> Result<(), ConsoleError> {
     let dicing = format!(
         "{}, {} shading",
         scene.dicing,
@@ -64,8 +70,9 @@ pub(crate) fn print_stats(stats: &RenderStats, backend: &str, scene: &PreparedSc
                 .unwrap_or_else(|| "-".into()),
         ),
     ];
-    println!("{:<22}{:>24}", "statistic", "value");
+    outln!("{:<22}{:>24}", "statistic", "value")?;
     for (name, value) in rows {
-        println!("{name:<22}{value:>24}");
+        outln!("{name:<22}{value:>24}")?;
     }
+    Ok(())
 }

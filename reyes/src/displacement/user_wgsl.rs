@@ -57,6 +57,10 @@ pub enum UserWgslError {
         /// 1-based line.
         line: u32,
     },
+    /// A function of the user's text declares more function memory than
+    /// [`MAX_FUNCTION_MEMORY`] (boxed: the error stays small).
+    #[error(transparent)]
+    Memory(Box<FunctionMemory>),
     /// A barrier: the renderer calls the function from divergent control
     /// flow, where barriers are undefined behaviour on real GPUs.
     #[error(
@@ -70,11 +74,43 @@ pub enum UserWgslError {
     },
 }
 
+/// A function of the user's text declares more function memory (its local
+/// variables, array and struct values, the constants it uses) than
+/// [`MAX_FUNCTION_MEMORY`]: drivers unroll such memory into registers or
+/// scratch at compile time, and an array of a million floats drove one
+/// driver's compile to 23 GB.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "line {line} of the function's source: `{name}` in `{function}` takes {bytes} bytes of function memory ({total} bytes in all in `{function}`), more than the {limit} bytes a user function may use per invocation; use a smaller array"
+)]
+pub struct FunctionMemory {
+    /// The function.
+    pub function: String,
+    /// The variable, value or constant that goes over the limit (the
+    /// largest of the function's).
+    pub name: String,
+    /// 1-based line of its declaration.
+    pub line: u32,
+    /// Its size in bytes.
+    pub bytes: u64,
+    /// The function's total.
+    pub total: u64,
+    /// The limit ([`MAX_FUNCTION_MEMORY`]).
+    pub limit: u64,
+}
+
+/// The most function memory (local variables, array and struct values,
+/// constants used) one function of user code may declare, in bytes, per
+/// invocation: far more than a displacement or shading function needs (a
+/// 4x4 matrix is 64 bytes), far less than what stalls a driver's compile.
+pub const MAX_FUNCTION_MEMORY: u64 = 16 * 1024;
+
 /// Checks `wgsl`, the source of a user displacement function and its
 /// helpers, on its own.
 pub fn check(wgsl: &str) -> Result<(), UserWgslError> {
     let module = parse(wgsl)?;
     check_globals(&module, wgsl, wgsl.len())?;
+    check_memory(&module, wgsl, wgsl.len())?;
     let user = module
         .functions
         .iter()
@@ -163,6 +199,89 @@ pub(crate) fn check_globals(
         }),
         None => Ok(()),
     }
+}
+
+/// Refuses a function of the user's text (the first `user_end` bytes of
+/// `wgsl`) whose function memory exceeds [`MAX_FUNCTION_MEMORY`]: its local
+/// variables, the array and struct values it builds (`let a = array<f32,
+/// N>(...)`, besides a variable's initializer, which the variable counts)
+/// and the constants it names, each once, sized by naga. The
+/// error names the largest of them.
+pub(crate) fn check_memory(
+    module: &naga::Module,
+    wgsl: &str,
+    user_end: usize,
+) -> Result<(), UserWgslError> {
+    // A type whose size overflows naga's u32 is too large here.
+    let size = |ty: naga::Handle<naga::Type>| -> u64 {
+        module.types[ty]
+            .inner
+            .try_size(module.to_ctx())
+            .map_or(u64::MAX, u64::from)
+    };
+    for (handle, function) in module.functions.iter() {
+        let in_user_text = module
+            .functions
+            .get_span(handle)
+            .to_range()
+            .is_some_and(|r| r.start < user_end);
+        if !in_user_text {
+            continue;
+        }
+        // (name, bytes, span) of everything that takes function memory.
+        let mut items: Vec<(String, u64, naga::Span)> = Vec::new();
+        let mut initializers = std::collections::HashSet::new();
+        for (local, variable) in function.local_variables.iter() {
+            initializers.extend(variable.init);
+            items.push((
+                variable.name.clone().unwrap_or_default(),
+                size(variable.ty),
+                function.local_variables.get_span(local),
+            ));
+        }
+        let mut constants = std::collections::HashSet::new();
+        for (expression, value) in function.expressions.iter() {
+            let (name, ty) = match *value {
+                naga::Expression::Compose { ty, .. } | naga::Expression::ZeroValue(ty)
+                    if !initializers.contains(&expression)
+                        && matches!(
+                            module.types[ty].inner,
+                            naga::TypeInner::Array { .. } | naga::TypeInner::Struct { .. }
+                        ) =>
+                {
+                    let name = module.types[ty]
+                        .name
+                        .clone()
+                        .unwrap_or_else(|| "an array value".to_owned());
+                    (name, ty)
+                }
+                naga::Expression::Constant(constant) if constants.insert(constant) => {
+                    let constant = &module.constants[constant];
+                    (constant.name.clone().unwrap_or_default(), constant.ty)
+                }
+                _ => continue,
+            };
+            items.push((name, size(ty), function.expressions.get_span(expression)));
+        }
+        let total = items
+            .iter()
+            .fold(0u64, |sum, (_, bytes, _)| sum.saturating_add(*bytes));
+        if total > MAX_FUNCTION_MEMORY {
+            let (name, bytes, span) = items
+                .into_iter()
+                .max_by_key(|(_, bytes, _)| *bytes)
+                .expect("a total above zero has items");
+            return Err(UserWgslError::Memory(Box::new(FunctionMemory {
+                function: function.name.clone().unwrap_or_default(),
+                name: excerpt(&name),
+                line: span.location(wgsl).line_number,
+                bytes,
+                total,
+                limit: MAX_FUNCTION_MEMORY,
+            })));
+        }
+    }
+    Ok(())
 }
 
 /// Refuses a barrier in any function of `module` (parsed from `wgsl`).
@@ -315,5 +434,69 @@ fn displacement_user(u: f32, v: f32) -> f32 {
             }
             other => panic!("{other:?}"),
         }
+    }
+
+    /// D28: an array of a million floats drove a driver's compile to 23 GB;
+    /// function memory past the limit is refused, naming the variable and
+    /// its line, whether a `var`, a `let` of an array value or a constant.
+    #[test]
+    fn function_memory_past_the_limit_is_refused_with_its_name_and_line() {
+        let var = "fn displacement_user(u: f32, v: f32) -> f32 {\n    var a: array<f32, 1000000>;\n    a[0] = u;\n    return a[0];\n}";
+        match check(var) {
+            Err(UserWgslError::Memory(m)) => {
+                assert_eq!(
+                    (m.function.as_str(), m.name.as_str(), m.line, m.bytes, m.limit),
+                    ("displacement_user", "a", 2, 4_000_000, MAX_FUNCTION_MEMORY)
+                );
+            }
+            other => panic!("{other:?}"),
+        }
+        // In a helper, as a `let` of an array value.
+        let helper = "fn big(i: u32) -> f32 {\n    let t = array<f32, 8192>();\n    return t[i];\n}\nfn displacement_user(u: f32, v: f32) -> f32 { return big(0u) + u; }";
+        let error = check(helper).unwrap_err();
+        assert!(
+            matches!(&error, UserWgslError::Memory(m) if m.function == "big" && m.line == 2 && m.bytes == 32768),
+            "{error:?}"
+        );
+        assert!(error.to_string().contains("more than the 16384 bytes"), "{error}");
+        // A large constant used by the function.
+        let constant = "const T = array<f32, 5000>();\nfn displacement_user(u: f32, v: f32) -> f32 {\n    var i = 0u;\n    return T[i] + u;\n}";
+        let error = check(constant).unwrap_err();
+        assert!(
+            matches!(&error, UserWgslError::Memory(m) if m.name == "T" && m.bytes == 20000),
+            "{error:?}"
+        );
+        // Several locals that together go over the limit.
+        let several = "fn displacement_user(u: f32, v: f32) -> f32 {\n    var a: array<vec4<f32>, 600>;\n    var b: array<vec4<f32>, 600>;\n    return a[0].x + b[0].x + u;\n}";
+        assert!(matches!(
+            check(several),
+            Err(UserWgslError::Memory(m)) if m.total == 19200
+        ));
+        // Within the limit: passes.
+        let small = "fn displacement_user(u: f32, v: f32) -> f32 {\n    var a: array<f32, 1024>;\n    a[1] = v;\n    return a[1] + u;\n}";
+        check(small).unwrap();
+    }
+
+    /// The same bound holds for a user surface shader's functions (and only
+    /// theirs: the interface that follows the user's text is not counted).
+    #[test]
+    fn a_surface_shader_past_the_memory_limit_is_refused() {
+        use crate::surface_shader::{SurfaceShader, SurfaceShaderError};
+        let shader = |body: &str| {
+            SurfaceShader::from_source(
+                std::path::Path::new("s.wgsl"),
+                format!(
+                    "fn surface(ctx: ShadingContext) -> SurfaceOutput {{\n{body}    return SurfaceOutput(ctx.Cs, ctx.Os);\n}}\n"
+                ),
+            )
+        };
+        match shader("    var big: array<f32, 1000000>;\n    big[0] = 1.0;\n") {
+            Err(SurfaceShaderError::Wgsl(UserWgslError::Memory(m))) => assert_eq!(
+                (m.function.as_str(), m.name.as_str(), m.line),
+                ("surface", "big", 2)
+            ),
+            other => panic!("{other:?}"),
+        }
+        shader("").expect("a plain shader passes: the interface is not counted");
     }
 }

@@ -22,6 +22,7 @@ use super::batches::TileRuns;
 use super::buffers::{FrameBuffers, GpuCounters};
 use super::graph::{self, REQUIRED_FEATURES, UserCode};
 use super::loop_limit::{LoopLimitContext, LoopLimitError};
+use super::render_error::ShadingRateTooSmall;
 use super::resolve::{ResolveTarget, Resolver};
 use super::variant::KernelVariant;
 use crate::prepare::PreparedScene;
@@ -317,7 +318,7 @@ impl<'a> GpuRenderer<'a> {
     fn render_tile(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
         let start = Instant::now();
         self.frame_buffers(scene);
-        self.clear_frame();
+        self.clear_frame()?;
         let (counters, runs) = if scene.patches.is_empty() {
             (self.read_counters()?, TileRuns::default())
         } else {
@@ -331,6 +332,22 @@ impl<'a> GpuRenderer<'a> {
                     // spent: say what is too long instead.
                     let batch = runs.batch_of(scene.patches.len(), batch);
                     return Err(self.loop_limit_error(scene, error, batch)?);
+                }
+                (
+                    Err(RenderError::Run(RunError::QueueExceedsDevice {
+                        procedure,
+                        needed,
+                        max,
+                        ..
+                    })),
+                    _,
+                ) if scene.dicing.mode() == crate::modes::Dicing::Rate => {
+                    // The split and dice queues hold what the patches become
+                    // at the shading rate: say so, and which rate fits.
+                    let patches = batch.min(u32::try_from(scene.patches.len()).unwrap_or(u32::MAX));
+                    return Err(RenderError::ShadingRateTooSmall(Box::new(
+                        ShadingRateTooSmall::new(scene, procedure, needed, max, patches),
+                    )));
                 }
                 (Err(e), _) => return Err(e),
             }
@@ -415,7 +432,7 @@ impl<'a> GpuRenderer<'a> {
     }
 
     /// Clears the framebuffer and zeroes the statistics.
-    fn clear_frame(&self) {
+    fn clear_frame(&self) -> Result<(), RenderError> {
         let (buffers, target) = self.frame.as_ref().expect("prepared before clearing");
         buffers.reset_stats(&self.gpu.queue);
         self.resolver.clear(
@@ -424,6 +441,6 @@ impl<'a> GpuRenderer<'a> {
             target,
             &buffers.framebuffer,
             buffers.samples,
-        );
+        )
     }
 }

@@ -5,6 +5,8 @@ use std::time::Duration;
 
 use scheduler::RunError;
 use scheduler::readback::read_buffer;
+
+use super::RenderError;
 use scheduler::wgpu::util::DeviceExt as _;
 
 use scheduler::Item as _;
@@ -227,7 +229,9 @@ impl Resolver {
         })
     }
 
-    /// Sets every sample key of `framebuffer` to `CLEAR_KEY` (submitted at once).
+    /// Sets every sample key of `framebuffer` to `CLEAR_KEY` (submitted at
+    /// once). One thread per sample, the workgroups spread over two
+    /// dimensions (`flat_index` in the shader).
     pub fn clear(
         &self,
         device: &wgpu::Device,
@@ -235,20 +239,17 @@ impl Resolver {
         target: &ResolveTarget,
         framebuffer: &wgpu::Buffer,
         samples: u64,
-    ) {
-        let group = self.bind_group(device, target, framebuffer);
+    ) -> Result<(), RenderError> {
         let workgroups = samples.div_ceil(CLEAR_WORKGROUP).max(1);
-        // Spread over two dimensions: one allows at most 65535 workgroups.
-        let x = workgroups.min(65_535);
-        let y = workgroups.div_ceil(x);
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
+        let (x, y) = target.grid(device, "clear", workgroups)?;
+        submit_checked(device, queue, |encoder| {
+            let group = self.bind_group(device, target, framebuffer);
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(&self.clear);
             pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(x as u32, y as u32, 1);
-        }
-        queue.submit([encoder.finish()]);
+            pass.dispatch_workgroups(x, y, 1);
+        })?;
+        Ok(())
     }
 
     /// Resolves `framebuffer` into the target's image and coverage and reads
@@ -260,16 +261,19 @@ impl Resolver {
         target: &ResolveTarget,
         framebuffer: &wgpu::Buffer,
         timeout: Duration,
-    ) -> Result<Resolved, RunError> {
-        let group = self.bind_group(device, target, framebuffer);
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
+    ) -> Result<Resolved, RenderError> {
+        // One workgroup per 8x8 tile, the tiles numbered row by row over a
+        // two-dimensional dispatch (a 1,000,000-pixel-wide frame has 125,000
+        // tiles in a row, more than one dimension allows).
+        let tiles = u64::from(target.width.div_ceil(8)) * u64::from(target.height.div_ceil(8));
+        let (x, y) = target.grid(device, "resolve", tiles.max(1))?;
+        submit_checked(device, queue, |encoder| {
+            let group = self.bind_group(device, target, framebuffer);
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(&self.resolve);
             pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(target.width.div_ceil(8), target.height.div_ceil(8), 1);
-        }
-        queue.submit([encoder.finish()]);
+            pass.dispatch_workgroups(x, y, 1);
+        })?;
         let bytes = read_buffer(device, queue, &target.image, timeout)?;
         let linear = bytes
             .chunks_exact(4)
@@ -287,6 +291,35 @@ impl Resolver {
     }
 }
 
+/// `workgroups` spread over two dimensions of at most `limit` each: `x` as
+/// wide as allowed, `y` rows of it (the shaders skip the excess of the last
+/// row). `None` when more than `limit * limit` are needed.
+pub fn dispatch_grid(workgroups: u64, limit: u32) -> Option<(u32, u32)> {
+    let limit = u64::from(limit.max(1));
+    let x = workgroups.clamp(1, limit);
+    let y = workgroups.div_ceil(x);
+    (y <= limit).then_some((x as u32, y as u32))
+}
+
+/// Encodes the commands `record` writes and submits them inside a
+/// validation error scope: a validation error (a dispatch or a binding the
+/// device refuses) is returned instead of reaching the device's
+/// uncaptured-error handler.
+fn submit_checked(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    record: impl FnOnce(&mut wgpu::CommandEncoder),
+) -> Result<(), RunError> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let mut encoder = device.create_command_encoder(&Default::default());
+    record(&mut encoder);
+    queue.submit([encoder.finish()]);
+    match pollster::block_on(scope.pop()) {
+        Some(error) => Err(RunError::Gpu(error.to_string())),
+        None => Ok(()),
+    }
+}
+
 /// The resolve's per-frame buffers (parameters, image, coverage).
 #[derive(Debug)]
 pub struct ResolveTarget {
@@ -300,6 +333,24 @@ pub struct ResolveTarget {
 }
 
 impl ResolveTarget {
+    /// The two-dimensional dispatch of `workgroups` for `pass`, checked
+    /// against the device's limit per dimension before anything is encoded.
+    fn grid(
+        &self,
+        device: &wgpu::Device,
+        pass: &'static str,
+        workgroups: u64,
+    ) -> Result<(u32, u32), RenderError> {
+        let limit = device.limits().max_compute_workgroups_per_dimension;
+        dispatch_grid(workgroups, limit).ok_or(RenderError::TooManyWorkgroups {
+            pass,
+            width: self.width,
+            height: self.height,
+            workgroups,
+            limit,
+        })
+    }
+
     /// Rewrites the parameters of `scene`'s frame (of this target's size:
     /// the background, the filter and the samples may change between
     /// frames).
@@ -333,5 +384,30 @@ impl ResolveTarget {
             image: buffer("reyes image", IMAGE_BYTES_PER_PIXEL),
             coverage: buffer("reyes coverage", 4),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::dispatch_grid;
+
+    #[test]
+    fn a_dispatch_is_spread_over_two_dimensions_within_the_limit() {
+        assert_eq!(dispatch_grid(1, 65_535), Some((1, 1)));
+        assert_eq!(dispatch_grid(65_535, 65_535), Some((65_535, 1)));
+        // 1,000,000 x 1 pixels: 125,000 tiles of 8x8.
+        let (x, y) = dispatch_grid(125_000, 65_535).unwrap();
+        assert_eq!((x, y), (65_535, 2));
+        assert!(u64::from(x) * u64::from(y) >= 125_000);
+        let limit = 65_535_u64;
+        assert_eq!(
+            dispatch_grid(limit * limit, 65_535),
+            Some((65_535, 65_535))
+        );
+        assert_eq!(dispatch_grid(limit * limit + 1, 65_535), None);
+        // A small limit, as a device may have.
+        assert_eq!(dispatch_grid(10, 4), Some((4, 3)));
+        assert_eq!(dispatch_grid(17, 4), None);
+        assert_eq!(dispatch_grid(16, 4), Some((4, 4)));
     }
 }

@@ -279,10 +279,11 @@ pub fn patch_mesh(
     Ok(out)
 }
 
-/// The Bezier patches of a convex `Polygon` with vertices `p`: a fan of
-/// bilinear quads `(p0, pi, pi+1, pi+2)` (a last triangle as a quad with its
-/// third corner doubled), raised to bicubic. `dP/du x dP/dv` has the sign
-/// of `(p1 - p0) x (p2 - p0)`.
+/// The Bezier patches of a convex `Polygon` with vertices `p`: bilinear
+/// quads of four consecutive vertices cut off the polygon level by level
+/// (see [`polygon_fan`]; a last triangle as a quad with its third corner
+/// doubled), raised to bicubic. `dP/du x dP/dv` has the sign of
+/// `(p1 - p0) x (p2 - p0)`.
 pub fn polygon(p: &[DVec3]) -> Vec<[DVec3; 16]> {
     polygon_fan(p.len())
         .into_iter()
@@ -291,16 +292,38 @@ pub fn polygon(p: &[DVec3]) -> Vec<[DVec3; 16]> {
 }
 
 /// The vertices (positions in the polygon) at the corners `(u, v) = (0,0),
-/// (1,0), (0,1), (1,1)` of each patch of [`polygon`]'s fan over `n`
-/// vertices: `(0, i, i+2, i+1)`, or `(0, i, i+1, i+1)` for a last triangle.
+/// (1,0), (0,1), (1,1)` of each patch of [`polygon`] over `n` vertices, as
+/// many as [`fan_patches`] counts.
+///
+/// Each level walks the polygon's remaining vertices `l` in order and cuts
+/// off the quads `(l[j], l[j+1], l[j+2], l[j+3])` for `j = 0, 3, 6, ...`
+/// (corners `(l[j], l[j+1], l[j+3], l[j+2])`), keeping `l[j]` and `l[j+3]`;
+/// the last four (or three: a triangle `(l0, l1, l2, l2)`) make the last
+/// patch. A convex polygon is covered exactly, each quad by its own chord.
+/// A fan from vertex 0 covered it too, but with slivers as long as the
+/// polygon: a polygon of 700,000 vertices along an arc split each of its
+/// 350,000 slivers into pieces along its whole length, for minutes. Here a
+/// level's quads lie along the boundary, their lengths sum to the
+/// perimeter, and there are `log3 n` levels.
 pub fn polygon_fan(n: usize) -> Vec<[usize; 4]> {
-    let mut out = Vec::new();
-    let mut i = 1;
-    while i + 1 < n {
-        let d = if i + 2 < n { i + 2 } else { i + 1 };
-        // Corners (u, v): a (0,0), b (1,0), d (0,1), c (1,1).
-        out.push([0, i, d, i + 1]);
-        i += 2;
+    let mut out = Vec::with_capacity(fan_patches(n));
+    let mut remaining: Vec<usize> = (0..n).collect();
+    while remaining.len() > 4 {
+        let mut next = Vec::with_capacity(remaining.len() / 3 + 3);
+        let mut j = 0;
+        while j + 3 < remaining.len() {
+            let l = &remaining[j..j + 4];
+            out.push([l[0], l[1], l[3], l[2]]);
+            next.push(l[0]);
+            j += 3;
+        }
+        next.extend_from_slice(&remaining[j..]);
+        remaining = next;
+    }
+    match remaining[..] {
+        [a, b, c, d] => out.push([a, b, d, c]),
+        [a, b, c] => out.push([a, b, c, c]),
+        _ => {}
     }
     out
 }
@@ -331,4 +354,73 @@ pub fn convex(p: &[DVec3]) -> bool {
         turn.dot(normal) >= -1e-9 * scale * scale
             && (turn - normal * turn.dot(normal)).length() <= 1e-6 * scale * scale
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Twice the signed area of the triangle `a b c` in the xy plane.
+    fn area2(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+        (b - a).truncate().perp_dot((c - a).truncate())
+    }
+
+    /// The patches of a polygon are as many as [`fan_patches`] counts, use
+    /// every vertex, follow the polygon's orientation and cover a convex
+    /// polygon exactly (their areas sum to its area).
+    #[test]
+    fn polygon_patches_cover_a_convex_polygon() {
+        for n in 3..300 {
+            let quads = polygon_fan(n);
+            assert_eq!(quads.len(), fan_patches(n), "{n} vertices");
+            let mut used = vec![false; n];
+            for q in &quads {
+                for &k in q {
+                    used[k] = true;
+                }
+            }
+            assert!(used.iter().all(|&u| u), "{n}: every vertex is a corner");
+            let p: Vec<DVec3> = (0..n)
+                .map(|i| {
+                    let a = std::f64::consts::TAU * i as f64 / n as f64;
+                    DVec3::new(a.cos(), a.sin(), 0.0)
+                })
+                .collect();
+            let polygon: f64 = (1..n - 1).map(|i| area2(p[0], p[i], p[i + 1])).sum();
+            let mut covered = 0.0;
+            for &[a, b, d, c] in &quads {
+                let (a, b, c, d) = (p[a], p[b], p[c], p[d]);
+                let (first, second) = (area2(a, b, c), area2(a, c, d));
+                assert!(first > 0.0 && second >= 0.0, "{n}: counter-clockwise");
+                covered += first + second;
+            }
+            assert!((covered - polygon).abs() < 1e-9 * polygon, "{n}: {covered} vs {polygon}");
+        }
+    }
+
+    /// The longest patch edge of a polygon of many vertices along a circle
+    /// is a small part of the circle, not a chord across it: a fan from
+    /// vertex 0 made every patch as long as the polygon.
+    #[test]
+    fn patches_of_a_long_polygon_are_short() {
+        let n = 30_001;
+        let quads = polygon_fan(n);
+        let point = |i: usize| {
+            let a = std::f64::consts::FRAC_PI_2 * i as f64 / (n - 1) as f64;
+            DVec3::new(a.cos(), a.sin(), 0.0)
+        };
+        let mut long = 0;
+        for q in &quads {
+            let corners = q.map(point);
+            let extent = corners
+                .iter()
+                .flat_map(|a| corners.iter().map(move |b| a.distance(*b)))
+                .fold(0.0, f64::max);
+            if extent > 0.1 {
+                long += 1;
+            }
+        }
+        // Chords longer than a tenth of the radius: only the top levels'.
+        assert!(long < 50, "{long} of {} patches are long", quads.len());
+    }
 }

@@ -50,6 +50,7 @@ pub(super) fn check(source: &str) -> Result<Checked, SurfaceShaderError> {
     let user_end = source.len();
     let module = user_wgsl::parse(&text).map_err(|e| in_user_text(e, source))?;
     user_wgsl::check_globals(&module, &text, user_end)?;
+    user_wgsl::check_memory(&module, &text, user_end)?;
     let defined = |name: &str| {
         module.functions.iter().find(|(handle, f)| {
             f.name.as_deref() == Some(name)

@@ -23,6 +23,7 @@ use super::present::{COMPOSITE_FORMAT, Presenter};
 use super::script::Step;
 use super::worker::{Compiling, Frame, FrameSpec, Quality, RenderWorker, WorkerEvent, settings_of};
 use super::{ViewConfig, events, open_gpu, save};
+use crate::output::console::{errln, outln};
 use crate::prepare::PreparedScene;
 
 /// The viewer while its window is open.
@@ -188,23 +189,27 @@ impl App {
         }
         if outcome.save {
             running.save_pending = true;
-            self.try_save();
+            if let Err(error) = self.try_save() {
+                return self.fail(event_loop, error);
+            }
         }
         if outcome.quit {
             event_loop.exit();
         }
     }
 
-    /// Saves the refined frame when `P` is pending and it is there.
-    fn try_save(&mut self) {
+    /// Saves the refined frame when `P` is pending and it is there. A save
+    /// that fails is reported and the viewer goes on; only a message that
+    /// cannot be written ends it.
+    fn try_save(&mut self) -> Result<(), ViewError> {
         let Some(running) = &mut self.running else {
-            return;
+            return Ok(());
         };
         let Some((spec, image, linear)) = &running.refined else {
-            return;
+            return Ok(());
         };
         if !running.save_pending || spec.generation != running.generation {
-            return;
+            return Ok(());
         }
         running.save_pending = false;
         let path = &self.config.save_path;
@@ -212,16 +217,17 @@ impl App {
             Ok(()) => {
                 let (line, note) =
                     save::render_command(&self.config.command, &spec.camera, &spec.settings, path);
-                println!(
+                outln!(
                     "saved {}; the same frame from the command line:\n{line}",
                     path.display()
-                );
+                )?;
                 if let Some(note) = note {
-                    println!("note: {note}");
+                    outln!("note: {note}")?;
                 }
             }
-            Err(error) => eprintln!("error: cannot save {}: {error}", path.display()),
+            Err(error) => errln!("error: cannot save {}: {error}", path.display())?,
         }
+        Ok(())
     }
 
     fn frame(&mut self, event_loop: &ActiveEventLoop, frame: Frame) {
@@ -240,8 +246,9 @@ impl App {
         running.info = Some(info);
         running.presented = false;
         running.presenter.window.request_redraw();
-        self.try_save();
-        let _ = event_loop;
+        if let Err(error) = self.try_save() {
+            self.fail(event_loop, error);
+        }
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
@@ -322,7 +329,9 @@ impl App {
             if let Err(error) = saved {
                 return self.fail(event_loop, error);
             }
-            println!("wrote {}", path.display());
+            if let Err(error) = outln!("wrote {}", path.display()) {
+                return self.fail(event_loop, error.into());
+            }
         }
         if let Some(running) = &self.running {
             self.log.final_camera = Some(super::log::CameraRecord::of(

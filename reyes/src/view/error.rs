@@ -44,6 +44,9 @@ pub enum ViewError {
     /// Writing the PNG or the scene failed.
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),
+    /// A message could not be written to standard output or error.
+    #[error(transparent)]
+    Console(#[from] crate::output::console::ConsoleError),
     /// Writing the scene file for `P` failed.
     #[error("cannot write {path}: {source}")]
     Write {

@@ -161,11 +161,17 @@ fn open_gpu(
         ..Default::default()
     }))
     .map_err(|e| ViewError::Device(e.to_string()))?;
+    // The window's device reports through the log (its errors end in a
+    // lost surface, which the viewer reports); the renderer's through the
+    // frame's error.
+    let _ = scheduler::UncapturedErrors::install(&present.0);
+    let uncaptured = scheduler::UncapturedErrors::install(&device);
     Ok(Devices {
         render: scheduler::Gpu {
             adapter,
             device,
             queue,
+            uncaptured,
         },
         present,
         surface,

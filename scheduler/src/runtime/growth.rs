@@ -82,7 +82,20 @@ pub(crate) fn grown_capacities(
             capacities[q] = power_of_two_at_least(s.needed.max(u64::from(s.capacity) + 1));
         }
     }
-    for q in 0..n {
+    // The queues share the device's buffers: when the grown ones do not
+    // fit, every queue's check fails, so the grown queues are checked
+    // first, the largest first, and the error names one of them with its
+    // need, not a queue that needs nothing more (`Bound needs 0 items but
+    // at most 0 fit`).
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by_key(|&q| {
+        let slot = u64::from(plan.queues[q].slot_words);
+        (
+            stats[q].dropped == 0,
+            std::cmp::Reverse(u64::from(capacities[q]) * slot),
+        )
+    });
+    for q in order {
         let max = max_capacity(plan, limits, &capacities, q);
         if capacities[q] > max {
             return Err(RunError::QueueExceedsDevice {
@@ -328,6 +341,33 @@ mod tests {
         let grown = grown_capacities(&plan, &tight, &report).unwrap();
         assert!(grown.iter().all(|c| c.is_power_of_two()));
         assert!(grown[0] >= 64 && grown[0] < 1024, "{grown:?}");
+    }
+
+    /// The queue named is the one whose need does not fit, even when an
+    /// earlier queue that needs nothing more fails the same check (they
+    /// share the buffer): it was `Split needs 0 items but at most 0 fit`.
+    #[test]
+    fn the_queue_beyond_the_device_is_the_one_that_grew() {
+        let plan = plan();
+        let report = RunReport {
+            procedures: vec![
+                stats("Split", 1 << 12, 16, 16, 0),
+                stats("Leaf", 64, 64, 1 << 20, 1 << 20),
+            ],
+            ..RunReport::default()
+        };
+        let limits = wgpu::Limits {
+            max_storage_buffer_binding_size: 1 << 20,
+            ..wgpu::Limits::default()
+        };
+        let error = grown_capacities(&plan, &limits, &report).unwrap_err();
+        let RunError::QueueExceedsDevice {
+            procedure, needed, ..
+        } = &error
+        else {
+            panic!("expected QueueExceedsDevice, got {error:?}");
+        };
+        assert_eq!((procedure.as_str(), *needed), ("Leaf", 64 + (1 << 20)));
     }
 
     #[test]

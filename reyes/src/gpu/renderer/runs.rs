@@ -6,7 +6,8 @@ use std::time::{Duration, Instant};
 
 use scheduler::readback::read_buffer;
 use scheduler::{
-    Capacities, DEFAULT_WORKGROUPS, Executor, ExecutorConfig, Quirks, Retry, Seeds, Strategy,
+    Capacities, DEFAULT_WORKGROUPS, Executor, ExecutorConfig, Quirks, Retry, RunError, Seeds,
+    Strategy,
 };
 
 use super::GpuRenderer;
@@ -151,7 +152,13 @@ impl GpuRenderer<'_> {
             height: scene.camera.height,
             spp: scene.spp,
         });
-        let rendered = render(self, scene)?;
+        let rendered = render(self, scene);
+        // An error no scope caught (wgpu's handler would have panicked) is
+        // the frame's error: what the frame returned may rest on it.
+        if let Some(error) = self.gpu.uncaptured.take() {
+            return Err(RenderError::Run(RunError::Gpu(error)));
+        }
+        let rendered = rendered?;
         self.options.progress.send(|| ProgressEvent::FrameFinished {
             elapsed: start.elapsed(),
         });
