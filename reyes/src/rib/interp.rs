@@ -167,6 +167,9 @@ pub struct Interp {
     /// (resolved beside the RIB file that made them): shader parameters
     /// naming a texture read the picture, which the renderer mipmaps itself.
     pub(super) made_textures: HashMap<String, PathBuf>,
+    /// `MakeCubeFaceEnvironment`'s texture names, which are not supported
+    /// ([`super::environments`]).
+    pub(super) cube_environments: HashSet<String>,
 }
 
 /// RenderMan's camera space is left-handed (x right, y up, z forward); the
@@ -203,6 +206,7 @@ impl Interp {
             object_depth: 0,
             more_warnings: 0,
             made_textures: HashMap::new(),
+            cube_environments: HashSet::new(),
             options_only: false,
             blocks: Vec::new(),
             lenient: false,
@@ -434,8 +438,11 @@ impl Interp {
                     }
                 }
                 let path = file.parent().unwrap_or(Path::new("")).join(picture);
+                self.cube_environments.remove(texture);
                 self.made_textures.insert(texture.to_owned(), path);
             }
+            "MakeLatLongEnvironment" => self.make_latlong_environment(v, file)?,
+            "MakeCubeFaceEnvironment" => self.make_cube_face_environment(v, file, line)?,
             "LightSource" => self.light_source(v, file, line)?,
             "Illuminate" => self.illuminate(v, file, line)?,
             "Sides" => {
