@@ -191,7 +191,10 @@ fn texture_filter(info: TextureInfo, st: vec2<f32>, axis_a: vec2<f32>, axis_b: v
 // reyes::texture::environment::latlong_st.
 fn texture_latlong_st(r: vec3<f32>) -> vec2<f32> {
     let rho = sqrt(r.x * r.x + r.y * r.y);
-    let longitude = atan2(r.y, r.x);
+    var longitude = 0.0;
+    if (rho != 0.0) {
+        longitude = atan2(r.y, r.x);
+    }
     let latitude = atan2(r.z, rho);
     return vec2<f32>(longitude / TEXTURE_TAU, 0.5 - latitude / TEXTURE_PI);
 }

@@ -19,7 +19,7 @@
 //! direction makes, to first order (the Jacobian of the map above); a
 //! zero `dR` is a zero footprint (level 0, bilinear). At the poles the
 //! Jacobian is infinite and the lookup takes the coarsest level, as for
-//! any non-finite footprint. A zero or non-finite `R`, or an unknown id,
+//! any non-finite footprint; at a pole itself the longitude is taken as 0. A zero or non-finite `R`, or an unknown id,
 //! gives transparent black.
 
 use std::f32::consts::{PI, TAU};
@@ -33,7 +33,9 @@ use super::sample::{filter, is_finite};
 /// The `(s, t)` that direction `r` reads (not wrapped yet).
 pub fn latlong_st(r: Vec3) -> Vec2 {
     let rho = (r.x * r.x + r.y * r.y).sqrt();
-    let longitude = r.y.atan2(r.x);
+    // At a pole every longitude is the same point; atan2 of two zeros
+    // depends on their signs (and differs between GPUs): take 0.
+    let longitude = if rho == 0.0 { 0.0 } else { r.y.atan2(r.x) };
     let latitude = r.z.atan2(rho);
     Vec2::new(longitude / TAU, 0.5 - latitude / PI)
 }
