@@ -190,14 +190,20 @@ fn unknown_parameters_negative_weights_and_tiny_roughness_warn() {
         parameters["texturename"],
         reyes::scene::ShaderValue::Text("wood.png".to_owned())
     );
-    // What is not followed yet says so.
-    let rib = read(&scene(AMBIENT, [0.5, 0.5, 0.5], "Surface \"shinymetal\""));
-    assert!(
-        warnings(&rib)
-            .iter()
-            .any(|w| w.contains("environment maps are not supported")),
-        "{:?}",
-        warnings(&rib)
+    // shinymetal without an environment map is metal, as RenderMan's is.
+    let rib = read(&scene(
+        AMBIENT,
+        [0.5, 0.5, 0.5],
+        "Surface \"shinymetal\" \"Ks\" [0.4] \"Kr\" [0.5]",
+    ));
+    assert!(rib.warnings.is_empty(), "{:?}", warnings(&rib));
+    assert_eq!(
+        surface(&rib),
+        Surface::Metal {
+            ka: 1.0,
+            ks: 0.4,
+            roughness: 0.1
+        }
     );
 }
 

@@ -16,6 +16,10 @@ const TEXTURE_WRAP_PERIODIC: u32 = 0u;
 const TEXTURE_WRAP_CLAMP: u32 = 1u;
 const TEXTURE_WRAP_BLACK: u32 = 2u;
 
+// std::f32::consts::PI and TAU, as f32 (the nearest f32 to the decimal).
+const TEXTURE_PI: f32 = 3.1415927;
+const TEXTURE_TAU: f32 = 6.2831855;
+
 // reyes::texture::sample::Level.
 struct TextureLevel {
     offset: u32,
@@ -157,10 +161,16 @@ fn texture_sample(id: u32, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) 
     if (id >= texture_count()) {
         return vec4<f32>(0.0);
     }
+    return texture_filter(texture_info(id), st, axis_a, axis_b);
+}
+
+// reyes::texture::sample::filter: texture `info` at `st` over the
+// footprint, with info's wrap modes; a non-finite `st` gives transparent
+// black.
+fn texture_filter(info: TextureInfo, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) -> vec4<f32> {
     if (!texture_is_finite(st.x) || !texture_is_finite(st.y)) {
         return vec4<f32>(0.0);
     }
-    let info = texture_info(id);
     let lod = texture_level_of_detail(info, axis_a, axis_b);
     let base = floor(lod);
     let blend = lod - base;
@@ -171,4 +181,59 @@ fn texture_sample(id: u32, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) 
     }
     let c1 = texture_bilinear(info, min(fine + 1u, info.levels - 1u), st);
     return c0 + (c1 - c0) * blend;
+}
+
+// ------------------------------------------------ latitude-longitude maps
+// RenderMan's environment(name, R) over a latitude-longitude map: the
+// convention, the footprint and the edge cases are documented on the twin,
+// reyes::texture::environment.
+
+// reyes::texture::environment::latlong_st.
+fn texture_latlong_st(r: vec3<f32>) -> vec2<f32> {
+    let rho = sqrt(r.x * r.x + r.y * r.y);
+    var longitude = 0.0;
+    if (rho != 0.0) {
+        longitude = atan2(r.y, r.x);
+    }
+    let latitude = atan2(r.z, rho);
+    return vec2<f32>(longitude / TEXTURE_TAU, 0.5 - latitude / TEXTURE_PI);
+}
+
+// reyes::texture::environment::latlong_axis.
+fn texture_latlong_axis(r: vec3<f32>, dr: vec3<f32>) -> vec2<f32> {
+    if (dr.x == 0.0 && dr.y == 0.0 && dr.z == 0.0) {
+        return vec2<f32>(0.0);
+    }
+    let rho2 = r.x * r.x + r.y * r.y;
+    let rho = sqrt(rho2);
+    let r2 = rho2 + r.z * r.z;
+    let ds = (r.x * dr.y - r.y * dr.x) / (TEXTURE_TAU * rho2);
+    let dt = -(rho2 * dr.z - r.z * (r.x * dr.x + r.y * dr.y)) / (TEXTURE_PI * rho * r2);
+    return vec2<f32>(ds, dt);
+}
+
+// reyes::texture::environment::environment
+// (reyes::texture::TextureSet::environment): texture `id` as a
+// latitude-longitude environment map seen along `r`, over the footprint of
+// the direction's changes `dr_du` and `dr_dv`; periodic in longitude and
+// clamped in latitude, whatever the texture's wrap modes.
+fn texture_environment(id: u32, r: vec3<f32>, dr_du: vec3<f32>, dr_dv: vec3<f32>) -> vec4<f32> {
+    if (id >= texture_count()) {
+        return vec4<f32>(0.0);
+    }
+    if (!texture_is_finite(r.x) || !texture_is_finite(r.y) || !texture_is_finite(r.z)) {
+        return vec4<f32>(0.0);
+    }
+    if (r.x == 0.0 && r.y == 0.0 && r.z == 0.0) {
+        return vec4<f32>(0.0);
+    }
+    var info = texture_info(id);
+    info.wrap_s = TEXTURE_WRAP_PERIODIC;
+    info.wrap_t = TEXTURE_WRAP_CLAMP;
+    return texture_filter(
+        info,
+        texture_latlong_st(r),
+        texture_latlong_axis(r, dr_du),
+        texture_latlong_axis(r, dr_dv),
+    );
 }

@@ -28,3 +28,7 @@ fn texture_packed(at: u32) -> vec2<u32> {
 fn host_texture(index: u32, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) -> vec4<f32> {
     return texture_sample(index, st, axis_a, axis_b);
 }
+
+fn host_environment(index: u32, R: vec3<f32>, dRdu: vec3<f32>, dRdv: vec3<f32>) -> vec4<f32> {
+    return texture_environment(index, R, dRdu, dRdv);
+}

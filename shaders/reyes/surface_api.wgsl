@@ -76,6 +76,25 @@ fn texture_footprint(id: TextureId, st: vec2<f32>, axis_a: vec2<f32>, axis_b: ve
     return host_texture(id.index, st, axis_a, axis_b);
 }
 
+// RenderMan's environment(name, R): texture `id` read as a
+// latitude-longitude environment map along the world-space direction `R`
+// (any length), RenderMan's convention: s = 0 to 1 is longitude 0 to 360
+// degrees, atan2(R.y, R.x), periodic; t = 0 to 1 is latitude +90 (+z, the
+// top of the picture) to -90 degrees, clamped. Bilinear in the finest level:
+// the shader gives no derivative of R, which its change across the
+// micropolygon needs (environment_footprint takes one). A zero or
+// non-finite R gives transparent black. reyes::texture::environment.
+fn environment(ctx: ShadingContext, id: TextureId, R: vec3<f32>) -> vec4<f32> {
+    return host_environment(id.index, R, vec3<f32>(0.0), vec3<f32>(0.0));
+}
+
+// The environment along `R` filtered over the footprint of R's change
+// across the micropolygon, `dRdu` along u and `dRdv` along v (each already
+// times the grid's step, as dPdu * du is).
+fn environment_footprint(id: TextureId, R: vec3<f32>, dRdu: vec3<f32>, dRdv: vec3<f32>) -> vec4<f32> {
+    return host_environment(id.index, R, dRdu, dRdv);
+}
+
 // The number of lights that illuminate (ambient lights are in ambient()).
 fn light_count() -> u32 {
     return host_light_count();

@@ -125,3 +125,49 @@ fn user_surface_library_wgsl_snapshot() {
     let library = library.replace(&path.display().to_string(), "shaders/every_input.wgsl");
     insta::assert_snapshot!(library);
 }
+
+/// The environment lookup is compiled in only for frames whose shaders call
+/// `environment()` (`shinymetal`); a textured shader without it
+/// (`paintedplastic`) gets the texture code alone, and a frame without user
+/// shaders neither.
+#[test]
+fn only_frames_that_read_an_environment_map_compile_its_lookup() {
+    let builtin = |name: &str| {
+        std::sync::Arc::new(
+            reyes::surface_shader::builtin::shader(std::path::Path::new(name))
+                .expect("a built-in")
+                .expect("it checks"),
+        )
+    };
+    let painted = [builtin(reyes::surface_shader::builtin::PAINTED_PLASTIC)];
+    let shiny = [builtin(reyes::surface_shader::builtin::SHINY_METAL)];
+    for (surfaces, textures, environment) in [
+        (&[][..], false, false),
+        (&painted[..], true, false),
+        (&shiny[..], true, true),
+    ] {
+        let code = UserCode {
+            displacement: None,
+            surfaces,
+        };
+        let compiled = compile_variant(Features::empty(), KernelVariant::default(), &code)
+            .unwrap_or_else(|e| panic!("compiles: {e}"));
+        let wgsl = compiled.wgsl();
+        let names: Vec<_> = surfaces
+            .iter()
+            .map(|s| s.path.display().to_string())
+            .collect();
+        assert_eq!(declares(wgsl, "texture_filter"), textures, "{names:?}");
+        for function in [
+            "texture_environment",
+            "texture_latlong_st",
+            "texture_latlong_axis",
+        ] {
+            assert_eq!(
+                declares(wgsl, function),
+                environment,
+                "{names:?}: {function}"
+            );
+        }
+    }
+}

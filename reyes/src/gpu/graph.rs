@@ -57,10 +57,13 @@ const RASTER5D_WGSL: &str = include_str!("../../../shaders/reyes/raster5d.wgsl")
 /// The textures' host side (`host_texture` and the table accessors).
 const TEXTURE_HOST_WGSL: &str = include_str!("../../../shaders/reyes/library_texture_host.wgsl");
 
-/// `host_texture` of frames without user shaders, which alone sample
-/// textures.
+/// `host_texture` and `host_environment` of frames without user shaders,
+/// which alone sample textures.
 const NO_TEXTURES_WGSL: &str = "// No user shaders: nothing samples a texture.
 fn host_texture(index: u32, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>) -> vec4<f32> {
+    return vec4<f32>(0.0);
+}
+fn host_environment(index: u32, R: vec3<f32>, dRdu: vec3<f32>, dRdv: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(0.0);
 }
 ";

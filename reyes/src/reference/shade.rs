@@ -85,6 +85,12 @@ impl ShadingHost for Lighting<'_> {
         self.textures.map_or(Vec4::ZERO, |set| set.sample(TextureId(index), st, axis_a, axis_b))
     }
 
+    fn environment_footprint(&self, index: u32, r: Vec3, dr_du: Vec3, dr_dv: Vec3) -> Vec4 {
+        self.textures.map_or(Vec4::ZERO, |set| {
+            set.environment(TextureId(index), r, dr_du, dr_dv)
+        })
+    }
+
     fn light_count(&self) -> u32 {
         self.lights.len() as u32
     }

@@ -169,10 +169,7 @@ impl Interp {
                 _ => return Err("Displacement \"bumpy\": \"Km\" takes one finite number".into()),
             },
         };
-        let picture = match self.made_textures.get(name) {
-            Some(picture) => picture.clone(),
-            None => file.parent().unwrap_or(Path::new("")).join(name),
-        };
+        let picture = self.picture(name, file);
         let texture = TextureDesc {
             color_space: ColorSpace::Linear,
             ..TextureDesc::new(picture)

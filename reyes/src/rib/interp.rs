@@ -171,6 +171,9 @@ pub struct Interp {
     /// kind and parameter names, or why the file cannot be used
     /// ([`super::shader_files`]).
     pub(super) shader_files: HashMap<PathBuf, super::shader_files::ShaderFile>,
+    /// `MakeCubeFaceEnvironment`'s texture names, which are not supported
+    /// ([`super::environments`]).
+    pub(super) cube_environments: HashSet<String>,
 }
 
 /// RenderMan's camera space is left-handed (x right, y up, z forward); the
@@ -208,6 +211,7 @@ impl Interp {
             more_warnings: 0,
             made_textures: HashMap::new(),
             shader_files: HashMap::new(),
+            cube_environments: HashSet::new(),
             options_only: false,
             blocks: Vec::new(),
             lenient: false,
@@ -439,8 +443,11 @@ impl Interp {
                     }
                 }
                 let path = file.parent().unwrap_or(Path::new("")).join(picture);
+                self.cube_environments.remove(texture);
                 self.made_textures.insert(texture.to_owned(), path);
             }
+            "MakeLatLongEnvironment" => self.make_latlong_environment(v, file)?,
+            "MakeCubeFaceEnvironment" => self.make_cube_face_environment(v, file, line)?,
             "LightSource" => self.light_source(v, file, line)?,
             "Illuminate" => self.illuminate(v, file, line)?,
             "Sides" => {

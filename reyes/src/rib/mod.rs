@@ -17,7 +17,8 @@
 //!   `quadrics`: the quadrics as Bezier patches; `polygons`:
 //!   `PointsPolygons` and `GeneralPolygon`; `spaces`: coordinate systems
 //!   and `Skew`; `blocks`: the begin/end structure; `texcoords`: `s`, `t`
-//!   of the patches' corners); `convert`: the
+//!   of the patches' corners; `environments`: the environment maps'
+//!   names); `convert`: the
 //!   [`Scene`] it makes.
 
 mod attributes;
@@ -33,6 +34,7 @@ internal_modules! {
 }
 mod convert;
 mod displacements;
+mod environments;
 mod geometry;
 mod options;
 mod polygons;

@@ -4,10 +4,11 @@
 //! gives each object its own ([`crate::scene::Surface`]): `constant`,
 //! `matte`, `metal`, `plastic`, `defaultsurface` (RenderMan's default for
 //! geometry with no `Surface`) and `null` are rendered as the specification
-//! defines them. `shinymetal` is `metal` without its environment map (with
-//! a warning); `paintedplastic` with a `texturename` runs the built-in WGSL
-//! `paintedplastic` (`crate::surface_shader::builtin`), without one it is
-//! `plastic`, which it then equals. Any other name is a user's WGSL
+//! defines them. `paintedplastic` and `shinymetal` with a `texturename`
+//! run the built-in WGSL `paintedplastic` and `shinymetal`
+//! (`crate::surface_shader::builtin`); without one they are `plastic` and
+//! `metal`, which they then equal (so is a `shinymetal` whose map was made
+//! by the unsupported `MakeCubeFaceEnvironment`, warned). Any other name is a user's WGSL
 //! surface shader when `name.wgsl` lies beside the RIB file (its parameters
 //! go to the shader's `Parameters`); otherwise it warns and renders as
 //! `defaultsurface`. `docs/rib.md` lists what cannot be followed.
@@ -122,13 +123,58 @@ impl Interp {
                 ka: self.weight(params, "Ka", 0.2, &shown, file, line)?,
                 kd: self.weight(params, "Kd", 0.8, &shown, file, line)?,
             },
+            "shinymetal"
+                if texture_name(params)
+                    .is_some_and(|name| !self.cube_environments.contains(name)) =>
+            {
+                let name = texture_name(params).unwrap_or_default();
+                let picture = self.picture(name, file);
+                let world = self.world_axes(file, line);
+                let number = |x: f32| ShaderValue::Number(f64::from(x));
+                let vector = |v: DVec3| ShaderValue::Numbers(v.to_array().to_vec());
+                Surface::Wgsl {
+                    file: crate::surface_shader::builtin::SHINY_METAL.into(),
+                    parameters: [
+                        (
+                            "Ka",
+                            number(self.weight(params, "Ka", 1.0, &shown, file, line)?),
+                        ),
+                        (
+                            "Ks",
+                            number(self.weight(params, "Ks", 1.0, &shown, file, line)?),
+                        ),
+                        (
+                            "Kr",
+                            number(self.weight(params, "Kr", 1.0, &shown, file, line)?),
+                        ),
+                        (
+                            "roughness",
+                            number(self.roughness(params, &shown, file, line)?),
+                        ),
+                        (
+                            "texturename",
+                            ShaderValue::Text(picture.to_string_lossy().into_owned()),
+                        ),
+                        ("world_x", vector(world[0])),
+                        ("world_y", vector(world[1])),
+                        ("world_z", vector(world[2])),
+                    ]
+                    .into_iter()
+                    .map(|(k, v)| (k.to_owned(), v))
+                    .collect(),
+                }
+            }
+            // shinymetal without an environment map is metal exactly (its
+            // environment() of "" is black).
             "metal" | "shinymetal" => {
-                if shader == "shinymetal" {
-                    self.warn_once(
-                        "#surface-shinymetal",
+                if let Some(name) = texture_name(params) {
+                    self.warn(
                         file,
                         line,
-                        "Surface \"shinymetal\": environment maps are not supported yet; shaded as \"metal\" (its Kr term is left out)".into(),
+                        format!(
+                            "Surface \"shinymetal\": {:?} is a cube-face environment map, which is not supported; shaded as \"metal\" (its Kr term is left out)",
+                            crate::input::excerpt(name)
+                        ),
                     );
                 }
                 Surface::Metal {
@@ -139,10 +185,7 @@ impl Interp {
             }
             "paintedplastic" if texture_name(params).is_some() => {
                 let name = texture_name(params).unwrap_or_default();
-                let picture = match self.made_textures.get(name) {
-                    Some(picture) => picture.clone(),
-                    None => file.parent().unwrap_or(Path::new("")).join(name),
-                };
+                let picture = self.picture(name, file);
                 let tint = self.tint(params, &shown, file, line)?;
                 let number = |x: f32| ShaderValue::Number(f64::from(x));
                 Surface::Wgsl {
@@ -217,6 +260,16 @@ impl Interp {
             },
         };
         Ok(surface)
+    }
+
+    /// The picture a texture name stands for: the one `MakeTexture` or
+    /// `MakeLatLongEnvironment` made it from, else the file of that name
+    /// beside the RIB file.
+    pub(super) fn picture(&self, name: &str, file: &Path) -> std::path::PathBuf {
+        match self.made_textures.get(name) {
+            Some(picture) => picture.clone(),
+            None => file.parent().unwrap_or(Path::new("")).join(name),
+        }
     }
 
     /// A weight (`Ka`, `Kd`, `Ks`): a negative one is taken as 0, with a

@@ -1,6 +1,6 @@
 //! Standard shaders written in WGSL against the surface shader interface
 //! and run as user shaders are, each with its Rust twin so that the CPU
-//! reference runs it too: `paintedplastic` and `bumpy` (RenderMan
+//! reference runs it too: `paintedplastic`, `shinymetal` and `bumpy` (RenderMan
 //! Interface 3.2, "Standard RenderMan Shaders").
 
 use std::path::Path;
@@ -17,6 +17,9 @@ pub const PREFIX: &str = "builtin:";
 
 /// `paintedplastic`'s path.
 pub const PAINTED_PLASTIC: &str = "builtin:paintedplastic";
+
+/// `shinymetal`'s path.
+pub const SHINY_METAL: &str = "builtin:shinymetal";
 
 /// `bumpy`'s path.
 pub const BUMPY: &str = "builtin:bumpy";
@@ -39,6 +42,10 @@ pub fn shader(path: &Path) -> Option<Result<SurfaceShader, super::SurfaceShaderE
         "bumpy" => (
             include_str!("../../../shaders/reyes/standard/bumpy.wgsl"),
             Twin::Displacement(CpuDisplacement::new(bumpy)),
+        ),
+        "shinymetal" => (
+            include_str!("../../../shaders/reyes/standard/shinymetal.wgsl"),
+            Twin::Surface(CpuSurface::new(shiny_metal)),
         ),
         _ => return None,
     };
@@ -101,5 +108,68 @@ fn painted_plastic(
     SurfaceOutput {
         ci: ctx.os * ci,
         oi: ctx.os,
+    }
+}
+
+/// The twin of `shaders/reyes/standard/shinymetal.wgsl`, term for term.
+fn shiny_metal(ctx: &ShadingContext, host: &dyn ShadingHost, slots: &[[f32; 4]]) -> SurfaceOutput {
+    let word = |k: usize| slots.get(k).copied().unwrap_or_default();
+    let (ka, ks, kr, roughness) = (word(0)[0], word(1)[0], word(2)[0], word(3)[0]);
+    let v = (-ctx.i).normalize_or_zero();
+    let world = |k: usize| Vec3::from_slice(&word(k)[..3]);
+    let r = ctx.i - 2.0 * ctx.n.dot(ctx.i) * ctx.n;
+    let d = r.x * world(5) + r.y * world(6) + r.z * world(7);
+    let ci = ctx.cs
+        * (ka * host.ambient()
+            + ks * host.specular(ctx, ctx.n, v, roughness)
+            + kr * host.environment(ctx, word(4)[0].to_bits(), d).truncate());
+    SurfaceOutput {
+        ci: ctx.os * ci,
+        oi: ctx.os,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each built-in checks against the interface, has its twin, and
+    /// declares the standard shader's parameters.
+    #[test]
+    fn the_built_ins_check_with_their_twins_and_parameters() {
+        for (path, names) in [
+            (
+                PAINTED_PLASTIC,
+                &[
+                    "Ka",
+                    "Kd",
+                    "Ks",
+                    "roughness",
+                    "specularcolor",
+                    "texturename",
+                ][..],
+            ),
+            (
+                SHINY_METAL,
+                &[
+                    "Ka",
+                    "Ks",
+                    "Kr",
+                    "roughness",
+                    "texturename",
+                    "world_x",
+                    "world_y",
+                    "world_z",
+                ][..],
+            ),
+        ] {
+            let shader = shader(Path::new(path))
+                .expect("a built-in")
+                .unwrap_or_else(|e| panic!("{path}: {e}"));
+            assert!(shader.cpu.is_some(), "{path}");
+            let declared: Vec<&str> = shader.parameters.iter().map(|p| p.name.as_str()).collect();
+            assert_eq!(declared, names, "{path}");
+        }
+        assert!(shader(Path::new("builtin:nothing")).is_none());
     }
 }

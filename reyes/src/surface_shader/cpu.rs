@@ -88,6 +88,16 @@ pub trait ShadingHost {
         )
     }
 
+    /// `environment_footprint(id, R, dRdu, dRdv)`: texture `index` as a
+    /// latitude-longitude environment map along `r`, over the footprint of
+    /// `r`'s changes (`crate::texture::TextureSet::environment`).
+    fn environment_footprint(&self, index: u32, r: Vec3, dr_du: Vec3, dr_dv: Vec3) -> Vec4;
+
+    /// `environment(ctx, id, R)`: bilinear in the finest level.
+    fn environment(&self, _ctx: &ShadingContext, index: u32, r: Vec3) -> Vec4 {
+        self.environment_footprint(index, r, Vec3::ZERO, Vec3::ZERO)
+    }
+
     /// `illuminance(i, P, axis, angle)`: light `i`'s `(L, Cl)`, with `Cl`
     /// zero unless `L` lies within `angle` radians of `axis`.
     fn illuminance(&self, i: u32, p: Vec3, axis: Vec3, angle: f32) -> (Vec3, Vec3) {

@@ -10,9 +10,13 @@
 //! `shaders/reyes/library_texture.wgsl` does the same on the GPU, over the
 //! tables of [`TextureSet::gpu_tables`].
 //!
+//! [`TextureSet::environment`] reads a texture as a latitude-longitude
+//! environment map ([`environment`], RenderMan's `environment(name, R)`).
+//!
 //! "Textures" in `docs/reyes.md` describes the formats, colour spaces, wrap
 //! modes, filtering and the memory budget.
 
+pub mod environment;
 mod error;
 pub mod gpu;
 mod load;
@@ -24,7 +28,7 @@ mod tests;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use glam::{Vec2, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 pub use error::TextureError;
@@ -389,6 +393,17 @@ impl TextureSet {
                 .map(|&texel| mipmap::unpack(texel)[channel.min(3)].abs())
                 .fold(0.0, f32::max),
         )
+    }
+
+    /// Texture `id` as a latitude-longitude environment map, seen along the
+    /// world-space direction `r` (RenderMan's `environment(name, R)`), over
+    /// the footprint of the direction's changes `dr_du` and `dr_dv` across
+    /// the shading point (zero: level 0, bilinear). Periodic in longitude
+    /// and clamped in latitude, whatever the texture's wrap modes; the
+    /// convention is [`environment`]'s. A zero or non-finite `r`, or an id
+    /// from another set, gives transparent black, as on the GPU.
+    pub fn environment(&self, id: TextureId, r: Vec3, dr_du: Vec3, dr_dv: Vec3) -> Vec4 {
+        environment::environment(&self.infos, &self.texels, id.0, r, dr_du, dr_dv)
     }
 
     /// The GPU tables: the `texture_infos` entries (indexed by

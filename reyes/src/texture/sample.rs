@@ -36,7 +36,7 @@ pub(super) struct Level {
 
 /// `x` is neither NaN nor infinite, judged on its bits as the WGSL must
 /// (WGSL has no `isNan`, and a fast-math compiler may fold comparisons).
-fn is_finite(x: f32) -> bool {
+pub(super) fn is_finite(x: f32) -> bool {
     x.to_bits() & 0x7f80_0000 != 0x7f80_0000
 }
 
@@ -147,6 +147,19 @@ pub(super) fn sample(
     let Some(info) = infos.get(id as usize) else {
         return Vec4::ZERO;
     };
+    filter(info, texels, st, axis_a, axis_b)
+}
+
+/// The filtered texture `info` at `st` over the footprint `(axis_a,
+/// axis_b)`, with `info`'s wrap modes; a non-finite `st` gives transparent
+/// black.
+pub(super) fn filter(
+    info: &TextureInfo,
+    texels: &[[u32; 2]],
+    st: Vec2,
+    axis_a: Vec2,
+    axis_b: Vec2,
+) -> Vec4 {
     if !is_finite(st.x) || !is_finite(st.y) {
         return Vec4::ZERO;
     }

@@ -1,6 +1,8 @@
 //! Unit tests of [`super`]: the formats and their errors (`formats`), the
-//! filtering (`filtering`), and the WGSL twin's declarations (`wgsl`).
+//! filtering (`filtering`), environment lookups (`environment`), and the
+//! WGSL twin's declarations (`wgsl`).
 
+mod environment;
 mod filtering;
 mod formats;
 mod wgsl;

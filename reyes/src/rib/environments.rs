@@ -1,0 +1,81 @@
+//! `MakeLatLongEnvironment` and `MakeCubeFaceEnvironment`: environment map
+//! names for `shinymetal`'s `texturename`.
+//!
+//! As with `MakeTexture`, nothing is written: the name stands for its
+//! picture, which the renderer mipmaps itself, and the filter and its
+//! widths are not followed (every lookup is trilinear). A latitude-longitude
+//! picture is read by `environment()` in RenderMan's convention
+//! (`crate::texture::environment`). Cube-face maps are not supported: the
+//! request warns at its line, and a `shinymetal` naming one is `metal`.
+
+use std::path::Path;
+
+use glam::{DMat4, DVec3};
+
+use super::interp::Interp;
+use super::parser::Value;
+use super::state;
+
+impl Interp {
+    /// `MakeLatLongEnvironment picturename texturename filter swidth twidth
+    /// ...`: `texturename` stands for the picture (beside the RIB file).
+    pub(super) fn make_latlong_environment(
+        &mut self,
+        v: &[Value],
+        file: &Path,
+    ) -> Result<(), String> {
+        let (args, _, _) = state::split_params(v, 5, &self.declared)?;
+        let picture = state::arg_str(&args, 0, "the picture")?;
+        let texture = state::arg_str(&args, 1, "the texture name")?;
+        let path = file.parent().unwrap_or(Path::new("")).join(picture);
+        self.cube_environments.remove(texture);
+        self.made_textures.insert(texture.to_owned(), path);
+        Ok(())
+    }
+
+    /// `MakeCubeFaceEnvironment px nx py ny pz nz texturename fov filter
+    /// swidth twidth ...`: not supported; warned, and its texture name is
+    /// remembered so that a `shinymetal` naming it is `metal`.
+    pub(super) fn make_cube_face_environment(
+        &mut self,
+        v: &[Value],
+        file: &Path,
+        line: usize,
+    ) -> Result<(), String> {
+        let (args, _, _) = state::split_params(v, 11, &self.declared)?;
+        let texture = state::arg_str(&args, 6, "the texture name")?;
+        self.warn(
+            file,
+            line,
+            format!(
+                "MakeCubeFaceEnvironment is not supported (only latitude-longitude maps: MakeLatLongEnvironment); a \"shinymetal\" naming {:?} is shaded as \"metal\"",
+                crate::input::excerpt(texture)
+            ),
+        );
+        self.made_textures.remove(texture);
+        self.cube_environments.insert(texture.to_owned());
+        Ok(())
+    }
+}
+
+impl Interp {
+    /// RenderMan's `vtransform("current", "world")` for the renderer's world
+    /// space, which is RenderMan's camera space with x mirrored
+    /// ([`super::interp::camera_to_world`]): the images of the renderer's
+    /// x, y and z axes in RenderMan's world space. Before `WorldBegin` (no
+    /// camera yet), or with a camera transform that cannot be inverted
+    /// (warned), world space is taken as camera space.
+    pub(super) fn world_axes(&mut self, file: &Path, line: usize) -> [DVec3; 3] {
+        let camera = self.camera.unwrap_or(DMat4::IDENTITY);
+        let mut to_world = camera.inverse() * super::interp::camera_to_world();
+        if !to_world.is_finite() {
+            self.warn(
+                file,
+                line,
+                "the camera transform cannot be inverted: the environment map is read in camera space".into(),
+            );
+            to_world = super::interp::camera_to_world();
+        }
+        [DVec3::X, DVec3::Y, DVec3::Z].map(|axis| to_world.transform_vector3(axis))
+    }
+}
