@@ -47,7 +47,9 @@ text() {
 
 {
     echo "# GPU suite, $(date -u +%Y-%m-%d), $(uname -n)"
-    markdown reyes-bench --frames 5 --spp 1,16 --resolutions 800x600,1920x1080
+    markdown reyes-bench --frames 5 --spp 1,16 --resolutions 800x600,1920x1080 --tables dicing,rates,interpolation,rounds
+    # Look development: a textured Killeroo within 1.5x of plain plastic.
+    markdown reyes-bench --frames 5 --resolutions 800x600 --tables materials
     markdown ste-bench --width 800 --height 600
     text strategy-bench --runs 5
     text scheduler-bench --runs 7

@@ -4,10 +4,10 @@
 //! ```text
 //! cargo run --release -p benches --bin reyes-bench -- [--frames 5] [--spp 1,16]
 //!     [--resolutions 800x600,1920x1080] [--rates 0.25,1,4,16] [--no-rounds]
-//!     [--tables dicing,rates,interpolation,rounds]
+//!     [--tables dicing,rates,interpolation,rounds,materials] [--killeroo PATH]
 //! ```
 //!
-//! Prints four markdown tables measured in this one process:
+//! Prints five markdown tables measured in this one process:
 //! 1. **Dicing**: every model, resolution and spp, rendered with `--dicing
 //!    rate` and `--dicing fixed` in alternating frames (so both see the
 //!    same machine load), with the median frame times, the grids,
@@ -19,13 +19,19 @@
 //!    model at the first resolution and every spp, in alternating frames.
 //! 4. **Megakernel vs. Rounds** on the rate-dicing graph, each model at the
 //!    first resolution and spp 1, in alternating frames.
+//! 5. **Materials**: RenderMan's `plastic` against the built-in WGSL
+//!    `paintedplastic` with `docs/scenes/tiles.png`, each model at the
+//!    first resolution and spp 1, in alternating frames: the look-development
+//!    bound (a textured Killeroo within 1.5x of the plain one).
 //!
 //! Per configuration one warm-up frame creates the pipelines, the executor
 //! and the buffers; the time reported is the median of `--frames` frames:
 //! the megakernel's GPU time (timestamp queries) when the device has them,
 //! else the whole frame's wall time. The Killeroo is read from
-//! `<workspace>/../shared/data/` and skipped with a notice when absent.
+//! `<workspace>/../shared/data/` (or `--killeroo`) and skipped with a notice
+//! when absent.
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
@@ -34,7 +40,7 @@ use clap::Parser;
 use reyes::gpu::{GpuOptions, GpuRendered, GpuRenderer};
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
-use reyes::scene::{CameraDesc, Dicing, Scene, ShadingInterpolation};
+use reyes::scene::{CameraDesc, Dicing, Scene, ShaderValue, ShadingInterpolation, Surface};
 use scheduler::Strategy;
 
 #[derive(Debug, Parser)]
@@ -56,9 +62,12 @@ struct Args {
     /// Skip the megakernel vs. Rounds table.
     #[arg(long)]
     no_rounds: bool,
-    /// The tables to measure (default: all four).
+    /// The tables to measure (default: all five).
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = Table::ALL)]
     tables: Vec<Table>,
+    /// The Killeroo's patch file (default: `<workspace>/../shared/data/killeroo.bpt`).
+    #[arg(long, default_value_os_t = killeroo_path())]
+    killeroo: PathBuf,
 }
 
 /// One of the benchmark's tables.
@@ -72,14 +81,17 @@ enum Table {
     Interpolation,
     /// Megakernel vs. Rounds.
     Rounds,
+    /// `plastic` vs. the textured `paintedplastic`.
+    Materials,
 }
 
 impl Table {
-    const ALL: [Table; 4] = [
+    const ALL: [Table; 5] = [
         Table::Dicing,
         Table::Rates,
         Table::Interpolation,
         Table::Rounds,
+        Table::Materials,
     ];
 }
 
@@ -93,6 +105,32 @@ impl std::fmt::Display for Table {
 
 fn killeroo_path() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/killeroo.bpt")
+}
+
+/// The texture of the materials table: the one docs/shaders.md's gallery paints.
+fn tiles_path() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/scenes/tiles.png")
+}
+
+/// The built-in `paintedplastic` with `plastic`'s defaults (its own
+/// `DEFAULTS`) and `texture`, so that it differs from [`Surface::PLASTIC`]
+/// only by the texture lookup and the WGSL call.
+fn painted_plastic(texture: &std::path::Path) -> Surface {
+    Surface::Wgsl {
+        file: PathBuf::from("builtin:paintedplastic"),
+        parameters: BTreeMap::from([(
+            "texturename".to_owned(),
+            ShaderValue::Text(texture.to_string_lossy().into_owned()),
+        )]),
+    }
+}
+
+/// `scene` with every object shaded by `surface`.
+fn with_surface(mut scene: Scene, surface: &Surface) -> Scene {
+    for object in &mut scene.objects {
+        object.surface = Some(surface.clone());
+    }
+    scene
 }
 
 fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
@@ -205,9 +243,9 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let device = gpu.describe();
     let mut models: Vec<(&str, Scene, Model)> =
         vec![("teapot", Scene::default_teapot(), Model::teapot())];
-    let killeroo = killeroo_path();
+    let killeroo = &args.killeroo;
     if killeroo.exists() {
-        let model = Model::load(&killeroo)?;
+        let model = Model::load(killeroo)?;
         let scene = Scene::for_model(killeroo.to_string_lossy(), &model);
         models.push(("killeroo", scene, model));
     } else {
@@ -335,7 +373,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
             &gpu,
             GpuOptions {
                 strategy: Strategy::rounds(),
-                ..options
+                ..options.clone()
             },
         )?;
         println!(
@@ -352,6 +390,32 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
             let round_count = m[1].frame().report.as_ref().map_or(0, |r| r.rounds);
             println!(
                 "| {name} | {:.1} | {:.1} | {:.2} | {round_count} |",
+                m[0].median_ms(),
+                m[1].median_ms(),
+                m[1].median_ms() / m[0].median_ms(),
+            );
+        }
+    }
+
+    if wants(Table::Materials) {
+        let tiles = tiles_path();
+        println!(
+            "\n### Materials: paintedplastic vs. plastic ({}x{}, spp 1)\n\nMedian of {} frames after a warm-up, in alternating frames; ms as in the dicing table (the megakernel's GPU time, which includes the shading). plastic is RenderMan's with its defaults; paintedplastic is the built-in WGSL shader with the same defaults and `docs/scenes/tiles.png` over s, t (each patch's u, v where the model has no st).\n\n| model | plastic ms | paintedplastic ms | paintedplastic / plastic |\n|---|---:|---:|---:|",
+            first.0, first.1, args.frames
+        );
+        let mut painted_renderer = GpuRenderer::new(&gpu, options)?;
+        for (name, scene, model) in &models {
+            let plain = with_surface(scene.clone(), &Surface::PLASTIC);
+            let plain = prepare(&plain, model, first, 1, Dicing::Rate, 1.0)?;
+            let painted = with_surface(scene.clone(), &painted_plastic(&tiles));
+            let painted = prepare(&painted, model, first, 1, Dicing::Rate, 1.0)?;
+            let m = measure(
+                &mut [(&mut renderer, &plain), (&mut painted_renderer, &painted)],
+                args.frames,
+                &format!("{name} materials"),
+            )?;
+            println!(
+                "| {name} | {:.1} | {:.1} | {:.2} |",
                 m[0].median_ms(),
                 m[1].median_ms(),
                 m[1].median_ms() / m[0].median_ms(),
