@@ -10,6 +10,7 @@ use glam::{DMat3, DMat4};
 
 use super::interp::{Interp, camera_to_world};
 use super::parser::Value;
+use super::shader_files::ShaderRequest;
 use super::state::{self, Param};
 use super::surfaces::{shader_value, texture_name, wgsl_shader};
 use crate::displacement::DisplacementDesc;
@@ -102,10 +103,12 @@ impl Interp {
                 Some(path) => {
                     let given = self.shader_parameters(&params);
                     let parameters = self.shader_parameters_checked(
-                        "Displacement",
-                        &shader,
-                        &path,
-                        ShaderKind::Displacement,
+                        ShaderRequest {
+                            request: "Displacement",
+                            shader: &shader,
+                            path: &path,
+                            kind: ShaderKind::Displacement,
+                        },
                         given,
                         file,
                         line,

@@ -14,19 +14,34 @@ use crate::surface_shader::{ShaderKind, SurfaceShader};
 /// What a checked shader file offers, or why it cannot be used.
 pub(super) type ShaderFile = Result<(ShaderKind, Vec<String>), String>;
 
+/// A request that names a WGSL shader file.
+pub(super) struct ShaderRequest<'a> {
+    /// The request (`Surface`, `Displacement`).
+    pub(super) request: &'a str,
+    /// The shader's name in the request.
+    pub(super) shader: &'a str,
+    /// The file it names.
+    pub(super) path: &'a Path,
+    /// The kind of shader the request needs.
+    pub(super) kind: ShaderKind,
+}
+
 impl Interp {
-    /// `params` of the `request` for `shader` (a WGSL file at `path` of the
-    /// expected `kind`), without the names the shader does not declare.
+    /// `params` of the request for a shader, without the names the shader
+    /// does not declare.
     pub(super) fn shader_parameters_checked(
         &mut self,
-        request: &str,
-        shader: &str,
-        path: &Path,
-        kind: ShaderKind,
+        named: ShaderRequest<'_>,
         params: BTreeMap<String, ShaderValue>,
         file: &Path,
         line: usize,
     ) -> Result<BTreeMap<String, ShaderValue>, String> {
+        let ShaderRequest {
+            request,
+            shader,
+            path,
+            kind,
+        } = named;
         let shown = crate::input::excerpt(shader);
         let checked = self
             .shader_files

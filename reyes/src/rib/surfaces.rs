@@ -19,6 +19,7 @@ use glam::DVec3;
 
 use super::interp::Interp;
 use super::parser::Value;
+use super::shader_files::ShaderRequest;
 use super::state::{self, Param};
 use crate::scene::{ShaderValue, Surface};
 use crate::surface_shader::ShaderKind;
@@ -233,10 +234,12 @@ impl Interp {
                 Some(path) => {
                     let given = self.shader_parameters(params);
                     let parameters = self.shader_parameters_checked(
-                        "Surface",
-                        shader,
-                        &path,
-                        ShaderKind::Surface,
+                        ShaderRequest {
+                            request: "Surface",
+                            shader,
+                            path: &path,
+                            kind: ShaderKind::Surface,
+                        },
                         given,
                         file,
                         line,
