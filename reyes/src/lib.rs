@@ -116,6 +116,7 @@ internal_modules! {
     nonfinite;
     params;
     sampling;
+    user_wgsl;
     uvt;
 }
 

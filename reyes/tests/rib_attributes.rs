@@ -40,7 +40,7 @@ fn displacement_bounds_are_checked_and_shaders_warn() {
     let rib = parse("Displacement \"bumpy\" \"Km\" [1]\nDisplacement \"bumpy\"\n").unwrap();
     let all = warnings(&rib);
     assert!(
-        all.contains("a.rib:4: Displacement \"bumpy\": RIB displacement shaders cannot run"),
+        all.contains("a.rib:4: Displacement \"bumpy\" without a \"texturename\" displaces nothing"),
         "{all}"
     );
     assert_eq!(all.matches("Displacement \"bumpy\"").count(), 1, "{all}");

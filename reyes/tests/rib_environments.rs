@@ -51,11 +51,7 @@ fn a_lat_long_map_names_its_picture_for_shinymetal() {
     // The picture, beside the RIB file.
     assert_eq!(
         parameters["texturename"],
-        ShaderValue::Text(
-            std::path::Path::new("dir/sky.png")
-                .to_string_lossy()
-                .into_owned()
-        )
+        ShaderValue::Texture(reyes::texture::TextureDesc::new("dir/sky.png"))
     );
     // No camera transform: RenderMan's world is its camera space, which is
     // the renderer's world with x mirrored.
@@ -112,11 +108,7 @@ fn a_texture_name_without_a_make_request_is_a_file_beside_the_rib() {
     let (_, parameters) = shader(&rib);
     assert_eq!(
         parameters["texturename"],
-        ShaderValue::Text(
-            std::path::Path::new("dir/sky.exr")
-                .to_string_lossy()
-                .into_owned()
-        )
+        ShaderValue::Texture(reyes::texture::TextureDesc::new("dir/sky.exr"))
     );
 }
 

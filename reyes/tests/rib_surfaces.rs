@@ -188,7 +188,7 @@ fn unknown_parameters_negative_weights_and_tiny_roughness_warn() {
     );
     assert_eq!(
         parameters["texturename"],
-        reyes::scene::ShaderValue::Text("wood.png".to_owned())
+        reyes::scene::ShaderValue::Texture(reyes::texture::TextureDesc::new("wood.png"))
     );
     // shinymetal without an environment map is metal, as RenderMan's is.
     let rib = read(&scene(
@@ -394,17 +394,28 @@ fn a_surface_named_after_a_wgsl_file_beside_the_rib_is_that_shader() {
     let Some(Surface::Wgsl { parameters, .. }) = loaded.scene.objects[0].surface.clone() else {
         panic!("{:?}", loaded.scene.objects[0].surface);
     };
+    // ... with its wrap modes.
     assert_eq!(
         parameters["map"],
-        ShaderValue::Text(dir.join("wood.tif").to_string_lossy().into_owned())
+        ShaderValue::Texture(reyes::texture::TextureDesc {
+            wrap_t: reyes::texture::Wrap::Clamp,
+            ..reyes::texture::TextureDesc::new(dir.join("wood.tif"))
+        })
     );
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    // A wrap mode RenderMan does not have is an error with the line.
+    let wrong = text.replace("\"wood.png\"", "\"wood.tx\"");
+    std::fs::write(
+        &rib,
+        format!(
+            "MakeTexture \"wood.tif\" \"wood.tx\" \"mirror\" \"clamp\" \"gaussian\" 2 2\n{wrong}"
+        ),
+    )
+    .unwrap();
+    let error = RibScene::load(&rib).unwrap_err().to_string();
     assert!(
-        loaded
-            .warnings
-            .iter()
-            .any(|w| w.to_string().contains("twrap \"clamp\"")),
-        "{:?}",
-        loaded.warnings
+        error.contains(":1:") && error.contains("\"mirror\" is not a wrap mode"),
+        "{error}"
     );
     // A parameter the shader does not declare warns with the request's line
     // and is dropped.

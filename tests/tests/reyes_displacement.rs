@@ -428,9 +428,19 @@ fn scene_errors_for_displacement_fields() {
         "{error}"
     );
 
-    // Syntax: a missing scale, an unknown field, a wrong type (with the line).
+    // Syntax: a missing source, an unknown field, a wrong type (with the
+    // line). A missing scale is 1 (docs/reyes-scene.md).
+    assert_eq!(
+        Scene::from_toml_str(&scene_with("source = \"bumps\""))
+            .unwrap()
+            .objects[0]
+            .displacement
+            .as_ref()
+            .map(|d| d.scale),
+        Some(1.0)
+    );
     for table in [
-        "source = \"bumps\"",
+        "scale = 0.1",
         "source = \"bumps\"\nscale = 0.1\ncolour = 1",
         "source = \"bumps\"\nscale = \"big\"",
     ] {

@@ -20,8 +20,7 @@ pub const SOURCE_SINES: &str = "sines";
 pub const SOURCE_WGSL: &str = "wgsl";
 /// `source` value of a displacement shader (its file in `file`).
 pub const SOURCE_SHADER: &str = "shader";
-/// The name the user WGSL must define.
-pub const USER_FUNCTION_NAME: &str = "displacement_user";
+pub use crate::user_wgsl::USER_FUNCTION_NAME;
 
 /// An object's displacement as written in a scene file:
 ///
@@ -267,20 +266,10 @@ impl DisplacementDesc {
             SourceKind::Shader => {
                 let file = self.file.as_deref().unwrap_or(Path::new(""));
                 let (shader, own_bound) = add_shader(file, &self.parameters)?;
-                let needed = own_bound.map(|bound| bound * self.scale.abs());
-                let bound = match (self.bound, needed) {
-                    (Some(bound), Some(needed)) if bound < needed => {
-                        return Err(DisplacementError::BoundTooSmall { bound, needed });
-                    }
-                    (Some(bound), _) => bound,
-                    (None, Some(needed)) => needed,
-                    // validate() requires a bound for other shaders.
-                    (None, None) => 0.0,
-                };
                 return Ok(PreparedDisplacement {
                     source: HeightSource::Shader(shader),
                     scale: self.scale,
-                    bound,
+                    bound: self.bound_for(own_bound)?,
                     tiling: 1.0,
                 });
             }
@@ -291,22 +280,27 @@ impl DisplacementDesc {
                 (HeightSource::Image(std::sync::Arc::new(map)), Some(max))
             }
         };
-        let needed = max_height.map(|max| self.scale.abs() * max);
-        let bound = match (self.bound, needed) {
-            (Some(bound), Some(needed)) if bound < needed => {
-                return Err(DisplacementError::BoundTooSmall { bound, needed });
-            }
-            (Some(bound), _) => bound,
-            (None, Some(needed)) => needed,
-            // validate() requires a bound for WGSL sources.
-            (None, None) => 0.0,
-        };
         Ok(PreparedDisplacement {
             source,
             scale: if mirrored { -self.scale } else { self.scale },
-            bound,
+            bound: self.bound_for(max_height)?,
             tiling: self.tiling,
         })
+    }
+
+    /// The bound: the declared one, which must hold `|scale|` times the
+    /// source's largest height when the host knows it, else that product.
+    /// Without either (validate() requires a declared bound then), 0.
+    fn bound_for(&self, max_height: Option<f32>) -> Result<f32, DisplacementError> {
+        let needed = max_height.map(|max| self.scale.abs() * max);
+        match (self.bound, needed) {
+            (Some(bound), Some(needed)) if bound < needed => {
+                Err(DisplacementError::BoundTooSmall { bound, needed })
+            }
+            (Some(bound), _) => Ok(bound),
+            (None, Some(needed)) => Ok(needed),
+            (None, None) => Ok(0.0),
+        }
     }
 }
 

@@ -7,7 +7,8 @@
 //! * `height_map`: grey PNG height maps and their bilinear wrap-around lookup;
 //! * `sines`: the built-in procedural source;
 //! * `error`: why a source cannot be prepared ([`DisplacementError`]);
-//! * `user_wgsl`: the checks on a user WGSL function, on its own IR.
+//! * `user_wgsl` (re-exported from `crate::user_wgsl`): the checks on a
+//!   user WGSL function, on its own IR.
 //!
 //! `(u, v)` are the parameters of the *input* patch: every split carries
 //! its piece's rectangle of them (`WorkItem::uv` on the CPU, `PatchItem::uv`
@@ -21,8 +22,10 @@ internal_modules! {
     error;
     height_map;
     sines;
-    user_wgsl;
 }
+
+/// The checks on user WGSL, displacement functions and shaders alike.
+pub use crate::user_wgsl;
 
 use std::fmt;
 use std::sync::Arc;

@@ -95,7 +95,7 @@ pub enum RenderError {
     /// own source (syntax, a name of the renderer's, module variables,
     /// barriers), at its own line.
     #[error("the user displacement function is refused: {0}")]
-    UserFunction(#[from] crate::displacement::user_wgsl::UserWgslError),
+    UserFunction(#[from] crate::user_wgsl::UserWgslError),
     /// Objects use different user displacement functions; the megakernel
     /// holds one.
     #[error(

@@ -158,7 +158,8 @@ impl Interp {
             }
         }
         let Some(name) = texture_name(params) else {
-            self.warn(
+            self.warn_once(
+                "#displacement-bumpy-no-texture",
                 file,
                 line,
                 "Displacement \"bumpy\" without a \"texturename\" displaces nothing".into(),
@@ -172,10 +173,9 @@ impl Interp {
                 _ => return Err("Displacement \"bumpy\": \"Km\" takes one finite number".into()),
             },
         };
-        let picture = self.picture(name, file);
         let texture = TextureDesc {
             color_space: ColorSpace::Linear,
-            ..TextureDesc::new(picture)
+            ..self.texture(name, file)
         };
         Ok(Some(DisplacementDesc {
             file: Some(BUMPY.into()),
@@ -188,17 +188,16 @@ impl Interp {
     }
 
     /// A user shader's parameters from the request's, textures made by
-    /// `MakeTexture` read through their pictures.
+    /// `MakeTexture` read through their pictures with their wrap modes.
     pub(super) fn shader_parameters(&self, params: &[Param]) -> BTreeMap<String, ShaderValue> {
         params
             .iter()
             .filter_map(|p| {
                 let value = match shader_value(&p.value)? {
-                    ShaderValue::Text(name) => ShaderValue::Text(
-                        self.made_textures
-                            .get(&name)
-                            .map_or(name, |picture| picture.to_string_lossy().into_owned()),
-                    ),
+                    ShaderValue::Text(name) => match self.made_textures.get(&name) {
+                        Some(made) => ShaderValue::Texture(made.clone()),
+                        None => ShaderValue::Text(name),
+                    },
                     other => other,
                 };
                 Some((p.name.clone(), value))

@@ -29,7 +29,8 @@ impl Interp {
         let texture = state::arg_str(&args, 1, "the texture name")?;
         let path = file.parent().unwrap_or(Path::new("")).join(picture);
         self.cube_environments.remove(texture);
-        self.made_textures.insert(texture.to_owned(), path);
+        self.made_textures
+            .insert(texture.to_owned(), crate::texture::TextureDesc::new(path));
         Ok(())
     }
 

@@ -166,7 +166,8 @@ pub struct Interp {
     /// `MakeTexture`'s texture names and the pictures they stand for
     /// (resolved beside the RIB file that made them): shader parameters
     /// naming a texture read the picture, which the renderer mipmaps itself.
-    pub(super) made_textures: HashMap<String, PathBuf>,
+    /// Their wrap modes come along (an environment map's are periodic).
+    pub(super) made_textures: HashMap<String, crate::texture::TextureDesc>,
     /// The WGSL shaders requests have named, checked once per file: their
     /// kind and parameter names, or why the file cannot be used
     /// ([`super::shader_files`]).
@@ -432,19 +433,30 @@ impl Interp {
                 let (args, _, _) = state::split_params(v, 7, &self.declared)?;
                 let picture = state::arg_str(&args, 0, "the picture")?;
                 let texture = state::arg_str(&args, 1, "the texture name")?;
+                let mut wraps = [crate::texture::Wrap::Periodic; 2];
                 for (k, what) in [(2, "swrap"), (3, "twrap")] {
                     let wrap = state::arg_str(&args, k, what)?;
-                    if wrap != "periodic" {
-                        self.warn(
-                            file,
-                            line,
-                            format!("MakeTexture: {what} {:?} is not carried to the texture yet; it wraps \"periodic\"", crate::input::excerpt(wrap)),
-                        );
-                    }
+                    wraps[k - 2] = match wrap {
+                        "periodic" => crate::texture::Wrap::Periodic,
+                        "clamp" => crate::texture::Wrap::Clamp,
+                        "black" => crate::texture::Wrap::Black,
+                        other => {
+                            return Err(format!(
+                                "MakeTexture: {what} {:?} is not a wrap mode (\"periodic\", \"clamp\" or \"black\")",
+                                crate::input::excerpt(other)
+                            )
+                            .into());
+                        }
+                    };
                 }
                 let path = file.parent().unwrap_or(Path::new("")).join(picture);
                 self.cube_environments.remove(texture);
-                self.made_textures.insert(texture.to_owned(), path);
+                let desc = crate::texture::TextureDesc {
+                    wrap_s: wraps[0],
+                    wrap_t: wraps[1],
+                    ..crate::texture::TextureDesc::new(path)
+                };
+                self.made_textures.insert(texture.to_owned(), desc);
             }
             "MakeLatLongEnvironment" => self.make_latlong_environment(v, file)?,
             "MakeCubeFaceEnvironment" => self.make_cube_face_environment(v, file, line)?,

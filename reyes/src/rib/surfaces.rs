@@ -23,6 +23,7 @@ use super::shader_files::ShaderRequest;
 use super::state::{self, Param};
 use crate::scene::{ShaderValue, Surface};
 use crate::surface_shader::ShaderKind;
+use crate::texture::TextureDesc;
 
 /// The smallest `roughness` used: the highlight's exponent `1 / roughness`
 /// is at most `crate::shading::MAX_SPECULAR_EXPONENT`.
@@ -129,7 +130,7 @@ impl Interp {
                     .is_some_and(|name| !self.cube_environments.contains(name)) =>
             {
                 let name = texture_name(params).unwrap_or_default();
-                let picture = self.picture(name, file);
+                let picture = self.texture(name, file);
                 let world = self.world_axes(file, line);
                 let number = |x: f32| ShaderValue::Number(f64::from(x));
                 let vector = |v: DVec3| ShaderValue::Numbers(v.to_array().to_vec());
@@ -152,10 +153,7 @@ impl Interp {
                             "roughness",
                             number(self.roughness(params, &shown, file, line)?),
                         ),
-                        (
-                            "texturename",
-                            ShaderValue::Text(picture.to_string_lossy().into_owned()),
-                        ),
+                        ("texturename", ShaderValue::Texture(picture.clone())),
                         ("world_x", vector(world[0])),
                         ("world_y", vector(world[1])),
                         ("world_z", vector(world[2])),
@@ -186,7 +184,7 @@ impl Interp {
             }
             "paintedplastic" if texture_name(params).is_some() => {
                 let name = texture_name(params).unwrap_or_default();
-                let picture = self.picture(name, file);
+                let picture = self.texture(name, file);
                 let tint = self.tint(params, &shown, file, line)?;
                 let number = |x: f32| ShaderValue::Number(f64::from(x));
                 Surface::Wgsl {
@@ -212,10 +210,7 @@ impl Interp {
                             "specularcolor",
                             ShaderValue::Numbers(tint.to_array().map(f64::from).to_vec()),
                         ),
-                        (
-                            "texturename",
-                            ShaderValue::Text(picture.to_string_lossy().into_owned()),
-                        ),
+                        ("texturename", ShaderValue::Texture(picture.clone())),
                     ]
                     .into_iter()
                     .map(|(k, v)| (k.to_owned(), v))
@@ -265,13 +260,13 @@ impl Interp {
         Ok(surface)
     }
 
-    /// The picture a texture name stands for: the one `MakeTexture` or
-    /// `MakeLatLongEnvironment` made it from, else the file of that name
-    /// beside the RIB file.
-    pub(super) fn picture(&self, name: &str, file: &Path) -> std::path::PathBuf {
+    /// The texture a name stands for: the picture (and wrap modes)
+    /// `MakeTexture` or `MakeLatLongEnvironment` made it from, else the file
+    /// of that name beside the RIB file, periodic.
+    pub(super) fn texture(&self, name: &str, file: &Path) -> TextureDesc {
         match self.made_textures.get(name) {
-            Some(picture) => picture.clone(),
-            None => file.parent().unwrap_or(Path::new("")).join(name),
+            Some(made) => made.clone(),
+            None => TextureDesc::new(file.parent().unwrap_or(Path::new("")).join(name)),
         }
     }
 

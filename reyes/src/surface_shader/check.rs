@@ -6,8 +6,8 @@
 use naga::{Expression, Handle, Literal, Module, Scalar, ScalarKind, TypeInner, VectorSize};
 
 use super::{ParameterKind, ShaderKind, ShaderParameter, SurfaceShaderError};
-use crate::displacement::user_wgsl::{self, UserWgslError};
 use crate::params::MAX_SPECULAR_EXPONENT;
+use crate::user_wgsl::{self, UserWgslError};
 
 /// The name of the function a surface shader defines.
 pub const ENTRY: &str = "surface";

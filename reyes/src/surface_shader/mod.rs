@@ -39,8 +39,8 @@ pub use cpu::{
 pub use table::{ShaderRef, ShaderTable};
 pub use values::{ParameterWarning, pack_parameters};
 
-use crate::displacement::user_wgsl::UserWgslError;
 use crate::input::{InputError, InputKind, read_text};
+use crate::user_wgsl::UserWgslError;
 
 /// What a shader computes, known from the function it defines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

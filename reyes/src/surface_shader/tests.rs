@@ -3,7 +3,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::*;
-use crate::displacement::user_wgsl::UserWgslError;
+use crate::user_wgsl::UserWgslError;
 
 const MARBLE: &str = "struct Parameters {
     Kd: f32,
@@ -290,4 +290,26 @@ fn a_texture_parameter_takes_a_file_or_a_table() {
     let wrong: BTreeMap<String, ShaderValue> = toml::from_str("map = 3.0").unwrap();
     let error = pack_parameters(&shader, &wrong, |_, _: &TextureDesc| Ok(0)).expect_err("a number");
     assert!(error.to_string().contains("map"), "{error}");
+}
+
+/// The same bound holds for a user surface shader's functions (and only
+/// theirs: the interface that follows the user's text is not counted).
+#[test]
+fn a_surface_shader_past_the_memory_limit_is_refused() {
+    let shader = |body: &str| {
+        SurfaceShader::from_source(
+            std::path::Path::new("s.wgsl"),
+            format!(
+                "fn surface(ctx: ShadingContext) -> SurfaceOutput {{\n{body}    return SurfaceOutput(ctx.Cs, ctx.Os);\n}}\n"
+            ),
+        )
+    };
+    match shader("    var big: array<f32, 1000000>;\n    big[0] = 1.0;\n") {
+        Err(SurfaceShaderError::Wgsl(UserWgslError::Memory(m))) => assert_eq!(
+            (m.function.as_str(), m.name.as_str(), m.line),
+            ("surface", "big", 2)
+        ),
+        other => panic!("{other:?}"),
+    }
+    shader("").expect("a plain shader passes: the interface is not counted");
 }

@@ -1,5 +1,6 @@
-//! Checks on a scene's user displacement function, made on naga's IR of the
-//! user's source alone, before it joins the megakernel: errors carry the
+//! Checks on user WGSL (a scene's displacement function, and the parts
+//! every user shader shares: parsing, module-scope names, function memory,
+//! barriers, validation), made on naga's IR of the user's source alone, before it joins the megakernel: errors carry the
 //! line in the user's own text, the function is found by name in the IR (not
 //! by a substring, which a comment would satisfy), and the function cannot
 //! reach anything of the renderer's. A user function sees its arguments, its
@@ -9,8 +10,10 @@
 
 use naga::{Block, Statement};
 
-use super::desc::USER_FUNCTION_NAME;
 use crate::input::excerpt;
+
+/// The name a user displacement function must have.
+pub const USER_FUNCTION_NAME: &str = "displacement_user";
 
 /// Why a user displacement function is refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -475,28 +478,5 @@ fn displacement_user(u: f32, v: f32) -> f32 {
         // Within the limit: passes.
         let small = "fn displacement_user(u: f32, v: f32) -> f32 {\n    var a: array<f32, 1024>;\n    a[1] = v;\n    return a[1] + u;\n}";
         check(small).unwrap();
-    }
-
-    /// The same bound holds for a user surface shader's functions (and only
-    /// theirs: the interface that follows the user's text is not counted).
-    #[test]
-    fn a_surface_shader_past_the_memory_limit_is_refused() {
-        use crate::surface_shader::{SurfaceShader, SurfaceShaderError};
-        let shader = |body: &str| {
-            SurfaceShader::from_source(
-                std::path::Path::new("s.wgsl"),
-                format!(
-                    "fn surface(ctx: ShadingContext) -> SurfaceOutput {{\n{body}    return SurfaceOutput(ctx.Cs, ctx.Os);\n}}\n"
-                ),
-            )
-        };
-        match shader("    var big: array<f32, 1000000>;\n    big[0] = 1.0;\n") {
-            Err(SurfaceShaderError::Wgsl(UserWgslError::Memory(m))) => assert_eq!(
-                (m.function.as_str(), m.name.as_str(), m.line),
-                ("surface", "big", 2)
-            ),
-            other => panic!("{other:?}"),
-        }
-        shader("").expect("a plain shader passes: the interface is not counted");
     }
 }
