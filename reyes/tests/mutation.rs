@@ -1052,7 +1052,7 @@ fn mutated_rib_never_panics() {
 
 /// Minimised from `mutated_scene_toml_never_panics`: a user WGSL function
 /// with a long token gives an error message that quotes the token whole
-/// (naga's message, passed on by `displacement::user_wgsl::check`), so a
+/// (naga's message, passed on by `user_wgsl::check`), so a
 /// scene's error message is not bounded by its size.
 #[test]
 fn user_wgsl_error_quotes_long_tokens_whole() {

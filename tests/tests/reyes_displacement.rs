@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use glam::Vec3;
 use gpu_test::gpu_test;
 use reyes::dicing::DicingRule;
-use reyes::displacement::user_wgsl::UserWgslError;
+use reyes::user_wgsl::UserWgslError;
 use reyes::displacement::{CpuHeight, DisplacementDesc, DisplacementError, HeightSource};
 use reyes::gpu::{GpuRendered, GpuRenderer, RenderError};
 use reyes::model::{Model, Patch};

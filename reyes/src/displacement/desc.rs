@@ -203,7 +203,7 @@ impl DisplacementDesc {
             (SourceKind::Wgsl, Some(wgsl)) => {
                 // On naga's IR of the function alone: its own line numbers,
                 // the function found by name, nothing of the renderer's.
-                super::user_wgsl::check(wgsl)
+                crate::user_wgsl::check(wgsl)
                     .map_err(|e| DescProblem::invalid("wgsl", e.to_string()))?;
                 if self.bound.is_none() {
                     return Err(DescProblem::invalid(

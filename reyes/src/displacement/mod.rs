@@ -7,8 +7,8 @@
 //! * `height_map`: grey PNG height maps and their bilinear wrap-around lookup;
 //! * `sines`: the built-in procedural source;
 //! * `error`: why a source cannot be prepared ([`DisplacementError`]);
-//! * `user_wgsl` (re-exported from `crate::user_wgsl`): the checks on a
-//!   user WGSL function, on its own IR.
+//!
+//! The checks on a user WGSL function are `crate::user_wgsl`'s.
 //!
 //! `(u, v)` are the parameters of the *input* patch: every split carries
 //! its piece's rectangle of them (`WorkItem::uv` on the CPU, `PatchItem::uv`
@@ -24,8 +24,6 @@ internal_modules! {
     sines;
 }
 
-/// The checks on user WGSL, displacement functions and shaders alike.
-pub use crate::user_wgsl;
 
 use std::fmt;
 use std::sync::Arc;

@@ -209,7 +209,7 @@ impl<'a> GpuRenderer<'a> {
         } = key;
         let user = user.as_deref();
         if let Some(wgsl) = user {
-            crate::displacement::user_wgsl::check(wgsl)?;
+            crate::user_wgsl::check(wgsl)?;
         }
         let features = scheduler::recommended_features(&self.gpu.device);
         let code = UserCode {
