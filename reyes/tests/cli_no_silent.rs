@@ -188,3 +188,37 @@ fn an_unclosed_motion_block_is_an_error_unless_lenient() {
     // dropped; the image is the background, which is said too.
     assert!(stderr.contains("the scene has no objects"), "{stderr}");
 }
+
+/// A shader whose texture file is missing fails the run with the object and
+/// the path; `--lenient` makes it a warning and renders the object in its
+/// colour (a surface) or undisplaced (a displacement).
+#[test]
+fn a_missing_texture_names_the_object_and_the_path_unless_lenient() {
+    let dir = TempDir::new("cli-missing-texture");
+    std::fs::write(
+        dir.path("painted.toml"),
+        "[[objects]]\nmodel = \"teapot\"\n\
+         surface = { shader = \"wgsl\", file = \"builtin:paintedplastic\", parameters = { texturename = \"gone.png\" } }\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path("bumpy.toml"),
+        "[[objects]]\nmodel = \"teapot\"\n\
+         displacement = { source = \"shader\", file = \"builtin:bumpy\", parameters = { Km = 0.1, texturename = \"gone.png\" } }\n",
+    )
+    .unwrap();
+    for scene in ["painted.toml", "bumpy.toml"] {
+        let (ok, stderr, written) = render(&dir, scene, &[]);
+        assert!(!ok && !written, "{scene}: {stderr}");
+        assert!(
+            stderr.contains("object 0") && stderr.contains("gone.png"),
+            "{scene}: {stderr}"
+        );
+        let (ok, stderr, written) = render(&dir, scene, &["--lenient"]);
+        assert!(ok && written, "{scene} --lenient: {stderr}");
+        assert!(
+            stderr.contains("warning: object 0") && stderr.contains("gone.png"),
+            "{scene} --lenient: {stderr}"
+        );
+    }
+}

@@ -8,7 +8,6 @@ use std::path::PathBuf;
 use glam::Vec3;
 use gpu_test::gpu_test;
 use reyes::dicing::DicingRule;
-use reyes::user_wgsl::UserWgslError;
 use reyes::displacement::{CpuHeight, DisplacementDesc, DisplacementError, HeightSource};
 use reyes::gpu::{GpuRendered, GpuRenderer, RenderError};
 use reyes::model::{Model, Patch};
@@ -16,6 +15,7 @@ use reyes::params::DEFAULT_DICE_THRESHOLD;
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, ReferenceError, Rendered};
 use reyes::scene::{Dicing, Sampling, Scene, SceneError};
+use reyes::user_wgsl::UserWgslError;
 use tests::reyes_support::{
     self, Agreement, agreement, assert_counts_close, camera_down_z, framed_teapot, gpu_turn,
 };

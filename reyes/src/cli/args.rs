@@ -187,7 +187,9 @@ pub(crate) struct RenderArgs {
     /// Read a RIB scene whose block structure is unbalanced or truncated (a
     /// missing `WorldEnd`, an unclosed `AttributeBegin`, an `AttributeEnd`
     /// without its begin) with warnings instead of an error, and render
-    /// what was read.
+    /// what was read. A shader's missing texture file is a warning too:
+    /// the object keeps its colour with the default surface, or is not
+    /// displaced.
     #[arg(long)]
     pub(crate) lenient: bool,
     /// Neither read nor write compiled pipelines in the cache directory

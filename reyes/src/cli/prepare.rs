@@ -8,6 +8,7 @@ use super::args::RenderArgs;
 use super::input::{BaseScene, ReadFile, base_scene, displacement, wgsl_file};
 use crate::model::Model;
 use crate::modes::ShadingInterpolation;
+use crate::output::console::errln;
 use crate::prepare::{PreparedScene, far_plane_covering_motion};
 use crate::scene::{CameraDesc, Scene, framed_bounds};
 
@@ -61,7 +62,11 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<Prepared, BoxError> {
             }
         }
     }
-    let prepared = prepared(&scene)?;
+    let prepared = if args.lenient {
+        prepare_without_missing_textures(&mut scene, prepared)?
+    } else {
+        prepared(&scene)?
+    };
     // What preparing read: models by path (a RIB's are in memory) and
     // height maps.
     if in_memory.is_none() {
@@ -269,4 +274,57 @@ fn camera_moves(args: &RenderArgs) -> bool {
 /// Whether the command line moves the objects during the shutter.
 fn objects_move(args: &RenderArgs) -> bool {
     args.spin.is_some() || args.move_by.is_some()
+}
+
+/// Prepares `scene` under `--lenient`: an object whose shader reads a
+/// texture file that is missing loses that shader (a surface falls back to
+/// the scene's default, lit in the object's colour; a displacement is
+/// dropped), with a warning naming the object and the file, instead of
+/// failing the run. Any other error still fails it.
+fn prepare_without_missing_textures(
+    scene: &mut Scene,
+    prepared: impl Fn(&Scene) -> Result<PreparedScene, crate::scene::SceneError>,
+) -> Result<PreparedScene, BoxError> {
+    use crate::displacement::DisplacementError;
+    use crate::scene::SceneError;
+    use crate::surface_shader::SurfaceShaderError;
+    use crate::texture::TextureError;
+    let missing = |error: &SurfaceShaderError| {
+        matches!(
+            error,
+            SurfaceShaderError::Texture {
+                source: TextureError::Missing { .. },
+                ..
+            }
+        )
+    };
+    // Each round drops one shader of one object: bounded by their number.
+    for _ in 0..=2 * scene.objects.len() {
+        match prepared(scene) {
+            Err(SceneError::SurfaceShader {
+                index,
+                file,
+                source,
+            }) if missing(&source) => {
+                errln!(
+                    "warning: object {index}: surface shader {}: {source}; --lenient renders the object in its colour with the default surface",
+                    file.display()
+                )?;
+                scene.objects[index].surface = None;
+            }
+            Err(SceneError::Displacement {
+                index,
+                source: DisplacementError::Shader { file, source },
+                ..
+            }) if missing(&source) => {
+                errln!(
+                    "warning: object {index}: displacement shader {}: {source}; --lenient renders the object undisplaced",
+                    file.display()
+                )?;
+                scene.objects[index].displacement = None;
+            }
+            other => return Ok(other?),
+        }
+    }
+    Ok(prepared(scene)?)
 }

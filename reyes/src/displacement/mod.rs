@@ -24,7 +24,6 @@ internal_modules! {
     sines;
 }
 
-
 use std::fmt;
 use std::sync::Arc;
 
