@@ -269,3 +269,48 @@ fn scripted_orbit_and_zoom_move_the_camera_and_render_again() {
         refined["wall_ms"]
     );
 }
+
+/// `--frames N` without a script ends by itself when the view is refined,
+/// even when fewer than N frames come (before, it waited forever in the
+/// event loop with nothing printed), and says why it stopped.
+#[gpu_test]
+fn frames_beyond_the_refined_view_end_the_viewer_with_a_note() {
+    let _turn = turn();
+    let display = display();
+    let dir = out_dir("viewer_frames_end");
+    let shot = dir.join("shot.png");
+    let _ = std::fs::remove_file(&shot);
+    let mut command = Command::new(env!("CARGO_BIN_EXE_reyes"));
+    command
+        .args([
+            "view", "--width", "160", "--height", "120", "--frames", "50",
+        ])
+        .args(["--screenshot", shot.to_str().unwrap()])
+        .env("DISPLAY", &display.name)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let mut child = command.spawn().unwrap();
+    // The first frame compiles the megakernel (minutes on lavapipe with a
+    // cold cache); the bound only has to tell a hang from that.
+    let deadline = Instant::now() + Duration::from_secs(900);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("`reyes view --frames 50` did not end within 900 s");
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    let output = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        stdout.contains("note: --frames 50: the view is refined after"),
+        "{stdout}"
+    );
+    assert!(shot.exists(), "the screenshot is written");
+}

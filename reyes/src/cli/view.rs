@@ -16,7 +16,9 @@ pub(crate) struct ViewArgs {
     #[command(flatten)]
     pub(crate) render: RenderArgs,
     /// Close after N frames have been presented and the view is refined
-    /// (for headless use under `xvfb-run`).
+    /// (for headless use under `xvfb-run`); when the view is refined with
+    /// fewer (no further frame comes without input), close there with a
+    /// note.
     #[arg(long, value_name = "N")]
     pub(crate) frames: Option<u64>,
     /// With --frames: save the last presented image here (`.png`, or

@@ -69,7 +69,7 @@ pub(super) struct App {
     /// A scripted resize not yet seen: the view is not refined before it.
     awaiting_size: Option<(u32, u32)>,
     /// `--frames` has ended the viewer (the loop may still deliver events).
-    done: bool,
+    pub done: bool,
     /// The first error, which ends the viewer.
     pub error: Option<ViewError>,
     /// What happened, for `--log-json`.
@@ -313,13 +313,24 @@ impl App {
     }
 
     /// `--frames N`: after N presented frames, once the view is refined and
-    /// the script is done, save the screenshot and close.
+    /// the script is done, save the screenshot and close. A refined view
+    /// with the script done is also the end: without input no further
+    /// frame comes, so fewer than N frames stop there, saying so (waiting
+    /// would never end).
     fn check_done(&mut self, event_loop: &ActiveEventLoop) {
         let Some(wanted) = self.config.frames else {
             return;
         };
-        if self.done || self.presented < wanted || !self.refined() || !self.script.is_empty() {
+        if self.done || !self.refined() || !self.script.is_empty() {
             return;
+        }
+        if self.presented < wanted
+            && let Err(error) = outln!(
+                "note: --frames {wanted}: the view is refined after {} presented frames and no further frame comes without input; stopping there",
+                self.presented
+            )
+        {
+            return self.fail(event_loop, error.into());
         }
         if let (Some(path), Some(running)) = (&self.config.screenshot, &self.running) {
             let saved = running

@@ -95,8 +95,11 @@ pub fn run(scene: PreparedScene, config: ViewConfig) -> Result<ViewLog, ViewErro
         return Err(error);
     }
     result.map_err(|e| ViewError::Window(e.to_string()))?;
+    // Ended by `--frames` (at N frames, or at the refined view when fewer
+    // come) is success; a window closed before that is not.
     if let Some(wanted) = wanted
         && app.presented < wanted
+        && !app.done
     {
         return Err(ViewError::Closed {
             presented: app.presented,
