@@ -159,9 +159,12 @@ if (valid && thread < nu * nv) {
         let mb = moving_point(grid_clip(slot, wb), grid_clip(slot, wb + 5u));
         let mc = moving_point(grid_clip(slot, wc), grid_clip(slot, wc + 5u));
         let md = moving_point(grid_clip(slot, wd), grid_clip(slot, wd + 5u));
-        // Faces are culled as seen when the corners come into view (at
-        // open, for corners visible during the whole shutter).
-        let drawn = vec2<bool>(drawn_face(ma.open.xy, mb.open.xy, mc.open.xy, front), drawn_face(ma.open.xy, mc.open.xy, md.open.xy, front));
+        // A face is culled only when it faces away at both ends of the
+        // interval its corners are seen in (Fatahalian et al.): one that
+        // turns towards the camera during the shutter is drawn.
+        let at_open = vec2<bool>(drawn_face(ma.open.xy, mb.open.xy, mc.open.xy, front), drawn_face(ma.open.xy, mc.open.xy, md.open.xy, front));
+        let at_close = vec2<bool>(drawn_face(ma.close.xy, mb.close.xy, mc.close.xy, front), drawn_face(ma.close.xy, mc.close.xy, md.close.xy, front));
+        let drawn = at_open | at_close;
         raster_quad_5d(mode, ma, mb, mc, md, colors, drawn, &counts);
     } else {
         let drawn = vec2<bool>(drawn_face(a.xy, b.xy, c.xy, front), drawn_face(a.xy, c.xy, d.xy, front));

@@ -341,9 +341,12 @@ fn sample_micropolygon(
     let framebuffer = &mut *output.framebuffer;
     if let Some(moving) = &grid.moving {
         let corners = micropolygon_corners(&moving.points, size, i, j);
-        // Faces are culled as seen when the corners come into view
-        // (at open, for corners visible during the whole shutter).
-        let drawn = drawn(corners.map(|c| c.open.truncate()));
+        // A face is culled only when it faces away at both ends of the
+        // interval its corners are seen in (Fatahalian et al.): one that
+        // turns towards the camera during the shutter is drawn.
+        let at_open = drawn(corners.map(|c| c.open.truncate()));
+        let at_close = drawn(corners.map(|c| c.close.truncate()));
+        let drawn = [at_open[0] || at_close[0], at_open[1] || at_close[1]];
         raster_quad_5d(
             framebuffer,
             moving.sampler,
