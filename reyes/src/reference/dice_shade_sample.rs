@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::ReferenceError;
 use super::dice::surface_normal;
 use super::dice::{Grid, dice};
-use super::displace::{Displacer, ShaderInputs};
+use super::displace::{ContextPoint, Displacer, ShaderInputs, context_at};
 use super::framebuffer::Framebuffer;
 use super::limits::Budget;
 use super::raster::{
@@ -238,34 +238,21 @@ fn shading_context(
         grid_param(uv.y, uv.w, j, size.nv),
     );
     let eye = scene.camera.homogeneous_eye();
-    let to_eye = towards_eye(eye, position);
-    let surface = bezier::evaluate(patch, u, v);
     let ng = if object.displacement.is_some() {
-        surface_normal(patch, u, v, surface.position, eye)
+        surface_normal(patch, u, v, bezier::evaluate(patch, u, v).position, eye)
     } else {
         normal
     };
-    let [st, dst_du, dst_dv] = world.st_frame(u, v);
-    ShadingContext {
-        p: position,
-        n: normal,
-        ng,
-        i: -to_eye,
-        e: position + to_eye,
-        u,
-        v,
-        du: (uv.z - uv.x) / size.nu as f32,
-        dv: (uv.w - uv.y) / size.nv as f32,
-        s: st.x,
-        t: st.y,
-        dp_du: surface.d_ds,
-        dp_dv: surface.d_dt,
-        dst_du,
-        dst_dv,
-        cs: object.color,
-        os: Vec3::ONE,
-        time: 0.0,
-    }
+    let point = ContextPoint {
+        uv: (u, v),
+        step: (
+            (uv.z - uv.x) / size.nu as f32,
+            (uv.w - uv.y) / size.nv as f32,
+        ),
+        position,
+        normals: (normal, ng),
+    };
+    context_at(patch, world, eye, object.color, point)
 }
 
 /// Every point at open and close, adding the motion's and the close

@@ -81,26 +81,62 @@ pub fn displacement_context(
     v: f32,
 ) -> ShadingContext {
     let normal = displacement_normal(patch, u, v) * inputs.shader.orientation;
-    let to_eye = towards_eye(inputs.eye, position);
-    let [st, dst_du, dst_dv] = inputs.st.st_frame(u, v);
+    let point = ContextPoint {
+        uv: (u, v),
+        step: (0.0, 0.0),
+        position,
+        normals: (normal, normal),
+    };
+    context_at(patch, inputs.st, inputs.eye, inputs.color, point)
+}
+
+/// Where on an input patch a shading context is taken: the parameters,
+/// the grid's step, the point and its normals `(N, Ng)`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct ContextPoint {
+    pub(super) uv: (f32, f32),
+    pub(super) step: (f32, f32),
+    pub(super) position: Vec3,
+    pub(super) normals: (Vec3, Vec3),
+}
+
+/// The shading context at `point` of the input patch `patch` (texture
+/// coordinates from `st`), for an object of colour `cs` seen from `eye`:
+/// what surface and displacement contexts share (the WGSL
+/// `shading_context` and `displacement_context`).
+pub(super) fn context_at(
+    patch: &[Vec3; 16],
+    st: &WorldPatch,
+    eye: HomogeneousEye,
+    cs: Vec3,
+    point: ContextPoint,
+) -> ShadingContext {
+    let ContextPoint {
+        uv: (u, v),
+        step: (du, dv),
+        position,
+        normals: (n, ng),
+    } = point;
+    let to_eye = towards_eye(eye, position);
+    let [st, dst_du, dst_dv] = st.st_frame(u, v);
     let surface = bezier::evaluate(patch, u, v);
     ShadingContext {
         p: position,
-        n: normal,
-        ng: normal,
+        n,
+        ng,
         i: -to_eye,
         e: position + to_eye,
         u,
         v,
-        du: 0.0,
-        dv: 0.0,
+        du,
+        dv,
         s: st.x,
         t: st.y,
         dp_du: surface.d_ds,
         dp_dv: surface.d_dt,
         dst_du,
         dst_dv,
-        cs: inputs.color,
+        cs,
         os: Vec3::ONE,
         time: 0.0,
     }
