@@ -20,7 +20,6 @@ use super::shade::{Lighting, shade, shade_user};
 use super::work::WorkItem;
 use crate::aov::{self, Aov};
 use crate::bezier;
-use crate::camera::towards_eye;
 use crate::color::{average_rgb10, pack_rgb10};
 use crate::dicing::{GridSize, grid_param};
 use crate::nonfinite::{Sources, camera_sources, close_sources};
