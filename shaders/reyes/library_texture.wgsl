@@ -1,4 +1,4 @@
-// Textures: trilinear filtering of mip-mapped RGBA textures stored as f16
+// Textures: anisotropic trilinear filtering of mip-mapped RGBA textures stored as f16
 // pairs (two pack2x16float words per texel, decoded by texture_unpack). Every function repeats its
 // Rust twin in reyes/src/texture/sample.rs operation for operation, on the
 // same texels, so the GPU and the CPU reference filter alike.
@@ -16,6 +16,9 @@ const TEXTURE_WRAP_PERIODIC: u32 = 0u;
 const TEXTURE_WRAP_CLAMP: u32 = 1u;
 const TEXTURE_WRAP_BLACK: u32 = 2u;
 
+// reyes::texture::MAX_ANISOTROPY: the most probes along a footprint.
+const TEXTURE_MAX_ANISOTROPY: u32 = 16u;
+
 // std::f32::consts::PI and TAU, as f32 (the nearest f32 to the decimal).
 const TEXTURE_PI: f32 = 3.1415927;
 const TEXTURE_TAU: f32 = 6.2831855;
@@ -25,6 +28,13 @@ struct TextureLevel {
     offset: u32,
     width: u32,
     height: u32,
+}
+
+// reyes::texture::sample::Probes.
+struct TextureProbes {
+    lod: f32,
+    count: u32,
+    major_axis: vec2<f32>,
 }
 
 // The two taps along one axis and the blend between them
@@ -138,19 +148,42 @@ fn texture_axis_texels(info: TextureInfo, axis: vec2<f32>) -> f32 {
     return sqrt(x * x + y * y);
 }
 
-// reyes::texture::sample::level_of_detail.
-fn texture_level_of_detail(info: TextureInfo, axis_a: vec2<f32>, axis_b: vec2<f32>) -> f32 {
+// reyes::texture::sample::probes.
+fn texture_probes(info: TextureInfo, axis_a: vec2<f32>, axis_b: vec2<f32>) -> TextureProbes {
     let coarsest = f32(info.levels - 1u);
     let a = texture_axis_texels(info, axis_a);
     let b = texture_axis_texels(info, axis_b);
     if (!texture_is_finite(a) || !texture_is_finite(b)) {
-        return coarsest;
+        return TextureProbes(coarsest, 1u, vec2<f32>(0.0));
     }
-    let longest = max(a, b);
-    if (longest <= 1.0) {
-        return 0.0;
+    var major_axis = axis_a;
+    var major = a;
+    var minor = b;
+    if (a < b) {
+        major_axis = axis_b;
+        major = b;
+        minor = a;
     }
-    return min(log2(longest), coarsest);
+    let width = max(minor, major / f32(TEXTURE_MAX_ANISOTROPY));
+    let count = u32(clamp(ceil(major / max(width, 1.0)), 1.0, f32(TEXTURE_MAX_ANISOTROPY)));
+    var lod = 0.0;
+    if (width > 1.0) {
+        lod = min(log2(width), coarsest);
+    }
+    return TextureProbes(lod, count, major_axis);
+}
+
+// reyes::texture::sample::trilinear.
+fn texture_trilinear(info: TextureInfo, st: vec2<f32>, lod: f32) -> vec4<f32> {
+    let base = floor(lod);
+    let blend = lod - base;
+    let fine = u32(base);
+    let c0 = texture_bilinear(info, fine, st);
+    if (blend <= 0.0) {
+        return c0;
+    }
+    let c1 = texture_bilinear(info, min(fine + 1u, info.levels - 1u), st);
+    return c0 + (c1 - c0) * blend;
 }
 
 // reyes::texture::sample::sample (reyes::texture::TextureSet::sample): the
@@ -171,16 +204,14 @@ fn texture_filter(info: TextureInfo, st: vec2<f32>, axis_a: vec2<f32>, axis_b: v
     if (!texture_is_finite(st.x) || !texture_is_finite(st.y)) {
         return vec4<f32>(0.0);
     }
-    let lod = texture_level_of_detail(info, axis_a, axis_b);
-    let base = floor(lod);
-    let blend = lod - base;
-    let fine = u32(base);
-    let c0 = texture_bilinear(info, fine, st);
-    if (blend <= 0.0) {
-        return c0;
+    let probes = texture_probes(info, axis_a, axis_b);
+    let count = f32(probes.count);
+    var sum = vec4<f32>(0.0);
+    for (var i = 0u; i < probes.count; i++) {
+        let along = (f32(i) + 0.5) / count - 0.5;
+        sum += texture_trilinear(info, st + probes.major_axis * along, probes.lod);
     }
-    let c1 = texture_bilinear(info, min(fine + 1u, info.levels - 1u), st);
-    return c0 + (c1 - c0) * blend;
+    return sum / count;
 }
 
 // ------------------------------------------------ latitude-longitude maps

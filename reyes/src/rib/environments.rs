@@ -3,7 +3,8 @@
 //!
 //! As with `MakeTexture`, nothing is written: the name stands for its
 //! picture, which the renderer mipmaps itself, and the filter and its
-//! widths are not followed (every lookup is trilinear). A latitude-longitude
+//! widths are not followed (every lookup is the anisotropic trilinear filter
+//! of `crate::texture`). A latitude-longitude
 //! picture is read by `environment()` in RenderMan's convention
 //! (`crate::texture::environment`). Cube-face maps are not supported: the
 //! request warns at its line, and a `shinymetal` naming one is `metal`.

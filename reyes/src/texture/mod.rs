@@ -33,6 +33,7 @@ use serde::{Deserialize, Serialize};
 
 pub use error::TextureError;
 pub use gpu::{DUMMY_TEXELS, TEXTURE_WGSL, TextureInfo};
+pub use sample::MAX_ANISOTROPY;
 
 use load::LinearImage;
 

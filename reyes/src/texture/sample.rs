@@ -1,13 +1,22 @@
-//! Trilinear filtering on the CPU, over the same tables the GPU reads.
+//! Anisotropic trilinear filtering on the CPU, over the same tables the GPU
+//! reads.
 //!
 //! `shaders/reyes/library_texture.wgsl` repeats every function here
 //! operation for operation (each WGSL function names its twin), on the same
 //! f16 texels, so the two agree to float rounding.
 //!
-//! * Level of detail: `lod = log2(L)`, `L` the longer footprint axis
-//!   measured in level-0 texels (`|(a.s * width, a.t * height)|`), clamped
-//!   to `[0, levels - 1]`; `L <= 1` is level 0, a non-finite `L` the
-//!   coarsest level.
+//! * Footprint: the parallelogram `st + x a + y b`, `x, y` in
+//!   `[-1/2, 1/2]`, with `a` and `b` its two axes. Measured in level-0
+//!   texels (`|(a.s * width, a.t * height)|`), `major` is the longer axis
+//!   and `minor` the shorter.
+//! * Probes along the longer axis: the filter's width is `w = max(minor,
+//!   major / MAX_ANISOTROPY)`, and `n = ceil(major / max(w, 1))` trilinear
+//!   probes (at most [`MAX_ANISOTROPY`]) sit at the centres of `n` equal
+//!   pieces of the longer axis, `st + major_axis * ((i + 1/2) / n - 1/2)`;
+//!   their mean is the result. A footprint longer than `MAX_ANISOTROPY`
+//!   times its width is blurred across, never aliased along.
+//! * Level of detail: `lod = log2(w)`, clamped to `[0, levels - 1]`; `w <=
+//!   1` is level 0, a non-finite axis the coarsest level (with one probe).
 //! * Within a level: bilinear between texel centres. `s = 0` is the left
 //!   edge of texel 0 and `s = 1` the right edge of the last, so texel `i` of
 //!   an `n`-texel level has its centre at `(i + 0.5) / n`. The wrap mode of
@@ -118,20 +127,70 @@ fn axis_texels(info: &TextureInfo, axis: Vec2) -> f32 {
     (x * x + y * y).sqrt()
 }
 
-/// The level of detail of the footprint `(axis_a, axis_b)`, in
-/// `[0, levels - 1]`.
-pub(super) fn level_of_detail(info: &TextureInfo, axis_a: Vec2, axis_b: Vec2) -> f32 {
+/// Most trilinear probes along a footprint's longer axis: the longest
+/// ratio of its axes that the filter resolves. Beyond it the filter widens
+/// across the footprint (blurs) rather than leaving gaps between probes
+/// (aliases). 16 is what graphics hardware offers at most.
+pub const MAX_ANISOTROPY: u32 = 16;
+
+/// How a footprint is filtered: `probes` trilinear lookups at level of
+/// detail `lod`, spread along `major_axis` (in (s, t)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Probes {
+    /// Level of detail of every probe, in `[0, levels - 1]`.
+    pub(super) lod: f32,
+    /// Number of probes, in `1..=MAX_ANISOTROPY`.
+    pub(super) count: u32,
+    /// The footprint's longer axis, in (s, t).
+    pub(super) major_axis: Vec2,
+}
+
+/// The probes that filter the footprint `(axis_a, axis_b)`.
+pub(super) fn probes(info: &TextureInfo, axis_a: Vec2, axis_b: Vec2) -> Probes {
     let coarsest = (info.levels - 1) as f32;
     let a = axis_texels(info, axis_a);
     let b = axis_texels(info, axis_b);
     if !is_finite(a) || !is_finite(b) {
-        return coarsest;
+        return Probes {
+            lod: coarsest,
+            count: 1,
+            major_axis: Vec2::ZERO,
+        };
     }
-    let longest = a.max(b);
-    if longest <= 1.0 {
-        return 0.0;
+    let (major_axis, major, minor) = if a >= b {
+        (axis_a, a, b)
+    } else {
+        (axis_b, b, a)
+    };
+    let width = minor.max(major / MAX_ANISOTROPY as f32);
+    // One probe per filter width along the longer axis, and at least one
+    // per level-0 texel where the filter is level 0 (width below a texel).
+    let count = (major / width.max(1.0))
+        .ceil()
+        .clamp(1.0, MAX_ANISOTROPY as f32) as u32;
+    let lod = if width <= 1.0 {
+        0.0
+    } else {
+        width.log2().min(coarsest)
+    };
+    Probes {
+        lod,
+        count,
+        major_axis,
     }
-    longest.log2().min(coarsest)
+}
+
+/// Trilinear sample of `info` at `st` and level of detail `lod`.
+fn trilinear(info: &TextureInfo, texels: &[[u32; 2]], st: Vec2, lod: f32) -> Vec4 {
+    let base = lod.floor();
+    let blend = lod - base;
+    let fine = base as u32;
+    let c0 = bilinear(info, texels, fine, st);
+    if blend <= 0.0 {
+        return c0;
+    }
+    let c1 = bilinear(info, texels, (fine + 1).min(info.levels - 1), st);
+    c0 + (c1 - c0) * blend
 }
 
 /// The filtered texture `id` of `infos` at `st`, for a shading point whose
@@ -163,14 +222,12 @@ pub(super) fn filter(
     if !is_finite(st.x) || !is_finite(st.y) {
         return Vec4::ZERO;
     }
-    let lod = level_of_detail(info, axis_a, axis_b);
-    let base = lod.floor();
-    let blend = lod - base;
-    let fine = base as u32;
-    let c0 = bilinear(info, texels, fine, st);
-    if blend <= 0.0 {
-        return c0;
+    let probes = probes(info, axis_a, axis_b);
+    let count = probes.count as f32;
+    let mut sum = Vec4::ZERO;
+    for i in 0..probes.count {
+        let along = (i as f32 + 0.5) / count - 0.5;
+        sum += trilinear(info, texels, st + probes.major_axis * along, probes.lod);
     }
-    let c1 = bilinear(info, texels, (fine + 1).min(info.levels - 1), st);
-    c0 + (c1 - c0) * blend
+    sum / count
 }

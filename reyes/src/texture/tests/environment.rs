@@ -152,9 +152,9 @@ fn the_footprint_axis_is_the_derivative_of_the_mapping() {
 }
 
 #[test]
-fn a_wider_footprint_reads_a_coarser_level() {
-    // Columns alternating 0 and 1: a texel centre reads 0 or 1, level 2
-    // (4 x 4 texels averaged) reads 1/2 everywhere.
+fn a_longer_footprint_averages_along_its_length() {
+    // Columns alternating 0 and 1: a texel centre reads 0 or 1, and probes
+    // a texel apart along s, or any coarser level, read 1/2.
     let texels = (0..HEIGHT)
         .flat_map(|_| (0..WIDTH).map(|i| Vec4::new((i % 2) as f32, 0.0, 0.0, 1.0)))
         .collect();
@@ -172,14 +172,15 @@ fn a_wider_footprint_reads_a_coarser_level() {
     let r = direction(5.5 / f64::from(WIDTH), 0.5 / f64::from(HEIGHT) + 0.25);
     assert!((look(&set, id, r).x - 1.0).abs() < 1e-3);
     // A change of direction across 4 texels in s (a quarter turn in
-    // longitude spans 4 of the 16 columns): level 2.
+    // longitude spans 4 of the 16 columns) and none across: 4 probes at
+    // level 0, one per texel.
     let dr = Vec3::new(-r.y, r.x, 0.0) * (4.0 * std::f32::consts::TAU / WIDTH as f32);
-    let lod = sample::level_of_detail(
+    let probes = sample::probes(
         set.info(id).unwrap(),
         latlong::latlong_axis(r, dr),
         Vec2::ZERO,
     );
-    assert!((lod - 2.0).abs() < 1e-3, "lod {lod}");
+    assert_eq!((probes.count, probes.lod), (4, 0.0), "{probes:?}");
     let blurred = set.environment(id, r, dr, Vec3::ZERO);
     assert!((blurred.x - 0.5).abs() < 1e-3, "{blurred}");
     // The same change along v instead.

@@ -253,31 +253,46 @@ fn minified_checkerboards_converge_to_their_mean() {
 }
 
 #[test]
-fn the_longer_axis_picks_the_level() {
+fn the_shorter_axis_picks_the_level_and_the_longer_the_probes() {
     let mut set = TextureSet::default();
     let id = texture(&mut set, 64, 16, Wrap::Periodic, |_, _| Vec4::ONE);
     let info = *set.info(id).unwrap();
     assert_eq!(info.levels, 7);
-    let lod = |a: Vec2, b: Vec2| sample::level_of_detail(&info, a, b);
+    let probes = |a: Vec2, b: Vec2| {
+        let p = sample::probes(&info, a, b);
+        (p.lod, p.count)
+    };
     // Measured in level-0 texels of each axis: 4 texels along s, 2 along t.
     assert_eq!(
-        lod(Vec2::new(4.0 / 64.0, 0.0), Vec2::new(0.0, 2.0 / 16.0)),
-        2.0
+        probes(Vec2::new(4.0 / 64.0, 0.0), Vec2::new(0.0, 2.0 / 16.0)),
+        (1.0, 2)
     );
     assert_eq!(
-        lod(Vec2::new(0.0, 8.0 / 16.0), Vec2::new(1.0 / 64.0, 0.0)),
-        3.0
+        probes(Vec2::new(0.0, 8.0 / 16.0), Vec2::new(1.0 / 64.0, 0.0)),
+        (0.0, 8)
     );
-    // Diagonal: |(3, 4)| = 5 texels.
+    // Round: one probe, at the level of its diameter. Diagonal: |(3, 4)| =
+    // 5 texels.
+    let diagonal = Vec2::new(3.0 / 64.0, 4.0 / 16.0);
     assert_eq!(
-        lod(Vec2::new(3.0 / 64.0, 4.0 / 16.0), Vec2::ZERO),
-        5f32.log2()
+        probes(
+            diagonal,
+            diagonal.perp() * Vec2::new(16.0 / 64.0, 64.0 / 16.0)
+        ),
+        (5f32.log2(), 1)
     );
-    // Magnification is level 0; beyond the last level, the last level.
-    assert_eq!(lod(Vec2::ZERO, Vec2::ZERO), 0.0);
-    assert_eq!(lod(Vec2::new(100.0, 0.0), Vec2::ZERO), 6.0);
-    assert_eq!(lod(Vec2::new(f32::INFINITY, 0.0), Vec2::ZERO), 6.0);
-    assert_eq!(lod(Vec2::new(f32::NAN, 0.0), Vec2::ZERO), 6.0);
+    // 64 texels long, none wide: at most 16 probes, 4 texels wide each.
+    assert_eq!(probes(Vec2::new(1.0, 0.0), Vec2::ZERO), (2.0, 16));
+    // Magnification is level 0 with one probe; beyond the last level, the
+    // last level; a non-finite axis, the last level with one probe.
+    assert_eq!(probes(Vec2::ZERO, Vec2::ZERO), (0.0, 1));
+    assert_eq!(probes(Vec2::new(0.5 / 64.0, 0.0), Vec2::ZERO), (0.0, 1));
+    assert_eq!(
+        probes(Vec2::new(100.0, 0.0), Vec2::new(0.0, 400.0)),
+        (6.0, 1)
+    );
+    assert_eq!(probes(Vec2::new(f32::INFINITY, 0.0), Vec2::ZERO), (6.0, 1));
+    assert_eq!(probes(Vec2::new(f32::NAN, 0.0), Vec2::ZERO), (6.0, 1));
 }
 
 #[test]

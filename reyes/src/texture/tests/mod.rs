@@ -1,7 +1,9 @@
 //! Unit tests of [`super`]: the formats and their errors (`formats`), the
-//! filtering (`filtering`), environment lookups (`environment`), and the
+//! filtering (`filtering`, and `anisotropy` against a box integral),
+//! environment lookups (`environment`), and the
 //! WGSL twin's declarations (`wgsl`).
 
+mod anisotropy;
 mod environment;
 mod filtering;
 mod formats;

@@ -32,6 +32,14 @@ fn wrap_codes_match_the_wgsl() {
 }
 
 #[test]
+fn the_anisotropy_limit_matches_the_wgsl() {
+    assert_eq!(
+        wgsl_constant(TEXTURE_WGSL, "TEXTURE_MAX_ANISOTROPY"),
+        MAX_ANISOTROPY
+    );
+}
+
+#[test]
 fn the_library_validates_with_its_globals() {
     assert_eq!(std::mem::size_of::<TextureInfo>(), 32);
     let source = format!(
