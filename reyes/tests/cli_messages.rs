@@ -141,3 +141,43 @@ fn a_model_whose_name_is_not_utf8_is_read_by_its_path() {
         );
     }
 }
+
+#[cfg(unix)]
+#[test]
+fn a_height_map_whose_name_is_not_utf8_displaces_as_its_copy() {
+    use std::os::unix::ffi::OsStrExt;
+    let temp = TempDir::new("msg-non-utf8-displace");
+    let map = image::GrayImage::from_fn(8, 8, |x, y| image::Luma([(30 * (x ^ y)) as u8]));
+    let plain = temp.path("plain.png");
+    map.save(&plain).unwrap();
+    let name = std::ffi::OsStr::from_bytes(b"\xffheights.png");
+    let odd = temp.path("").join(name);
+    if std::fs::copy(&plain, &odd).is_err() {
+        println!("NOTICE: the file system refuses a non-UTF-8 name; skipping");
+        return;
+    }
+    // The same heights by both names: the same picture, byte for byte.
+    let render = |map: &Path, out: &Path| {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_reyes"));
+        command
+            .arg("render")
+            .args(["--cpu", "--spp", "1", "--width", "64", "--height", "48"])
+            .arg("--displace")
+            .arg(map)
+            .args(["--displace-scale", "0.3", "-o", path_str(out)]);
+        let (ok, stderr) = run_command(command);
+        assert!(ok && out.exists(), "{}: {stderr}", map.display());
+        std::fs::read(out).unwrap()
+    };
+    let flat = temp.path("flat.png");
+    let mut command = Command::new(env!("CARGO_BIN_EXE_reyes"));
+    command.arg("render").args([
+        "--cpu", "--spp", "1", "--width", "64", "--height", "48", "-o",
+    ]);
+    command.arg(&flat);
+    let (ok, stderr) = run_command(command);
+    assert!(ok, "{stderr}");
+    let by_plain = render(&plain, &temp.path("by-plain.png"));
+    assert_ne!(by_plain, std::fs::read(&flat).unwrap(), "nothing displaced");
+    assert_eq!(render(&odd, &temp.path("by-odd.png")), by_plain);
+}

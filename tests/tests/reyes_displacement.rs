@@ -414,6 +414,14 @@ fn scene_errors_for_displacement_fields() {
             "source = \"sines\"\nscale = 0.1\nwgsl = \"fn displacement_user(u: f32, v: f32) -> f32 { return u; }\"",
             "objects[0].displacement.wgsl",
         ),
+        (
+            "source = \"image\"\nscale = 0.1",
+            "objects[0].displacement.file",
+        ),
+        (
+            "source = \"bumps\"\nscale = 0.1\nfile = \"hm.png\"",
+            "objects[0].displacement.file",
+        ),
     ] {
         let error = Scene::from_toml_str(&scene_with(table)).unwrap_err();
         assert_eq!(field_of(&error), Some(field), "{table:?}: {error}");

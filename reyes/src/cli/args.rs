@@ -109,7 +109,7 @@ pub(crate) struct RenderArgs {
     /// defining `fn displacement_user(u: f32, v: f32) -> f32` (GPU only;
     /// needs --displace-bound). Replaces any displacement of the scene.
     #[arg(long, value_name = "SOURCE", requires = "displace_scale")]
-    pub(crate) displace: Option<String>,
+    pub(crate) displace: Option<std::ffi::OsString>,
     /// World units of displacement per unit of height (negative: inwards).
     #[arg(
         long,

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::BoxError;
 use super::args::RenderArgs;
 use crate::displacement::DisplacementDesc;
-use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
+use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_IMAGE, SOURCE_SINES, SOURCE_WGSL};
 use crate::input::InputKind;
 use crate::model::Model;
 use crate::output::console::errln;
@@ -127,28 +127,23 @@ pub(crate) fn displacement(args: &RenderArgs) -> Result<Option<DisplacementDesc>
     let (Some(source), Some(scale)) = (&args.displace, args.displace_scale) else {
         return Ok(None);
     };
-    let (source, wgsl) = if wgsl_file(args).is_some() {
+    let (source, wgsl, file) = if wgsl_file(args).is_some() {
         let text =
             crate::input::read_text(Path::new(source), InputKind::Wgsl, InputKind::Wgsl.limit())?;
-        (SOURCE_WGSL.to_owned(), Some(text))
+        (SOURCE_WGSL.to_owned(), Some(text), None)
     } else if source == SOURCE_WGSL {
         return Err(format!(
             "--displace {SOURCE_WGSL} needs the function: pass the path of a .wgsl file"
         )
         .into());
+    } else if source == SOURCE_BUMPS || source == SOURCE_SINES {
+        (source.to_string_lossy().into_owned(), None, None)
     } else {
-        // A relative PNG path means the current directory, not the scene's:
-        // make it absolute so the scene's base directory does not apply.
-        let path = Path::new(source);
-        let source = if source == SOURCE_BUMPS || source == SOURCE_SINES || path.is_absolute() {
-            source.clone()
-        } else {
-            std::env::current_dir()?
-                .join(path)
-                .to_string_lossy()
-                .into_owned()
-        };
-        (source, None)
+        // A height map, by its path as given (it need not be UTF-8). A
+        // relative path means the current directory, not the scene's: make
+        // it absolute so the scene's base directory does not apply.
+        let path = std::env::current_dir()?.join(source);
+        (SOURCE_IMAGE.to_owned(), None, Some(path))
     };
     Ok(Some(DisplacementDesc {
         source,
@@ -156,7 +151,7 @@ pub(crate) fn displacement(args: &RenderArgs) -> Result<Option<DisplacementDesc>
         bound: args.displace_bound,
         tiling: args.displace_tiling.unwrap_or(1.0),
         wgsl,
-        file: None,
+        file,
         parameters: Default::default(),
     }))
 }

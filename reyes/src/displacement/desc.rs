@@ -20,18 +20,21 @@ pub const SOURCE_SINES: &str = "sines";
 pub const SOURCE_WGSL: &str = "wgsl";
 /// `source` value of a displacement shader (its file in `file`).
 pub const SOURCE_SHADER: &str = "shader";
+/// `source` value of a grey PNG height map named by `file` (a path that
+/// need not be UTF-8, as a `source` string must).
+pub const SOURCE_IMAGE: &str = "image";
 pub use crate::user_wgsl::USER_FUNCTION_NAME;
 
 /// An object's displacement as written in a scene file:
 ///
 /// ```toml
 /// [objects.displacement]
-/// source = "bumps"     # "bumps", "sines", "wgsl", "shader", or the path of a grey PNG
+/// source = "bumps"     # "bumps", "sines", "wgsl", "shader", "image", or the path of a grey PNG
 /// scale = 0.05         # world units per unit of height (negative: inwards)
 /// bound = 0.05         # optional: default |scale| * max height
 /// tiling = 2.0         # optional: source repeats per patch (default 1)
 /// # wgsl = "fn displacement_user(u: f32, v: f32) -> f32 { ... }"   # for source = "wgsl"
-/// # file = "ripples.wgsl"            # for source = "shader"
+/// # file = "ripples.wgsl"            # for source = "shader" (or a PNG for "image")
 /// # parameters = { Km = 0.02 }       # the shader's parameters
 /// ```
 ///
@@ -42,9 +45,10 @@ pub use crate::user_wgsl::USER_FUNCTION_NAME;
 #[serde(deny_unknown_fields)]
 pub struct DisplacementDesc {
     /// `"bumps"` (the embedded height map), `"sines"` (built-in procedural
-    /// bumps), `"wgsl"` (the function in [`DisplacementDesc::wgsl`]), or the
-    /// path of an 8/16-bit grey PNG (relative to the scene file's directory;
-    /// write `./sines` for a file of that name).
+    /// bumps), `"wgsl"` (the function in [`DisplacementDesc::wgsl`]),
+    /// `"shader"` or `"image"` (the file in [`DisplacementDesc::file`]), or
+    /// the path of an 8/16-bit grey PNG (relative to the scene file's
+    /// directory; write `./sines` for a file of that name).
     pub source: String,
     /// World units of displacement per unit of height, along the surface
     /// normal `dP/du x dP/dv` (default 1). Must be finite; may be negative
@@ -63,9 +67,9 @@ pub struct DisplacementDesc {
     /// The WGSL of `fn displacement_user(u: f32, v: f32) -> f32` (source `"wgsl"` only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wgsl: Option<String>,
-    /// The displacement shader's file (source `"shader"` only), relative
-    /// to the scene file's directory; `builtin:bumpy` names the standard
-    /// `bumpy`.
+    /// The displacement shader's file (source `"shader"`; `builtin:bumpy`
+    /// names the standard `bumpy`) or the grey PNG height map (source
+    /// `"image"`), relative to the scene file's directory.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub file: Option<PathBuf>,
     /// The shader's parameters by name (source `"shader"` only).
@@ -131,6 +135,8 @@ impl DisplacementDesc {
             SOURCE_SINES => SourceKind::Sines,
             SOURCE_WGSL => SourceKind::Wgsl,
             SOURCE_SHADER => SourceKind::Shader,
+            // validate() refuses "image" without a file.
+            SOURCE_IMAGE => SourceKind::Image(self.file.clone().unwrap_or_default()),
             path => SourceKind::Image(PathBuf::from(path)),
         }
     }
@@ -163,7 +169,7 @@ impl DisplacementDesc {
         if self.source.trim().is_empty() {
             return Err(DescProblem::invalid(
                 "source",
-                "must be \"bumps\", \"sines\", \"wgsl\", \"shader\" or the path of a grey PNG",
+                "must be \"bumps\", \"sines\", \"wgsl\", \"shader\", \"image\" or the path of a grey PNG",
             ));
         }
         let shader = self.kind() == SourceKind::Shader;
@@ -183,10 +189,17 @@ impl DisplacementDesc {
                 "is required for source = \"shader\" (the host cannot know how far the shader moves points)",
             ));
         }
-        if !shader && self.file.is_some() {
+        let image_file = self.source == SOURCE_IMAGE;
+        if image_file && self.file.is_none() {
             return Err(DescProblem::invalid(
                 "file",
-                "is only used with source = \"shader\"",
+                "source = \"image\" needs the height map's path in `file`",
+            ));
+        }
+        if !shader && !image_file && self.file.is_some() {
+            return Err(DescProblem::invalid(
+                "file",
+                "is only used with source = \"shader\" or \"image\"",
             ));
         }
         if !shader && !self.parameters.is_empty() {
