@@ -175,6 +175,17 @@ pub struct Interp {
     /// `MakeCubeFaceEnvironment`'s texture names, which are not supported
     /// ([`super::environments`]).
     pub(super) cube_environments: HashSet<String>,
+    /// The frame being read, from its `FrameBegin` ([`super::frames`]).
+    pub(super) frame: Option<super::frames::OpenFrame>,
+    /// The frames read so far, in order.
+    pub(super) frames: Vec<super::RibFrame>,
+    /// The line of the file's first `FrameBegin`, once there is one.
+    pub(super) first_frame_line: Option<usize>,
+    /// The line of a `WorldBegin` outside any frame, once there is one.
+    pub(super) bare_world_line: Option<usize>,
+    /// The RIB file (or the name its text was given under): the scene's
+    /// warnings and errors name it.
+    pub(super) main_file: PathBuf,
 }
 
 /// RenderMan's camera space is left-handed (x right, y up, z forward); the
@@ -216,6 +227,11 @@ impl Interp {
             options_only: false,
             blocks: Vec::new(),
             lenient: false,
+            frame: None,
+            frames: Vec::new(),
+            first_frame_line: None,
+            bare_world_line: None,
+            main_file: PathBuf::new(),
         }
     }
 
@@ -346,7 +362,12 @@ impl Interp {
             return Ok(());
         }
         if self.world_done && !matches!(name, "FrameEnd" | "FrameBegin") {
-            self.warn_once("#frames", file, line, "only the first world block is rendered; the requests after its WorldEnd are ignored".into());
+            let message = if self.frame.is_some() {
+                "only the first world block of a frame is rendered; the requests after its WorldEnd up to FrameEnd are ignored"
+            } else {
+                "only the first world block is rendered; the requests after its WorldEnd are ignored (a file of several images puts each in a FrameBegin/FrameEnd block)"
+            };
+            self.warn_once("#frames", file, line, message.into());
             return Ok(());
         }
         if let Some(m) = &mut self.motion
@@ -367,7 +388,9 @@ impl Interp {
         }
         let world = self.camera.is_some();
         match name {
-            "version" | "FrameBegin" | "FrameEnd" => {}
+            "version" => {}
+            "FrameBegin" => self.frame_begin(v, file, line)?,
+            "FrameEnd" => self.frame_end(file)?,
             "Declare" => {
                 let name = state::arg_str(v, 0, "the name")?.to_owned();
                 let decl = state::parse_decl(state::arg_str(v, 1, "the declaration")?)?;
@@ -391,6 +414,7 @@ impl Interp {
                 if world {
                     return Err("WorldBegin inside a world block".to_owned().into());
                 }
+                self.world_begin_outside_frames(line)?;
                 if self.xf.open != self.xf.close {
                     self.camera_close = Some((self.xf.close, line));
                 }

@@ -180,8 +180,16 @@ impl Interp {
                         line,
                         "Display inside the world block is ignored (it is an option)".into(),
                     );
-                } else if self.opts.display.is_none() && !name.starts_with('+') {
-                    self.opts.display = Some(name.to_owned());
+                } else if !name.starts_with('+') {
+                    // The first name of the frame replaces the one given
+                    // before it; outside frames the first name counts.
+                    let first = match &mut self.frame {
+                        Some(frame) => !std::mem::replace(&mut frame.display_set, true),
+                        None => self.opts.display.is_none(),
+                    };
+                    if first {
+                        self.opts.display = Some(name.to_owned());
+                    }
                 }
             }
             "PixelFilter" => {
