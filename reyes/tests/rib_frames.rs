@@ -303,11 +303,9 @@ fn bad_frame_structure_is_an_error_with_its_line() {
 
 #[test]
 fn options_inside_a_frame_end_with_it() {
-    let text = format!(
-        "Format 10 10 1\nFrameBegin 1\nFormat 30 20 1\nDisplay \"a.png\" \"file\" \"rgba\"\nWorldBegin\nWorldEnd\nFrameEnd\n\
-Display \"base.png\" \"file\" \"rgba\"\nFrameBegin 2\nWorldBegin\nWorldEnd\nFrameEnd\n"
-    );
-    let frames = RibFrames::from_text_with(&text, "f.rib", RibOptions::default()).unwrap();
+    let text = "Format 10 10 1\nFrameBegin 1\nFormat 30 20 1\nDisplay \"a.png\" \"file\" \"rgba\"\nWorldBegin\nWorldEnd\nFrameEnd\n\
+Display \"base.png\" \"file\" \"rgba\"\nFrameBegin 2\nWorldBegin\nWorldEnd\nFrameEnd\n";
+    let frames = RibFrames::from_text_with(text, "f.rib", RibOptions::default()).unwrap();
     let scenes: Vec<&RibScene> = frames
         .frames
         .iter()
@@ -331,7 +329,7 @@ Display \"base.png\" \"file\" \"rgba\"\nFrameBegin 2\nWorldBegin\nWorldEnd\nFram
     assert_eq!(scenes[0].display.as_deref(), Some("a.png"));
     assert_eq!(scenes[1].display.as_deref(), Some("base.png"));
     // Read as one scene: the first frame, with a warning that says so.
-    let first = RibScene::from_text(&text, "f.rib").unwrap();
+    let first = RibScene::from_text(text, "f.rib").unwrap();
     assert_eq!(first.scene.resolution.width, 30);
     assert!(
         first

@@ -43,6 +43,12 @@ pub(crate) fn base_scene(
     selection: Option<&FrameSelection>,
 ) -> Result<BaseScene, BoxError> {
     let Some(path) = path else {
+        if let Some(selection) = selection {
+            return Err(format!(
+                "--frame {selection}: selects frames of a RIB file, not of the teapot"
+            )
+            .into());
+        }
         return Ok(BaseScene {
             scene: Scene::default_teapot(),
             models: None,
@@ -54,6 +60,15 @@ pub(crate) fn base_scene(
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
+    if let Some(selection) = selection
+        && extension.as_deref() != Some("rib")
+    {
+        return Err(format!(
+            "--frame {selection}: selects frames of a RIB file; {} is none",
+            path.display()
+        )
+        .into());
+    }
     match extension.as_deref() {
         Some("toml") => {
             let scene = Scene::load(path)?;

@@ -52,44 +52,7 @@ const MAX_MESSAGE_CHARS: usize = 512;
 /// and short enough for the messages that quote it.
 const MAX_ARCHIVE_NAME_BYTES: usize = 1024;
 
-/// Options set before `WorldBegin`.
-#[derive(Debug, Clone, Default)]
-pub struct Options {
-    /// `Format` width, height, pixel aspect.
-    pub format: Option<(u32, u32, f64)>,
-    /// `PixelSamples` x, y.
-    pub pixel_samples: Option<(f64, f64)>,
-    /// `ShadingRate`.
-    pub shading_rate: Option<f64>,
-    /// `Projection "perspective"` field of view in degrees (of the shorter side).
-    pub fov: Option<f64>,
-    /// Whether a perspective projection was requested (RenderMan's default
-    /// is orthographic).
-    pub perspective: bool,
-    /// `ScreenWindow` left, right, bottom, top.
-    pub screen_window: Option<[f64; 4]>,
-    /// `FrameAspectRatio`.
-    pub frame_aspect: Option<f64>,
-    /// `Clipping` near, far.
-    pub clipping: Option<(f64, f64)>,
-    /// `Shutter` open, close.
-    pub shutter: Option<(f64, f64)>,
-    /// `DepthOfField` fstop, focal length, focal distance.
-    pub dof: Option<(f64, f64, f64)>,
-    /// `Display` file name.
-    pub display: Option<String>,
-    /// `ShadingInterpolation`: `true` for `"smooth"`.
-    pub smooth: Option<bool>,
-    /// `PixelFilter` (RenderMan's default, `gaussian` 2 2, when absent).
-    pub pixel_filter: Option<crate::filter::PixelFilter>,
-    /// `Exposure` (RenderMan's default, gain 1 gamma 1, when absent).
-    pub exposure: Option<crate::quantize::Exposure>,
-    /// `Quantize "rgba"` (RenderMan's 8-bit default, 255 0 255 0.5, when
-    /// absent).
-    pub quantize: Option<crate::quantize::Quantize>,
-    /// The times of the first `MotionBegin` block.
-    pub motion_times: Option<(f64, f64)>,
-}
+pub use super::options::Options;
 
 /// One primitive, in the renderer's (right-handed) world space.
 #[derive(Debug, Clone)]
@@ -453,35 +416,7 @@ impl Interp {
                 let shader = state::arg_str(&args, 0, "the shader")?;
                 self.attrs.surface = self.surface(shader, &params, file, line)?;
             }
-            "MakeTexture" => {
-                let (args, _, _) = state::split_params(v, 7, &self.declared)?;
-                let picture = state::arg_str(&args, 0, "the picture")?;
-                let texture = state::arg_str(&args, 1, "the texture name")?;
-                let mut wraps = [crate::texture::Wrap::Periodic; 2];
-                for (k, what) in [(2, "swrap"), (3, "twrap")] {
-                    let wrap = state::arg_str(&args, k, what)?;
-                    wraps[k - 2] = match wrap {
-                        "periodic" => crate::texture::Wrap::Periodic,
-                        "clamp" => crate::texture::Wrap::Clamp,
-                        "black" => crate::texture::Wrap::Black,
-                        other => {
-                            return Err(format!(
-                                "MakeTexture: {what} {:?} is not a wrap mode (\"periodic\", \"clamp\" or \"black\")",
-                                crate::input::excerpt(other)
-                            )
-                            .into());
-                        }
-                    };
-                }
-                let path = file.parent().unwrap_or(Path::new("")).join(picture);
-                self.cube_environments.remove(texture);
-                let desc = crate::texture::TextureDesc {
-                    wrap_s: wraps[0],
-                    wrap_t: wraps[1],
-                    ..crate::texture::TextureDesc::new(path)
-                };
-                self.made_textures.insert(texture.to_owned(), desc);
-            }
+            "MakeTexture" => self.make_texture(v, file)?,
             "MakeLatLongEnvironment" => self.make_latlong_environment(v, file)?,
             "MakeCubeFaceEnvironment" => self.make_cube_face_environment(v, file, line)?,
             "LightSource" => self.light_source(v, file, line)?,
