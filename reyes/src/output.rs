@@ -207,10 +207,25 @@ impl OutputPlan {
         image: &Path,
         stats_json: Option<&Path>,
     ) -> Result<OutputPlan, OutputError> {
-        let image_file = guard.add_output(OutputKind::Image, "image", image)?;
+        OutputPlan::of_frame(guard, None, image, stats_json)
+    }
+
+    /// [`OutputPlan::new`] for one of several frames: messages call the
+    /// outputs `image of frame 2`, `statistics JSON of frame 2`.
+    pub fn of_frame(
+        guard: &mut OutputGuard,
+        frame: Option<&str>,
+        image: &Path,
+        stats_json: Option<&Path>,
+    ) -> Result<OutputPlan, OutputError> {
+        let label = |what: &str| match frame {
+            Some(frame) => format!("{what} of {frame}"),
+            None => what.to_owned(),
+        };
+        let image_file = guard.add_output(OutputKind::Image, label("image"), image)?;
         let format = ImageFormat::from_path(image)?;
         let stats_file = stats_json
-            .map(|path| guard.add_output(OutputKind::Json, "statistics JSON", path))
+            .map(|path| guard.add_output(OutputKind::Json, label("statistics JSON"), path))
             .transpose()?;
         Ok(OutputPlan {
             image: (image_file, format),

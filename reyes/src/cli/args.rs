@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 
+use super::frames::{FrameSelection, parse_frames};
 use super::parse::{parse_bytes, parse_pan, parse_vec3};
 use crate::aov::Aov;
 use crate::modes::{Dicing, Sampling, ShadingInterpolation};
@@ -21,9 +22,23 @@ pub(crate) struct RenderArgs {
     /// directories are created. Checked before rendering, written through a
     /// temporary file renamed over it, so a failure leaves no partial file.
     /// Default: a RIB scene's `Display` file (relative to the current
-    /// directory), else `reyes.png`.
+    /// directory; each frame's own), else `reyes.png`. For several frames
+    /// of a RIB file, a run of `#`s in the file name takes the frame
+    /// number, zero-padded to as many digits (`out.####.png`: out.0001.png,
+    /// out.0002.png...); a name without `#`s holds one frame only.
     #[arg(short, long)]
     pub(crate) output: Option<PathBuf>,
+    /// The frames of a RIB file to render (its `FrameBegin n` blocks, in
+    /// the file's order): a number, an inclusive range `N..M` or a list
+    /// `1,3..5`. Default: every frame. A number the file lacks is an
+    /// error that lists the file's frames.
+    #[arg(long, value_name = "N|N..M|LIST", value_parser = parse_frames)]
+    pub(crate) frame: Option<FrameSelection>,
+    /// Render the later frames of a RIB file after a frame fails (by
+    /// default a failed frame stops the file). The exit status is non-zero
+    /// when any frame failed, and the last message lists them.
+    #[arg(long)]
+    pub(crate) keep_going: bool,
     /// Image width in pixels (default: the scene's, 800).
     #[arg(long)]
     pub(crate) width: Option<u32>,
@@ -66,7 +81,7 @@ pub(crate) struct RenderArgs {
     /// `ReverseOrientation`).
     #[arg(long)]
     pub(crate) reverse_orientation: bool,
-    /// Print the statistics table.
+    /// Print the statistics table (one per frame, each headed by its frame).
     #[arg(long)]
     pub(crate) stats: bool,
     /// Draw no progress line and print no notice about the adapter (the
@@ -76,12 +91,15 @@ pub(crate) struct RenderArgs {
     pub(crate) quiet: bool,
     /// Write the statistics as JSON to FILE (any name but the image's;
     /// missing directories are created, as for `-o`). The image and FILE
-    /// are replaced together, or neither is.
+    /// are replaced together, or neither is. For several frames, a run of
+    /// `#`s in the name takes the frame number, as for `-o` (one file per
+    /// frame).
     #[arg(long, value_name = "FILE")]
     pub(crate) stats_json: Option<PathBuf>,
     /// Trace the GPU megakernel and write the Chrome trace (Trace Event
     /// Format, for Perfetto or chrome://tracing) of the frame's last run to
-    /// FILE (docs/scheduler.md, "Seeing a run").
+    /// FILE (docs/scheduler.md, "Seeing a run"); for several frames, a run
+    /// of `#`s in the name takes the frame number, as for `-o`.
     #[arg(long, value_name = "FILE")]
     pub(crate) trace: Option<PathBuf>,
     /// Camera position, e.g. `4,-12,7`. A camera framed automatically (a

@@ -1,5 +1,5 @@
-//! `reyes convert`: a RenderMan RIB scene to a TOML scene plus `.bpt`
-//! models.
+//! `reyes convert`: a RenderMan RIB scene (one frame of it) to a TOML
+//! scene plus `.bpt` models.
 
 use std::path::PathBuf;
 
@@ -25,6 +25,11 @@ pub(crate) struct ConvertArgs {
     /// 2^20; see `reyes render --help`).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub(crate) max_patches: Option<u64>,
+    /// The frame to convert (`FrameBegin N`): a TOML scene holds one, so a
+    /// RIB file of several frames needs it; without it such a file is an
+    /// error that lists its frames.
+    #[arg(long, value_name = "N")]
+    pub(crate) frame: Option<u32>,
 }
 
 /// `reyes convert`: RIB to TOML plus `.bpt` files.
@@ -40,9 +45,39 @@ pub(crate) fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
     let options = crate::rib::RibOptions {
         lenient: args.lenient,
     };
-    let rib = crate::rib::RibScene::load_with(&args.input, options)?;
+    let frames = crate::rib::RibFrames::load_with(&args.input, options)?;
+    let selection = args
+        .frame
+        .map(|n| super::frames::parse_frames(&n.to_string()))
+        .transpose()?;
+    let selected = super::frames::select(&args.input, &frames, selection.as_ref())?;
+    if selected.len() > 1 {
+        return Err(format!(
+            "{} has {} frames ({}): a TOML scene holds one; choose it with --frame N",
+            args.input.display(),
+            frames.frames.len(),
+            frames.list()
+        )
+        .into());
+    }
+    for warning in &frames.warnings {
+        errln!("warning: {warning}")?;
+    }
+    let sources = frames.sources.clone();
+    let frame = frames
+        .frames
+        .into_iter()
+        .nth(selected[0])
+        .expect("a selected frame");
+    let label = frame.number.map(|_| frame.label());
+    let mut rib = frame.scene?;
+    // Every file the RIB read, also after the frame, is no output.
+    rib.sources = sources;
     for warning in &rib.warnings {
         errln!("warning: {warning}")?;
+    }
+    if let Some(label) = label {
+        outln!("converting {label} of {}", args.input.display())?;
     }
     let written = rib.write(&args.output)?;
     for path in &written {

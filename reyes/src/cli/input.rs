@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use super::BoxError;
 use super::args::RenderArgs;
+use super::frames::FrameSelection;
 use crate::displacement::DisplacementDesc;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_IMAGE, SOURCE_SINES, SOURCE_WGSL};
 use crate::input::InputKind;
@@ -32,11 +33,22 @@ pub(crate) struct BaseScene {
 }
 
 /// The scene named on the command line, before overrides; `lenient` reads
-/// a RIB's unbalanced structure with warnings ([`crate::rib::RibOptions`]).
+/// a RIB's unbalanced structure with warnings ([`crate::rib::RibOptions`]);
+/// of a RIB file's frames, the first `selection` names.
 /// A scene without objects is warned about (the RIB reader's warnings say
 /// it for a RIB).
-pub(crate) fn base_scene(path: Option<&Path>, lenient: bool) -> Result<BaseScene, BoxError> {
+pub(crate) fn base_scene(
+    path: Option<&Path>,
+    lenient: bool,
+    selection: Option<&FrameSelection>,
+) -> Result<BaseScene, BoxError> {
     let Some(path) = path else {
+        if let Some(selection) = selection {
+            return Err(format!(
+                "--frame {selection}: selects frames of a RIB file, not of the teapot"
+            )
+            .into());
+        }
         return Ok(BaseScene {
             scene: Scene::default_teapot(),
             models: None,
@@ -48,6 +60,15 @@ pub(crate) fn base_scene(path: Option<&Path>, lenient: bool) -> Result<BaseScene
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
+    if let Some(selection) = selection
+        && extension.as_deref() != Some("rib")
+    {
+        return Err(format!(
+            "--frame {selection}: selects frames of a RIB file; {} is none",
+            path.display()
+        )
+        .into());
+    }
     match extension.as_deref() {
         Some("toml") => {
             let scene = Scene::load(path)?;
@@ -65,29 +86,24 @@ pub(crate) fn base_scene(path: Option<&Path>, lenient: bool) -> Result<BaseScene
             })
         }
         Some("rib") => {
-            let options = crate::rib::RibOptions { lenient };
-            let rib = crate::rib::RibScene::load_with(path, options)?;
-            for warning in &rib.warnings {
-                errln!("warning: {warning}")?;
-            }
-            if let Some(display) = &rib.display {
+            let frames = load_rib(path, lenient)?;
+            let selected = super::frames::select(path, &frames, selection)?;
+            if selected.len() > 1 {
                 errln!(
-                    "note: the RIB's Display file is {display}: the image goes there unless -o is given"
+                    "note: {} frames are selected ({}); this shows the first, {} (select another with --frame N)",
+                    selected.len(),
+                    frames.list(),
+                    frames.frames[selected[0]].label()
                 )?;
             }
-            // The first source is the scene itself, the others archives.
-            let read = rib
-                .sources
+            let sources = frames.sources.clone();
+            let frame = frames
+                .frames
                 .into_iter()
-                .enumerate()
-                .map(|(i, path)| (if i == 0 { "scene" } else { "RIB archive" }, path))
-                .collect();
-            // The models stay in memory: nothing is written for a render.
-            Ok(BaseScene {
-                scene: rib.scene,
-                models: Some(rib.models),
-                read,
-            })
+                .nth(selected[0])
+                .expect("a selected frame");
+            let label = frame.number.map(|_| frame.label());
+            rib_base(frame.scene?, label.as_deref(), &sources)
         }
         Some("bpt" | "bez") => {
             let model = Model::load(path).map_err(|e| -> BoxError {
@@ -110,6 +126,48 @@ pub(crate) fn base_scene(path: Option<&Path>, lenient: bool) -> Result<BaseScene
         )
         .into()),
     }
+}
+
+/// Every frame of the RIB file at `path` (see [`crate::rib::RibFrames`]);
+/// the warnings of the requests after the last frame are printed.
+pub(crate) fn load_rib(path: &Path, lenient: bool) -> Result<crate::rib::RibFrames, BoxError> {
+    let options = crate::rib::RibOptions { lenient };
+    let frames = crate::rib::RibFrames::load_with(path, options)?;
+    for warning in &frames.warnings {
+        errln!("warning: {warning}")?;
+    }
+    Ok(frames)
+}
+
+/// The base scene of one frame of a RIB file (`label` names it in the
+/// notes when the file has frames), whose files are `sources`: its
+/// warnings and its `Display` file are printed.
+pub(crate) fn rib_base(
+    rib: crate::rib::RibScene,
+    label: Option<&str>,
+    sources: &[PathBuf],
+) -> Result<BaseScene, BoxError> {
+    let prefix = label.map(|l| format!("{l}: ")).unwrap_or_default();
+    for warning in &rib.warnings {
+        errln!("warning: {prefix}{warning}")?;
+    }
+    if let Some(display) = &rib.display {
+        errln!(
+            "note: {prefix}the RIB's Display file is {display}: the image goes there unless -o is given"
+        )?;
+    }
+    // The first source is the scene itself, the others archives.
+    let read = sources
+        .iter()
+        .enumerate()
+        .map(|(i, path)| (if i == 0 { "scene" } else { "RIB archive" }, path.clone()))
+        .collect();
+    // The models stay in memory: nothing is written for a render.
+    Ok(BaseScene {
+        scene: rib.scene,
+        models: Some(rib.models),
+        read,
+    })
 }
 
 /// The `.wgsl` file `--displace` names, if it names one.

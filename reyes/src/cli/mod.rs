@@ -13,6 +13,7 @@
 //!              [--chunks N] [--dicing rate|fixed] [--shading-rate R] [--shading-interpolation smooth|constant] [--flat-shading]
 //!              [--aov shaded|grids|depth|normal] [--sides 1|2] [--reverse-orientation]
 //!              [--max-input-bytes BYTES] [--max-patches N] [--no-pipeline-cache] [--lenient]
+//!              [--frame N|N..M|LIST] [--keep-going]
 //! reyes cache info|clear
 //! reyes view [SCENE] [the options of render] [--frames N --screenshot IMAGE] [--hide-overlay]
 //! ```
@@ -23,7 +24,9 @@
 mod args;
 mod cache;
 mod convert;
+mod frames;
 mod input;
+mod jobs;
 mod parse;
 mod prepare;
 mod progress;
@@ -61,10 +64,13 @@ pub struct Cli {
 )]
 enum Command {
     /// Render a scene (.toml or RenderMan .rib), a model (.bpt/.bez) or,
-    /// without SCENE, the teapot.
+    /// without SCENE, the teapot. A RIB file's frames (`FrameBegin n` …
+    /// `FrameEnd`) are rendered in order, each to its own image (`--frame`,
+    /// `-o out.####.png`).
     Render(args::RenderArgs),
     /// Convert a RenderMan RIB scene to a TOML scene plus `.bpt` models
-    /// (written beside the TOML as `<stem>-<i>.bpt`).
+    /// (written beside the TOML as `<stem>-<i>.bpt`); of a RIB file of
+    /// several frames, the one `--frame N` names.
     Convert(convert::ConvertArgs),
     /// Show (`info`) or empty (`clear`) the directory of compiled pipelines
     /// (`$REYES_CACHE_DIR`, else the platform's cache directory). Only its

@@ -21,13 +21,20 @@ pub(crate) struct Prepared {
     pub(crate) read: Vec<ReadFile>,
 }
 
-/// Loads the scene, applies the command-line overrides and prepares it.
+/// Loads the scene (of a RIB file, the first frame `--frame` selects),
+/// applies the command-line overrides and prepares it.
 pub(crate) fn prepare(args: &RenderArgs) -> Result<Prepared, BoxError> {
+    let base = base_scene(args.scene.as_deref(), args.lenient, args.frame.as_ref())?;
+    prepare_base(args, base)
+}
+
+/// Applies the command-line overrides to `base` and prepares it.
+pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepared, BoxError> {
     let BaseScene {
         mut scene,
         models: in_memory,
         mut read,
-    } = base_scene(args.scene.as_deref(), args.lenient)?;
+    } = base;
     let prepared = |scene: &Scene| match &in_memory {
         Some(models) => PreparedScene::new(scene, models),
         None => PreparedScene::load(scene),

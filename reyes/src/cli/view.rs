@@ -48,6 +48,12 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), BoxError> {
                 .into(),
         );
     }
+    if render.keep_going {
+        return Err(
+            "reyes view shows one frame: --keep-going (for reyes render's frames) does not apply"
+                .into(),
+        );
+    }
     super::args::set_patch_budget(render.max_patches);
     if let Some(bytes) = render.max_input_bytes {
         crate::input::set_limits(Limits::all(bytes));

@@ -93,6 +93,8 @@ pub struct GpuRenderer<'a> {
     /// variants (the viewer toggling motion blur) compiles each once.
     parked: Vec<ParkedProgram>,
     frame: Option<(FrameBuffers, ResolveTarget)>,
+    /// Executors (and so pipelines: the driver's compile) created so far.
+    pipelines_created: u32,
 }
 
 impl<'a> GpuRenderer<'a> {
@@ -137,6 +139,7 @@ impl<'a> GpuRenderer<'a> {
             executor: None,
             parked: Vec::new(),
             frame: None,
+            pipelines_created: 0,
         })
     }
 
@@ -149,6 +152,13 @@ impl<'a> GpuRenderer<'a> {
     /// The variant the megakernel is specialized to (the last scene's).
     pub fn variant(&self) -> KernelVariant {
         self.compiled_key.variant
+    }
+
+    /// How many pipelines (executors, each a driver compile of a megakernel
+    /// module) this renderer has created: a frame that reuses the program
+    /// and queues of an earlier one creates none.
+    pub fn pipelines_created(&self) -> u32 {
+        self.pipelines_created
     }
 
     /// Compiles the megakernel again when `scene` needs a different variant

@@ -76,7 +76,7 @@ pub(super) struct Block {
 
 impl Block {
     /// `the AttributeBegin of line 7` (with the file when it is not `file`).
-    fn describe(&self, file: &Path) -> String {
+    pub(super) fn describe(&self, file: &Path) -> String {
         if self.file == file {
             format!("the {} of line {}", self.kind.begin(), self.line)
         } else {

@@ -14,15 +14,18 @@ use crate::scene::{
     ShadingInterpolation, Surface, Transform,
 };
 
-/// Builds the scene of a finished interpreter run of `file`.
-pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibError> {
+/// Builds the scene of the frame `interp` has read from `file` (at its
+/// `FrameEnd`, or at the end of a file without frames), taking the frame's
+/// primitives, lights and warnings.
+pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibError> {
     let lights = interp.scene_lights();
     let mut warnings = std::mem::take(&mut interp.warnings);
-    if interp.more_warnings > 0 {
+    let more = std::mem::take(&mut interp.more_warnings);
+    if more > 0 {
         warnings.push(Warning {
             file: file.to_path_buf(),
             line: 0,
-            message: format!("{} more warnings not shown", interp.more_warnings),
+            message: format!("{more} more warnings not shown"),
         });
     }
     let mut warn = |message: String| {
@@ -317,7 +320,7 @@ pub(super) fn build(mut interp: Interp, file: &Path) -> Result<RibScene, RibErro
         models,
         display: interp.opts.display.clone(),
         warnings,
-        sources: std::mem::take(&mut interp.sources),
+        sources: interp.sources.clone(),
     })
 }
 

@@ -1,7 +1,8 @@
+//! `MakeTexture`: texture names for the shaders' `texturename`;
 //! `MakeLatLongEnvironment` and `MakeCubeFaceEnvironment`: environment map
 //! names for `shinymetal`'s `texturename`.
 //!
-//! As with `MakeTexture`, nothing is written: the name stands for its
+//! Nothing is written: the name stands for its
 //! picture, which the renderer mipmaps itself, and the filter and its
 //! widths are not followed (every lookup is the anisotropic trilinear filter
 //! of `crate::texture`). A latitude-longitude
@@ -18,6 +19,39 @@ use super::parser::Value;
 use super::state;
 
 impl Interp {
+    /// `MakeTexture picturename texturename swrap twrap filter swidth
+    /// twidth ...`: `texturename` stands for the picture (beside the RIB
+    /// file), with its wrap modes. Not scoped: later frames use it too.
+    pub(super) fn make_texture(&mut self, v: &[Value], file: &Path) -> Result<(), String> {
+        let (args, _, _) = state::split_params(v, 7, &self.declared)?;
+        let picture = state::arg_str(&args, 0, "the picture")?;
+        let texture = state::arg_str(&args, 1, "the texture name")?;
+        let mut wraps = [crate::texture::Wrap::Periodic; 2];
+        for (k, what) in [(2, "swrap"), (3, "twrap")] {
+            let wrap = state::arg_str(&args, k, what)?;
+            wraps[k - 2] = match wrap {
+                "periodic" => crate::texture::Wrap::Periodic,
+                "clamp" => crate::texture::Wrap::Clamp,
+                "black" => crate::texture::Wrap::Black,
+                other => {
+                    return Err(format!(
+                        "MakeTexture: {what} {:?} is not a wrap mode (\"periodic\", \"clamp\" or \"black\")",
+                        crate::input::excerpt(other)
+                    ));
+                }
+            };
+        }
+        let path = file.parent().unwrap_or(Path::new("")).join(picture);
+        self.cube_environments.remove(texture);
+        let desc = crate::texture::TextureDesc {
+            wrap_s: wraps[0],
+            wrap_t: wraps[1],
+            ..crate::texture::TextureDesc::new(path)
+        };
+        self.made_textures.insert(texture.to_owned(), desc);
+        Ok(())
+    }
+
     /// `MakeLatLongEnvironment picturename texturename filter swidth twidth
     /// ...`: `texturename` stands for the picture (beside the RIB file).
     pub(super) fn make_latlong_environment(

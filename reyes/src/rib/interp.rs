@@ -52,44 +52,7 @@ const MAX_MESSAGE_CHARS: usize = 512;
 /// and short enough for the messages that quote it.
 const MAX_ARCHIVE_NAME_BYTES: usize = 1024;
 
-/// Options set before `WorldBegin`.
-#[derive(Debug, Clone, Default)]
-pub struct Options {
-    /// `Format` width, height, pixel aspect.
-    pub format: Option<(u32, u32, f64)>,
-    /// `PixelSamples` x, y.
-    pub pixel_samples: Option<(f64, f64)>,
-    /// `ShadingRate`.
-    pub shading_rate: Option<f64>,
-    /// `Projection "perspective"` field of view in degrees (of the shorter side).
-    pub fov: Option<f64>,
-    /// Whether a perspective projection was requested (RenderMan's default
-    /// is orthographic).
-    pub perspective: bool,
-    /// `ScreenWindow` left, right, bottom, top.
-    pub screen_window: Option<[f64; 4]>,
-    /// `FrameAspectRatio`.
-    pub frame_aspect: Option<f64>,
-    /// `Clipping` near, far.
-    pub clipping: Option<(f64, f64)>,
-    /// `Shutter` open, close.
-    pub shutter: Option<(f64, f64)>,
-    /// `DepthOfField` fstop, focal length, focal distance.
-    pub dof: Option<(f64, f64, f64)>,
-    /// `Display` file name.
-    pub display: Option<String>,
-    /// `ShadingInterpolation`: `true` for `"smooth"`.
-    pub smooth: Option<bool>,
-    /// `PixelFilter` (RenderMan's default, `gaussian` 2 2, when absent).
-    pub pixel_filter: Option<crate::filter::PixelFilter>,
-    /// `Exposure` (RenderMan's default, gain 1 gamma 1, when absent).
-    pub exposure: Option<crate::quantize::Exposure>,
-    /// `Quantize "rgba"` (RenderMan's 8-bit default, 255 0 255 0.5, when
-    /// absent).
-    pub quantize: Option<crate::quantize::Quantize>,
-    /// The times of the first `MotionBegin` block.
-    pub motion_times: Option<(f64, f64)>,
-}
+pub use super::options::Options;
 
 /// One primitive, in the renderer's (right-handed) world space.
 #[derive(Debug, Clone)]
@@ -175,6 +138,17 @@ pub struct Interp {
     /// `MakeCubeFaceEnvironment`'s texture names, which are not supported
     /// ([`super::environments`]).
     pub(super) cube_environments: HashSet<String>,
+    /// The frame being read, from its `FrameBegin` ([`super::frames`]).
+    pub(super) frame: Option<super::frames::OpenFrame>,
+    /// The frames read so far, in order.
+    pub(super) frames: Vec<super::RibFrame>,
+    /// The line of the file's first `FrameBegin`, once there is one.
+    pub(super) first_frame_line: Option<usize>,
+    /// The line of a `WorldBegin` outside any frame, once there is one.
+    pub(super) bare_world_line: Option<usize>,
+    /// The RIB file (or the name its text was given under): the scene's
+    /// warnings and errors name it.
+    pub(super) main_file: PathBuf,
 }
 
 /// RenderMan's camera space is left-handed (x right, y up, z forward); the
@@ -216,6 +190,11 @@ impl Interp {
             options_only: false,
             blocks: Vec::new(),
             lenient: false,
+            frame: None,
+            frames: Vec::new(),
+            first_frame_line: None,
+            bare_world_line: None,
+            main_file: PathBuf::new(),
         }
     }
 
@@ -346,7 +325,12 @@ impl Interp {
             return Ok(());
         }
         if self.world_done && !matches!(name, "FrameEnd" | "FrameBegin") {
-            self.warn_once("#frames", file, line, "only the first world block is rendered; the requests after its WorldEnd are ignored".into());
+            let message = if self.frame.is_some() {
+                "only the first world block of a frame is rendered; the requests after its WorldEnd up to FrameEnd are ignored"
+            } else {
+                "only the first world block is rendered; the requests after its WorldEnd are ignored (a file of several images puts each in a FrameBegin/FrameEnd block)"
+            };
+            self.warn_once("#frames", file, line, message.into());
             return Ok(());
         }
         if let Some(m) = &mut self.motion
@@ -367,7 +351,9 @@ impl Interp {
         }
         let world = self.camera.is_some();
         match name {
-            "version" | "FrameBegin" | "FrameEnd" => {}
+            "version" => {}
+            "FrameBegin" => self.frame_begin(v, file, line)?,
+            "FrameEnd" => self.frame_end(file)?,
             "Declare" => {
                 let name = state::arg_str(v, 0, "the name")?.to_owned();
                 let decl = state::parse_decl(state::arg_str(v, 1, "the declaration")?)?;
@@ -391,6 +377,7 @@ impl Interp {
                 if world {
                     return Err("WorldBegin inside a world block".to_owned().into());
                 }
+                self.world_begin_outside_frames(line)?;
                 if self.xf.open != self.xf.close {
                     self.camera_close = Some((self.xf.close, line));
                 }
@@ -429,35 +416,7 @@ impl Interp {
                 let shader = state::arg_str(&args, 0, "the shader")?;
                 self.attrs.surface = self.surface(shader, &params, file, line)?;
             }
-            "MakeTexture" => {
-                let (args, _, _) = state::split_params(v, 7, &self.declared)?;
-                let picture = state::arg_str(&args, 0, "the picture")?;
-                let texture = state::arg_str(&args, 1, "the texture name")?;
-                let mut wraps = [crate::texture::Wrap::Periodic; 2];
-                for (k, what) in [(2, "swrap"), (3, "twrap")] {
-                    let wrap = state::arg_str(&args, k, what)?;
-                    wraps[k - 2] = match wrap {
-                        "periodic" => crate::texture::Wrap::Periodic,
-                        "clamp" => crate::texture::Wrap::Clamp,
-                        "black" => crate::texture::Wrap::Black,
-                        other => {
-                            return Err(format!(
-                                "MakeTexture: {what} {:?} is not a wrap mode (\"periodic\", \"clamp\" or \"black\")",
-                                crate::input::excerpt(other)
-                            )
-                            .into());
-                        }
-                    };
-                }
-                let path = file.parent().unwrap_or(Path::new("")).join(picture);
-                self.cube_environments.remove(texture);
-                let desc = crate::texture::TextureDesc {
-                    wrap_s: wraps[0],
-                    wrap_t: wraps[1],
-                    ..crate::texture::TextureDesc::new(path)
-                };
-                self.made_textures.insert(texture.to_owned(), desc);
-            }
+            "MakeTexture" => self.make_texture(v, file)?,
             "MakeLatLongEnvironment" => self.make_latlong_environment(v, file)?,
             "MakeCubeFaceEnvironment" => self.make_cube_face_environment(v, file, line)?,
             "LightSource" => self.light_source(v, file, line)?,

@@ -18,8 +18,11 @@
 //!   `PointsPolygons` and `GeneralPolygon`; `spaces`: coordinate systems
 //!   and `Skew`; `blocks`: the begin/end structure; `texcoords`: `s`, `t`
 //!   of the patches' corners; `environments`: the environment maps'
-//!   names); `convert`: the
-//!   [`Scene`] it makes.
+//!   names; `frames`: `FrameBegin`/`FrameEnd`, each frame's scene);
+//!   `convert`: the [`Scene`] it makes.
+//!
+//! [`RibFrames::load`] reads every frame of a file; [`RibScene::load`] the
+//! one scene of a file without frames (or the first frame, with a warning).
 
 mod attributes;
 mod blocks;
@@ -35,6 +38,7 @@ internal_modules! {
 mod convert;
 mod displacements;
 mod environments;
+mod frames;
 mod geometry;
 mod options;
 mod polygons;
@@ -49,6 +53,8 @@ use crate::input::InputError;
 use crate::model::Model;
 use crate::output::{OutputError, OutputGuard, OutputKind, StagedFiles};
 use crate::scene::{Scene, SceneError};
+
+pub use self::frames::{RibFrame, RibFrames};
 
 /// Why a RIB file could not be read.
 #[derive(Debug, thiserror::Error)]
@@ -151,7 +157,8 @@ pub struct RibScene {
     pub scene: Scene,
     /// One model per object.
     pub models: Vec<Model>,
-    /// The first `Display` file name (before `WorldBegin`, not `+name`):
+    /// The first `Display` file name (before `WorldBegin`, not `+name`; in
+    /// a frame, the frame's first, else the one before the frame):
     /// `reyes render` writes the image there unless `-o` is given.
     pub display: Option<String>,
     /// What was ignored or approximated.
@@ -199,14 +206,12 @@ impl RibScene {
         RibScene::load_with(path, RibOptions::default())
     }
 
-    /// [`RibScene::load`] with `options` (see [`RibOptions`]).
+    /// [`RibScene::load`] with `options` (see [`RibOptions`]). A file of
+    /// several frames gives its first, with a warning ([`RibFrames`] reads
+    /// them all).
     pub fn load_with(path: impl AsRef<Path>, options: RibOptions) -> Result<RibScene, RibError> {
         let path = path.as_ref();
-        let mut interp = interp::Interp::new(crate::input::InputKind::Scene.limit());
-        interp.lenient = options.lenient;
-        interp.run_file(path)?;
-        interp.finish()?;
-        convert::build(interp, path)
+        RibFrames::load_with(path, options)?.into_first(path)
     }
 
     /// The first `Display` file name of the RIB file at `path` (not a
@@ -232,11 +237,7 @@ impl RibScene {
         options: RibOptions,
     ) -> Result<RibScene, RibError> {
         let name = name.as_ref();
-        let mut interp = interp::Interp::new(crate::input::InputKind::Scene.limit());
-        interp.lenient = options.lenient;
-        interp.run_text(text, name)?;
-        interp.finish()?;
-        convert::build(interp, name)
+        RibFrames::from_text_with(text, name, options)?.into_first(name)
     }
 
     /// Interprets the bytes of a RIB file as if read from `name` (non-UTF-8
@@ -303,6 +304,44 @@ impl RibScene {
     /// The scene prepared with its in-memory models.
     pub fn prepare(&self) -> Result<crate::prepare::PreparedScene, SceneError> {
         crate::prepare::PreparedScene::new(&self.scene, &self.models)
+    }
+}
+
+impl RibFrames {
+    /// Reads and interprets every frame of the RIB file at `path` (see
+    /// [`RibScene::load`] for the file and its archives). An error in the
+    /// text (syntax, block structure, a bad request, the patch budget,
+    /// which counts the patches of all frames) is the file's; a frame whose
+    /// scene is invalid has the error as its [`RibFrame::scene`].
+    pub fn load(path: impl AsRef<Path>) -> Result<RibFrames, RibError> {
+        RibFrames::load_with(path, RibOptions::default())
+    }
+
+    /// [`RibFrames::load`] with `options` (see [`RibOptions`]).
+    pub fn load_with(path: impl AsRef<Path>, options: RibOptions) -> Result<RibFrames, RibError> {
+        let path = path.as_ref();
+        let mut interp = interp::Interp::new(crate::input::InputKind::Scene.limit());
+        interp.lenient = options.lenient;
+        interp.main_file = path.to_path_buf();
+        interp.run_file(path)?;
+        interp.finish()?;
+        Ok(RibFrames::collect(interp, path))
+    }
+
+    /// The frames of RIB `text` as if read from the file `name` (see
+    /// [`RibScene::from_text`]).
+    pub fn from_text_with(
+        text: &str,
+        name: impl AsRef<Path>,
+        options: RibOptions,
+    ) -> Result<RibFrames, RibError> {
+        let name = name.as_ref();
+        let mut interp = interp::Interp::new(crate::input::InputKind::Scene.limit());
+        interp.lenient = options.lenient;
+        interp.main_file = name.to_path_buf();
+        interp.run_text(text, name)?;
+        interp.finish()?;
+        Ok(RibFrames::collect(interp, name))
     }
 }
 

@@ -4,12 +4,51 @@
 
 use std::path::Path;
 
-use super::interp::{Interp, Options};
+use super::interp::Interp;
 use super::parser::Value;
 use super::state;
 use crate::filter::{FilterKind, PixelFilter};
 use crate::params::MAX_SHADING_RATE;
 use crate::quantize::{Exposure, Quantize};
+
+/// Options set before `WorldBegin`.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    /// `Format` width, height, pixel aspect.
+    pub format: Option<(u32, u32, f64)>,
+    /// `PixelSamples` x, y.
+    pub pixel_samples: Option<(f64, f64)>,
+    /// `ShadingRate`.
+    pub shading_rate: Option<f64>,
+    /// `Projection "perspective"` field of view in degrees (of the shorter side).
+    pub fov: Option<f64>,
+    /// Whether a perspective projection was requested (RenderMan's default
+    /// is orthographic).
+    pub perspective: bool,
+    /// `ScreenWindow` left, right, bottom, top.
+    pub screen_window: Option<[f64; 4]>,
+    /// `FrameAspectRatio`.
+    pub frame_aspect: Option<f64>,
+    /// `Clipping` near, far.
+    pub clipping: Option<(f64, f64)>,
+    /// `Shutter` open, close.
+    pub shutter: Option<(f64, f64)>,
+    /// `DepthOfField` fstop, focal length, focal distance.
+    pub dof: Option<(f64, f64, f64)>,
+    /// `Display` file name.
+    pub display: Option<String>,
+    /// `ShadingInterpolation`: `true` for `"smooth"`.
+    pub smooth: Option<bool>,
+    /// `PixelFilter` (RenderMan's default, `gaussian` 2 2, when absent).
+    pub pixel_filter: Option<crate::filter::PixelFilter>,
+    /// `Exposure` (RenderMan's default, gain 1 gamma 1, when absent).
+    pub exposure: Option<crate::quantize::Exposure>,
+    /// `Quantize "rgba"` (RenderMan's 8-bit default, 255 0 255 0.5, when
+    /// absent).
+    pub quantize: Option<crate::quantize::Quantize>,
+    /// The times of the first `MotionBegin` block.
+    pub motion_times: Option<(f64, f64)>,
+}
 
 /// RenderMan's default `Format`.
 pub(super) const DEFAULT_FORMAT: (u32, u32) = (640, 480);
@@ -180,8 +219,16 @@ impl Interp {
                         line,
                         "Display inside the world block is ignored (it is an option)".into(),
                     );
-                } else if self.opts.display.is_none() && !name.starts_with('+') {
-                    self.opts.display = Some(name.to_owned());
+                } else if !name.starts_with('+') {
+                    // The first name of the frame replaces the one given
+                    // before it; outside frames the first name counts.
+                    let first = match &mut self.frame {
+                        Some(frame) => !std::mem::replace(&mut frame.display_set, true),
+                        None => self.opts.display.is_none(),
+                    };
+                    if first {
+                        self.opts.display = Some(name.to_owned());
+                    }
                 }
             }
             "PixelFilter" => {

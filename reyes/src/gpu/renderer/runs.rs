@@ -106,6 +106,7 @@ impl GpuRenderer<'_> {
                 &self.config(capacities.clone(), budget),
             )?;
             self.compile_finished(compile);
+            self.pipelines_created += 1;
             self.executor = Some((capacities.clone(), budget, executor));
         }
         Ok(&mut self.executor.as_mut().expect("just created").2)
