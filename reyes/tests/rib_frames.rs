@@ -373,3 +373,62 @@ fn convert_takes_one_frame() {
         "{stderr}"
     );
 }
+
+#[test]
+fn each_frame_has_the_whole_patch_budget() {
+    // A frame's sphere is 8 patches; three frames make 24, which one
+    // budget for the whole file refused at the second frame. Frames are
+    // rendered one at a time, each with the budget to itself.
+    let dir = TempDir::new("frames-budget");
+    std::fs::write(dir.path("three.rib"), three_frames(None)).unwrap();
+    let (ok, stdout, stderr) = reyes(
+        &dir,
+        &["render", "--cpu", "--max-patches", "8", "three.rib"],
+    );
+    assert!(ok, "{stderr}");
+    for n in [1, 2, 12] {
+        assert!(stdout.contains(&format!("wrote f{n}.png")), "{stdout}");
+    }
+    // One frame over the budget is still refused, naming the request.
+    let (ok, _, stderr) = reyes(
+        &dir,
+        &["render", "--cpu", "--max-patches", "7", "three.rib"],
+    );
+    assert!(!ok && stderr.contains("over the budget of 7"), "{stderr}");
+}
+
+#[test]
+fn a_stream_gives_the_frames_that_load_gives() {
+    let dir = TempDir::new("frames-stream");
+    let path = dir.path("three.rib");
+    std::fs::write(&path, three_frames(Some(2))).unwrap();
+    let loaded = RibFrames::load(&path).unwrap();
+    let mut stream = RibFrames::stream(&path, RibOptions::default());
+    let streamed: Vec<_> = stream.by_ref().collect();
+    let end = stream.finish().unwrap();
+    assert_eq!(end.sources, loaded.sources);
+    assert_eq!(streamed.len(), loaded.frames.len());
+    for (a, b) in streamed.iter().zip(&loaded.frames) {
+        assert_eq!((a.number, a.line), (b.number, b.line));
+        match (&a.scene, &b.scene) {
+            (Ok(a), Ok(b)) => {
+                assert_eq!((&a.display, a.models.len()), (&b.display, b.models.len()))
+            }
+            (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string()),
+            _ => panic!("frame {:?}: one failed, the other not", a.number),
+        }
+    }
+    // A stream dropped after its first frame stops its reader.
+    let mut stream = RibFrames::stream(&path, RibOptions::default());
+    assert!(stream.next().is_some());
+    drop(stream);
+    // An error in the text ends the stream; finish returns it.
+    std::fs::write(
+        &path,
+        format!("{}FrameBegin 9\nWorldBegin\n", three_frames(None)),
+    )
+    .unwrap();
+    let mut stream = RibFrames::stream(&path, RibOptions::default());
+    assert_eq!(stream.by_ref().count(), 3);
+    assert!(stream.finish().is_err());
+}

@@ -8,27 +8,37 @@
 //! against them, and against the files every earlier frame read, before it
 //! renders. A frame may read what an earlier frame wrote (a depth map
 //! made by a first pass), never what it or a later frame writes.
+//!
+//! A RIB file of several frames is read twice: once to plan (each frame's
+//! geometry is dropped as soon as its outputs are known), and again, one
+//! frame at a time, to render ([`crate::rib::FrameStream`]), so that memory
+//! holds one frame's geometry, not the whole file's.
 
 use std::cell::OnceCell;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use super::BoxError;
 use super::args::RenderArgs;
 use super::frames::{frame_path, select};
-use super::input::{ReadFile, base_scene, load_rib, rib_base};
+use super::input::{ReadFile, base_scene, rib_base};
 use super::prepare::{Prepared, prepare_base};
 use super::render::Backend;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
+use crate::output::console::errln;
 use crate::output::{OutputGuard, OutputKind, OutputPlan};
-use crate::rib::{RibError, RibScene};
+use crate::rib::{FrameStream, RibError, RibFrames, RibOptions, RibScene};
 
 /// One frame to render and where it goes.
 pub(crate) struct Job {
     /// `frame 2` for a frame of a RIB file with frames.
     label: Option<String>,
     /// The frame's scene, or why its requests make none; `None`: the scene
-    /// named on the command line, read when its turn comes.
+    /// named on the command line, read when its turn comes. Without its
+    /// models when `reread` is set.
     scene: Option<Result<RibScene, RibError>>,
+    /// The frame's place in its RIB file and its number, when the file has
+    /// several frames: its scene is read again when its turn comes.
+    reread: Option<(usize, Option<u32>)>,
     /// The image, the statistics JSON and the trace (`None` for a frame
     /// whose scene failed: it writes nothing).
     outputs: Option<Outputs>,
@@ -80,11 +90,13 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<(Vec<Job>, Vec<ReadFile>), BoxEr
         let job = Job {
             label: None,
             scene: None,
+            reread: None,
             outputs: Some(outputs),
         };
         return Ok((vec![job], Vec::new()));
     };
-    let frames = load_rib(path, args.lenient)?;
+    let frames = plan_rib(path, args.lenient)?;
+    let reread = frames.frames.len() > 1;
     let selected = select(path, &frames, args.frame.as_ref())?;
     let several = selected.len() > 1;
     let sources = frames
@@ -116,11 +128,80 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<(Vec<Job>, Vec<ReadFile>), BoxEr
         };
         jobs.push(Job {
             label,
+            reread: reread.then_some((i, frame.number)),
             scene: Some(frame.scene),
             outputs,
         });
     }
     Ok((jobs, sources))
+}
+
+/// The frames of the RIB file at `path`, read one at a time and each but
+/// a single frame's models dropped (they are read again to render); the
+/// file's warnings are printed.
+fn plan_rib(path: &Path, lenient: bool) -> Result<RibFrames, BoxError> {
+    let mut stream = RibFrames::stream(path, RibOptions { lenient });
+    let mut frames = Vec::new();
+    for frame in stream.by_ref() {
+        // The frame before this one is not the only one: drop its models.
+        if let Some(Ok(previous)) = frames
+            .last_mut()
+            .map(|f: &mut crate::rib::RibFrame| &mut f.scene)
+        {
+            previous.models = Vec::new();
+        }
+        frames.push(frame);
+    }
+    let end = stream.finish()?;
+    if frames.len() > 1
+        && let Some(Ok(last)) = frames.last_mut().map(|f| &mut f.scene)
+    {
+        last.models = Vec::new();
+    }
+    for warning in &end.warnings {
+        errln!("warning: {warning}")?;
+    }
+    Ok(RibFrames {
+        frames,
+        warnings: end.warnings,
+        sources: end.sources,
+    })
+}
+
+/// A RIB file's frames read again in order, each when its turn to render
+/// comes.
+struct Reread {
+    path: PathBuf,
+    stream: FrameStream,
+    /// The place in the file of the frame the stream gives next.
+    next: usize,
+}
+
+impl Reread {
+    /// Frame `index` of the file, which the plan found numbered `number`
+    /// (the frames before it, not selected, are read and dropped).
+    fn frame(
+        &mut self,
+        index: usize,
+        number: Option<u32>,
+    ) -> Result<Result<RibScene, RibError>, BoxError> {
+        while let Some(frame) = self.stream.next_frame() {
+            let at = self.next;
+            self.next += 1;
+            if at == index && frame.number == number {
+                return Ok(frame.scene);
+            }
+            if at >= index {
+                break;
+            }
+        }
+        let which = number.map_or("its scene".to_owned(), |n| format!("its frame {n}"));
+        Err(format!(
+            "{} changed while its frames were rendered: {which} is not where it was",
+            self.path.display(),
+        )
+        .into())
+    }
 }
 
 /// The outputs of the frame numbered `number` whose `Display` file is
@@ -188,10 +269,29 @@ pub(crate) fn run(
     }
     let gpu = OnceCell::new();
     let mut backend = Backend::new(args, &gpu);
+    let mut reread = jobs.iter().any(|j| j.reread.is_some()).then(|| {
+        let path = args.scene.clone().unwrap_or_default();
+        Reread {
+            stream: RibFrames::stream(
+                &path,
+                RibOptions {
+                    lenient: args.lenient,
+                },
+            ),
+            path,
+            next: 0,
+        }
+    });
+    let mut scene_of = |job: &mut Job| -> Result<_, BoxError> {
+        match (job.reread, reread.as_mut()) {
+            (Some((index, number)), Some(reread)) => Ok(Some(reread.frame(index, number)?)),
+            _ => Ok(job.scene.take()),
+        }
+    };
     if jobs.len() == 1 {
         let label = jobs[0].label.clone();
-        let scene = jobs[0].scene.take();
-        return render_job(args, &mut backend, scene, &jobs, &mut reads)
+        return scene_of(&mut jobs[0])
+            .and_then(|scene| render_job(args, &mut backend, scene, &jobs, &mut reads))
             .map_err(|e| labelled(label.as_deref(), e));
     }
     let mut failed = Vec::new();
@@ -202,8 +302,9 @@ pub(crate) fn run(
             not_rendered.push(label);
             continue;
         }
-        let scene = jobs[k].scene.take();
-        if let Err(error) = render_job(args, &mut backend, scene, &jobs[k..], &mut reads) {
+        let rendered = scene_of(&mut jobs[k])
+            .and_then(|scene| render_job(args, &mut backend, scene, &jobs[k..], &mut reads));
+        if let Err(error) = rendered {
             super::print_error(labelled(Some(&label), error).as_ref());
             failed.push(label);
         }

@@ -18,11 +18,13 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::SyncSender;
 
 use super::interp::{Interp, Options};
 use super::parser::Value;
 use super::state::{self, Attributes, Xform};
 use super::{RibError, RibScene, Warning, convert};
+use crate::budget::PatchBudget;
 
 /// The frame being read: its number, where its `FrameBegin` is, and the
 /// state its `FrameEnd` restores.
@@ -42,6 +44,45 @@ struct Saved {
     attrs: Attributes,
     xf: Xform,
     coordsys: HashMap<String, Xform>,
+}
+
+/// Where the interpreter puts each frame it finishes: kept in order, or
+/// handed to a reader one at a time ([`super::stream`]).
+#[derive(Debug, Default)]
+pub(super) enum FrameSink {
+    /// Kept, for [`RibFrames::collect`].
+    #[default]
+    Keep,
+    /// Kept frames.
+    Kept(Vec<RibFrame>),
+    /// Sent; the interpreter waits until the reader takes each.
+    Send(SyncSender<RibFrame>),
+}
+
+impl FrameSink {
+    /// Delivers `frame`; an error when the reader has stopped reading.
+    fn deliver(&mut self, frame: RibFrame) -> Result<(), String> {
+        match self {
+            FrameSink::Keep => *self = FrameSink::Kept(vec![frame]),
+            FrameSink::Kept(frames) => frames.push(frame),
+            FrameSink::Send(sender) => sender
+                .send(frame)
+                .map_err(|_| "the reader of the frames stopped".to_owned())?,
+        }
+        Ok(())
+    }
+
+    /// The frames kept so far.
+    fn take_kept(&mut self) -> Vec<RibFrame> {
+        match std::mem::take(self) {
+            FrameSink::Kept(frames) => frames,
+            FrameSink::Keep => Vec::new(),
+            FrameSink::Send(sender) => {
+                *self = FrameSink::Send(sender);
+                Vec::new()
+            }
+        }
+    }
 }
 
 /// One frame of a RIB file.
@@ -100,14 +141,8 @@ impl RibFrames {
     /// The interpreted file's frames: the one frame of a file without
     /// `FrameBegin`, else those its `FrameEnd`s made.
     pub(super) fn collect(mut interp: Interp, file: &Path) -> RibFrames {
-        if interp.first_frame_line.is_none() {
-            let scene = convert::build(&mut interp, file);
-            interp.frames.push(RibFrame {
-                number: None,
-                line: 0,
-                scene,
-            });
-        }
+        // A collecting interpreter's sink never refuses a frame.
+        let _ = interp.deliver_frameless(file);
         let mut warnings = std::mem::take(&mut interp.warnings);
         if interp.more_warnings > 0 {
             warnings.push(Warning {
@@ -117,7 +152,7 @@ impl RibFrames {
             });
         }
         RibFrames {
-            frames: std::mem::take(&mut interp.frames),
+            frames: interp.frames.take_kept(),
             warnings,
             sources: std::mem::take(&mut interp.sources),
         }
@@ -203,11 +238,14 @@ impl Interp {
         };
         let main = self.main_file.clone();
         let scene = convert::build(self, &main);
-        self.frames.push(RibFrame {
+        // Each frame has the whole patch budget: a frame is rendered, and
+        // its patches dropped, before the next is read.
+        self.patches = PatchBudget::from_setting();
+        self.frames.deliver(RibFrame {
             number: Some(open.number),
             line: open.line,
             scene,
-        });
+        })?;
         let Saved {
             opts,
             attrs,
@@ -226,6 +264,20 @@ impl Interp {
         self.motion = None;
         self.object_depth = 0;
         Ok(())
+    }
+
+    /// The one frame of a file without `FrameBegin`, once the file is read,
+    /// to the sink; nothing for a file with frames.
+    pub(super) fn deliver_frameless(&mut self, file: &Path) -> Result<(), String> {
+        if self.first_frame_line.is_some() {
+            return Ok(());
+        }
+        let scene = convert::build(self, file);
+        self.frames.deliver(RibFrame {
+            number: None,
+            line: 0,
+            scene,
+        })
     }
 
     /// Refuses a `WorldBegin` outside any frame once frames began; records

@@ -140,8 +140,8 @@ pub struct Interp {
     pub(super) cube_environments: HashSet<String>,
     /// The frame being read, from its `FrameBegin` ([`super::frames`]).
     pub(super) frame: Option<super::frames::OpenFrame>,
-    /// The frames read so far, in order.
-    pub(super) frames: Vec<super::RibFrame>,
+    /// Where finished frames go ([`super::frames::FrameSink`]).
+    pub(super) frames: super::frames::FrameSink,
     /// The line of the file's first `FrameBegin`, once there is one.
     pub(super) first_frame_line: Option<usize>,
     /// The line of a `WorldBegin` outside any frame, once there is one.
@@ -191,7 +191,7 @@ impl Interp {
             blocks: Vec::new(),
             lenient: false,
             frame: None,
-            frames: Vec::new(),
+            frames: super::frames::FrameSink::default(),
             first_frame_line: None,
             bare_world_line: None,
             main_file: PathBuf::new(),

@@ -44,6 +44,7 @@ mod options;
 mod polygons;
 mod shader_files;
 mod spaces;
+mod stream;
 mod surfaces;
 mod texcoords;
 
@@ -55,6 +56,7 @@ use crate::output::{OutputError, OutputGuard, OutputKind, StagedFiles};
 use crate::scene::{Scene, SceneError};
 
 pub use self::frames::{RibFrame, RibFrames};
+pub use self::stream::{FrameStream, StreamEnd};
 
 /// Why a RIB file could not be read.
 #[derive(Debug, thiserror::Error)]
@@ -311,10 +313,18 @@ impl RibFrames {
     /// Reads and interprets every frame of the RIB file at `path` (see
     /// [`RibScene::load`] for the file and its archives). An error in the
     /// text (syntax, block structure, a bad request, the patch budget,
-    /// which counts the patches of all frames) is the file's; a frame whose
+    /// which each frame has to itself) is the file's; a frame whose
     /// scene is invalid has the error as its [`RibFrame::scene`].
     pub fn load(path: impl AsRef<Path>) -> Result<RibFrames, RibError> {
         RibFrames::load_with(path, RibOptions::default())
+    }
+
+    /// The frames of the RIB file at `path`, read on a thread and handed
+    /// over one at a time (see [`FrameStream`]): memory holds the frame
+    /// being read and the one being used, not every frame. An error in the
+    /// text ends the stream; [`FrameStream::finish`] returns it.
+    pub fn stream(path: impl AsRef<Path>, options: RibOptions) -> FrameStream {
+        FrameStream::start(path.as_ref(), options)
     }
 
     /// [`RibFrames::load`] with `options` (see [`RibOptions`]).
