@@ -48,7 +48,7 @@ use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::scene::{Dicing, Scene, SceneError};
 use crate::stats::RenderStats;
-use crate::uvt::{PixelTuples, UvtTables};
+use crate::uvt::PixelTuples;
 
 /// The result of a render.
 #[derive(Debug, Clone)]
@@ -292,9 +292,7 @@ pub fn try_render_samples(
         },
     )?;
     let samples = SampleGrid::new(grid_size(scene.spp), scene.jitter);
-    let uvt = scene
-        .samples_time_and_lens()
-        .then(|| UvtTables::new(scene.spp, scene.interleave_tile));
+    let uvt = scene.samples_time_and_lens().then(|| scene.uvt_tables());
     let sampler = uvt.as_ref().map(|uvt| Sampler {
         samples: &samples,
         uvt,

@@ -56,6 +56,16 @@ pub enum SceneError {
         /// Requested samples per pixel.
         spp: u32,
     },
+    /// `interleave_permutations` is 0 or above
+    /// 256 (`crate::uvt::MAX_INTERLEAVE_PERMUTATIONS`).
+    #[error(
+        "interleave_permutations = {permutations} is not supported: use 1 to {} (Interleave UVT's permutations of a tile's pixels; 1 repeats one pattern in every tile)",
+        crate::uvt::MAX_INTERLEAVE_PERMUTATIONS
+    )]
+    InvalidInterleavePermutations {
+        /// Requested number of permutations.
+        permutations: u32,
+    },
     /// A number is NaN or infinite.
     #[error("{field} must be finite")]
     NonFinite {
