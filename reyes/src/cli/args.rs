@@ -30,7 +30,8 @@ pub(crate) struct RenderArgs {
     /// Image height in pixels (default: the scene's, 600).
     #[arg(long)]
     pub(crate) height: Option<u32>,
-    /// Samples per pixel: 1, 4, 9, 16, 25, 36, 49 or 64 (default: the scene's, 4).
+    /// Samples per pixel: a perfect square k * k, k = 1 to 16 (1, 4, 9, ...,
+    /// 225, 256; default: the scene's, 4).
     #[arg(long)]
     pub(crate) spp: Option<u32>,
     /// Sampling mode (default: the scene's, bbox).

@@ -61,8 +61,9 @@ pub struct Rendered {
     pub linear: Rgba32FImage,
     /// Per pixel (row-major): whether any sample was covered.
     pub coverage: Vec<bool>,
-    /// Per pixel (row-major): how many of its samples were covered.
-    pub covered_samples: Vec<u8>,
+    /// Per pixel (row-major): how many of its samples were covered (up to
+    /// 256, so not a byte).
+    pub covered_samples: Vec<u16>,
     /// Counters of the frame (`frame_time_ms` is the whole render, resolve included).
     pub stats: RenderStats,
 }

@@ -50,7 +50,7 @@ pub enum SceneError {
     },
     /// `spp` is not one of the supported perfect squares.
     #[error(
-        "spp = {spp} is not supported: use one of 1, 4, 9, 16, 25, 36, 49, 64 (the samples form a k x k grid)"
+        "spp = {spp} is not supported: use a perfect square k * k with k = 1 to 16 (1, 4, 9, ..., 225 or 256; the samples form a k x k grid)"
     )]
     InvalidSpp {
         /// Requested samples per pixel.

@@ -16,7 +16,7 @@
 //! the defaults, except where a comment says otherwise):
 //!
 //! ```toml
-//! spp = 4                            # samples per pixel: 1, 4, 9, 16, 25, 36, 49 or 64
+//! spp = 4                            # samples per pixel: k * k for k = 1 to 16 (1, 4, 9, ..., 256)
 //! sampling = "bbox"                  # "bbox", "simple", "interleave", "interval", "adaptive" or "nearest"
 //! interleave_tile = 2                # Interleave UVT's tile side in pixels: 2, 3 or 4
 //! interleave_permutations = 64       # permutations of a tile's pixels Interleave UVT picks from: 1 to 256

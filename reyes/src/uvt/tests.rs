@@ -32,7 +32,7 @@ fn disk_map_stays_in_the_disk_and_reaches_its_rim() {
 
 #[test]
 fn pixel_table_stratifies_time_within_every_pixel() {
-    for spp in [1, 4, 16, 64] {
+    for spp in [1, 4, 16, 64, 100, 256] {
         let tables = tables(spp, 2);
         for (x, y) in [(0, 0), (5, 63), (70, 200)] {
             let mut seen = vec![false; spp as usize];
@@ -139,7 +139,7 @@ fn one_permutation_repeats_the_tile_and_64_are_all_used() {
 /// bounding box does).
 #[test]
 fn every_pixel_pairs_time_and_lens_strata_inside_the_interval_boxes() {
-    for spp in [1, 4, 16, 64] {
+    for spp in [1, 4, 16, 64, 225, 256] {
         let tables = tables(spp, 2);
         let k = grid_size(spp);
         let mut seen = tables.pairing.clone();
@@ -244,7 +244,7 @@ fn disk_to_square(p: Vec2) -> (f32, f32) {
 /// table's UV-T pairing), so INTERVAL's boxes hold it.
 #[test]
 fn adaptive_pixels_carry_their_interleave_tuples() {
-    for (spp, tile) in [1, 4, 16, 64]
+    for (spp, tile) in [1, 4, 16, 64, 144, 256]
         .into_iter()
         .flat_map(|spp| INTERLEAVE_TILES.map(|k| (spp, k)))
     {
@@ -283,7 +283,7 @@ fn adaptive_pixels_carry_their_interleave_tuples() {
 #[test]
 fn every_interleave_pixel_keeps_its_time_and_lens_stratified() {
     use std::collections::{HashMap, HashSet};
-    for (spp, tile) in [4, 16, 64]
+    for (spp, tile) in [4, 16, 64, 256]
         .into_iter()
         .flat_map(|spp| INTERLEAVE_TILES.map(|k| (spp, k)))
     {
