@@ -59,8 +59,12 @@ pub const DEGENERATE_PARAM_MIN: f32 = 0.01;
 pub const DEGENERATE_PARAM_MAX: f32 = 0.99;
 
 /// Accepted samples-per-pixel counts. The samples of a pixel form a `k x k`
-/// grid of strata (`k = sqrt(spp)`), so `spp` must be a perfect square.
-pub const VALID_SPP: [u32; 8] = [1, 4, 9, 16, 25, 36, 49, 64];
+/// grid of strata (`k = sqrt(spp)`), so `spp` must be a perfect square; `k`
+/// goes to 16 (256 samples): Sattlecker and Steinberger measure Simple UVT
+/// up to 15 x 15, and McGuire et al. find defocus needs more than 64.
+pub const VALID_SPP: [u32; 16] = [
+    1, 4, 9, 16, 25, 36, 49, 64, 81, 100, 121, 144, 169, 196, 225, 256,
+];
 
 /// Multipliers of the jitter hash, one per input: pixel x, pixel y, sample
 /// index, and channel (0 for the x offset, 1 for the y offset). See

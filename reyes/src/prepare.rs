@@ -21,6 +21,7 @@ use crate::scene::{
 pub use crate::shading::{PreparedLight, PreparedSurface};
 use crate::surface_shader::{ParameterWarning, ShaderKind, ShaderTable};
 use crate::texture::TextureSet;
+use crate::uvt::{InterleaveTiles, UvtTables};
 
 /// Largest RGBA image of a frame, in bytes, for both renderers: 128 MiB,
 /// WebGPU's default `max_storage_buffer_binding_size`, which is also what
@@ -140,6 +141,8 @@ pub struct PreparedScene {
     pub sampling: Sampling,
     /// Side, in pixels, of Interleave UVT's tiles (2, 3 or 4).
     pub interleave_tile: u32,
+    /// Number of permutations Interleave UVT's tiles choose from (`P`).
+    pub interleave_permutations: u32,
     /// Whether samples are jittered within their strata.
     pub jitter: bool,
     /// Linear RGB background.
@@ -398,6 +401,7 @@ impl PreparedScene {
             spp: scene.spp,
             sampling: scene.sampling,
             interleave_tile: scene.interleave_tile,
+            interleave_permutations: scene.interleave_permutations,
             jitter: scene.jitter,
             background: scene.background,
             dicing: DicingRule::new(scene.dicing, scene.shading_rate, scene.dice_threshold),
@@ -443,6 +447,22 @@ impl PreparedScene {
     /// model assumes ([`DicingRule::nominal_micropolygon_px`]).
     pub fn nominal_micropolygon_px(&self) -> f32 {
         self.dicing.nominal_micropolygon_px()
+    }
+
+    /// Interleave UVT's tiles over the full image (a screen tile's camera
+    /// keeps the full image's width, along whose rows tiles are numbered).
+    pub fn interleave_tiles(&self) -> InterleaveTiles {
+        InterleaveTiles::new(
+            self.interleave_tile,
+            self.interleave_permutations,
+            self.camera.full_width,
+        )
+    }
+
+    /// The time/lens tables of this frame's sample count and Interleave
+    /// tiles.
+    pub fn uvt_tables(&self) -> UvtTables {
+        UvtTables::new(self.spp, self.interleave_tiles())
     }
 
     /// Whether samples carry a time and a lens position: with motion, with a

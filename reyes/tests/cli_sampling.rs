@@ -1,5 +1,5 @@
 //! The sampling flags of `reyes render`, on the CPU reference: the
-//! Interleave tile and the flat-shading short form.
+//! Interleave tile and permutations and the flat-shading short form.
 
 mod files;
 
@@ -81,4 +81,38 @@ fn the_interleave_tile_flag_takes_2_3_or_4() {
     ]);
     assert!(!ok);
     assert!(stderr.contains("cannot be used with"), "{stderr}");
+}
+
+#[test]
+fn the_interleave_permutations_flag_takes_1_to_256() {
+    let dir = TempDir::new("cli-interleave-permutations");
+    let flags = |p: &'static str| {
+        [
+            "--sampling",
+            "interleave",
+            "--spin",
+            "20",
+            "--interleave-permutations",
+            p,
+        ]
+    };
+    let one = render(&dir, "p1.png", &flags("1"));
+    let many = render(&dir, "p64.png", &flags("64"));
+    let default = render(&dir, "default.png", &flags("64")[..4]);
+    assert!(one != many, "one permutation renders another image");
+    assert!(many == default, "64 is the default");
+    render(&dir, "p256.png", &flags("256"));
+    for bad in ["0", "257"] {
+        let out = dir.path("bad.png");
+        let (ok, stderr) = run_cli(&[
+            "render",
+            "--cpu",
+            "--interleave-permutations",
+            bad,
+            "-o",
+            out.to_str().expect("temp paths are UTF-8"),
+        ]);
+        assert!(!ok);
+        assert!(stderr.contains("--interleave-permutations"), "{stderr}");
+    }
 }

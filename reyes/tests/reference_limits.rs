@@ -68,6 +68,15 @@ fn the_image_limit_is_the_gpu_paths_and_frames_within_it_pass() {
     }
     options.check_frame(1920, 1080, 64).unwrap();
     options.check_frame(4096, 4096, 16).unwrap();
+    // 256 spp: 1024 x 1024 is exactly the 2 GiB bound; 1920 x 1080 is
+    // twice over it.
+    options.check_frame(1024, 1024, 256).unwrap();
+    match options.check_frame(1920, 1080, 256) {
+        Err(ReferenceError::FramebufferTooLarge {
+            spp: 256, needed, ..
+        }) => assert_eq!(needed, 1920 * 1080 * 256 * 8),
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]

@@ -381,6 +381,20 @@ fn sides_one_shows_the_front_clockwise_on_screen() {
     assert!(lit(&mirrored) > 40);
 }
 
+/// `PixelSamples` maps to a `k x k` grid up to 16 x 16 (256 samples).
+#[test]
+fn pixel_samples_go_to_16_by_16() {
+    let spp = |x: u32, y: u32| {
+        let text = format!(
+            "Format 8 8 1\nPixelSamples {x} {y}\nWorldBegin\nPolygon \"P\" [0 0 5 0 1 5 1 1 5]\nWorldEnd\n"
+        );
+        RibScene::from_text(&text, "o.rib").unwrap().scene.spp
+    };
+    assert_eq!(spp(10, 10), 100);
+    assert_eq!(spp(16, 16), 256);
+    assert_eq!(spp(20, 20), 256, "clamped to the largest grid");
+}
+
 #[test]
 fn options_are_mapped() {
     let text = "Format 30 60 1\nPixelSamples 3 2\nShadingRate 4\nProjection \"perspective\" \"fov\" 40\n\

@@ -144,6 +144,45 @@ fn the_interleave_tile_is_2_3_or_4() {
     assert_eq!(parsed.interleave_tile, 3);
 }
 
+/// Interleave UVT's permutations: 64 by default, 1 to 256, anything else a
+/// typed error naming the value; the TOML key sets it.
+#[test]
+fn the_interleave_permutations_are_1_to_256() {
+    let mut scene = teapot(32, 4);
+    assert_eq!(scene.interleave_permutations, 64, "the default");
+    for permutations in [1, 2, 64, 255, 256] {
+        scene.interleave_permutations = permutations;
+        scene.validate().expect("in range");
+    }
+    for permutations in [0, 257, u32::MAX] {
+        scene.interleave_permutations = permutations;
+        match scene.validate() {
+            Err(SceneError::InvalidInterleavePermutations { permutations: p }) => {
+                assert_eq!(p, permutations);
+            }
+            other => panic!("interleave_permutations = {permutations}: {other:?}"),
+        }
+    }
+    let parsed: Scene = toml::from_str("interleave_permutations = 1").expect("parses");
+    assert_eq!(parsed.interleave_permutations, 1);
+}
+
+/// With one permutation every Interleave tile repeats the same pattern, so
+/// the image differs from the default 64's, and the reference renders both.
+#[test]
+fn one_interleave_permutation_changes_the_moving_teapots_image() {
+    let mut scene = teapot(96, 4);
+    scene.objects[0].transform_close = Some(Transform {
+        rotate_degrees: Vec3::new(0.0, 0.0, 20.0),
+        ..scene.objects[0].transform
+    });
+    scene.sampling = Sampling::Interleave;
+    let many = render(&scene);
+    scene.interleave_permutations = 1;
+    let one = render(&scene);
+    assert!(many.image != one.image);
+}
+
 /// Adaptive's cost model: a still, sharp grid goes to INTERVAL (one box per
 /// interval, hardly larger than the micropolygon), a grid moving or
 /// blurring far goes to Interleave UVT (whose cost does not grow with

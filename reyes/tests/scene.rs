@@ -176,10 +176,15 @@ fn validation_errors() {
         err("[resolution]\nwidth = 10\nheight = 0"),
         SceneError::InvalidResolution { .. }
     ));
-    for spp in [0, 2, 3, 8, 81] {
+    for spp in [0, 2, 3, 8, 200, 289] {
         assert!(
             matches!(err(&format!("spp = {spp}")), SceneError::InvalidSpp { spp: s } if s == spp)
         );
+    }
+    // Squares up to 16 x 16.
+    for spp in [81, 100, 225, 256] {
+        let scene = Scene::from_toml_str(&format!("spp = {spp}")).expect("a valid spp");
+        assert_eq!(scene.spp, spp);
     }
     assert!(matches!(err("ambient = nan"), SceneError::NonFinite { field } if field == "ambient"));
     assert!(

@@ -128,11 +128,23 @@ fn uvt_pixel_at(x: u32, y: u32, s: u32) -> u32 {
     return frame.uvt_pixel + 4u * (((gy % TABLE_SIDE) * TABLE_SIDE + gx % TABLE_SIDE) * frame.spp + s);
 }
 
+// The permutation Interleave tile (tx, ty) of the full image takes
+// (reference InterleaveTiles::permutation): Sattlecker and Steinberger's
+// tilenumber = ty * (width / K) + tx, permutation = (tilenumber + tx + ty)
+// mod P.
+fn tile_permutation(tx: u32, ty: u32) -> u32 {
+    let tilenumber = ty * frame.interleave_row_tiles + tx;
+    return (tilenumber + tx + ty) % frame.interleave_permutations;
+}
+
 // The Interleave slot of pixel (x, y) (reference UvtTables::interleave_slot).
 fn interleave_slot(x: u32, y: u32) -> u32 {
-    let gx = (x + frame.origin_x) % INTERLEAVE_PERIOD;
-    let gy = (y + frame.origin_y) % INTERLEAVE_PERIOD;
-    return u32(height_texels[frame.uvt_pixel_slot + gy * INTERLEAVE_PERIOD + gx]);
+    let gx = x + frame.origin_x;
+    let gy = y + frame.origin_y;
+    let tile = frame.interleave_tile;
+    let offset = (gy % tile) * tile + gx % tile;
+    let permutation = tile_permutation(gx / tile, gy / tile);
+    return u32(height_texels[frame.uvt_slot_of_pixel + permutation * tile * tile + offset]);
 }
 
 // The time and lens of sample s of pixel (x, y) for the bounding box
@@ -291,8 +303,6 @@ fn raster_simple(q: MovingQuad, counts: ptr<function, SampleCounts>) {
 fn raster_interleave(q: MovingQuad, counts: ptr<function, SampleCounts>) {
     let tuples = frame.interleave_tuples;
     let tile = frame.interleave_tile;
-    // Tiles repeat their permutations every INTERLEAVE_PERIOD pixels.
-    let period = INTERLEAVE_PERIOD / tile;
     let k = frame.k;
     var tuple = 0u;
     loop {
@@ -315,7 +325,7 @@ fn raster_interleave(q: MovingQuad, counts: ptr<function, SampleCounts>) {
                 }
                 let tx = tx0 + n % ntx;
                 let ty = ty0 + n / ntx;
-                let permutation = jitter_hash(tx % period, ty % period, 0u, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS;
+                let permutation = tile_permutation(tx, ty);
                 let j = u32(height_texels[frame.uvt_inverse + permutation * tuples + tuple]);
                 let slot = j / frame.spp;
                 let s = j % frame.spp;

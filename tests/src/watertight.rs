@@ -353,7 +353,7 @@ pub fn exclude_edges(
 /// # Panics
 /// When the slices are not `width * height` long.
 pub fn cracks(
-    covered_samples: &[u8],
+    covered_samples: &[u16],
     spp: u32,
     reference: &[bool],
     width: u32,
@@ -393,7 +393,7 @@ pub fn cracks(
 /// of whether the pixel's centre is covered, comparable to the reference's
 /// centre test (counting any covered sample would grow the render by half a
 /// pixel along every silhouette). 1 when both are empty.
-pub fn coverage_iou(covered_samples: &[u8], spp: u32, reference: &[bool]) -> f64 {
+pub fn coverage_iou(covered_samples: &[u16], spp: u32, reference: &[bool]) -> f64 {
     assert_eq!(covered_samples.len(), reference.len());
     let (mut both, mut either) = (0usize, 0usize);
     for (&covered, &inside) in covered_samples.iter().zip(reference) {
@@ -418,15 +418,15 @@ mod tests {
 
     /// A `width x height` image whose pixels are all fully covered and all
     /// inside the reference.
-    fn full(width: u32, height: u32) -> (Vec<u8>, Vec<bool>) {
+    fn full(width: u32, height: u32) -> (Vec<u16>, Vec<bool>) {
         let pixels = (width * height) as usize;
-        (vec![SPP as u8; pixels], vec![true; pixels])
+        (vec![SPP as u16; pixels], vec![true; pixels])
     }
 
     #[test]
     fn a_hole_inside_the_reference_is_a_crack() {
         let (mut covered, reference) = full(20, 12);
-        covered[6 * 20 + 9] = SPP as u8 - 1;
+        covered[6 * 20 + 9] = SPP as u16 - 1;
         covered[3 * 20 + 4] = 0;
         assert_eq!(
             cracks(&covered, SPP, &reference, 20, 12),
@@ -447,9 +447,9 @@ mod tests {
         let reference: Vec<bool> = (0..width * height)
             .map(|i| (5..15).contains(&(i % width)) && (5..15).contains(&(i / width)))
             .collect();
-        let mut covered: Vec<u8> = reference
+        let mut covered: Vec<u16> = reference
             .iter()
-            .map(|&r| if r { SPP as u8 } else { 0 })
+            .map(|&r| if r { SPP as u16 } else { 0 })
             .collect();
         let at = |x: u32, y: u32| (y * width + x) as usize;
         // On the border, one pixel in, and two pixels in: only the last is

@@ -147,7 +147,8 @@ fn every_mode_matches_the_cpu_reference_with_motion_and_depth_of_field() {
 }
 
 /// Interleave UVT with 3 x 3 and 4 x 4 tiles (and Adaptive, which uses
-/// them) agrees with the CPU reference, sample counts included.
+/// them), and with one permutation for every tile as well as the default
+/// 64, agrees with the CPU reference, sample counts included.
 #[gpu_test]
 fn larger_interleave_tiles_match_the_cpu_reference() {
     let gpu = tests::gpu();
@@ -155,20 +156,24 @@ fn larger_interleave_tiles_match_the_cpu_reference() {
     let mut renderer = renderer(gpu, GpuOptions::default());
     let mut scene = spinning_defocused_teapot();
     scene.jitter = true;
-    for (mode, tile) in [
-        (Sampling::Interleave, 3),
-        (Sampling::Interleave, 4),
-        (Sampling::Adaptive, 3),
+    for (mode, tile, permutations) in [
+        (Sampling::Interleave, 3, 64),
+        (Sampling::Interleave, 4, 64),
+        (Sampling::Adaptive, 3, 64),
+        (Sampling::Interleave, 2, 1),
+        (Sampling::Adaptive, 4, 1),
     ] {
         scene.sampling = mode;
         scene.interleave_tile = tile;
+        scene.interleave_permutations = permutations;
         let prepared = PreparedScene::load(&scene).expect("scene prepares");
         let g = render_gpu(&mut renderer, &prepared);
         let c = reference::render(&prepared);
         let a = agreement(&g, &c);
-        eprintln!("{mode:?}, K = {tile}: {a:?}");
-        assert!(a.coverage >= 0.1, "{mode:?}: coverage {:.3}", a.coverage);
-        a.assert_at_least(&format!("{mode:?}, K = {tile}"), 0.99, 0.98);
+        let mode = format!("{mode:?}, K = {tile}, P = {permutations}");
+        eprintln!("{mode}: {a:?}");
+        assert!(a.coverage >= 0.1, "{mode}: coverage {:.3}", a.coverage);
+        a.assert_at_least(&mode, 0.99, 0.98);
         assert_counts_close(
             "samples tested",
             g.stats.samples_tested,

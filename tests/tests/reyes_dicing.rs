@@ -208,8 +208,8 @@ fn smooth_shading_approaches_the_converged_picture() {
 /// `converged` cover (the shading, without the silhouettes, where
 /// different tessellations cover different samples of a pixel: the
 /// coverage IoU measures those) and whose colours differ by more than 2/255.
-fn off_pixels(image: &RgbaImage, covered: &[u8], converged: &Rendered, spp: u32) -> usize {
-    let full = u8::try_from(spp).expect("spp <= 64");
+fn off_pixels(image: &RgbaImage, covered: &[u16], converged: &Rendered, spp: u32) -> usize {
+    let full = u16::try_from(spp).expect("spp <= 256");
     covered
         .iter()
         .zip(&converged.covered_samples)

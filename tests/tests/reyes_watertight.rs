@@ -337,7 +337,7 @@ struct Count {
 }
 
 impl Count {
-    fn of(covered_samples: &[u8], shot: &Shot) -> Count {
+    fn of(covered_samples: &[u16], shot: &Shot) -> Count {
         let resolution = &shot.scene.resolution;
         Count {
             cracks: cracks(

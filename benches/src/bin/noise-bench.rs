@@ -9,7 +9,8 @@
 //! ```
 //!
 //! The converged render has 256 samples per pixel: the scene rendered at
-//! twice the width and height with 64 spp (the most a scene allows), each
+//! twice the width and height with 64 spp (the most a scene allowed when
+//! this was written; 256 spp at the output size would now do), each
 //! 2 x 2 block of pixels averaged in linear light, which is the box filter
 //! of 256 samples over the output pixel. It uses Bounding box sampling,
 //! whose samples each carry their own stratified time and lens position.

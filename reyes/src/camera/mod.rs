@@ -94,6 +94,10 @@ pub struct Camera {
     /// hashes absolute pixel coordinates, so a tile samples exactly like
     /// the same pixels of the whole frame.
     pub origin: [u32; 2],
+    /// Width in pixels of the full image: `width` unless the camera is a
+    /// [`Camera::crop`] of a larger one. Interleave UVT numbers its tiles
+    /// along the rows of the full image.
+    pub full_width: u32,
 }
 
 impl Camera {
@@ -137,6 +141,7 @@ impl Camera {
             view: Mat4::look_at_rh(eye, target, view_up),
             proj: Mat4::perspective_rh(fov_y_radians, aspect, near, far),
             origin: [0, 0],
+            full_width: width,
         }
     }
 
@@ -145,6 +150,7 @@ impl Camera {
     pub fn looking(&self, eye: Vec3, target: Vec3, up: Vec3) -> Camera {
         let placed = Camera {
             origin: self.origin,
+            full_width: self.full_width,
             ..Camera::new(
                 eye,
                 target,

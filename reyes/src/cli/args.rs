@@ -45,7 +45,8 @@ pub(crate) struct RenderArgs {
     /// Image height in pixels (default: the scene's, 600).
     #[arg(long)]
     pub(crate) height: Option<u32>,
-    /// Samples per pixel: 1, 4, 9, 16, 25, 36, 49 or 64 (default: the scene's, 4).
+    /// Samples per pixel: a perfect square k * k, k = 1 to 16 (1, 4, 9, ...,
+    /// 225, 256; default: the scene's, 4).
     #[arg(long)]
     pub(crate) spp: Option<u32>,
     /// Sampling mode (default: the scene's, bbox).
@@ -55,6 +56,17 @@ pub(crate) struct RenderArgs {
     /// scene's, 2). Interleave UVT and Adaptive use it.
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(2..=4))]
     pub(crate) interleave_tile: Option<u32>,
+    /// Number of permutations of a tile's pixels Interleave UVT chooses
+    /// from, 1 to 256 (default: the scene's, 64). Tile (tx, ty) takes
+    /// permutation (ty * W + tx + tx + ty) mod P, W tiles a row
+    /// (Sattlecker and Steinberger); 1 repeats one pattern in every tile.
+    #[arg(
+        long,
+        value_name = "P",
+        value_parser = clap::value_parser!(u32)
+            .range(1..=i64::from(crate::uvt::MAX_INTERLEAVE_PERMUTATIONS))
+    )]
+    pub(crate) interleave_permutations: Option<u32>,
     /// How pieces are diced (default: the scene's, rate).
     #[arg(long, value_enum)]
     pub(crate) dicing: Option<Dicing>,

@@ -4,6 +4,7 @@
 //! ```text
 //! reyes render [SCENE] -o out.png [--width W] [--height H] [--spp N]
 //!              [--sampling bbox|simple|interleave|interval|adaptive|nearest] [--interleave-tile 2|3|4]
+//!              [--interleave-permutations P]
 //!              [--stats] [--stats-json FILE] [--quiet]
 //!              [--spin DEG] [--move x,y,z] [--camera-move x,y,z] [--camera-pan DEG]
 //!              [--shutter F] [--aperture R] [--focus D]

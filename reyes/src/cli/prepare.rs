@@ -133,6 +133,9 @@ fn override_frame(scene: &mut Scene, args: &RenderArgs) {
     if let Some(tile) = args.interleave_tile {
         scene.interleave_tile = tile;
     }
+    if let Some(permutations) = args.interleave_permutations {
+        scene.interleave_permutations = permutations;
+    }
     if let Some(aov) = args.aov {
         scene.aov = aov;
     }

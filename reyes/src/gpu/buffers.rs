@@ -9,7 +9,7 @@ pub use super::counters::GpuCounters;
 use super::objects::{ObjectData, ObjectTables};
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
-use crate::uvt::{PixelTuples, UvtLayout, UvtTables};
+use crate::uvt::{PixelTuples, UvtLayout};
 
 /// The frame uniform, WGSL struct `Frame` (declared from this struct in the
 /// generated module, its layout checked when this crate compiles).
@@ -70,8 +70,9 @@ pub struct FrameUniform {
     pub uvt_pixel: u32,
     /// The interleave inverses.
     pub uvt_inverse: u32,
-    /// The Interleave slot of each pixel of a period.
-    pub uvt_pixel_slot: u32,
+    /// The Interleave slot of each pixel offset of a tile, per
+    /// permutation (reyes::uvt::UvtTables::slot_of_pixel).
+    pub uvt_slot_of_pixel: u32,
     /// Each Interleave slot's sample per time stratum.
     pub uvt_slot_sample: u32,
     /// Each Interleave slot's time stratum per sample.
@@ -102,6 +103,12 @@ pub struct FrameUniform {
     pub dice_threshold: f32,
     /// Side, in pixels, of Interleave UVT's tiles (K: 2, 3 or 4).
     pub interleave_tile: u32,
+    /// Permutations Interleave UVT's tiles choose from (P,
+    /// reyes::uvt::InterleaveTiles::permutations).
+    pub interleave_permutations: u32,
+    /// Interleave tiles in a row of the full image
+    /// (reyes::uvt::InterleaveTiles::row_tiles).
+    pub interleave_row_tiles: u32,
     /// The micropolygon side in pixels that Adaptive's cost model assumes
     /// (reyes::prepare::PreparedScene::nominal_micropolygon_px).
     pub adaptive_micropolygon: f32,
@@ -121,16 +128,13 @@ pub struct FrameUniform {
     pub texture_count: u32,
     /// Packed texels of all textures.
     pub texel_count: u32,
-    /// Padding to the struct's 16-byte alignment.
-    pub pad0: u32,
-    /// Padding.
-    pub pad1: u32,
 }
 
 impl FrameUniform {
     /// The uniform of `scene`.
     pub fn new(scene: &PreparedScene) -> Self {
         let camera = &scene.camera;
+        let tiles = scene.interleave_tiles();
         Self {
             // The same f32 matrix the reference multiplies with.
             view_proj: camera.view_proj(),
@@ -158,7 +162,7 @@ impl FrameUniform {
             uvt_interval_lens: 0,
             uvt_pixel: 0,
             uvt_inverse: 0,
-            uvt_pixel_slot: 0,
+            uvt_slot_of_pixel: 0,
             uvt_slot_sample: 0,
             uvt_slot_stratum: 0,
             interleave_pixel_tuples: u32::from(
@@ -175,15 +179,14 @@ impl FrameUniform {
             texel_floats: 0,
             texture_count: scene.textures.len() as u32,
             texel_count: texel_words(scene) as u32,
-            pad0: 0,
-            pad1: 0,
-            
             aov: scene.aov.code(),
             depth_range: crate::aov::depth_range(camera),
             smooth_shading: u32::from(
                 scene.shading_interpolation == crate::scene::ShadingInterpolation::Smooth,
             ),
-            interleave_tile: scene.interleave_tile,
+            interleave_tile: tiles.tile,
+            interleave_permutations: tiles.permutations,
+            interleave_row_tiles: tiles.row_tiles,
             adaptive_micropolygon: scene.nominal_micropolygon_px(),
         }
     }
@@ -191,13 +194,13 @@ impl FrameUniform {
     /// Points the uniform at the time/lens tables stored at float `base` of
     /// `height_texels`.
     fn with_uvt(mut self, base: u32) -> Self {
-        let layout = UvtLayout::new(self.spp, self.interleave_tile);
+        let layout = UvtLayout::new(self.spp, self.interleave_tile, self.interleave_permutations);
         self.uvt_simple = base + layout.simple;
         self.uvt_interleave = base + layout.interleave;
         self.uvt_interval_lens = base + layout.interval_lens;
         self.uvt_pixel = base + layout.pixel;
         self.uvt_inverse = base + layout.inverse;
-        self.uvt_pixel_slot = base + layout.pixel_slot;
+        self.uvt_slot_of_pixel = base + layout.slot_of_pixel;
         self.uvt_slot_sample = base + layout.slot_sample;
         self.uvt_slot_stratum = base + layout.slot_stratum;
         self.interleave_tuples = self.spp * self.interleave_tile * self.interleave_tile;
@@ -207,7 +210,7 @@ impl FrameUniform {
 
 /// Where the scene's floats lie in the `height_texels` buffer: the height
 /// maps from float 0, then (when samples carry time and lens) the
-/// [`UvtTables`], then the input patches' control points (48 floats each,
+/// [`crate::uvt::UvtTables`], then the input patches' control points (48 floats each,
 /// which the dice procedures evaluate), their corner texture coordinates
 /// (8 floats each), the user shaders' parameter slots (4 floats each), and
 /// the textures' tables ([`crate::texture::TextureSet::gpu_tables`], by
@@ -234,7 +237,14 @@ impl FloatLayout {
     fn new(scene: &PreparedScene, tables: &ObjectTables) -> Self {
         let uvt = tables.texels as u64;
         let uvt_floats = if scene.samples_time_and_lens() {
-            u64::from(UvtLayout::new(scene.spp, scene.interleave_tile).floats)
+            u64::from(
+                UvtLayout::new(
+                    scene.spp,
+                    scene.interleave_tile,
+                    scene.interleave_permutations,
+                )
+                .floats,
+            )
         } else {
             0
         };
@@ -322,10 +332,10 @@ pub struct FrameBuffers {
     lights_len: usize,
     /// The tables last written (their maps are in `height_texels`).
     tables: Option<ObjectTables>,
-    /// The sample count, Interleave tile side and float offset of the
-    /// time/lens tables last uploaded to `height_texels` (they stay valid
-    /// while all three do).
-    uvt: Option<(u32, u32, u32)>,
+    /// The sample count, Interleave tile side and permutations and float
+    /// offset of the time/lens tables last uploaded to `height_texels`
+    /// (they stay valid while all four do).
+    uvt: Option<(u32, u32, u32, u32)>,
     /// The texture set's revision and float offset last uploaded to
     /// `height_texels` (they stay valid while both do).
     textures: Option<(u64, u64)>,
@@ -471,16 +481,20 @@ impl FrameBuffers {
         }
         if scene.samples_time_and_lens() {
             let base = layout.uvt as u32;
-            // Built and uploaded once per sample count, tile side and place
-            // in the buffer; the buffer keeps them between frames.
-            let key = (scene.spp, scene.interleave_tile, base);
+            // Built and uploaded once per sample count, tile side, number of
+            // permutations and place in the buffer; the buffer keeps them
+            // between frames (the image width is in the frame uniform).
+            let key = (
+                scene.spp,
+                scene.interleave_tile,
+                scene.interleave_permutations,
+                base,
+            );
             if self.uvt != Some(key) {
                 queue.write_buffer(
                     &self.height_texels,
                     4 * u64::from(base),
-                    bytemuck::cast_slice(
-                        &UvtTables::new(scene.spp, scene.interleave_tile).to_floats(),
-                    ),
+                    bytemuck::cast_slice(&scene.uvt_tables().to_floats()),
                 );
                 self.uvt = Some(key);
             }

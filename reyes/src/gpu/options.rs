@@ -118,8 +118,9 @@ pub struct GpuRendered {
     pub linear: Rgba32FImage,
     /// Per pixel (row-major): whether any sample was covered.
     pub coverage: Vec<bool>,
-    /// Per pixel (row-major): how many of its samples were covered.
-    pub covered_samples: Vec<u8>,
+    /// Per pixel (row-major): how many of its samples were covered (up to
+    /// 256, so not a byte).
+    pub covered_samples: Vec<u16>,
     /// The frame's counters. `frame_time_ms` is the megakernel's GPU time
     /// when the device has timestamp queries, else the frame's wall time.
     pub stats: RenderStats,

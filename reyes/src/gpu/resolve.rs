@@ -144,7 +144,7 @@ pub struct Resolved {
     /// Per pixel: any sample covered.
     pub coverage: Vec<bool>,
     /// Per pixel: how many samples were covered.
-    pub covered_samples: Vec<u8>,
+    pub covered_samples: Vec<u16>,
 }
 
 fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
@@ -280,8 +280,11 @@ impl Resolver {
             .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
             .collect();
         let coverage_words = read_buffer(device, queue, &target.coverage, timeout)?;
-        // At most 64 samples per pixel: the count is the low byte.
-        let covered_samples: Vec<u8> = coverage_words.chunks_exact(4).map(|w| w[0]).collect();
+        // At most 256 samples per pixel: the count is the low half-word.
+        let covered_samples: Vec<u16> = coverage_words
+            .chunks_exact(4)
+            .map(|w| u16::from_le_bytes([w[0], w[1]]))
+            .collect();
         let coverage = covered_samples.iter().map(|&n| n != 0).collect();
         Ok(Resolved {
             linear,

@@ -17,7 +17,7 @@ use crate::params::{
     MAX_GRID_QUADS, NEAR_EPS, POINT_LIGHT_MIN_DISTANCE_SQUARED, SINES_NORMALIZATION,
     SINES_OCTAVE_2_FREQUENCY, SINES_OCTAVE_2_WEIGHT, STRATUM_MARGIN,
 };
-use crate::uvt::{INTERLEAVE_PERIOD, INTERLEAVE_PERMUTATIONS, PERMUTATION_CHANNEL, TABLE_SIDE};
+use crate::uvt::TABLE_SIDE;
 
 /// Items of the smallest dice procedure in one workgroup: the slots whose
 /// grid extents `grid_extent` keeps.
@@ -113,16 +113,7 @@ pub(super) fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, Consta
         ),
         ("SAMPLING_INTERVAL", ConstantValue::U32(sampling::INTERVAL)),
         ("SAMPLING_ADAPTIVE", ConstantValue::U32(sampling::ADAPTIVE)),
-        (
-            "INTERLEAVE_PERMUTATIONS",
-            ConstantValue::U32(INTERLEAVE_PERMUTATIONS),
-        ),
-        (
-            "PERMUTATION_CHANNEL",
-            ConstantValue::U32(PERMUTATION_CHANNEL),
-        ),
         ("TABLE_SIDE", ConstantValue::U32(TABLE_SIDE)),
-        ("INTERLEAVE_PERIOD", ConstantValue::U32(INTERLEAVE_PERIOD)),
         (
             "ADAPTIVE_PLACE_COST",
             ConstantValue::F32(ADAPTIVE_PLACE_COST),

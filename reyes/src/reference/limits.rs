@@ -18,7 +18,8 @@ pub use crate::prepare::MAX_IMAGE_BYTES;
 use crate::stats::RenderStats;
 
 /// Default [`ReferenceOptions::max_framebuffer_bytes`]: 2 GiB, 2^28 samples
-/// of 8 bytes (e.g. 4096 x 4096 at 16 spp, or 1920 x 1080 at 64 spp).
+/// of 8 bytes (e.g. 4096 x 4096 at 16 spp, 1920 x 1080 at 64 spp, or 1024 x
+/// 1024 at 256 spp).
 pub const DEFAULT_MAX_FRAMEBUFFER_BYTES: u64 = 2 << 30;
 
 /// Default [`ReferenceOptions::max_items`]: 2^26 (about 67 million) work

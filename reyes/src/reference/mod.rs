@@ -48,7 +48,7 @@ use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::scene::{Dicing, Scene, SceneError};
 use crate::stats::RenderStats;
-use crate::uvt::{PixelTuples, UvtTables};
+use crate::uvt::PixelTuples;
 
 /// The result of a render.
 #[derive(Debug, Clone)]
@@ -61,8 +61,9 @@ pub struct Rendered {
     pub linear: Rgba32FImage,
     /// Per pixel (row-major): whether any sample was covered.
     pub coverage: Vec<bool>,
-    /// Per pixel (row-major): how many of its samples were covered.
-    pub covered_samples: Vec<u8>,
+    /// Per pixel (row-major): how many of its samples were covered (up to
+    /// 256, so not a byte).
+    pub covered_samples: Vec<u16>,
     /// Counters of the frame (`frame_time_ms` is the whole render, resolve included).
     pub stats: RenderStats,
 }
@@ -292,9 +293,7 @@ pub fn try_render_samples(
         },
     )?;
     let samples = SampleGrid::new(grid_size(scene.spp), scene.jitter);
-    let uvt = scene
-        .samples_time_and_lens()
-        .then(|| UvtTables::new(scene.spp, scene.interleave_tile));
+    let uvt = scene.samples_time_and_lens().then(|| scene.uvt_tables());
     let sampler = uvt.as_ref().map(|uvt| Sampler {
         samples: &samples,
         uvt,

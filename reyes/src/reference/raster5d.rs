@@ -334,7 +334,7 @@ impl Mode5d {
                 blur,
                 sampler.micropolygon_px,
                 sampler.uvt.spp,
-                sampler.uvt.tile,
+                sampler.uvt.tiles.tile,
             ),
             Sampling::Nearest => return None,
         })
@@ -406,7 +406,7 @@ pub fn raster_quad_5d(
             }
         }
         Mode5d::Interleave => {
-            let tile = uvt.tile;
+            let tile = uvt.tiles.tile;
             for (n, &tl) in uvt.interleave.iter().enumerate() {
                 let placed = quad.place(tl);
                 let Some(strata) = placed.bounds().and_then(|(lo, hi)| strata(lo, hi)) else {

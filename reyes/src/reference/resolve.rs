@@ -35,10 +35,10 @@ pub fn resolve(
     background: Vec3,
     filter: &PixelFilter,
     layout: SampleLayout,
-) -> (Rgba32FImage, Vec<u8>) {
+) -> (Rgba32FImage, Vec<u16>) {
     let (width, height) = (framebuffer.width, framebuffer.height);
     let mut image = Rgba32FImage::new(width, height);
-    let mut coverage = vec![0u8; width as usize * height as usize];
+    let mut coverage = vec![0u16; width as usize * height as usize];
     let color = |key: u64| {
         if key == CLEAR_KEY {
             background
@@ -53,7 +53,7 @@ pub fn resolve(
     let [rx, ry] = filter.radius();
     for y in 0..height {
         for x in 0..width {
-            let mut covered = 0u8;
+            let mut covered = 0u16;
             let mut own = Vec3::ZERO;
             for &key in framebuffer.pixel(x, y) {
                 if key != CLEAR_KEY {

@@ -47,7 +47,7 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
 
     // PixelSamples: the renderer takes k x k samples.
     let (xs, ys) = opts.pixel_samples.unwrap_or((2.0, 2.0));
-    let k = (xs * ys).max(1.0).sqrt().round().clamp(1.0, 8.0) as u32;
+    let k = (xs * ys).max(1.0).sqrt().round().clamp(1.0, 16.0) as u32;
     if f64::from(k * k) != xs * ys {
         warn(format!(
             "PixelSamples {xs} {ys}: the renderer takes a square grid; using {k} x {k} = {} samples",

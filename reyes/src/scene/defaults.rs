@@ -37,6 +37,9 @@ pub(super) fn default_spp() -> u32 {
 pub(super) fn default_interleave_tile() -> u32 {
     crate::uvt::DEFAULT_INTERLEAVE_TILE
 }
+pub(super) fn default_interleave_permutations() -> u32 {
+    crate::uvt::DEFAULT_INTERLEAVE_PERMUTATIONS
+}
 pub(super) fn default_background() -> Vec3 {
     Vec3::new(0.05, 0.05, 0.07)
 }

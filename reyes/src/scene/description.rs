@@ -20,8 +20,8 @@ use crate::quantize::{Exposure, Quantize};
 
 use super::defaults::{
     default_ambient, default_background, default_color, default_dice_threshold,
-    default_interleave_tile, default_lights, default_max_split_depth, default_one,
-    default_shading_rate, default_spp,
+    default_interleave_permutations, default_interleave_tile, default_lights,
+    default_max_split_depth, default_one, default_shading_rate, default_spp,
 };
 use super::framing::box_corners;
 use super::{
@@ -66,6 +66,13 @@ pub struct Scene {
     /// `crate::uvt::INTERLEAVE_TILES`. Interleave UVT and Adaptive use it.
     #[serde(default = "default_interleave_tile")]
     pub interleave_tile: u32,
+    /// Number of permutations of the pixel offsets Interleave UVT's tiles
+    /// choose from (`P`, default
+    /// `crate::uvt::DEFAULT_INTERLEAVE_PERMUTATIONS`, 1 to
+    /// `crate::uvt::MAX_INTERLEAVE_PERMUTATIONS`); 1 repeats one pattern
+    /// in every tile. Interleave UVT and Adaptive use it.
+    #[serde(default = "default_interleave_permutations")]
+    pub interleave_permutations: u32,
     /// Jitter samples within their strata (default false).
     #[serde(default)]
     pub jitter: bool,
@@ -153,6 +160,7 @@ impl Default for Scene {
             spp: default_spp(),
             sampling: Sampling::default(),
             interleave_tile: default_interleave_tile(),
+            interleave_permutations: default_interleave_permutations(),
             jitter: false,
             shutter: 1.0,
             lens: Lens::default(),

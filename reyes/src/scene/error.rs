@@ -50,11 +50,21 @@ pub enum SceneError {
     },
     /// `spp` is not one of the supported perfect squares.
     #[error(
-        "spp = {spp} is not supported: use one of 1, 4, 9, 16, 25, 36, 49, 64 (the samples form a k x k grid)"
+        "spp = {spp} is not supported: use a perfect square k * k with k = 1 to 16 (1, 4, 9, ..., 225 or 256; the samples form a k x k grid)"
     )]
     InvalidSpp {
         /// Requested samples per pixel.
         spp: u32,
+    },
+    /// `interleave_permutations` is 0 or above
+    /// 256 (`crate::uvt::MAX_INTERLEAVE_PERMUTATIONS`).
+    #[error(
+        "interleave_permutations = {permutations} is not supported: use 1 to {} (Interleave UVT's permutations of a tile's pixels; 1 repeats one pattern in every tile)",
+        crate::uvt::MAX_INTERLEAVE_PERMUTATIONS
+    )]
+    InvalidInterleavePermutations {
+        /// Requested number of permutations.
+        permutations: u32,
     },
     /// A number is NaN or infinite.
     #[error("{field} must be finite")]

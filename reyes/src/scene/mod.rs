@@ -16,9 +16,10 @@
 //! the defaults, except where a comment says otherwise):
 //!
 //! ```toml
-//! spp = 4                            # samples per pixel: 1, 4, 9, 16, 25, 36, 49 or 64
+//! spp = 4                            # samples per pixel: k * k for k = 1 to 16 (1, 4, 9, ..., 256)
 //! sampling = "bbox"                  # "bbox", "simple", "interleave", "interval", "adaptive" or "nearest"
 //! interleave_tile = 2                # Interleave UVT's tile side in pixels: 2, 3 or 4
+//! interleave_permutations = 64       # permutations of a tile's pixels Interleave UVT picks from: 1 to 256
 //! jitter = false                     # jitter samples within their strata
 //! pixel_filter = { filter = "gaussian", xwidth = 2.0, ywidth = 2.0 }  # box, triangle, gaussian, catmull-rom or sinc
 //! exposure = { gain = 1.0, gamma = 1.0 }  # the 8-bit image's (c * gain)^(1/gamma); not the EXR's

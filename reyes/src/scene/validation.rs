@@ -56,9 +56,9 @@ impl Scene {
         Ok(())
     }
 
-    /// The image: its size, samples per pixel, Interleave UVT's tile side,
-    /// the background colour, the pixel filter and the 8-bit encoding
-    /// (exposure and quantization).
+    /// The image: its size, samples per pixel, Interleave UVT's tile side
+    /// and permutations, the background colour, the pixel filter and the
+    /// 8-bit encoding (exposure and quantization).
     fn check_image(&self) -> Result<(), SceneError> {
         let Resolution { width, height } = self.resolution;
         if width == 0 || height == 0 {
@@ -72,6 +72,10 @@ impl Scene {
                 "interleave_tile",
                 "must be 2, 3 or 4 (Interleave UVT's tile side in pixels)",
             ));
+        }
+        let permutations = self.interleave_permutations;
+        if !(1..=crate::uvt::MAX_INTERLEAVE_PERMUTATIONS).contains(&permutations) {
+            return Err(SceneError::InvalidInterleavePermutations { permutations });
         }
         finite("background", self.background.to_array())?;
         if let Some(problem) = self.pixel_filter.problem() {

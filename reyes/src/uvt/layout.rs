@@ -1,14 +1,14 @@
 //! The tables as the GPU reads them: one `f32` buffer
 //! ([`UvtTables::to_floats`]) and the offsets of its tables ([`UvtLayout`]).
 
-use super::{INTERLEAVE_PERIOD, INTERLEAVE_PERMUTATIONS, TABLE_SIDE, UvtTables};
+use super::{TABLE_SIDE, UvtTables};
 
 impl UvtTables {
     /// The tables as the GPU reads them, `vec4<f32>` records in the order
     /// simple, interleave, INTERVAL lens boxes, pixel (`t, lens.x, lens.y, 0`
     /// for the tuples; `lo.x, lo.y, hi.x, hi.y` for the boxes; `t, lens.x,
     /// lens.y, sample_in_stratum` for the pixel table), then the interleave
-    /// inverses, the pixels' slots, `slot_sample` and `slot_stratum`
+    /// inverses, `slot_of_pixel`, `slot_sample` and `slot_stratum`
     /// as `f32` (exact: they are below 2^24). Offsets are in
     /// [`UvtTables::layout`].
     pub fn to_floats(&self) -> Vec<f32> {
@@ -23,7 +23,7 @@ impl UvtTables {
             out.extend([tuple.t, tuple.lens.x, tuple.lens.y, s as f32]);
         }
         out.extend(self.inverse.iter().map(|&j| j as f32));
-        out.extend(self.pixel_slot.iter().map(|&q| q as f32));
+        out.extend(self.slot_of_pixel.iter().map(|&q| q as f32));
         out.extend(self.slot_sample.iter().map(|&s| s as f32));
         out.extend(self.slot_stratum.iter().map(|&i| i as f32));
         out
@@ -31,7 +31,7 @@ impl UvtTables {
 
     /// Where each table starts in [`UvtTables::to_floats`], in floats.
     pub fn layout(&self) -> UvtLayout {
-        UvtLayout::new(self.spp, self.tile)
+        UvtLayout::new(self.spp, self.tiles.tile, self.tiles.permutations)
     }
 }
 
@@ -48,8 +48,8 @@ pub struct UvtLayout {
     pub pixel: u32,
     /// Interleave inverse permutations.
     pub inverse: u32,
-    /// [`UvtTables::pixel_slot`].
-    pub pixel_slot: u32,
+    /// [`UvtTables::slot_of_pixel`].
+    pub slot_of_pixel: u32,
     /// [`UvtTables::slot_sample`].
     pub slot_sample: u32,
     /// [`UvtTables::slot_stratum`].
@@ -60,17 +60,17 @@ pub struct UvtLayout {
 
 impl UvtLayout {
     /// The layout of the tables for `spp` samples per pixel and Interleave
-    /// tiles of `tile` pixels a side, without building them (buffer sizing
-    /// needs only this).
-    pub fn new(spp: u32, tile: u32) -> UvtLayout {
+    /// tiles of `tile` pixels a side with `permutations` permutations,
+    /// without building them (buffer sizing needs only this).
+    pub fn new(spp: u32, tile: u32, permutations: u32) -> UvtLayout {
         let tuples = spp * tile * tile;
         let simple = 0;
         let interleave = simple + 4 * spp;
         let interval_lens = interleave + 4 * tuples;
         let pixel = interval_lens + 4 * spp;
         let inverse = pixel + 4 * TABLE_SIDE * TABLE_SIDE * spp;
-        let pixel_slot = inverse + INTERLEAVE_PERMUTATIONS * tuples;
-        let slot_sample = pixel_slot + INTERLEAVE_PERIOD * INTERLEAVE_PERIOD;
+        let slot_of_pixel = inverse + permutations * tuples;
+        let slot_sample = slot_of_pixel + permutations * tile * tile;
         let slot_stratum = slot_sample + tuples;
         UvtLayout {
             simple,
@@ -78,7 +78,7 @@ impl UvtLayout {
             interval_lens,
             pixel,
             inverse,
-            pixel_slot,
+            slot_of_pixel,
             slot_sample,
             slot_stratum,
             floats: slot_stratum + tuples,

@@ -17,14 +17,18 @@
 //!   tuples cover every time stratum and every `k x k` lens stratum of a
 //!   pixel once (see `interleave_tuples`), as Fatahalian et al. (2009) keep
 //!   them, with the per-pixel table's UV-T pairing. A tile gives slot `q`
-//!   to its pixel `ρ_p(q)` (row-major), where
-//!   `p` ([`UvtTables::tile_permutation`]) picks one of
-//!   [`INTERLEAVE_PERMUTATIONS`] precomputed permutations of the pixel
-//!   offsets per tile, which breaks the repetition of the pattern while
-//!   every pixel stays stratified. The table stores, for a tuple, which
-//!   sample `j` of the tile (pixel `j / spp`, sample `j % spp` of it)
-//!   carries it. Tiles are counted in absolute pixel coordinates, so a
-//!   screen tile of the renderer may start anywhere in an Interleave tile.
+//!   to its pixel `ρ_p(q)` (row-major), where `p`
+//!   ([`InterleaveTiles::permutation`]) picks one of `P` precomputed
+//!   permutations of the pixel offsets per tile (`P` =
+//!   [`DEFAULT_INTERLEAVE_PERMUTATIONS`] unless the scene says otherwise),
+//!   by Sattlecker and Steinberger's rule (their equations 2 and 3):
+//!   `tilenumber = ty * (width / K) + tx`, `p = (tilenumber + tx + ty) mod
+//!   P`. This breaks the repetition of the pattern while every pixel stays
+//!   stratified; `P = 1` gives every tile the same pattern. The table
+//!   stores, for a tuple, which sample `j` of the tile (pixel `j / spp`,
+//!   sample `j % spp` of it) carries it. Tiles are counted in absolute
+//!   pixel coordinates of the full image, so a screen tile of the renderer
+//!   may start anywhere in an Interleave tile.
 //! * **Per-pixel table** ([`UvtTables::pixel`]), used by the bounding-box and
 //!   INTERVAL modes: `TABLE_SIDE x TABLE_SIDE` pixels with `spp` samples
 //!   each, repeated over the screen. Within a pixel the times are stratified
@@ -53,7 +57,8 @@
 //! which keeps strata compact.
 //!
 //! The module is cut along its responsibilities: `tuples` (the stratified
-//! and Interleave tuples and the permutations behind them), `lens` (the
+//! and Interleave tuples and the permutations behind them), `tiles`
+//! (which permutation an Interleave tile takes), `lens` (the
 //! concentric disk map and INTERVAL's lens boxes), `tables` (the
 //! [`UvtTables`] built from them and their lookups), `layout` (the tables
 //! as the GPU reads them). Every public item is re-exported here.
@@ -63,6 +68,7 @@ use crate::modes::Sampling;
 mod layout;
 mod lens;
 mod tables;
+mod tiles;
 mod tuples;
 
 #[cfg(test)]
@@ -71,6 +77,7 @@ mod tests;
 pub use layout::UvtLayout;
 pub use lens::{LENS_BOX_MARGIN, concentric_disk, lens_stratum_box};
 pub use tables::UvtTables;
+pub use tiles::InterleaveTiles;
 pub use tuples::TimeLens;
 
 /// The sides, in pixels, that the tiles of Interleave UVT (`K`) may have:
@@ -79,26 +86,15 @@ pub const INTERLEAVE_TILES: [u32; 3] = [2, 3, 4];
 /// The default side of Interleave UVT's tiles.
 pub const DEFAULT_INTERLEAVE_TILE: u32 = 2;
 /// Number of precomputed pixel-offset permutations a tile chooses from
-/// (`P`), as in both papers.
-pub const INTERLEAVE_PERMUTATIONS: u32 = 64;
+/// (`P`) unless the scene sets `interleave_permutations`: 64, as in both
+/// papers.
+pub const DEFAULT_INTERLEAVE_PERMUTATIONS: u32 = 64;
+/// The largest `P` a scene may ask for. Tiles of 2 x 2 pixels have only 24
+/// distinct permutations, and the tables grow with `P` (`P * spp * K^2`
+/// inverse entries), so more buys nothing.
+pub const MAX_INTERLEAVE_PERMUTATIONS: u32 = 256;
 /// Side, in pixels, of the per-pixel table, which repeats over the screen.
 pub const TABLE_SIDE: u32 = 64;
-/// Hash channel that picks a tile's permutation (channels 0 and 1 jitter
-/// screen positions).
-pub const PERMUTATION_CHANNEL: u32 = 6;
-/// Interleave UVT's choice of permutations repeats every this many pixels
-/// (a multiple of every tile side in [`INTERLEAVE_TILES`]), so that the
-/// slot of every pixel fits one table ([`UvtTables::pixel_slot`]) that the
-/// bounding box and INTERVAL read under Adaptive without hashing or
-/// dividing by the tile side per sample.
-pub const INTERLEAVE_PERIOD: u32 = 96;
-const _: () = {
-    let mut i = 0;
-    while i < INTERLEAVE_TILES.len() {
-        assert!(INTERLEAVE_PERIOD.is_multiple_of(INTERLEAVE_TILES[i]));
-        i += 1;
-    }
-};
 
 /// Which time and lens the bounding box and INTERVAL give a pixel's
 /// samples.

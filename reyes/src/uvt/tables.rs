@@ -1,6 +1,5 @@
 //! [`UvtTables`]: the time/lens tables of one sample count and Interleave
-//! tile side, built on the host, and the lookups both renderers make in
-//! them.
+//! tiling, built on the host, and the lookups both renderers make in them.
 
 use glam::Vec2;
 
@@ -8,17 +7,18 @@ use crate::sampling::{grid_size, hash};
 
 use super::tuples::{interleave_tuples, permutation, stratified_tuples, unit};
 use super::{
-    INTERLEAVE_PERIOD, INTERLEAVE_PERMUTATIONS, INTERLEAVE_TILES, PERMUTATION_CHANNEL, PixelTuples,
-    TABLE_SIDE, TimeLens, concentric_disk, lens_stratum_box,
+    INTERLEAVE_TILES, InterleaveTiles, MAX_INTERLEAVE_PERMUTATIONS, PixelTuples, TABLE_SIDE,
+    TimeLens, concentric_disk, lens_stratum_box,
 };
 
-/// The time/lens tables of one sample count and Interleave tile side.
+/// The time/lens tables of one sample count and Interleave tiling.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UvtTables {
     /// Samples per pixel.
     pub spp: u32,
-    /// Side, in pixels, of Interleave UVT's tiles (`K`).
-    pub tile: u32,
+    /// Interleave UVT's tiles over the image (their side `K`) and the
+    /// permutation each takes.
+    pub tiles: InterleaveTiles,
     /// Simple UVT: tuple of sample `s` of every pixel.
     pub simple: Vec<TimeLens>,
     /// Interleave UVT: the `spp * K^2` tuples of a tile.
@@ -26,10 +26,10 @@ pub struct UvtTables {
     /// Interleave UVT: `inverse[p * N + n]` is the sample of a tile (with
     /// permutation `p`) that carries tuple `n`.
     pub inverse: Vec<u32>,
-    /// Interleave UVT: `pixel_slot[(y % PERIOD) * PERIOD + x % PERIOD]` is
-    /// the slot whose tuples pixel `(x, y)` takes, for `PERIOD` =
-    /// [`INTERLEAVE_PERIOD`].
-    pub pixel_slot: Vec<u32>,
+    /// Interleave UVT: `slot_of_pixel[p * K^2 + (y % K) * K + x % K]` is
+    /// the slot whose tuples pixel `(x, y)` takes in a tile with
+    /// permutation `p` (the inverse of the permutation's pixel offsets).
+    pub slot_of_pixel: Vec<u32>,
     /// Interleave UVT: `slot_sample[q * spp + s]` is the sample index, in its
     /// pixel, of slot `q`'s tuple in time stratum `s` (tuple `s * K^2 + q`).
     pub slot_sample: Vec<u32>,
@@ -52,9 +52,17 @@ pub struct UvtTables {
 
 impl UvtTables {
     /// Builds the tables for `spp` (a perfect square) samples per pixel and
-    /// Interleave tiles of `tile` pixels a side (one of [`INTERLEAVE_TILES`]).
-    pub fn new(spp: u32, tile: u32) -> UvtTables {
+    /// Interleave `tiles` (of a side in [`INTERLEAVE_TILES`], with 1 to
+    /// [`MAX_INTERLEAVE_PERMUTATIONS`] permutations).
+    pub fn new(spp: u32, tiles: InterleaveTiles) -> UvtTables {
+        let InterleaveTiles {
+            tile, permutations, ..
+        } = tiles;
         debug_assert!(INTERLEAVE_TILES.contains(&tile), "Interleave tile {tile}");
+        debug_assert!(
+            (1..=MAX_INTERLEAVE_PERMUTATIONS).contains(&permutations),
+            "Interleave permutations {permutations}"
+        );
         let k = grid_size(spp);
         let slots = tile * tile;
         let tuples = spp * slots;
@@ -69,9 +77,9 @@ impl UvtTables {
             // Entry i is slot i / spp's sample of stratum i % spp.
             slot_stratum[i - i % spp as usize + sample as usize] = i as u32 % spp;
         }
-        let mut inverse = Vec::with_capacity((INTERLEAVE_PERMUTATIONS * tuples) as usize);
-        let mut slot_of_pixel = vec![0; (INTERLEAVE_PERMUTATIONS * slots) as usize];
-        for p in 0..INTERLEAVE_PERMUTATIONS {
+        let mut inverse = Vec::with_capacity((permutations * tuples) as usize);
+        let mut slot_of_pixel = vec![0; (permutations * slots) as usize];
+        for p in 0..permutations {
             // Only the pixel offsets are permuted: each pixel keeps one
             // slot's stratified tuples.
             let pixel_of_slot = permutation(slots, [p, 1, 1]);
@@ -86,13 +94,6 @@ impl UvtTables {
                 }
             }
         }
-        let pixel_slot = (0..INTERLEAVE_PERIOD * INTERLEAVE_PERIOD)
-            .map(|i| {
-                let (x, y) = (i % INTERLEAVE_PERIOD, i / INTERLEAVE_PERIOD);
-                let p = Self::tile_permutation(x / tile, y / tile, tile);
-                slot_of_pixel[(p * slots + (y % tile) * tile + x % tile) as usize]
-            })
-            .collect();
         let pairing = permutation(spp, [0, 0, 8]);
         let interval_lens = pairing
             .iter()
@@ -122,11 +123,11 @@ impl UvtTables {
         }
         UvtTables {
             spp,
-            tile,
+            tiles,
             simple: stratified_tuples(k, 5),
             interleave: interleave_tuples(k, tile, &pairing),
             inverse,
-            pixel_slot,
+            slot_of_pixel,
             slot_sample,
             slot_stratum,
             pairing,
@@ -146,32 +147,21 @@ impl UvtTables {
         (((y % TABLE_SIDE) * TABLE_SIDE + x % TABLE_SIDE) * self.spp + s) as usize
     }
 
-    /// The permutation tile `(tx, ty)` of Interleave UVT with tiles of
-    /// `tile` pixels a side uses (tiles counted in absolute pixel
-    /// coordinates; the choice repeats every [`INTERLEAVE_PERIOD`] pixels).
-    pub fn tile_permutation(tx: u32, ty: u32, tile: u32) -> u32 {
-        let period = INTERLEAVE_PERIOD / tile;
-        hash(tx % period, ty % period, 0, PERMUTATION_CHANNEL) % INTERLEAVE_PERMUTATIONS
-    }
-
     /// The sample of tile `(tx, ty)` that carries Interleave tuple `n`: its
     /// pixel and its sample index in that pixel.
     pub fn interleave_sample(&self, tx: u32, ty: u32, n: u32) -> (u32, u32, u32) {
-        let p = Self::tile_permutation(tx, ty, self.tile);
+        let p = self.tiles.permutation(tx, ty);
         let j = self.inverse[(p * self.interleave_tuples() + n) as usize];
-        let q = j / self.spp;
-        (
-            tx * self.tile + q % self.tile,
-            ty * self.tile + q / self.tile,
-            j % self.spp,
-        )
+        let (q, tile) = (j / self.spp, self.tiles.tile);
+        (tx * tile + q % tile, ty * tile + q / tile, j % self.spp)
     }
 
     /// The Interleave slot of pixel `(x, y)`: the slot whose tuples its
-    /// tile gives it.
+    /// tile gives it under the tile's permutation.
     pub fn interleave_slot(&self, x: u32, y: u32) -> u32 {
-        let period = INTERLEAVE_PERIOD;
-        self.pixel_slot[((y % period) * period + x % period) as usize]
+        let tile = self.tiles.tile;
+        let p = self.tiles.permutation(x / tile, y / tile);
+        self.slot_of_pixel[(p * tile * tile + (y % tile) * tile + x % tile) as usize]
     }
 
     /// The time and lens of sample `s` of pixel `(x, y)` for the bounding
@@ -180,9 +170,9 @@ impl UvtTables {
         match tuples {
             PixelTuples::Table => self.pixel[self.pixel_index(x, y, s)],
             PixelTuples::Interleave => {
-                let q = self.interleave_slot(x, y);
+                let (q, tile) = (self.interleave_slot(x, y), self.tiles.tile);
                 let stratum = self.slot_stratum[(q * self.spp + s) as usize];
-                self.interleave[(stratum * self.tile * self.tile + q) as usize]
+                self.interleave[(stratum * tile * tile + q) as usize]
             }
         }
     }

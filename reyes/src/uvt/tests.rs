@@ -2,8 +2,20 @@
 
 use glam::Vec2;
 
+use rand::Rng;
+
 use super::*;
 use crate::sampling::grid_size;
+use crate::test_random::fresh_rng;
+
+/// The tables of `spp` samples and tiles of side `tile`, with the default
+/// permutations, over a 640-pixel-wide image.
+fn tables(spp: u32, tile: u32) -> UvtTables {
+    UvtTables::new(
+        spp,
+        InterleaveTiles::new(tile, DEFAULT_INTERLEAVE_PERMUTATIONS, 640),
+    )
+}
 
 #[test]
 fn disk_map_stays_in_the_disk_and_reaches_its_rim() {
@@ -20,8 +32,8 @@ fn disk_map_stays_in_the_disk_and_reaches_its_rim() {
 
 #[test]
 fn pixel_table_stratifies_time_within_every_pixel() {
-    for spp in [1, 4, 16, 64] {
-        let tables = UvtTables::new(spp, 2);
+    for spp in [1, 4, 16, 64, 100, 256] {
+        let tables = tables(spp, 2);
         for (x, y) in [(0, 0), (5, 63), (70, 200)] {
             let mut seen = vec![false; spp as usize];
             for s in 0..spp {
@@ -48,7 +60,7 @@ fn every_interleave_tuple_has_exactly_one_sample_per_tile() {
         .into_iter()
         .flat_map(|spp| INTERLEAVE_TILES.map(|k| (spp, k)))
     {
-        let tables = UvtTables::new(spp, tile);
+        let tables = tables(spp, tile);
         let n = tables.interleave_tuples();
         assert_eq!(n, spp * tile * tile);
         for (tx, ty) in [(0, 0), (1, 0), (17, 33)] {
@@ -61,16 +73,63 @@ fn every_interleave_tuple_has_exactly_one_sample_per_tile() {
             }
         }
     }
-    // Over a 32 x 32 patch of tiles, nearly every one of the 64
-    // permutations is picked (a hash modulo 64 over 1024 tiles).
-    let perms: std::collections::HashSet<u32> = (0..1024)
-        .map(|i| UvtTables::tile_permutation(i % 32, i / 32, 2))
-        .collect();
-    assert!(
-        perms.len() >= 60,
-        "tiles use only {} permutations",
-        perms.len()
-    );
+}
+
+/// Sattlecker and Steinberger's equations 2 and 3, computed here in `u64`
+/// from the image width: `tilenumber = ty * ceil(width / K) + tx` and
+/// `(tilenumber + tx + ty) mod P`, for random widths, tile sides,
+/// permutation counts and tiles of the image.
+#[test]
+fn a_tile_takes_the_published_permutation() {
+    let (seed, mut rng) = fresh_rng("a_tile_takes_the_published_permutation");
+    for _ in 0..2000 {
+        let tile = INTERLEAVE_TILES[rng.random_range(0..INTERLEAVE_TILES.len())];
+        let permutations = rng.random_range(1..=MAX_INTERLEAVE_PERMUTATIONS);
+        let (width, height) = (rng.random_range(1..5000u32), rng.random_range(1..5000u32));
+        let tiles = InterleaveTiles::new(tile, permutations, width);
+        let (tx, ty) = (
+            rng.random_range(0..width.div_ceil(tile)),
+            rng.random_range(0..height.div_ceil(tile)),
+        );
+        let scene_tiles = u64::from(width).div_ceil(u64::from(tile));
+        let tilenumber = u64::from(ty) * scene_tiles + u64::from(tx);
+        let expected = (tilenumber + u64::from(tx) + u64::from(ty)) % u64::from(permutations);
+        assert_eq!(
+            u64::from(tiles.permutation(tx, ty)),
+            expected,
+            "seed {seed}: K {tile}, P {permutations}, width {width}, tile ({tx}, {ty})"
+        );
+    }
+}
+
+/// With `P = 1` every tile takes the one permutation, so the pattern
+/// repeats with the tile's period (the left of the paper's Figure 10);
+/// with 64, a 32 x 32 patch of tiles uses every one when a row has an even
+/// number of tiles (640 pixels: 320, 214 and 160 tiles). With an odd
+/// number `W`, `ty * (W + 1) + 2 * tx` is even and the published rule uses
+/// only the even permutations.
+#[test]
+fn one_permutation_repeats_the_tile_and_64_are_all_used() {
+    for tile in INTERLEAVE_TILES {
+        let one = UvtTables::new(16, InterleaveTiles::new(tile, 1, 320));
+        for (x, y) in (0..40 * 40).map(|i| (i % 40, i / 40)) {
+            for s in 0..16 {
+                assert_eq!(
+                    one.pixel_tuple(PixelTuples::Interleave, x, y, s),
+                    one.pixel_tuple(PixelTuples::Interleave, x % tile, y % tile, s)
+                );
+            }
+        }
+        let used = |width| {
+            let tiles = InterleaveTiles::new(tile, 64, width);
+            (0..1024)
+                .map(|i| tiles.permutation(i % 32, i / 32))
+                .collect::<std::collections::HashSet<u32>>()
+        };
+        assert_eq!(used(640).len(), 64, "K {tile}");
+        let odd = used(tile * 81);
+        assert!(odd.len() == 32 && odd.iter().all(|p| p % 2 == 0), "K {tile}");
+    }
 }
 
 /// INTERVAL's UV-T pairing: in every pixel, the sample of time stratum
@@ -80,8 +139,8 @@ fn every_interleave_tuple_has_exactly_one_sample_per_tile() {
 /// bounding box does).
 #[test]
 fn every_pixel_pairs_time_and_lens_strata_inside_the_interval_boxes() {
-    for spp in [1, 4, 16, 64] {
-        let tables = UvtTables::new(spp, 2);
+    for spp in [1, 4, 16, 64, 225, 256] {
+        let tables = tables(spp, 2);
         let k = grid_size(spp);
         let mut seen = tables.pairing.clone();
         seen.sort_unstable();
@@ -145,7 +204,7 @@ fn lens_stratum_boxes_hold_their_strata() {
 
 #[test]
 fn tuples_stratify_time_and_lens() {
-    let tables = UvtTables::new(16, 2);
+    let tables = tables(16, 2);
     let mut times: Vec<f32> = tables.simple.iter().map(|t| t.t).collect();
     times.sort_by(f32::total_cmp);
     for (i, t) in times.iter().enumerate() {
@@ -185,11 +244,11 @@ fn disk_to_square(p: Vec2) -> (f32, f32) {
 /// table's UV-T pairing), so INTERVAL's boxes hold it.
 #[test]
 fn adaptive_pixels_carry_their_interleave_tuples() {
-    for (spp, tile) in [1, 4, 16, 64]
+    for (spp, tile) in [1, 4, 16, 64, 144, 256]
         .into_iter()
         .flat_map(|spp| INTERLEAVE_TILES.map(|k| (spp, k)))
     {
-        let tables = UvtTables::new(spp, tile);
+        let tables = tables(spp, tile);
         let n = tables.interleave_tuples();
         for (tx, ty) in [(0, 0), (1, 0), (5, 9), (31, 17)] {
             for tuple in 0..n {
@@ -224,11 +283,11 @@ fn adaptive_pixels_carry_their_interleave_tuples() {
 #[test]
 fn every_interleave_pixel_keeps_its_time_and_lens_stratified() {
     use std::collections::{HashMap, HashSet};
-    for (spp, tile) in [4, 16, 64]
+    for (spp, tile) in [4, 16, 64, 256]
         .into_iter()
         .flat_map(|spp| INTERLEAVE_TILES.map(|k| (spp, k)))
     {
-        let tables = UvtTables::new(spp, tile);
+        let tables = tables(spp, tile);
         let k = grid_size(spp);
         let n = tables.interleave_tuples();
         for (tx, ty) in (0..64).map(|i| (i % 8, i / 8)) {

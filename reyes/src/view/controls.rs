@@ -17,8 +17,8 @@ pub const ZOOM_PER_LINE: f32 = 0.9;
 /// The orbit keeps this far (radians) from the up axis, where the view's
 /// up vector would become parallel to the view direction.
 const POLE_MARGIN: f32 = 0.01;
-/// The sample counts the renderer accepts (perfect squares up to 64).
-pub const SPP_STEPS: [u32; 8] = crate::params::VALID_SPP;
+/// The sample counts the renderer accepts (perfect squares up to 256).
+pub const SPP_STEPS: [u32; 16] = crate::params::VALID_SPP;
 /// The sampling modes, in the order the `M` key cycles through them.
 pub const SAMPLING_MODES: [Sampling; 6] = Sampling::ALL;
 /// The AOVs, in the order the `V` key cycles through them.
@@ -351,7 +351,11 @@ fn next<T: Copy + PartialEq>(all: &[T], current: T) -> T {
 /// The next larger or smaller sample count of [`SPP_STEPS`].
 fn step_spp(spp: u32, up: bool) -> u32 {
     if up {
-        SPP_STEPS.iter().copied().find(|&s| s > spp).unwrap_or(64)
+        SPP_STEPS
+            .iter()
+            .copied()
+            .find(|&s| s > spp)
+            .unwrap_or(SPP_STEPS[SPP_STEPS.len() - 1])
     } else {
         SPP_STEPS
             .iter()

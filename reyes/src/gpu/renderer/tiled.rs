@@ -80,7 +80,7 @@ impl GpuRenderer<'_> {
         let mut image = RgbaImage::new(width, height);
         let mut linear = Rgba32FImage::new(width, height);
         let mut coverage = vec![false; width as usize * height as usize];
-        let mut covered_samples = vec![0u8; width as usize * height as usize];
+        let mut covered_samples = vec![0u16; width as usize * height as usize];
         let mut stats = RenderStats {
             input_patches: scene.patches.len() as u64,
             ..RenderStats::default()

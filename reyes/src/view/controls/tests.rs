@@ -133,6 +133,15 @@ fn keys_step_the_settings() {
     c.handle(Input::Key(Key::FewerSpp), size);
     c.handle(Input::Key(Key::FewerSpp), size);
     assert_eq!(c.settings.spp, 1);
+    // The steps go past 64 to 256 (16 x 16) and stop there.
+    c.settings.spp = 64;
+    c.handle(Input::Key(Key::MoreSpp), size);
+    assert_eq!(c.settings.spp, 81);
+    c.settings.spp = 225;
+    c.handle(Input::Key(Key::MoreSpp), size);
+    c.handle(Input::Key(Key::MoreSpp), size);
+    assert_eq!(c.settings.spp, 256);
+    c.settings.spp = 1;
     c.handle(Input::Key(Key::NextSampling), size);
     assert_eq!(c.settings.sampling, Sampling::Simple);
     c.handle(Input::Key(Key::Finer), size);
