@@ -318,7 +318,8 @@ pub enum BorderPoint {
 /// the neighbour draws that chord as one micropolygon edge, and a point
 /// placed on it in floating point lies a rounding off it, so the two sides'
 /// edge functions no longer cancel exactly and a sample on the chord (it
-/// happens: about one pixel in a hundred 400 x 300 renders at 16 spp)
+/// happens: a pixel short of one sample in about one of a hundred random
+/// 400 x 300 views at 16 spp, `tests/tests/reyes_watertight_random.rs`)
 /// falls between them. Snapped, the finer side's border is made of the very
 /// vertices of the coarser side's edge, and its micropolygons there
 /// degenerate to triangles (whose zero-area halves draw nothing).
