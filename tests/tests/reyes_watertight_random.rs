@@ -11,7 +11,7 @@
 //! the rare sample that lies on that chord, at any rate. The views are
 //! random (the seed is printed; replay with `TEST_SEED=<seed>`), so every
 //! run tries other splits and grids, and they are rendered on up to 8
-//! threads (about 80 s on 2 cores).
+//! threads (45 to 80 s on 2 shared cores).
 //!
 //! The rendering runs on the CPU reference only: the GPU's dicing decisions
 //! are the same operations (`tests/tests/reyes_watertight.rs` checks both
