@@ -280,14 +280,15 @@ pub fn patch_position(patch: &[Vec3; 16], u: f32, v: f32) -> Vec3 {
     bezier::position(patch, u, v)
 }
 
-/// Where a grid point on a piece's border goes: at its own `(u, v)`, or on
-/// the chord between the two vertices of its edge around it.
+/// Where a grid point on a piece's border goes: at its own `(u, v)`, on
+/// the chord between the two vertices of its edge around it (a corner), or
+/// at the nearer of those vertices (any other border point).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum BorderPoint {
     /// A vertex of its edge (or an interior point): evaluated in place.
     Vertex,
-    /// Between the edge's vertices at `a` and `b` (each a `(u, v)`), at
-    /// fraction `f` of the way from `a`.
+    /// A corner of the piece between the edge's vertices at `a` and `b`
+    /// (each a `(u, v)`), at fraction `f` of the way from `a`.
     Chord {
         /// The vertex below.
         a: (f32, f32),
@@ -296,12 +297,36 @@ pub enum BorderPoint {
         /// Fraction from `a` to `b`.
         f: f32,
     },
+    /// A point inside an edge, between two of its vertices: evaluated at
+    /// the nearer vertex `at` (the upper one at the middle).
+    Snapped {
+        /// The vertex's `(u, v)`.
+        at: (f32, f32),
+    },
 }
 
-/// Places grid point `(i, j)`, at `(u, v)`, of a piece diced at `grid` on its edges' vertices: the first edge (in [`EDGE_V0`] order)
-/// through the point whose spacing does not have it as a vertex puts it on
-/// its chord. (At most one can: a piece's corner is always a vertex of the
-/// later-made of its two lines, whose first segment ends there.)
+/// Places grid point `(i, j)`, at `(u, v)`, of a piece diced at `grid` on
+/// its edges' vertices: the first edge (in [`EDGE_V0`] order) through the
+/// point whose spacing does not have it as a vertex moves it. (At most one
+/// can: a piece's corner is always a vertex of the later-made of its two
+/// lines, whose first segment ends there.)
+///
+/// A point inside the edge (a finer grid's extra point at a T-junction, or
+/// any point of an edge shorter than its spacing) snaps to the nearer of
+/// the two vertices around it, which the neighbour across evaluates at the
+/// same `(u, v)` to the same bits. Why not onto the chord between them:
+/// the neighbour draws that chord as one micropolygon edge, and a point
+/// placed on it in floating point lies a rounding off it, so the two sides'
+/// edge functions no longer cancel exactly and a sample on the chord (it
+/// happens: a pixel short of one sample in about one of a hundred random
+/// 400 x 300 views at 16 spp, `tests/tests/reyes_watertight_random.rs`)
+/// falls between them. Snapped, the finer side's border is made of the very
+/// vertices of the coarser side's edge, and its micropolygons there
+/// degenerate to triangles (whose zero-area halves draw nothing).
+///
+/// A corner moves onto the chord instead: snapping it would move it up
+/// to half a chord away from where the pieces along its other line, which
+/// evaluate it in place as a vertex, expect it.
 pub fn border_point(
     grid: GridSize,
     edges: &PieceEdges,
@@ -311,6 +336,7 @@ pub fn border_point(
     v: f32,
 ) -> BorderPoint {
     let on_edge = [j == 0, j == grid.nv, i == 0, i == grid.nu];
+    let corner = (on_edge[0] || on_edge[1]) && (on_edge[2] || on_edge[3]);
     for (k, &on) in on_edge.iter().enumerate() {
         let Some(e) = edges[k].exponent().filter(|_| on) else {
             continue;
@@ -330,7 +356,12 @@ pub fn border_point(
         } else {
             ((u, q0), (u, q1))
         };
-        return BorderPoint::Chord { a, b, f };
+        if corner {
+            return BorderPoint::Chord { a, b, f };
+        }
+        return BorderPoint::Snapped {
+            at: if f < 0.5 { a } else { b },
+        };
     }
     BorderPoint::Vertex
 }
@@ -428,7 +459,7 @@ mod tests {
     }
 
     #[test]
-    fn border_points_between_vertices_go_on_the_chord() {
+    fn border_points_between_vertices_snap_and_corners_go_on_the_chord() {
         let uv = [0.5, 0.25, 0.75, 0.5];
         let grid = GridSize { nu: 4, nv: 2 };
         // Edge v0 with spacing 1/8 (a quarter of the piece's width of 1/4
@@ -446,29 +477,33 @@ mod tests {
         };
         assert_eq!(at(0, 0), BorderPoint::Vertex);
         assert_eq!(at(2, 0), BorderPoint::Vertex);
-        assert_eq!(
-            at(1, 0),
-            BorderPoint::Chord {
-                a: (0.5, 0.25),
-                b: (0.625, 0.25),
-                f: 0.5
-            }
-        );
+        // Inside the edge, halfway between vertices: snapped to the upper.
+        assert_eq!(at(1, 0), BorderPoint::Snapped { at: (0.625, 0.25) });
         // The top edge has spacing 1/16: every point of 4 is a vertex.
         for i in 0..=4 {
             assert_eq!(at(i, 2), BorderPoint::Vertex);
         }
         // The columns have spacing 1/4, the piece's whole height: the middle
-        // point (v = 0.375) is on the chord between its corners.
+        // point (v = 0.375) snaps to the upper corner.
+        assert_eq!(at(0, 1), BorderPoint::Snapped { at: (0.5, 0.5) });
+        // Interior points are never moved.
+        assert_eq!(at(2, 1), BorderPoint::Vertex);
+        // Edge v0 with spacing 1, wider than the piece: its corner moves
+        // onto the chord, its other points snap to the nearer vertex.
+        let wide = [EdgeSpacing::fixed(0), edges[1], edges[2], edges[3]];
+        let at_wide = |i: u32, j: u32| {
+            let u = grid_param(uv[0], uv[2], i, grid.nu);
+            let v = grid_param(uv[1], uv[3], j, grid.nv);
+            border_point(grid, &wide, i, j, u, v)
+        };
         assert_eq!(
-            at(0, 1),
+            at_wide(0, 0),
             BorderPoint::Chord {
-                a: (0.5, 0.25),
-                b: (0.5, 0.5),
+                a: (0.0, 0.25),
+                b: (1.0, 0.25),
                 f: 0.5
             }
         );
-        // Interior points are never moved.
-        assert_eq!(at(2, 1), BorderPoint::Vertex);
+        assert_eq!(at_wide(1, 0), BorderPoint::Snapped { at: (1.0, 0.25) });
     }
 }

@@ -8,7 +8,8 @@
 // the point of the input patch (patch_position), displaced along the
 // exact normal; its shading normal (exact, or for a displaced object from
 // its displaced neighbours, evaluated here too); with rate dicing, a
-// border point between two vertices of its edge moves onto their chord;
+// border point between two vertices of its edge moves to the nearer one
+// (a corner: onto their chord);
 // then shading and projection, at open and (time and lens) at close,
 // gathering the grid's largest motion and circle of confusion for
 // Adaptive sampling, and counting the point if a stage turned its position
@@ -64,9 +65,11 @@ if (valid) {
         if (frame.dicing == DICING_RATE) {
             let chord = border_chord(nu, nv, item.edges, i, j, u, v);
             if (chord.f >= 0.0) {
-                let qa = displaced_point(&q, object, item.input_patch, chord.a.x, chord.a.y);
-                let qb = displaced_point(&q, object, item.input_patch, chord.b.x, chord.b.y);
-                moved = chord_point(qa, qb, chord.f);
+                moved = displaced_point(&q, object, item.input_patch, chord.a.x, chord.a.y);
+                if (chord.f > 0.0) {
+                    let qb = displaced_point(&q, object, item.input_patch, chord.b.x, chord.b.y);
+                    moved = chord_point(moved, qb, chord.f);
+                }
             }
         }
         let w = POINT_WORDS * k;

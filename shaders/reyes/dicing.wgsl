@@ -271,8 +271,12 @@ fn patch_position(q: ptr<function, array<f32, 48>>, u: f32, v: f32) -> vec3<f32>
 }
 
 // reyes::dicing::border_point: where border point (i, j) at (u, v) goes.
-// Returns (a.u, a.v, b.u, b.v) of the chord and sets *f, or f = -1 when
-// the point stays in place.
+// A corner between two vertices of its edge goes on their chord: a and b
+// with the fraction f in (0, 1). Any other border point between two
+// vertices snaps to the nearer one (the upper one at the middle), so that
+// the finer side's border is made of the coarser side's very vertices
+// rather than of points a rounding off its chord: a == b, f == 0. f == -1
+// when the point stays in place.
 struct Chord {
     a: vec2<f32>,
     b: vec2<f32>,
@@ -281,6 +285,7 @@ struct Chord {
 
 fn border_chord(nu: u32, nv: u32, edges: u32, i: u32, j: u32, u: f32, v: f32) -> Chord {
     let on_edge = vec4<bool>(j == 0u, j == nv, i == 0u, i == nu);
+    let corner = (on_edge.x || on_edge.y) && (on_edge.z || on_edge.w);
     for (var edge = 0u; edge < 4u; edge += 1u) {
         let code = edge_code(edges, edge);
         if (!on_edge[edge] || code == 0u) {
@@ -298,10 +303,17 @@ fn border_chord(nu: u32, nv: u32, edges: u32, i: u32, j: u32, u: f32, v: f32) ->
         let q0 = below * h;
         let q1 = (below + 1.0) * h;
         let f = scaled - below;
+        var a = vec2<f32>(u, q0);
+        var b = vec2<f32>(u, q1);
         if (along_u) {
-            return Chord(vec2<f32>(q0, v), vec2<f32>(q1, v), f);
+            a = vec2<f32>(q0, v);
+            b = vec2<f32>(q1, v);
         }
-        return Chord(vec2<f32>(u, q0), vec2<f32>(u, q1), f);
+        if (corner) {
+            return Chord(a, b, f);
+        }
+        let nearer = select(b, a, f < 0.5);
+        return Chord(nearer, nearer, 0.0);
     }
     return Chord(vec2<f32>(0.0), vec2<f32>(0.0), -1.0);
 }

@@ -40,6 +40,7 @@ pub fn seed(test: &str) -> u64 {
     seed
 }
 
+pub mod crack_scene;
 pub mod graphs;
 pub mod random_graph;
 pub mod reyes_support;

@@ -59,11 +59,9 @@ use reyes::params::{DEFAULT_DICE_THRESHOLD, NEAR_EPS};
 use reyes::prepare::PreparedScene;
 use reyes::reference;
 use reyes::scene::{CameraDesc, Dicing, Light, Scene};
+use tests::crack_scene::{CrackCount, CrackScene, CrackSettings};
 use tests::reyes_support::{self, gpu_turn};
 use tests::shapes::{bezier_sphere, bezier_sphere_with_poles, unmatched_edges};
-use tests::watertight::{
-    coverage_iou, cracks, dense_coverage, exclude_edges, smooth_front, visible_patches,
-};
 
 /// Samples per pixel of every render: 16, a 4 x 4 grid, so a crack a
 /// quarter of a pixel wide already loses samples.
@@ -104,22 +102,6 @@ fn killeroo_path() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/killeroo.bpt")
 }
 
-/// One scene of the crack tests: a model, a view, and the reference
-/// coverage of that view (which does not depend on the dicing).
-struct Shot {
-    name: &'static str,
-    /// The model's patches that are visible in this view (see
-    /// [`visible_patches`]).
-    model: Model,
-    scene: Scene,
-    /// The reference coverage of `model` in this view.
-    coverage: Vec<bool>,
-    /// `coverage` where the front is smooth ([`smooth_front`]) and away from
-    /// the model's own open seams ([`exclude_edges`]): where cracks are
-    /// counted.
-    crack_reference: Vec<bool>,
-}
-
 /// `model` at `width x height`, 16 spp, seen from `eye` looking at
 /// `target` (z up), lit over the camera's shoulder.
 fn scene_for(model: &Model, width: u32, height: u32, eye: Vec3, target: Vec3) -> Scene {
@@ -149,7 +131,7 @@ fn scene_for(model: &Model, width: u32, height: u32, eye: Vec3, target: Vec3) ->
 /// shading rate, so it gets the dice threshold that gives micropolygons of
 /// about the same size instead (`16 * sqrt(rate)` pixels per 15 quads; at
 /// rate 1 that is the default threshold, the old renderer exactly).
-fn configured(shot: &Shot, dicing: Dicing, rate: f32) -> PreparedScene {
+fn configured(shot: &CrackScene, dicing: Dicing, rate: f32) -> PreparedScene {
     let mut scene = shot.scene.clone();
     scene.dicing = dicing;
     scene.shading_rate = rate;
@@ -217,8 +199,8 @@ fn depth_histogram(diced: &[usize]) -> String {
 /// The scenes, built once per test binary (the Killeroo's reference takes
 /// a moment): two views of the cube sphere, one of the octant sphere's
 /// pole, and the Killeroo when its file is present.
-fn shots() -> &'static [Shot] {
-    static SHOTS: OnceLock<Vec<Shot>> = OnceLock::new();
+fn shots() -> &'static [CrackScene] {
+    static SHOTS: OnceLock<Vec<CrackScene>> = OnceLock::new();
     SHOTS.get_or_init(|| {
         let start = Instant::now();
         let sphere = bezier_sphere();
@@ -284,44 +266,30 @@ fn shots() -> &'static [Shot] {
         let shots = views
             .into_iter()
             .map(|(name, whole, scene, density)| {
-                let prepared = PreparedScene::new(&scene, std::slice::from_ref(&whole))
+                let shot = CrackScene::new(
+                    name,
+                    &whole,
+                    scene,
+                    SPP,
+                    CrackSettings {
+                        density,
+                        hidden_margin: HIDDEN_MARGIN,
+                        max_depth_step: MAX_DEPTH_STEP,
+                        seam_margin_px: SEAM_MARGIN_PX,
+                    },
+                );
+                let prepared = PreparedScene::new(&shot.scene, std::slice::from_ref(&shot.model))
                     .expect("the test scene prepares");
-                let whole_coverage = dense_coverage(&prepared, density);
-                let visible = visible_patches(&prepared, density, SPP.isqrt(), HIDDEN_MARGIN);
-                // The kept patches' indices in the whole model, and the
-                // whole model's open seams renumbered to the kept patches.
-                let kept: Vec<usize> = (0..whole.patches.len()).filter(|&p| visible[p]).collect();
-                let model = Model::new(kept.iter().map(|&p| whole.patches[p]).collect());
-                let seams: Vec<(usize, usize)> = unmatched_edges(&whole)
-                    .into_iter()
-                    .filter_map(|(patch, edge)| Some((kept.binary_search(&patch).ok()?, edge)))
-                    .collect();
-                let prepared = PreparedScene::new(&scene, std::slice::from_ref(&model))
-                    .expect("the test scene prepares");
-                let coverage = dense_coverage(&prepared, density);
-                let smooth = smooth_front(&prepared, density, SPP.isqrt(), MAX_DEPTH_STEP);
-                let mut crack_reference: Vec<bool> =
-                    coverage.iter().zip(&smooth).map(|(&c, &s)| c && s).collect();
-                exclude_edges(&mut crack_reference, &prepared, &seams, SEAM_MARGIN_PX);
-                let count = |mask: &[bool]| mask.iter().filter(|&&c| c).count();
                 eprintln!(
-                    "{name}: {} of {} patches visible, {} open seams among them; the reference covers {} of {} pixels ({} differ from the whole model's), {} counted for cracks; the fixed dicer dices at split depth:pieces {}",
-                    model.patches.len(),
+                    "{name}: {} of {} patches visible; the reference covers {} of {} pixels, {} counted for cracks; the fixed dicer dices at split depth:pieces {}",
+                    shot.model.patches.len(),
                     whole.patches.len(),
-                    seams.len(),
-                    count(&coverage),
-                    coverage.len(),
-                    coverage.iter().zip(&whole_coverage).filter(|(a, b)| a != b).count(),
-                    count(&crack_reference),
+                    shot.coverage.iter().filter(|&&c| c).count(),
+                    shot.coverage.len(),
+                    shot.counted_pixels(),
                     depth_histogram(&fixed_split_depths(&prepared))
                 );
-                Shot {
-                    name,
-                    model,
-                    scene,
-                    coverage,
-                    crack_reference,
-                }
+                shot
             })
             .collect();
         eprintln!("scenes and references ready in {:.1?}", start.elapsed());
@@ -329,44 +297,11 @@ fn shots() -> &'static [Shot] {
     })
 }
 
-/// The crack count of one render, against its scene's reference.
-#[derive(Debug)]
-struct Count {
-    cracks: Vec<(u32, u32)>,
-    iou: f64,
-}
-
-impl Count {
-    fn of(covered_samples: &[u16], shot: &Shot) -> Count {
-        let resolution = &shot.scene.resolution;
-        Count {
-            cracks: cracks(
-                covered_samples,
-                SPP,
-                &shot.crack_reference,
-                resolution.width,
-                resolution.height,
-            ),
-            iou: coverage_iou(covered_samples, SPP, &shot.coverage),
-        }
-    }
-
-    /// `N cracks (first: ...), IoU x`.
-    fn describe(&self) -> String {
-        let first: Vec<_> = self.cracks.iter().take(6).collect();
-        format!(
-            "{} cracks (first: {first:?}), IoU {:.4}",
-            self.cracks.len(),
-            self.iou
-        )
-    }
-}
-
 /// Both renderers' counts for one scene, dicing and rate.
 struct Outcome {
     label: String,
-    gpu: Count,
-    cpu: Count,
+    gpu: CrackCount,
+    cpu: CrackCount,
 }
 
 /// Renders every scene at every shading rate with `dicing`, on the GPU and
@@ -386,8 +321,8 @@ fn render_all(renderer: &mut GpuRenderer<'_>, dicing: Dicing) -> Vec<Outcome> {
                     shot.name,
                     dicing.name()
                 ),
-                gpu: Count::of(&gpu.covered_samples, shot),
-                cpu: Count::of(&cpu.covered_samples, shot),
+                gpu: shot.count(&gpu.covered_samples, SPP, 0),
+                cpu: shot.count(&cpu.covered_samples, SPP, 0),
             };
             if let Some(dir) = std::env::var_os(DUMP_VARIABLE) {
                 let name = format!(

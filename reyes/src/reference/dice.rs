@@ -48,8 +48,9 @@ impl Grid {
 ///    displaced, the normal of the displaced grid ([`grid_normal`]), turned
 ///    to face the eye.
 /// 3. With `edges` (rate dicing), a border point that lies between two
-///    vertices of its edge moves onto the chord between their positions
-///    ([`border_point`]); its normal stays its own.
+///    vertices of its edge moves to the nearer of them, or, at a corner of
+///    the piece, onto the chord between them ([`border_point`]); its normal
+///    stays its own.
 /// 4. Its final position is checked for the stage that may have turned it
 ///    non-finite ([`dice_sources`]).
 ///
@@ -108,11 +109,17 @@ pub fn dice(
         for j in 0..rows {
             for i in 0..columns {
                 let (u, v) = param(i, j);
-                if let BorderPoint::Chord { a, b, f } = border_point(size, edges, i, j, u, v) {
-                    let (qa, _) = displaced_point(patch, a.0, a.1, displacement)?;
-                    let (qb, _) = displaced_point(patch, b.0, b.1, displacement)?;
-                    let k = grid.index(i, j);
-                    grid.positions[k] = chord_point(qa, qb, f);
+                let k = grid.index(i, j);
+                match border_point(size, edges, i, j, u, v) {
+                    BorderPoint::Vertex => {}
+                    BorderPoint::Chord { a, b, f } => {
+                        let (qa, _) = displaced_point(patch, a.0, a.1, displacement)?;
+                        let (qb, _) = displaced_point(patch, b.0, b.1, displacement)?;
+                        grid.positions[k] = chord_point(qa, qb, f);
+                    }
+                    BorderPoint::Snapped { at } => {
+                        grid.positions[k] = displaced_point(patch, at.0, at.1, displacement)?.0;
+                    }
                 }
             }
         }
@@ -186,4 +193,59 @@ pub fn surface_normal(
         n = Vec3::Z;
     }
     if n.dot(to_eye) < 0.0 { -n } else { n }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dicing::EdgeSpacing;
+    use crate::test_random::{fresh_rng, random_vec3};
+
+    /// A T-junction: the left half of a patch diced 1 x 2 against its
+    /// right half split in v and each quarter diced 1 x 4, all with the
+    /// shared line `u = 1/2` at spacing 1/2. Every point the quarters put
+    /// on that line must be, bit for bit, one of the left half's points
+    /// there: a point only near its chord lets samples through between
+    /// the two sides' micropolygon edges.
+    #[test]
+    fn a_finer_border_is_made_of_the_coarser_sides_vertices() {
+        let (seed, mut rng) = fresh_rng("a_finer_border_is_made_of_the_coarser_sides_vertices");
+        let eye = Vec4::new(0.0, 0.0, 10.0, 1.0);
+        let half = EdgeSpacing::fixed(1);
+        let fine = EdgeSpacing::fixed(4);
+        for _ in 0..100 {
+            let patch: [Vec3; 16] = std::array::from_fn(|k| {
+                Vec3::new((k % 4) as f32, (k / 4) as f32, 0.0) + random_vec3(&mut rng, 0.4)
+            });
+            let left = dice(
+                &patch,
+                Vec4::new(0.0, 0.0, 0.5, 1.0),
+                GridSize { nu: 1, nv: 2 },
+                Some(&[fine, fine, fine, half]),
+                eye,
+                None,
+            )
+            .expect("an undisplaced grid evaluates");
+            let shared: Vec<Vec3> = (0..=2).map(|j| left.positions[left.index(1, j)]).collect();
+            for v0 in [0.0, 0.5] {
+                let quarter = dice(
+                    &patch,
+                    Vec4::new(0.5, v0, 1.0, v0 + 0.5),
+                    GridSize { nu: 1, nv: 4 },
+                    Some(&[fine, fine, half, fine]),
+                    eye,
+                    None,
+                )
+                .expect("an undisplaced grid evaluates");
+                for j in 0..=4 {
+                    let point = quarter.positions[quarter.index(0, j)];
+                    assert!(
+                        shared.iter().any(|s| s.to_array().map(f32::to_bits)
+                            == point.to_array().map(f32::to_bits)),
+                        "seed {seed}: the quarter at v0 = {v0} puts point {j} of its border at {point}, none of the coarser side's {shared:?}"
+                    );
+                }
+            }
+        }
+    }
 }
