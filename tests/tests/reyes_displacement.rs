@@ -316,7 +316,7 @@ fn largest_micropolygon_grows_with_displacement() {
     let plain = PreparedScene::load(&teapot(128, 96)).expect("scene prepares");
     let bumpy = PreparedScene::load(&displaced(
         teapot(128, 96),
-        &displacement("sines", 0.3, 2.0),
+        &displacement("sines", 0.6, 2.0),
     ))
     .expect("scene prepares");
     let (g_plain, c_plain, _) = compare(&mut renderer, &plain);
@@ -333,8 +333,11 @@ fn largest_micropolygon_grows_with_displacement() {
             c_bumpy.stats.largest_micropolygon_px,
         ),
     ] {
+        // About a pixel, but a micropolygon whose border points snapped to
+        // a coarser neighbour's vertices at a T-junction spans a few
+        // (3.5 px here).
         assert!(
-            plain > 0.1 && plain < 3.0,
+            plain > 0.1 && plain < 4.0,
             "{what}: undisplaced micropolygons are about a pixel ({plain} px)"
         );
         assert!(
