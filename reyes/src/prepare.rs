@@ -157,6 +157,8 @@ pub struct PreparedScene {
     pub lens: PreparedLens,
     /// What the image shows.
     pub aov: Aov,
+    /// How the `z` output makes a pixel's depth from its samples'.
+    pub depth_filter: crate::depth::DepthFilter,
     /// How colour varies over a micropolygon.
     pub shading_interpolation: ShadingInterpolation,
     /// The pixel filter of the resolve: the scene's, except for the `grids`
@@ -404,6 +406,7 @@ impl PreparedScene {
             max_split_depth: scene.max_split_depth,
             skipped_degenerate_patches,
             aov: scene.aov,
+            depth_filter: scene.depth_filter,
             shading_interpolation: scene.shading_interpolation,
             // The grids picture's colours are categories: not blended.
             pixel_filter: if scene.aov == Aov::Grids {

@@ -166,3 +166,44 @@ fn resolve(
     image[pixel] = vec4<f32>(c, 1.0);
     coverage[pixel] = covered;
 }
+
+// reyes::depth::DepthProjection::view_depth: the camera-space depth of NDC
+// depth d.
+fn view_depth(d: f32) -> f32 {
+    let range = params.depth_far - params.depth_near;
+    if (params.depth_perspective != 0u) {
+        return params.depth_near * params.depth_far / (params.depth_far - d * range);
+    }
+    return params.depth_near + d * range;
+}
+
+// reyes::reference::resolve_depth: the minimum over the pixel's own samples
+// of the nearest surface's camera-space depth, in every channel, alpha 1;
+// where no sample is covered, depth 0 and alpha 0 (the host writes +inf
+// there: WGSL has no infinite constant). Tiles as in `resolve`.
+@compute @workgroup_size(8, 8)
+fn resolve_depth(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let tiles_x = (params.width + 7u) / 8u;
+    let tile = group.y * groups.x + group.x;
+    let id = vec2<u32>((tile % tiles_x) * 8u + local.x, (tile / tiles_x) * 8u + local.y);
+    if (id.x >= params.width || id.y >= params.height) {
+        return;
+    }
+    let pixel = id.y * params.width + id.x;
+    var depth = 0.0;
+    var covered = 0u;
+    for (var s = 0u; s < params.spp; s += 1u) {
+        let key = keys[pixel * params.spp + s];
+        if (!(key.x == CLEAR_WORD && key.y == CLEAR_WORD)) {
+            let z = view_depth(bitcast<f32>(key.y));
+            depth = select(min(depth, z), z, covered == 0u);
+            covered += 1u;
+        }
+    }
+    image[pixel] = vec4<f32>(depth, depth, depth, select(0.0, 1.0, covered != 0u));
+    coverage[pixel] = covered;
+}

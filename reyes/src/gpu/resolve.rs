@@ -53,6 +53,15 @@ pub struct ResolveParams {
     pub radius_x: u32,
     /// Neighbour rows on each side.
     pub radius_y: u32,
+    /// The near plane's distance ([`crate::depth::DepthProjection`], for
+    /// the depth resolve).
+    pub depth_near: f32,
+    /// The far plane's distance.
+    pub depth_far: f32,
+    /// 1 for a perspective camera, 0 for an orthographic one.
+    pub depth_perspective: u32,
+    /// Unused; keeps `background` 16-byte aligned.
+    pub pad: u32,
     /// Linear RGB background (w unused).
     pub background: glam::Vec4,
 }
@@ -63,6 +72,7 @@ impl ResolveParams {
         let camera = &scene.camera;
         let filter = scene.pixel_filter;
         let [radius_x, radius_y] = filter.radius();
+        let depth = crate::depth::DepthProjection::of(camera);
         Self {
             width: camera.width,
             height: camera.height,
@@ -76,6 +86,10 @@ impl ResolveParams {
             ywidth: filter.ywidth,
             radius_x,
             radius_y,
+            depth_near: depth.near,
+            depth_far: depth.far,
+            depth_perspective: u32::from(depth.perspective),
+            pad: 0,
             background: scene.background.extend(0.0),
         }
     }
@@ -130,6 +144,7 @@ pub struct Resolver {
     layout: wgpu::BindGroupLayout,
     clear: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
+    resolve_depth: wgpu::ComputePipeline,
 }
 
 /// Bytes per pixel of the resolved image: linear RGBA, one `f32` each.
@@ -195,6 +210,7 @@ impl Resolver {
         Self {
             clear: pipeline("clear"),
             resolve: pipeline("resolve"),
+            resolve_depth: pipeline("resolve_depth"),
             layout,
         }
     }
@@ -253,13 +269,17 @@ impl Resolver {
     }
 
     /// Resolves `framebuffer` into the target's image and coverage and reads
-    /// them back.
+    /// them back: the filtered colours, or with `depth` the camera-space
+    /// depths ([`crate::depth`]; in every channel, alpha 0 and depth 0
+    /// where no sample is covered, which [`crate::depth::mark_empty`] turns
+    /// into [`crate::depth::NO_SURFACE`]).
     pub fn resolve(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         target: &ResolveTarget,
         framebuffer: &wgpu::Buffer,
+        depth: bool,
         timeout: Duration,
     ) -> Result<Resolved, RenderError> {
         // One workgroup per 8x8 tile, the tiles numbered row by row over a
@@ -270,7 +290,11 @@ impl Resolver {
         submit_checked(device, queue, |encoder| {
             let group = self.bind_group(device, target, framebuffer);
             let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.resolve);
+            pass.set_pipeline(if depth {
+                &self.resolve_depth
+            } else {
+                &self.resolve
+            });
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(x, y, 1);
         })?;

@@ -23,6 +23,7 @@ internal_modules! {
     raster;
     raster5d;
     resolve;
+    resolve_depth;
     shade;
     work;
 }
@@ -242,8 +243,15 @@ fn render_bounded(
         k: crate::sampling::grid_size(scene.spp),
         jitter: scene.jitter,
     };
-    let (linear, covered_samples) =
-        resolve::resolve(&framebuffer, scene.background, &scene.pixel_filter, layout);
+    let (linear, covered_samples) = if scene.aov == crate::Aov::Z {
+        resolve_depth::resolve_depth(
+            &framebuffer,
+            crate::depth::DepthProjection::of(&scene.camera),
+            scene.depth_filter,
+        )
+    } else {
+        resolve::resolve(&framebuffer, scene.background, &scene.pixel_filter, layout)
+    };
     let coverage = covered_samples.iter().map(|&n| n != 0).collect();
     let image = scene.encoding.encode(&linear, scene.camera.origin);
     stats.frame_time_ms = Some(start.elapsed().as_secs_f64() * 1000.0);
