@@ -8,7 +8,9 @@
 //! resolve turns it back into camera-space depth ([`DepthProjection`]) and
 //! takes the [`DepthFilter`] over the pixel's own samples (no pixel filter:
 //! a shadow map must not blend the depths of surfaces at different
-//! distances).
+//! distances). For [`DepthFilter::Midpoint`] only, the framebuffer keeps a
+//! second layer of keys, each sample's second-nearest
+//! ([`crate::prepare::PreparedScene::keeps_second_depth`]).
 
 use image::{Rgba, Rgba32FImage};
 use serde::{Deserialize, Serialize};
@@ -28,16 +30,23 @@ pub enum DepthFilter {
     /// (default).
     #[default]
     Min,
+    /// Per sample the mean of the nearest and the second-nearest surface's
+    /// depths (+inf where a single surface covers it: nothing behind it to
+    /// shadow), then the minimum over the pixel's samples. A shadow map of
+    /// midpoints keeps the lit surfaces in front of it, so they do not
+    /// shadow themselves.
+    Midpoint,
 }
 
 impl DepthFilter {
     /// Every filter, in a fixed order.
-    pub const ALL: [DepthFilter; 1] = [DepthFilter::Min];
+    pub const ALL: [DepthFilter; 2] = [DepthFilter::Min, DepthFilter::Midpoint];
 
     /// Its name in scene files and in RIB.
     pub fn name(self) -> &'static str {
         match self {
             DepthFilter::Min => "min",
+            DepthFilter::Midpoint => "midpoint",
         }
     }
 
@@ -72,6 +81,11 @@ impl DepthProjection {
         }
     }
 
+    /// The code of `filter` in the resolve's parameters (`DEPTH_FILTER_*`).
+    pub fn code(filter: DepthFilter) -> u32 {
+        filter as u32
+    }
+
     /// The camera-space depth of NDC depth `d`.
     pub fn view_depth(self, d: f32) -> f32 {
         let range = self.far - self.near;
@@ -83,14 +97,14 @@ impl DepthProjection {
     }
 }
 
-/// Writes [`NO_SURFACE`] into the depth channels of the pixels of a depth
-/// resolve that no sample covered (those of alpha 0: the resolves leave
-/// them at 0, since WGSL has no infinite constant).
-pub fn mark_empty(image: &mut Rgba32FImage) {
-    for Rgba([r, g, b, a]) in image.pixels_mut() {
-        if *a == 0.0 {
-            (*r, *g, *b) = (NO_SURFACE, NO_SURFACE, NO_SURFACE);
-        }
+/// Turns the raw pixels of a depth resolve, `(depth, finite, 0, covered)`
+/// (`finite` and `covered` 1 or 0: WGSL has no infinite constant), into
+/// the depth in every channel, [`NO_SURFACE`] where it is not finite, and
+/// alpha `covered`.
+pub fn finish_depths(image: &mut Rgba32FImage) {
+    for Rgba([r, g, b, _]) in image.pixels_mut() {
+        let depth = if *g != 0.0 { *r } else { NO_SURFACE };
+        (*r, *g, *b) = (depth, depth, depth);
     }
 }
 

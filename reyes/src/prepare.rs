@@ -448,6 +448,12 @@ impl PreparedScene {
         self.dicing.nominal_micropolygon_px()
     }
 
+    /// Whether the sample framebuffer keeps each sample's second-nearest key
+    /// too: only for the z output with the midpoint depth filter.
+    pub fn keeps_second_depth(&self) -> bool {
+        self.aov == Aov::Z && self.depth_filter == crate::depth::DepthFilter::Midpoint
+    }
+
     /// Whether samples carry a time and a lens position: with motion, with a
     /// lens, or with a sampling mode other than the plain bounding box (which
     /// is then also used for a stationary, pinhole frame, as a check).

@@ -173,6 +173,10 @@ fn display_modes_and_hider_depthfilter_choose_the_output() {
     assert_eq!(rib.scene.depth_filter, DepthFilter::Min);
     assert!(rib.warnings.is_empty(), "{:?}", rib.warnings);
 
+    let midpoint = "Display \"a.z\" \"zfile\" \"z\"\nHider \"hidden\" \"depthfilter\" \"midpoint\"";
+    let rib = RibScene::from_text(&frame(midpoint, world), "m.rib").unwrap();
+    assert_eq!(rib.scene.depth_filter, DepthFilter::Midpoint);
+
     let unknown = "Display \"a.z\" \"zfile\" \"z\"\nHider \"hidden\" \"depthfilter\" \"median\"";
     let rib = RibScene::from_text(&frame(unknown, world), "u.rib").unwrap();
     assert_eq!(rib.scene.depth_filter, DepthFilter::Min);
@@ -193,6 +197,70 @@ fn a_depth_display_named_png_is_an_error_naming_its_line() {
         message.contains("bad.rib:5") && message.contains("*.exr"),
         "{message}"
     );
+}
+
+/// Two squares facing the camera, one of half-width 1 at depth `near`, one
+/// of half-width 3 behind it at `far`.
+fn two_planes(near: f64, far: f64) -> String {
+    format!(
+        "AttributeBegin\nTranslate 0 0 {near}\nPolygon \"P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0]\nAttributeEnd\nTranslate 0 0 {far}\nPolygon \"P\" [-3 -3 0  3 -3 0  3 3 0  -3 3 0]"
+    )
+}
+
+#[test]
+fn midpoint_is_halfway_between_the_two_nearest_surfaces() {
+    let (near, far) = (4.0, 6.0);
+    let text = frame(
+        "Display \"planes.z\" \"zfile\" \"z\"\nHider \"hidden\" \"depthfilter\" \"midpoint\"",
+        &two_planes(near, far),
+    );
+    let depths = reference_depths(&text);
+    let t = (FOV_DEGREES.to_radians() / 2.0).tan();
+    let half_h = f64::from(HEIGHT) / 2.0;
+    // Pixels of the near square (half-width 1 / (4 t) of the half-height):
+    // both surfaces, the mean. The far square alone fills the rest of the
+    // frame (3 / (6 t) > the half-width): a single surface, nothing behind
+    // it to shadow, +inf.
+    let near_span = half_h / (near * t);
+    let (cx, cy) = (f64::from(WIDTH) / 2.0, half_h);
+    let (mut both, mut single) = (0, 0);
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            let depth = depths[(y * WIDTH + x) as usize];
+            let far_corner = [f64::from(x), f64::from(x) + 1.0]
+                .map(|px| (px - cx).abs())
+                .into_iter()
+                .chain([f64::from(y), f64::from(y) + 1.0].map(|py| (py - cy).abs()))
+                .fold(0.0, f64::max);
+            let near_corner = (f64::from(x) + 0.5 - cx)
+                .abs()
+                .max((f64::from(y) + 0.5 - cy).abs())
+                - 0.5;
+            if far_corner < near_span - 0.1 {
+                both += 1;
+                assert!(
+                    (f64::from(depth) - (near + far) / 2.0).abs() < 1e-4 * far,
+                    "pixel ({x}, {y}): {depth}"
+                );
+            } else if near_corner > near_span + 0.1 {
+                single += 1;
+                assert_eq!(depth, NO_SURFACE, "pixel ({x}, {y}): the far square alone");
+            }
+        }
+    }
+    assert!(
+        both > 500 && single > 1000,
+        "{both} pixels of both, {single} of one"
+    );
+    // The same frame with the default filter: the near square's depth.
+    let min = reference_depths(&text.replace("\"midpoint\"", "\"min\""));
+    let centre = ((HEIGHT / 2) * WIDTH + WIDTH / 2) as usize;
+    assert!(
+        (f64::from(min[centre]) - near).abs() < 1e-4 * near,
+        "{}",
+        min[centre]
+    );
+    assert!((f64::from(min[0]) - far).abs() < 1e-4 * far, "{}", min[0]);
 }
 
 /// Runs `reyes render` in `dir` with `args`; its status and stderr.

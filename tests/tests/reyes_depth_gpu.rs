@@ -11,14 +11,65 @@ use reyes::rib::RibScene;
 use reyes::{Aov, reference};
 use tests::reyes_support::{framed_teapot, gpu_turn, renderer};
 
-/// A 64 x 48 RIB depth frame of 2 x 2 jittered samples whose world holds
-/// `world`.
-fn rib_frame(world: &str) -> PreparedScene {
+/// A 64 x 48 RIB depth frame of 2 x 2 samples whose world holds `world`,
+/// after the options `options`.
+fn rib_frame_with(options: &str, world: &str) -> PreparedScene {
     let text = format!(
-        "Format 64 48 1\nPixelSamples 2 2\nProjection \"perspective\" \"fov\" 40\nClipping 0.5 100\nDisplay \"d.z\" \"zfile\" \"z\"\nWorldBegin\n{world}\nWorldEnd\n"
+        "Format 64 48 1\nPixelSamples 2 2\nProjection \"perspective\" \"fov\" 40\nClipping 0.5 100\nDisplay \"d.z\" \"zfile\" \"z\"\n{options}\nWorldBegin\n{world}\nWorldEnd\n"
     );
     let rib = RibScene::from_text(&text, "depth.rib").expect("the RIB reads");
     PreparedScene::new(&rib.scene, &rib.models).expect("scene prepares")
+}
+
+/// [`rib_frame_with`] the default depth filter, min.
+fn rib_frame(world: &str) -> PreparedScene {
+    rib_frame_with("", world)
+}
+
+/// Two squares facing the camera: half-width 1 at depth 4, half-width 3
+/// behind it at depth 6.
+const TWO_PLANES: &str = "AttributeBegin\nTranslate 0 0 4\nPolygon \"P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0]\nAttributeEnd\nTranslate 0 0 6\nPolygon \"P\" [-3 -3 0  3 -3 0  3 3 0  -3 3 0]";
+
+#[gpu_test]
+fn midpoint_depth_matches_the_reference_and_the_arithmetic() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    let midpoint = "Hider \"hidden\" \"depthfilter\" \"midpoint\"";
+    let planes = rib_frame_with(midpoint, TWO_PLANES);
+    // A closed sphere: its front and its back, 4 and 6 deep on the axis.
+    let sphere = rib_frame_with(midpoint, "Translate 0 0 5\nSphere 1 -1 1 360");
+    let mut teapot = framed_teapot(96, 72, 4);
+    teapot.aov = Aov::Z;
+    teapot.depth_filter = reyes::depth::DepthFilter::Midpoint;
+    let teapot = PreparedScene::load(&teapot).expect("scene prepares");
+    for (what, scene) in [
+        ("planes", &planes),
+        ("sphere", &sphere),
+        ("teapot", &teapot),
+    ] {
+        assert!(scene.keeps_second_depth());
+        let cpu = depths(&reference::render(scene).linear);
+        let gpu = renderer.render(scene).expect("GPU render");
+        assert_eq!(
+            renderer.variant(),
+            reyes::gpu::KernelVariant::of(scene),
+            "{what}"
+        );
+        assert!(renderer.variant().second_depth, "{what}");
+        let d = depths(&gpu.linear);
+        assert_same_depths(&format!("{what}, midpoint"), &d, &cpu);
+        let centre = d[24 * 64 + 32];
+        match what {
+            "planes" => {
+                assert!((centre - 5.0).abs() < 5e-4, "centre {centre}");
+                // The far square alone: nothing behind it.
+                assert_eq!(d[0], NO_SURFACE);
+            }
+            "sphere" => assert!((centre - 5.0).abs() < 2e-3, "centre {centre}"),
+            _ => {}
+        }
+    }
 }
 
 /// Asserts the GPU's depths `gpu` agree with the reference's `cpu`: the

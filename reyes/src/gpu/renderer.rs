@@ -375,7 +375,7 @@ impl<'a> GpuRenderer<'a> {
         let mut linear = Rgba32FImage::from_raw(target.width, target.height, resolved.linear)
             .expect("the image buffer holds width * height RGBA f32 pixels");
         if scene.aov == crate::Aov::Z {
-            crate::depth::mark_empty(&mut linear);
+            crate::depth::finish_depths(&mut linear);
         }
         // Encoded on the host, as the CPU reference does: equal floats give
         // equal 8-bit images, and the dither follows absolute pixels.

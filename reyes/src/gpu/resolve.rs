@@ -60,8 +60,8 @@ pub struct ResolveParams {
     pub depth_far: f32,
     /// 1 for a perspective camera, 0 for an orthographic one.
     pub depth_perspective: u32,
-    /// Unused; keeps `background` 16-byte aligned.
-    pub pad: u32,
+    /// DEPTH_FILTER_* ([`crate::depth::DepthProjection::code`]).
+    pub depth_filter: u32,
     /// Linear RGB background (w unused).
     pub background: glam::Vec4,
 }
@@ -89,7 +89,7 @@ impl ResolveParams {
             depth_near: depth.near,
             depth_far: depth.far,
             depth_perspective: u32::from(depth.perspective),
-            pad: 0,
+            depth_filter: crate::depth::DepthProjection::code(scene.depth_filter),
             background: scene.background.extend(0.0),
         }
     }
@@ -114,7 +114,7 @@ fn wgsl_function<'a>(source: &'a str, name: &str) -> &'a str {
 pub fn resolve_wgsl() -> String {
     let [mx, my, ms, mc] = HASH_MULTIPLIERS;
     let [m0, m1] = HASH_MIX;
-    let filters: String = FilterKind::ALL
+    let mut filters: String = FilterKind::ALL
         .iter()
         .map(|k| {
             format!(
@@ -124,6 +124,13 @@ pub fn resolve_wgsl() -> String {
             )
         })
         .collect();
+    for filter in crate::depth::DepthFilter::ALL {
+        filters += &format!(
+            "const DEPTH_FILTER_{}: u32 = {}u;\n",
+            filter.name().to_uppercase(),
+            crate::depth::DepthProjection::code(filter)
+        );
+    }
     format!(
         "// The clear and resolve passes of the Reyes renderer (reyes::gpu::resolve).\n\n{}\n\n\
          const CLEAR_WORKGROUP: u32 = {CLEAR_WORKGROUP}u;\n\
@@ -246,7 +253,8 @@ impl Resolver {
     }
 
     /// Sets every sample key of `framebuffer` to `CLEAR_KEY` (submitted at
-    /// once). One thread per sample, the workgroups spread over two
+    /// once; in a frame of the midpoint depth filter, both depths' words to
+    /// `u32::MAX`). One thread per sample, the workgroups spread over two
     /// dimensions (`flat_index` in the shader).
     pub fn clear(
         &self,
@@ -270,9 +278,8 @@ impl Resolver {
 
     /// Resolves `framebuffer` into the target's image and coverage and reads
     /// them back: the filtered colours, or with `depth` the camera-space
-    /// depths ([`crate::depth`]; in every channel, alpha 0 and depth 0
-    /// where no sample is covered, which [`crate::depth::mark_empty`] turns
-    /// into [`crate::depth::NO_SURFACE`]).
+    /// depths ([`crate::depth`], raw: [`crate::depth::finish_depths`] makes
+    /// them the depth output).
     pub fn resolve(
         &self,
         device: &wgpu::Device,

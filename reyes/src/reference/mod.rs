@@ -291,14 +291,18 @@ pub fn try_render_samples(
     options.check_frame(camera.width, camera.height, scene.spp)?;
     let mut budget = Budget::new(options);
     let view_proj = camera.view_proj();
-    let mut framebuffer = Framebuffer::try_new(camera.width, camera.height, scene.spp).ok_or(
-        ReferenceError::OutOfMemory {
-            bytes: u64::from(camera.width)
-                .saturating_mul(u64::from(camera.height))
-                .saturating_mul(u64::from(scene.spp))
-                .saturating_mul(8),
-        },
-    )?;
+    let layers = if scene.keeps_second_depth() { 2 } else { 1 };
+    let out_of_memory = || ReferenceError::OutOfMemory {
+        bytes: u64::from(camera.width)
+            .saturating_mul(u64::from(camera.height))
+            .saturating_mul(u64::from(scene.spp))
+            .saturating_mul(8 * layers),
+    };
+    let mut framebuffer =
+        Framebuffer::try_new(camera.width, camera.height, scene.spp).ok_or_else(out_of_memory)?;
+    if layers == 2 {
+        framebuffer = framebuffer.keep_second().ok_or_else(out_of_memory)?;
+    }
     let samples = SampleGrid::new(grid_size(scene.spp), scene.jitter);
     let uvt = scene
         .samples_time_and_lens()
