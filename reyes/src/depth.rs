@@ -4,7 +4,7 @@
 //! where no sample of the pixel is covered. Shadow maps are made from it.
 //!
 //! The sample framebuffer keeps, per sample, the NDC depth of the nearest
-//! surface (the key's high word, [`crate::color::key_depth`]); the depth
+//! surface (the key's high word, `crate::color::key_depth`); the depth
 //! resolve turns it back into camera-space depth ([`DepthProjection`]) and
 //! takes the [`DepthFilter`] over the pixel's own samples (no pixel filter:
 //! a shadow map must not blend the depths of surfaces at different

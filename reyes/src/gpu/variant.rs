@@ -77,7 +77,7 @@ impl KernelVariant {
     /// The WGSL constants that state this variant, declared as graph
     /// constants.
     /// (`second_depth` is no constant: it chooses the depth test's file
-    /// and the framebuffer's type, [`super::graph::reyes_graph_with`].)
+    /// and the framebuffer's type, `reyes::gpu::graph::reyes_graph_with`.)
     pub fn constants(self) -> [(&'static str, ConstantValue); 2] {
         [
             ("VARIANT_BLURRED", self.blurred.into()),

@@ -69,7 +69,7 @@ pub struct ReadDepthError {
 }
 
 /// Reads the channel [`DEPTH_CHANNEL`] of the first layer of the EXR file
-/// at `path`, as [`stage_depth`] writes it.
+/// at `path`, as the depth output writes it ([`super::OutputPlan::write_depth`]).
 pub fn read_depth(path: &Path) -> Result<DepthImage, ReadDepthError> {
     use exr::prelude::{ReadChannels as _, ReadLayers as _, read};
     let error = |reason: String| ReadDepthError {
