@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 
 use image::{ImageBuffer, Rgba, Rgba32FImage, RgbaImage};
 
-pub use self::depth::{DEPTH_CHANNEL, DepthImage, ReadDepthError, read_depth};
+pub use self::depth::{DEPTH_CHANNEL, DepthImage, ReadDepthError, read_depth, write_depth};
 pub use self::guard::{OutputGuard, OutputKind};
 use self::staged::Staged;
 pub use self::staged::{StagedFiles, ignore_file_size_signal};
@@ -308,34 +308,6 @@ impl OutputPlan {
         Ok(())
     }
 
-    /// [`OutputError::DepthNeedsExr`] unless the image is an EXR: the check
-    /// before a depth frame renders.
-    pub fn check_depth(&self) -> Result<(), OutputError> {
-        match self.image.1 {
-            ImageFormat::Exr => Ok(()),
-            ImageFormat::Png => Err(OutputError::DepthNeedsExr {
-                path: self.image.0.clone(),
-            }),
-        }
-    }
-
-    /// Writes a depth frame ([`crate::Aov::Z`]) as [`OutputPlan::write`]
-    /// writes an image: `depths` (a depth resolve's image) as a
-    /// single-channel float EXR (channel [`DEPTH_CHANNEL`]), and the
-    /// statistics, all or nothing.
-    pub fn write_depth(
-        &self,
-        depths: &Rgba32FImage,
-        stats: &RenderStats,
-    ) -> Result<(), OutputError> {
-        self.check_depth()?;
-        let staged_image = depth::stage_depth(depths, &self.image.0)?;
-        let staged_stats = self.stage_stats(stats)?;
-        staged_image.commit()?;
-        staged_stats.map(Staged::commit).transpose()?;
-        Ok(())
-    }
-
     /// The statistics as pretty JSON in a temporary file, if planned.
     fn stage_stats(&self, stats: &RenderStats) -> Result<Option<Staged>, OutputError> {
         match &self.stats_json {
@@ -500,21 +472,6 @@ pub fn write_rendered_image(
     let path = path.as_ref();
     let file = single_output(OutputKind::Image, "image", path)?;
     stage_image(image, Some(linear), &file, ImageFormat::from_path(path)?)?.commit()
-}
-
-/// Writes a depth resolve's image (e.g. [`crate::GpuRendered::linear`] of a
-/// [`crate::Aov::Z`] frame) to an `.exr` path as a single-channel float EXR
-/// (channel [`DEPTH_CHANNEL`]), as [`write_image`] writes an image; another
-/// extension is [`OutputError::DepthNeedsExr`].
-pub fn write_depth(depths: &Rgba32FImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
-    let path = path.as_ref();
-    if ImageFormat::from_path(path)? != ImageFormat::Exr {
-        return Err(OutputError::DepthNeedsExr {
-            path: path.to_path_buf(),
-        });
-    }
-    let file = single_output(OutputKind::Image, "depth image", path)?;
-    depth::stage_depth(depths, &file)?.commit()
 }
 
 /// Writes an image as PNG to a `.png` path (any other extension is

@@ -10,8 +10,9 @@ use exr::prelude::{
 };
 use image::Rgba32FImage;
 
-use super::OutputError;
 use super::staged::Staged;
+use super::{ImageFormat, OutputError, OutputKind, OutputPlan, single_output};
+use crate::stats::RenderStats;
 
 /// The name of the depth channel.
 pub const DEPTH_CHANNEL: &str = "Z";
@@ -45,6 +46,51 @@ pub(super) fn stage_depth(depths: &Rgba32FImage, path: &Path) -> Result<Staged, 
                 source,
             })
     })
+}
+
+impl OutputPlan {
+    /// [`OutputError::DepthNeedsExr`] unless the image is an EXR: the check
+    /// before a depth frame renders.
+    pub fn check_depth(&self) -> Result<(), OutputError> {
+        match self.image.1 {
+            ImageFormat::Exr => Ok(()),
+            ImageFormat::Png => Err(OutputError::DepthNeedsExr {
+                path: self.image.0.clone(),
+            }),
+        }
+    }
+
+    /// Writes a depth frame ([`crate::Aov::Z`]) as [`OutputPlan::write`]
+    /// writes an image: `depths` (a depth resolve's image) as a
+    /// single-channel float EXR (channel [`DEPTH_CHANNEL`]), and the
+    /// statistics, all or nothing.
+    pub fn write_depth(
+        &self,
+        depths: &Rgba32FImage,
+        stats: &RenderStats,
+    ) -> Result<(), OutputError> {
+        self.check_depth()?;
+        let staged_image = stage_depth(depths, &self.image.0)?;
+        let staged_stats = self.stage_stats(stats)?;
+        staged_image.commit()?;
+        staged_stats.map(Staged::commit).transpose()?;
+        Ok(())
+    }
+}
+
+/// Writes a depth resolve's image (e.g. [`crate::GpuRendered::linear`] of a
+/// [`crate::Aov::Z`] frame) to an `.exr` path as a single-channel float EXR
+/// (channel [`DEPTH_CHANNEL`]), as [`write_image`] writes an image; another
+/// extension is [`OutputError::DepthNeedsExr`].
+pub fn write_depth(depths: &Rgba32FImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
+    let path = path.as_ref();
+    if ImageFormat::from_path(path)? != ImageFormat::Exr {
+        return Err(OutputError::DepthNeedsExr {
+            path: path.to_path_buf(),
+        });
+    }
+    let file = single_output(OutputKind::Image, "depth image", path)?;
+    stage_depth(depths, &file)?.commit()
 }
 
 /// A depth image read back: `width * height` depths, row-major.
