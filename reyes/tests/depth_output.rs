@@ -323,3 +323,28 @@ fn the_command_line_writes_depth_as_a_single_channel_float_exr() {
     );
     assert!(!dir.path("teapot.png").exists());
 }
+
+#[test]
+fn write_depth_round_trips_under_any_name_but_png() {
+    let dir = TempDir::new("depth-write");
+    let depths = image::Rgba32FImage::from_fn(3, 2, |x, y| {
+        let z = if (x, y) == (2, 1) {
+            NO_SURFACE
+        } else {
+            1.5 + x as f32 + 10.0 * y as f32
+        };
+        image::Rgba([z, z, z, 1.0])
+    });
+    for name in ["a.shad", "a.z", "a.exr"] {
+        reyes::output::write_depth(&depths, dir.path(name)).expect(name);
+        let read = reyes::output::read_depth(&dir.path(name)).expect(name);
+        assert_eq!((read.width, read.height), (3, 2), "{name}");
+        assert_eq!(read.depths, reyes::depth::depths(&depths), "{name}");
+    }
+    let error = reyes::output::write_depth(&depths, dir.path("a.png")).unwrap_err();
+    assert!(
+        matches!(error, reyes::output::OutputError::DepthNeedsExr { .. }),
+        "{error}"
+    );
+    assert!(!dir.path("a.png").exists());
+}

@@ -79,17 +79,12 @@ impl OutputPlan {
 }
 
 /// Writes a depth resolve's image (e.g. [`crate::GpuRendered::linear`] of a
-/// [`crate::Aov::Z`] frame) to an `.exr` path as a single-channel float EXR
-/// (channel [`DEPTH_CHANNEL`]), as [`write_image`] writes an image; another
-/// extension is [`OutputError::DepthNeedsExr`].
+/// [`crate::Aov::Z`] frame) as a single-channel float EXR (channel
+/// [`DEPTH_CHANNEL`]) whatever the extension, but `.png` is
+/// [`OutputError::DepthNeedsExr`] (see [`OutputKind::Depth`]); the path is
+/// checked and written as [`super::write_image`] does.
 pub fn write_depth(depths: &Rgba32FImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
-    let path = path.as_ref();
-    if ImageFormat::from_path(path)? != ImageFormat::Exr {
-        return Err(OutputError::DepthNeedsExr {
-            path: path.to_path_buf(),
-        });
-    }
-    let file = single_output(OutputKind::Image, "depth image", path)?;
+    let file = single_output(OutputKind::Depth, "depth image", path.as_ref())?;
     stage_depth(depths, &file)?.commit()
 }
 
