@@ -27,7 +27,8 @@ pub(super) fn stage_depth(depths: &Rgba32FImage, path: &Path) -> Result<Staged, 
     let layer = Layer::new(
         size,
         LayerAttributes::default(),
-        Encoding::FAST_LOSSLESS,
+        // Scan lines, which every EXR reader takes; ZIP keeps floats exact.
+        Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(vec![channel].into()),
     );
     let mut bytes = std::io::Cursor::new(Vec::new());
