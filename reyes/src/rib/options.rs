@@ -220,7 +220,11 @@ impl Interp {
                 let (args, _, _) = state::split_params(v, 3, &self.declared)?;
                 let name = state::arg_str(&args, 0, "the file name")?;
                 let depth = state::arg_str(&args, 2, "the mode")? == "z";
-                if depth && !world && name.to_ascii_lowercase().ends_with(".png") {
+                if depth
+                    && !world
+                    && !name.starts_with('+')
+                    && name.to_ascii_lowercase().ends_with(".png")
+                {
                     return Err(format!(
                         "Display {:?} of mode \"z\": the depth output is 32-bit floats, which an 8-bit PNG cannot hold; name the file *.exr (or *.z, *.shad: written as a single-channel float EXR)",
                         crate::input::excerpt(name)
