@@ -2,7 +2,8 @@
 //! of the shaded image. `grids` colours every micropolygon by the size of
 //! its grid (and checkers the micropolygons of a grid), so it shows at a
 //! glance where the micropolygons go; `depth` and `normal` show the view
-//! depth and the shading normal of every grid point.
+//! depth and the shading normal of every grid point. `z` is not a picture
+//! but data: the camera-space depth per pixel ([`crate::depth`]).
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -30,6 +31,13 @@ pub enum Aov {
     /// The shading normal as a colour ([`normal_color`]).
     #[cfg_attr(feature = "cli", value(help = "The shading normal as a colour"))]
     Normal,
+    /// Camera-space depth per pixel as 32-bit floats, not a picture
+    /// ([`crate::depth`]): written only as a single-channel (`Z`) EXR.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Camera-space depth per pixel (f32, +inf where empty); .exr only")
+    )]
+    Z,
 }
 
 impl Aov {
@@ -40,6 +48,7 @@ impl Aov {
             Aov::Grids => "grids",
             Aov::Depth => "depth",
             Aov::Normal => "normal",
+            Aov::Z => "z",
         }
     }
 

@@ -28,6 +28,7 @@
 //! * [`scene`]: the scene description, its TOML format and its validation;
 //!   [`modes`]: the sampling, dicing and shading-interpolation modes;
 //!   [`aov`]: what the image shows;
+//!   [`depth`]: the depth output (camera-space depth per pixel);
 //! * [`model`] and [`load`]: patch models and their loaders; [`rib`]:
 //!   RenderMan RIB input; [`displacement`]: displacement sources;
 //! * [`noise`]: RenderMan's `noise` on the CPU, and its WGSL twin;
@@ -85,6 +86,7 @@ pub mod aov;
 pub mod budget;
 #[cfg(feature = "cli")]
 pub mod cli;
+pub mod depth;
 pub mod displacement;
 pub mod filter;
 pub mod gpu;

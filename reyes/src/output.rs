@@ -13,6 +13,7 @@
 //! TOML and models).
 
 pub mod console;
+mod depth;
 mod guard;
 mod paths;
 mod staged;
@@ -22,6 +23,7 @@ use std::path::{Path, PathBuf};
 
 use image::{ImageBuffer, Rgba, Rgba32FImage, RgbaImage};
 
+pub use self::depth::{DEPTH_CHANNEL, DepthImage, ReadDepthError, read_depth, write_depth};
 pub use self::guard::{OutputGuard, OutputKind};
 use self::staged::Staged;
 pub use self::staged::{StagedFiles, ignore_file_size_signal};
@@ -121,6 +123,13 @@ pub enum OutputError {
         #[source]
         source: std::io::Error,
     },
+    /// The depth output ([`crate::Aov::Z`]) was to be written as an 8-bit
+    /// image.
+    #[error("{}: the z (depth) output is 32-bit floats, which an 8-bit PNG cannot hold; name it *.exr", path.display())]
+    DepthNeedsExr {
+        /// The path as given.
+        path: PathBuf,
+    },
     /// Encoding the image failed (image errors wrap I/O errors).
     #[error("cannot write image {}: {source}", path.display())]
     Encode {
@@ -218,12 +227,38 @@ impl OutputPlan {
         image: &Path,
         stats_json: Option<&Path>,
     ) -> Result<OutputPlan, OutputError> {
+        OutputPlan::planned(guard, frame, OutputKind::Image, image, stats_json)
+    }
+
+    /// [`OutputPlan::of_frame`] for a depth frame ([`crate::Aov::Z`]): the
+    /// image is a single-channel float EXR whatever its extension (a `.z`
+    /// or `.shad` name, as RenderMan's depth passes have), but `.png` is
+    /// [`OutputError::DepthNeedsExr`] (see [`OutputKind::Depth`]).
+    pub fn of_depth_frame(
+        guard: &mut OutputGuard,
+        frame: Option<&str>,
+        image: &Path,
+        stats_json: Option<&Path>,
+    ) -> Result<OutputPlan, OutputError> {
+        OutputPlan::planned(guard, frame, OutputKind::Depth, image, stats_json)
+    }
+
+    fn planned(
+        guard: &mut OutputGuard,
+        frame: Option<&str>,
+        kind: OutputKind,
+        image: &Path,
+        stats_json: Option<&Path>,
+    ) -> Result<OutputPlan, OutputError> {
         let label = |what: &str| match frame {
             Some(frame) => format!("{what} of {frame}"),
             None => what.to_owned(),
         };
-        let image_file = guard.add_output(OutputKind::Image, label("image"), image)?;
-        let format = ImageFormat::from_path(image)?;
+        let image_file = guard.add_output(kind, label("image"), image)?;
+        let format = match kind {
+            OutputKind::Depth => ImageFormat::Exr,
+            _ => ImageFormat::from_path(image)?,
+        };
         let stats_file = stats_json
             .map(|path| guard.add_output(OutputKind::Json, label("statistics JSON"), path))
             .transpose()?;
@@ -267,20 +302,25 @@ impl OutputPlan {
     ) -> Result<(), OutputError> {
         let (path, format) = &self.image;
         let staged_image = stage_image(image, Some(linear), path, *format)?;
-        let staged_stats = match &self.stats_json {
+        let staged_stats = self.stage_stats(stats)?;
+        staged_image.commit()?;
+        staged_stats.map(Staged::commit).transpose()?;
+        Ok(())
+    }
+
+    /// The statistics as pretty JSON in a temporary file, if planned.
+    fn stage_stats(&self, stats: &RenderStats) -> Result<Option<Staged>, OutputError> {
+        match &self.stats_json {
             Some(path) => {
                 let json =
                     serde_json::to_string_pretty(stats).map_err(|source| OutputError::Json {
                         path: path.clone(),
                         source,
                     })?;
-                Some(staged::write_bytes(path, (json + "\n").as_bytes())?)
+                Ok(Some(staged::write_bytes(path, (json + "\n").as_bytes())?))
             }
-            None => None,
-        };
-        staged_image.commit()?;
-        staged_stats.map(Staged::commit).transpose()?;
-        Ok(())
+            None => Ok(None),
+        }
     }
 }
 

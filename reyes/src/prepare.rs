@@ -160,6 +160,8 @@ pub struct PreparedScene {
     pub lens: PreparedLens,
     /// What the image shows.
     pub aov: Aov,
+    /// How the `z` output makes a pixel's depth from its samples'.
+    pub depth_filter: crate::depth::DepthFilter,
     /// How colour varies over a micropolygon.
     pub shading_interpolation: ShadingInterpolation,
     /// The pixel filter of the resolve: the scene's, except for the `grids`
@@ -408,6 +410,7 @@ impl PreparedScene {
             max_split_depth: scene.max_split_depth,
             skipped_degenerate_patches,
             aov: scene.aov,
+            depth_filter: scene.depth_filter,
             shading_interpolation: scene.shading_interpolation,
             // The grids picture's colours are categories: not blended.
             pixel_filter: if scene.aov == Aov::Grids {
@@ -463,6 +466,12 @@ impl PreparedScene {
     /// tiles.
     pub fn uvt_tables(&self) -> UvtTables {
         UvtTables::new(self.spp, self.interleave_tiles())
+    }
+
+    /// Whether the sample framebuffer keeps each sample's second-nearest key
+    /// too: only for the z output with the midpoint depth filter.
+    pub fn keeps_second_depth(&self) -> bool {
+        self.aov == Aov::Z && self.depth_filter == crate::depth::DepthFilter::Midpoint
     }
 
     /// Whether samples carry a time and a lens position: with motion, with a

@@ -16,13 +16,6 @@ fn key_depth(z: f32) -> f32 {
     return select(d, 0.0, d == 0.0);
 }
 
-// The depth test: keeps the minimum (depth bits << 32 | colour) per sample.
-fn offer(x: u32, y: u32, s: u32, depth: f32, color: u32) {
-    let index = (y * frame.width + x) * frame.spp + s;
-    let key = (u64(bitcast<u32>(key_depth(depth))) << 32u) | u64(color);
-    atomicMin(&framebuffer[index], key);
-}
-
 // ------------------------------------------------------------ sampling
 
 // reyes::sampling::hash.

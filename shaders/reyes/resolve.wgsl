@@ -26,7 +26,8 @@ fn flat_index(id: vec3<u32>, groups: vec3<u32>) -> u32 {
     return id.y * groups.x * CLEAR_WORKGROUP + id.x;
 }
 
-// Sets every key to CLEAR_KEY (u64::MAX): "no fragment yet".
+// Sets every key to CLEAR_KEY (u64::MAX): "no fragment yet" (in a frame of
+// the midpoint depth filter, both depths: none yet).
 @compute @workgroup_size(256)
 fn clear(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = flat_index(id, groups);
@@ -164,5 +165,61 @@ fn resolve(
         c = sum / weights;
     }
     image[pixel] = vec4<f32>(c, 1.0);
+    coverage[pixel] = covered;
+}
+
+// reyes::depth::DepthProjection::view_depth: the camera-space depth of NDC
+// depth d.
+fn view_depth(d: f32) -> f32 {
+    let range = params.depth_far - params.depth_near;
+    if (params.depth_perspective != 0u) {
+        return params.depth_near * params.depth_far / (params.depth_far - d * range);
+    }
+    return params.depth_near + d * range;
+}
+
+// reyes::reference::resolve_depth: the minimum over the pixel's own
+// covered samples of each sample's depth: its nearest surface's
+// camera-space depth, or with the midpoint filter the mean of that and the
+// second-nearest's (which such a frame keeps in the key's low word,
+// offer_second_depth.wgsl), +inf where there is none. Written raw as
+// (depth, finite, 0, covered), 1 or 0 each flag, for
+// reyes::depth::finish_depths (WGSL has no infinite constant).
+// Tiles as in `resolve`.
+@compute @workgroup_size(8, 8)
+fn resolve_depth(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let tiles_x = (params.width + 7u) / 8u;
+    let tile = group.y * groups.x + group.x;
+    let id = vec2<u32>((tile % tiles_x) * 8u + local.x, (tile / tiles_x) * 8u + local.y);
+    if (id.x >= params.width || id.y >= params.height) {
+        return;
+    }
+    let pixel = id.y * params.width + id.x;
+    var depth = 0.0;
+    var finite = false;
+    var covered = 0u;
+    for (var s = 0u; s < params.spp; s += 1u) {
+        let index = pixel * params.spp + s;
+        let key = keys[index];
+        if (key.y == CLEAR_WORD) {
+            continue;
+        }
+        covered += 1u;
+        var z = view_depth(bitcast<f32>(key.y));
+        if (params.depth_filter == DEPTH_FILTER_MIDPOINT) {
+            let second = key.x;
+            if (second == CLEAR_WORD) {
+                continue;
+            }
+            z = 0.5 * (z + view_depth(bitcast<f32>(second)));
+        }
+        depth = select(z, min(depth, z), finite);
+        finite = true;
+    }
+    image[pixel] = vec4<f32>(depth, select(0.0, 1.0, finite), 0.0, select(0.0, 1.0, covered != 0u));
     coverage[pixel] = covered;
 }

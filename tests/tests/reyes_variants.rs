@@ -58,6 +58,13 @@ fn every_variant_holds_what_it_runs_and_nothing_it_does_not() {
                     "{variant}: {function}"
                 );
             }
+            // The second-nearest key's atomic only where the midpoint depth
+            // filter reads it.
+            assert_eq!(
+                wgsl.contains("atomicMin(&framebuffer[2u * index]"),
+                variant.second_depth,
+                "{variant}: the second-nearest key"
+            );
             // The user's function is compiled in only where displacement is.
             assert_eq!(
                 declares(wgsl, "displacement_user"),
@@ -108,6 +115,7 @@ fn blurred_displaced_megakernel_wgsl_snapshot() {
     let variant = KernelVariant {
         blurred: true,
         displaced: true,
+        second_depth: false,
     };
     let compiled = compile_variant(Features::empty(), variant, &UserCode::NONE)
         .expect("the Reyes graph compiles");

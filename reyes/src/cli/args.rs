@@ -8,6 +8,7 @@ use glam::Vec3;
 use super::frames::{FrameSelection, parse_frames};
 use super::parse::{parse_bytes, parse_pan, parse_vec3};
 use crate::aov::Aov;
+use crate::depth::DepthFilter;
 use crate::modes::{Dicing, Sampling, ShadingInterpolation};
 
 /// The arguments of `reyes render`, which `reyes view` shares.
@@ -82,9 +83,15 @@ pub(crate) struct RenderArgs {
     #[arg(long, conflicts_with = "shading_interpolation")]
     pub(crate) flat_shading: bool,
     /// What the image shows: the shaded surface, each micropolygon coloured
-    /// by its grid's size (checkered), the view depth or the shading normal.
+    /// by its grid's size (checkered), the view depth or the shading normal;
+    /// or `z`, the camera-space depth per pixel as floats (+inf where no
+    /// surface is), written only as a single-channel EXR (`-o depth.exr`).
     #[arg(long, value_enum)]
     pub(crate) aov: Option<Aov>,
+    /// How `--aov z` makes a pixel's depth from its samples' (RenderMan's
+    /// `Hider "hidden" "depthfilter"`; default: the scene's, min).
+    #[arg(long, value_enum)]
+    pub(crate) depth_filter: Option<DepthFilter>,
     /// 1: draw only the front of every object (RenderMan's `Sides 1`;
     /// default: the scene's, 2).
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]

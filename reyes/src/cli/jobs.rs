@@ -23,6 +23,7 @@ use super::frames::{frame_path, select};
 use super::input::{ReadFile, base_scene, rib_base};
 use super::prepare::{Prepared, prepare_base};
 use super::render::Backend;
+use crate::aov::Aov;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use crate::output::console::errln;
 use crate::output::{OutputGuard, OutputKind, OutputPlan};
@@ -47,6 +48,9 @@ pub(crate) struct Job {
 /// The files one frame writes.
 struct Outputs {
     image: PathBuf,
+    /// The frame writes the depth output (`--aov z`, or a RIB `Display`
+    /// of mode `z`).
+    depth: bool,
     stats_json: Option<PathBuf>,
     trace: Option<PathBuf>,
 }
@@ -59,8 +63,12 @@ impl Job {
             return Ok(None);
         };
         let label = self.label.as_deref();
-        let plan =
-            OutputPlan::of_frame(guard, label, &outputs.image, outputs.stats_json.as_deref())?;
+        let (image, stats_json) = (&outputs.image, outputs.stats_json.as_deref());
+        let plan = if outputs.depth {
+            OutputPlan::of_depth_frame(guard, label, image, stats_json)?
+        } else {
+            OutputPlan::of_frame(guard, label, image, stats_json)?
+        };
         if let Some(trace) = &outputs.trace {
             let what = label.map_or("trace".to_owned(), |l| format!("trace of {l}"));
             guard.add_output(OutputKind::Json, what, trace)?;
@@ -86,7 +94,8 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<(Vec<Job>, Vec<ReadFile>), BoxEr
             )
             .into());
         }
-        let outputs = outputs(args, None, None, false)?;
+        let depth = args.aov == Some(Aov::Z);
+        let outputs = outputs(args, None, None, false, depth)?;
         let job = Job {
             label: None,
             scene: None,
@@ -122,7 +131,8 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<(Vec<Job>, Vec<ReadFile>), BoxEr
                     )
                     .into());
                 }
-                Some(self::outputs(args, display, frame.number, several)?)
+                let depth = args.aov.unwrap_or(scene.scene.aov) == Aov::Z;
+                Some(self::outputs(args, display, frame.number, several, depth)?)
             }
             Err(_) => None,
         };
@@ -206,18 +216,20 @@ impl Reread {
 
 /// The outputs of the frame numbered `number` whose `Display` file is
 /// `display`: `-o` (a pattern takes the number), else the `Display` file,
-/// else `reyes.png`; the statistics and the trace as their flags say.
+/// else `reyes.png` (`reyes.exr` for a depth frame); the statistics and the trace as their flags say.
 fn outputs(
     args: &RenderArgs,
     display: Option<&str>,
     number: Option<u32>,
     several: bool,
+    depth: bool,
 ) -> Result<Outputs, BoxError> {
     let image = match (&args.output, display) {
         (Some(output), _) => frame_path(output, "-o", number, several)?,
         // A relative name is relative to the current directory, as in
         // RenderMan.
         (None, Some(display)) => PathBuf::from(display),
+        (None, None) if depth => PathBuf::from("reyes.exr"),
         (None, None) => PathBuf::from("reyes.png"),
     };
     let per_frame = |path: &Option<PathBuf>, flag: &str| {
@@ -227,6 +239,7 @@ fn outputs(
     };
     Ok(Outputs {
         image,
+        depth,
         stats_json: per_frame(&args.stats_json, "--stats-json")?,
         trace: per_frame(&args.trace, "--trace")?,
     })

@@ -139,6 +139,9 @@ fn override_frame(scene: &mut Scene, args: &RenderArgs) {
     if let Some(aov) = args.aov {
         scene.aov = aov;
     }
+    if let Some(filter) = args.depth_filter {
+        scene.depth_filter = filter;
+    }
 }
 
 /// Every object's sides and orientation, and the motion `--spin` and

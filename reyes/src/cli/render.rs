@@ -65,6 +65,10 @@ impl<'g> Backend<'g> {
         label: Option<&str>,
     ) -> Result<(), BoxError> {
         let (output, trace) = paths;
+        let depth = scene.aov == crate::Aov::Z;
+        if depth {
+            outputs.check_depth()?;
+        }
         let Frame {
             image,
             linear,
@@ -77,7 +81,11 @@ impl<'g> Backend<'g> {
         };
         // The image and the statistics are renamed into place together, or
         // neither is.
-        outputs.write(&image, &linear, &stats)?;
+        if depth {
+            outputs.write_depth(&linear, &stats)?;
+        } else {
+            outputs.write(&image, &linear, &stats)?;
+        }
         outln!(
             "wrote {} ({}x{}, {} spp)",
             output.display(),

@@ -47,6 +47,10 @@ const LIBRARY_WGSL: [&str; 7] = [
     include_str!("../../../shaders/reyes/surfaces_standard.wgsl"),
     include_str!("../../../shaders/reyes/library_raster.wgsl"),
 ];
+/// The depth test ([`KernelVariant::second_depth`] chooses): the nearest
+/// key per sample, or the nearest and second-nearest depths.
+const OFFER_WGSL: &str = include_str!("../../../shaders/reyes/offer.wgsl");
+const OFFER_SECOND_DEPTH_WGSL: &str = include_str!("../../../shaders/reyes/offer_second_depth.wgsl");
 const BOUND_WGSL: &str = include_str!("../../../shaders/reyes/bound.wgsl");
 const SPLIT_WGSL: &str = include_str!("../../../shaders/reyes/split.wgsl");
 const DICE_WGSL: &str = include_str!("../../../shaders/reyes/dice_shade_sample.wgsl");
@@ -153,6 +157,11 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     for part in LIBRARY_WGSL {
         graph.library(part);
     }
+    graph.library(if variant.second_depth {
+        OFFER_SECOND_DEPTH_WGSL
+    } else {
+        OFFER_WGSL
+    });
     graph.library(DICING_WGSL);
     graph.library(QUAD_WGSL);
     graph.library(RASTER5D_WGSL);
@@ -172,7 +181,16 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     graph.resource(Resource::uniform::<FrameUniform>("frame"));
     graph.resource(Resource::storage_read::<[ObjectData]>("objects"));
     graph.resource(Resource::storage_read::<[LightData]>("lights"));
-    graph.resource(Resource::storage_wgsl("framebuffer", "array<atomic<u64>>"));
+    // A frame of the midpoint depth filter keeps two depths per sample in
+    // 32-bit words instead of the key (offer_second_depth.wgsl).
+    graph.resource(Resource::storage_wgsl(
+        "framebuffer",
+        if variant.second_depth {
+            "array<atomic<u32>>"
+        } else {
+            "array<atomic<u64>>"
+        },
+    ));
     graph.resource(Resource::storage::<[Atomic<u32>]>("stats"));
     graph.resource(Resource::storage_read::<[f32]>("height_texels"));
     let bound = graph.procedure(

@@ -369,10 +369,14 @@ impl<'a> GpuRenderer<'a> {
             queue,
             target,
             &buffers.framebuffer,
+            scene.aov == crate::Aov::Z,
             self.options.timeout,
         )?;
-        let linear = Rgba32FImage::from_raw(target.width, target.height, resolved.linear)
+        let mut linear = Rgba32FImage::from_raw(target.width, target.height, resolved.linear)
             .expect("the image buffer holds width * height RGBA f32 pixels");
+        if scene.aov == crate::Aov::Z {
+            crate::depth::finish_depths(&mut linear);
+        }
         // Encoded on the host, as the CPU reference does: equal floats give
         // equal 8-bit images, and the dither follows absolute pixels.
         let image = scene.encoding.encode(&linear, scene.camera.origin);

@@ -53,6 +53,15 @@ pub struct ResolveParams {
     pub radius_x: u32,
     /// Neighbour rows on each side.
     pub radius_y: u32,
+    /// The near plane's distance ([`crate::depth::DepthProjection`], for
+    /// the depth resolve).
+    pub depth_near: f32,
+    /// The far plane's distance.
+    pub depth_far: f32,
+    /// 1 for a perspective camera, 0 for an orthographic one.
+    pub depth_perspective: u32,
+    /// DEPTH_FILTER_* ([`crate::depth::DepthProjection::code`]).
+    pub depth_filter: u32,
     /// Linear RGB background (w unused).
     pub background: glam::Vec4,
 }
@@ -63,6 +72,7 @@ impl ResolveParams {
         let camera = &scene.camera;
         let filter = scene.pixel_filter;
         let [radius_x, radius_y] = filter.radius();
+        let depth = crate::depth::DepthProjection::of(camera);
         Self {
             width: camera.width,
             height: camera.height,
@@ -76,6 +86,10 @@ impl ResolveParams {
             ywidth: filter.ywidth,
             radius_x,
             radius_y,
+            depth_near: depth.near,
+            depth_far: depth.far,
+            depth_perspective: u32::from(depth.perspective),
+            depth_filter: crate::depth::DepthProjection::code(scene.depth_filter),
             background: scene.background.extend(0.0),
         }
     }
@@ -100,7 +114,7 @@ fn wgsl_function<'a>(source: &'a str, name: &str) -> &'a str {
 pub fn resolve_wgsl() -> String {
     let [mx, my, ms, mc] = HASH_MULTIPLIERS;
     let [m0, m1] = HASH_MIX;
-    let filters: String = FilterKind::ALL
+    let mut filters: String = FilterKind::ALL
         .iter()
         .map(|k| {
             format!(
@@ -110,6 +124,13 @@ pub fn resolve_wgsl() -> String {
             )
         })
         .collect();
+    for filter in crate::depth::DepthFilter::ALL {
+        filters += &format!(
+            "const DEPTH_FILTER_{}: u32 = {}u;\n",
+            filter.name().to_uppercase(),
+            crate::depth::DepthProjection::code(filter)
+        );
+    }
     format!(
         "// The clear and resolve passes of the Reyes renderer (reyes::gpu::resolve).\n\n{}\n\n\
          const CLEAR_WORKGROUP: u32 = {CLEAR_WORKGROUP}u;\n\
@@ -130,6 +151,7 @@ pub struct Resolver {
     layout: wgpu::BindGroupLayout,
     clear: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
+    resolve_depth: wgpu::ComputePipeline,
 }
 
 /// Bytes per pixel of the resolved image: linear RGBA, one `f32` each.
@@ -195,6 +217,7 @@ impl Resolver {
         Self {
             clear: pipeline("clear"),
             resolve: pipeline("resolve"),
+            resolve_depth: pipeline("resolve_depth"),
             layout,
         }
     }
@@ -230,7 +253,8 @@ impl Resolver {
     }
 
     /// Sets every sample key of `framebuffer` to `CLEAR_KEY` (submitted at
-    /// once). One thread per sample, the workgroups spread over two
+    /// once; in a frame of the midpoint depth filter, both depths' words to
+    /// `u32::MAX`). One thread per sample, the workgroups spread over two
     /// dimensions (`flat_index` in the shader).
     pub fn clear(
         &self,
@@ -253,13 +277,16 @@ impl Resolver {
     }
 
     /// Resolves `framebuffer` into the target's image and coverage and reads
-    /// them back.
+    /// them back: the filtered colours, or with `depth` the camera-space
+    /// depths ([`crate::depth`], raw: [`crate::depth::finish_depths`] makes
+    /// them the depth output).
     pub fn resolve(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         target: &ResolveTarget,
         framebuffer: &wgpu::Buffer,
+        depth: bool,
         timeout: Duration,
     ) -> Result<Resolved, RenderError> {
         // One workgroup per 8x8 tile, the tiles numbered row by row over a
@@ -270,7 +297,11 @@ impl Resolver {
         submit_checked(device, queue, |encoder| {
             let group = self.bind_group(device, target, framebuffer);
             let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.resolve);
+            pass.set_pipeline(if depth {
+                &self.resolve_depth
+            } else {
+                &self.resolve
+            });
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(x, y, 1);
         })?;

@@ -10,7 +10,12 @@
 //!   lens paths, about half of the module, inlined into each of the three
 //!   dice procedures;
 //! - displacement: the height sources, the displaced normals and the
-//!   displaced border chords.
+//!   displaced border chords;
+//! - the second-nearest depth per sample, which only the midpoint depth
+//!   filter reads ([`crate::depth::DepthFilter::Midpoint`]): small, but a
+//!   second atomic per sample that every other frame must not pay for; it
+//!   is no constant but a choice of the depth test's file and of the
+//!   framebuffer's type (`reyes::gpu::graph::reyes_graph_with`).
 //!
 //! The sampling mode, the dicer and the AOV stay run-time switches in the
 //! frame uniform: their code is small, and a frame's mode can change (as in
@@ -34,19 +39,30 @@ pub struct KernelVariant {
     pub blurred: bool,
     /// Some object is displaced.
     pub displaced: bool,
+    /// Every sample keeps its second-nearest key too
+    /// ([`PreparedScene::keeps_second_depth`]).
+    pub second_depth: bool,
 }
 
 impl KernelVariant {
     /// Every variant, in a fixed order.
-    pub const ALL: [Self; 4] = [
-        Self::new(false, false),
-        Self::new(false, true),
-        Self::new(true, false),
-        Self::new(true, true),
+    pub const ALL: [Self; 8] = [
+        Self::new(false, false, false),
+        Self::new(false, true, false),
+        Self::new(true, false, false),
+        Self::new(true, true, false),
+        Self::new(false, false, true),
+        Self::new(false, true, true),
+        Self::new(true, false, true),
+        Self::new(true, true, true),
     ];
 
-    const fn new(blurred: bool, displaced: bool) -> Self {
-        Self { blurred, displaced }
+    const fn new(blurred: bool, displaced: bool, second_depth: bool) -> Self {
+        Self {
+            blurred,
+            displaced,
+            second_depth,
+        }
     }
 
     /// The variant `scene` needs.
@@ -54,11 +70,14 @@ impl KernelVariant {
         Self {
             blurred: scene.samples_time_and_lens(),
             displaced: scene.objects.iter().any(|o| o.displacement.is_some()),
+            second_depth: scene.keeps_second_depth(),
         }
     }
 
     /// The WGSL constants that state this variant, declared as graph
     /// constants.
+    /// (`second_depth` is no constant: it chooses the depth test's file
+    /// and the framebuffer's type, `reyes::gpu::graph::reyes_graph_with`.)
     pub fn constants(self) -> [(&'static str, ConstantValue); 2] {
         [
             ("VARIANT_BLURRED", self.blurred.into()),
@@ -75,11 +94,15 @@ impl KernelVariant {
 
 impl fmt::Display for KernelVariant {
     /// A short name: `still`, `blurred`, `still-displaced` or
-    /// `blurred-displaced`.
+    /// `blurred-displaced`, followed by `-second-depth` where it keeps the
+    /// second-nearest keys.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(if self.blurred { "blurred" } else { "still" })?;
         if self.displaced {
             f.write_str("-displaced")?;
+        }
+        if self.second_depth {
+            f.write_str("-second-depth")?;
         }
         Ok(())
     }
@@ -94,7 +117,16 @@ mod tests {
         let names: Vec<String> = KernelVariant::ALL.iter().map(|v| v.to_string()).collect();
         assert_eq!(
             names,
-            ["still", "still-displaced", "blurred", "blurred-displaced"]
+            [
+                "still",
+                "still-displaced",
+                "blurred",
+                "blurred-displaced",
+                "still-second-depth",
+                "still-displaced-second-depth",
+                "blurred-second-depth",
+                "blurred-displaced-second-depth"
+            ]
         );
         // FNV-1a of "still", computed independently, fixed here so that a
         // change of the name or of the hash shows up.

@@ -28,6 +28,11 @@ const FOREIGN_TO_JSON: [&str; 7] = ["png", "exr", "toml", "rib", "bpt", "bez", "
 pub enum OutputKind {
     /// An image: `.png` or `.exr` (the extension chooses, [`ImageFormat`]).
     Image,
+    /// The depth output ([`crate::Aov::Z`]), a single-channel float EXR:
+    /// `.exr` or a name of RenderMan's depth files (`.z`, `.zfile`,
+    /// `.shad`: any extension but `.png` and the other formats'
+    /// the renderer reads or writes).
+    Depth,
     /// A TOML scene: `.toml`.
     Toml,
     /// A `.bpt` patch model.
@@ -53,6 +58,18 @@ impl OutputKind {
         };
         match self {
             OutputKind::Image => ImageFormat::from_path(path).map(|_| ()),
+            OutputKind::Depth if extension.as_deref() == Some("png") => {
+                Err(OutputError::DepthNeedsExr {
+                    path: path.to_path_buf(),
+                })
+            }
+            OutputKind::Depth
+                if extension
+                    .as_deref()
+                    .is_some_and(|e| e != "exr" && FOREIGN_TO_JSON.contains(&e)) =>
+            {
+                wrong("a depth image (single-channel float EXR)", ".exr")
+            }
             OutputKind::Toml if extension.as_deref() != Some("toml") => {
                 wrong("a TOML scene", ".toml")
             }

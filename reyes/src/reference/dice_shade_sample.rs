@@ -194,7 +194,9 @@ fn shade_points(
         .enumerate()
         .map(|(k, ((&position, &normal), point))| {
             pack_rgb10(match scene.aov {
-                Aov::Shaded | Aov::Grids => match object.surface {
+                // The z output keeps only the depth; its colours are the shaded
+                // ones, as the megakernel's default case makes them.
+                Aov::Shaded | Aov::Grids | Aov::Z => match object.surface {
                     Some(PreparedSurface::User { shader, parameters }) => {
                         let (i, j) = (k as u32 % columns, k as u32 / columns);
                         let ctx = shading_context(

@@ -23,6 +23,7 @@ internal_modules! {
     raster;
     raster5d;
     resolve;
+    resolve_depth;
     shade;
     work;
 }
@@ -243,8 +244,15 @@ fn render_bounded(
         k: crate::sampling::grid_size(scene.spp),
         jitter: scene.jitter,
     };
-    let (linear, covered_samples) =
-        resolve::resolve(&framebuffer, scene.background, &scene.pixel_filter, layout);
+    let (linear, covered_samples) = if scene.aov == crate::Aov::Z {
+        resolve_depth::resolve_depth(
+            &framebuffer,
+            crate::depth::DepthProjection::of(&scene.camera),
+            scene.depth_filter,
+        )
+    } else {
+        resolve::resolve(&framebuffer, scene.background, &scene.pixel_filter, layout)
+    };
     let coverage = covered_samples.iter().map(|&n| n != 0).collect();
     let image = scene.encoding.encode(&linear, scene.camera.origin);
     stats.frame_time_ms = Some(start.elapsed().as_secs_f64() * 1000.0);
@@ -284,14 +292,18 @@ pub fn try_render_samples(
     options.check_frame(camera.width, camera.height, scene.spp)?;
     let mut budget = Budget::new(options);
     let view_proj = camera.view_proj();
-    let mut framebuffer = Framebuffer::try_new(camera.width, camera.height, scene.spp).ok_or(
-        ReferenceError::OutOfMemory {
-            bytes: u64::from(camera.width)
-                .saturating_mul(u64::from(camera.height))
-                .saturating_mul(u64::from(scene.spp))
-                .saturating_mul(8),
-        },
-    )?;
+    let layers = if scene.keeps_second_depth() { 2 } else { 1 };
+    let out_of_memory = || ReferenceError::OutOfMemory {
+        bytes: u64::from(camera.width)
+            .saturating_mul(u64::from(camera.height))
+            .saturating_mul(u64::from(scene.spp))
+            .saturating_mul(8 * layers),
+    };
+    let mut framebuffer =
+        Framebuffer::try_new(camera.width, camera.height, scene.spp).ok_or_else(out_of_memory)?;
+    if layers == 2 {
+        framebuffer = framebuffer.keep_second().ok_or_else(out_of_memory)?;
+    }
     let samples = SampleGrid::new(grid_size(scene.spp), scene.jitter);
     let uvt = scene.samples_time_and_lens().then(|| scene.uvt_tables());
     let sampler = uvt.as_ref().map(|uvt| Sampler {

@@ -62,6 +62,10 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
     }
 
     scene.pixel_filter = opts.pixel_filter.unwrap_or_default();
+    if opts.depth_output {
+        scene.aov = crate::Aov::Z;
+    }
+    scene.depth_filter = opts.depth_filter.unwrap_or_default();
     scene.exposure = opts.exposure.unwrap_or_default();
     scene.quantize = opts.quantize.unwrap_or_default();
     if let Some(smooth) = opts.smooth {

@@ -369,6 +369,7 @@ impl Interp {
             | "Shutter"
             | "DepthOfField"
             | "Display"
+            | "Hider"
             | "PixelFilter"
             | "Exposure"
             | "Quantize"

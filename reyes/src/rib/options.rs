@@ -7,6 +7,7 @@ use std::path::Path;
 use super::interp::Interp;
 use super::parser::Value;
 use super::state;
+use crate::depth::DepthFilter;
 use crate::filter::{FilterKind, PixelFilter};
 use crate::params::MAX_SHADING_RATE;
 use crate::quantize::{Exposure, Quantize};
@@ -37,6 +38,11 @@ pub struct Options {
     pub dof: Option<(f64, f64, f64)>,
     /// `Display` file name.
     pub display: Option<String>,
+    /// Whether that `Display`'s mode is `"z"`: the frame writes the depth
+    /// output ([`crate::Aov::Z`]).
+    pub depth_output: bool,
+    /// `Hider "hidden" "depthfilter"` (min when absent).
+    pub depth_filter: Option<DepthFilter>,
     /// `ShadingInterpolation`: `true` for `"smooth"`.
     pub smooth: Option<bool>,
     /// `PixelFilter` (RenderMan's default, `gaussian` 2 2, when absent).
@@ -213,6 +219,17 @@ impl Interp {
             "Display" => {
                 let (args, _, _) = state::split_params(v, 3, &self.declared)?;
                 let name = state::arg_str(&args, 0, "the file name")?;
+                let depth = state::arg_str(&args, 2, "the mode")? == "z";
+                if depth
+                    && !world
+                    && !name.starts_with('+')
+                    && name.to_ascii_lowercase().ends_with(".png")
+                {
+                    return Err(format!(
+                        "Display {:?} of mode \"z\": the depth output is 32-bit floats, which an 8-bit PNG cannot hold; name the file *.exr (or *.z, *.shad: written as a single-channel float EXR)",
+                        crate::input::excerpt(name)
+                    ));
+                }
                 if world {
                     self.warn(
                         file,
@@ -228,6 +245,7 @@ impl Interp {
                     };
                     if first {
                         self.opts.display = Some(name.to_owned());
+                        self.opts.depth_output = depth;
                     }
                 }
             }
@@ -252,6 +270,12 @@ impl Interp {
                 }
                 self.opts.pixel_filter = Some(pixel_filter);
             }
+            "Hider" if world => self.warn(
+                file,
+                line,
+                "Hider inside the world block is ignored (it is an option)".into(),
+            ),
+            "Hider" => self.hider(v, file, line)?,
             "Exposure" | "Quantize" if world => self.warn(
                 file,
                 line,
@@ -310,7 +334,8 @@ impl Interp {
             "z" => self.warn(
                 file,
                 line,
-                "Quantize \"z\": no depth image is written; ignored".into(),
+                "Quantize \"z\": the depth output is written as floats, never quantized; ignored"
+                    .into(),
             ),
             other => {
                 return Err(format!(
@@ -318,6 +343,57 @@ impl Interp {
                     crate::input::excerpt(other)
                 ));
             }
+        }
+        Ok(())
+    }
+
+    /// `Hider "hidden" "depthfilter" name`: how the depth output makes a
+    /// pixel's depth ([`DepthFilter`]). An unknown filter warns and the
+    /// default, min, is used; another hider, and other parameters, warn and
+    /// are ignored.
+    fn hider(&mut self, v: &[Value], file: &Path, line: usize) -> Result<(), String> {
+        let (args, params, _) = state::split_params(v, 1, &self.declared)?;
+        let kind = state::arg_str(&args, 0, "the hider")?;
+        if kind != "hidden" {
+            self.warn(
+                file,
+                line,
+                format!(
+                    "Hider {:?}: the renderer has the \"hidden\" hider only; used instead",
+                    crate::input::excerpt(kind)
+                ),
+            );
+        }
+        for param in params {
+            if param.name != "depthfilter" {
+                self.warn(
+                    file,
+                    line,
+                    format!(
+                        "Hider parameter {:?} is not supported; ignored",
+                        crate::input::excerpt(&param.name)
+                    ),
+                );
+                continue;
+            }
+            let name = match &param.value {
+                Value::Str(name) => name.as_str(),
+                Value::Strs(names) if names.len() == 1 => names[0].as_str(),
+                _ => return Err("Hider \"depthfilter\" must be one string".into()),
+            };
+            let filter = DepthFilter::from_name(name).unwrap_or_else(|| {
+                self.warn(
+                    file,
+                    line,
+                    format!(
+                        "Hider \"depthfilter\" {:?} is unknown; \"min\" is used (the renderer has {})",
+                        crate::input::excerpt(name),
+                        DepthFilter::ALL.map(DepthFilter::name).join(", ")
+                    ),
+                );
+                DepthFilter::Min
+            });
+            self.opts.depth_filter = Some(filter);
         }
         Ok(())
     }

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::aov::Aov;
 use crate::budget::PatchBudget;
+use crate::depth::DepthFilter;
 use crate::filter::PixelFilter;
 use crate::input::InputKind;
 use crate::load::LoadError;
@@ -96,6 +97,10 @@ pub struct Scene {
     /// What the image shows (default the shaded surface; see [`Aov`]).
     #[serde(default)]
     pub aov: Aov,
+    /// How the `z` output makes a pixel's depth from its samples' (default
+    /// [`DepthFilter::Min`]; RenderMan's `Hider "hidden" "depthfilter"`).
+    #[serde(default)]
+    pub depth_filter: DepthFilter,
     /// How colour varies over a micropolygon (default
     /// [`ShadingInterpolation::Smooth`]).
     #[serde(default)]
@@ -168,6 +173,7 @@ impl Default for Scene {
             ambient: default_ambient(),
             dicing: Dicing::default(),
             aov: Aov::default(),
+            depth_filter: DepthFilter::default(),
             shading_interpolation: ShadingInterpolation::default(),
             pixel_filter: PixelFilter::default(),
             exposure: Exposure::default(),

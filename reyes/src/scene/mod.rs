@@ -28,7 +28,8 @@
 //! background = [0.05, 0.05, 0.07]    # linear RGB
 //! ambient = 0.1                      # an ambient light of this intensity (white)
 //! dicing = "rate"                   # "rate" (to the shading rate) or "fixed" (16 x 16 points)
-//! aov = "shaded"                     # what the image shows: "shaded", "grids", "depth" or "normal"
+//! aov = "shaded"                     # what the image shows: "shaded", "grids", "depth", "normal", or "z" (depth data, .exr only)
+//! depth_filter = "min"               # the "z" output's depth per pixel from its samples' (RenderMan's depthfilter)
 //! shading_rate = 1.0                 # target micropolygon area in pixels (rate dicing)
 //! shading_interpolation = "smooth"   # "smooth" (blend corner colours) or "constant" (one per micropolygon)
 //! dice_threshold = 16.0              # fixed dicing: dice when the projected patch fits in this many pixels
