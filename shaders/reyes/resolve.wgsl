@@ -108,6 +108,15 @@ fn filter_weight(x: f32, y: f32) -> f32 {
     }
 }
 
+// The pixel of invocation `local` of workgroup `group`: one workgroup per
+// 8x8 tile of pixels, the tiles numbered row by row over both dispatch
+// dimensions. May lie past the frame's edge.
+fn tile_pixel(group: vec3<u32>, local: vec3<u32>, groups: vec3<u32>) -> vec2<u32> {
+    let tiles_x = (params.width + 7u) / 8u;
+    let tile = group.y * groups.x + group.x;
+    return vec2<u32>((tile % tiles_x) * 8u + local.x, (tile / tiles_x) * 8u + local.y);
+}
+
 // reyes::reference::resolve::resolve: the filter-weighted mean of the
 // samples of the pixels around this one (uncovered ones take the
 // background; pixels outside the frame are missing and the weights are
@@ -123,9 +132,7 @@ fn resolve(
     @builtin(local_invocation_id) local: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
-    let tiles_x = (params.width + 7u) / 8u;
-    let tile = group.y * groups.x + group.x;
-    let id = vec2<u32>((tile % tiles_x) * 8u + local.x, (tile / tiles_x) * 8u + local.y);
+    let id = tile_pixel(group, local, groups);
     if (id.x >= params.width || id.y >= params.height) {
         return;
     }
@@ -192,9 +199,7 @@ fn resolve_depth(
     @builtin(local_invocation_id) local: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
-    let tiles_x = (params.width + 7u) / 8u;
-    let tile = group.y * groups.x + group.x;
-    let id = vec2<u32>((tile % tiles_x) * 8u + local.x, (tile / tiles_x) * 8u + local.y);
+    let id = tile_pixel(group, local, groups);
     if (id.x >= params.width || id.y >= params.height) {
         return;
     }

@@ -63,12 +63,7 @@ pub(crate) fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
     for warning in &frames.warnings {
         errln!("warning: {warning}")?;
     }
-    let sources = frames.sources.clone();
-    let frame = frames
-        .frames
-        .into_iter()
-        .nth(selected[0])
-        .expect("a selected frame");
+    let (frame, sources) = frames.into_frame(selected[0]).expect("a selected frame");
     let label = frame.number.map(|_| frame.label());
     let mut rib = frame.scene?;
     // Every file the RIB read, also after the frame, is no output.

@@ -96,12 +96,7 @@ pub(crate) fn base_scene(
                     frames.frames[selected[0]].label()
                 )?;
             }
-            let sources = frames.sources.clone();
-            let frame = frames
-                .frames
-                .into_iter()
-                .nth(selected[0])
-                .expect("a selected frame");
+            let (frame, sources) = frames.into_frame(selected[0]).expect("a selected frame");
             let label = frame.number.map(|_| frame.label());
             rib_base(frame.scene?, label.as_deref(), &sources)
         }

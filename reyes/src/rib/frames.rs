@@ -138,6 +138,13 @@ impl RibFrames {
             .join(", ")
     }
 
+    /// Frame `index` (in the file's order) and every file the whole file
+    /// read; `None` past the last frame.
+    pub fn into_frame(self, index: usize) -> Option<(RibFrame, Vec<PathBuf>)> {
+        let sources = self.sources;
+        self.frames.into_iter().nth(index).map(|f| (f, sources))
+    }
+
     /// The interpreted file's frames: the one frame of a file without
     /// `FrameBegin`, else those its `FrameEnd`s made.
     pub(super) fn collect(mut interp: Interp, file: &Path) -> RibFrames {
