@@ -36,6 +36,7 @@
 //! * [`gpu`]: the GPU renderer; [`reference`](mod@reference): the CPU
 //!   reference renderer;
 //! * [`texture`]: image textures, their mip chains and their filtering;
+//!   [`shadow`]: shadow maps and their percentage-closer lookups;
 //!   [`surface_shader`]: user WGSL surface shaders;
 //! * [`stats`]: render statistics; [`output`]: PNG and EXR output;
 //!   [`quantize`]: the 8-bit encoding (RenderMan's `Exposure` and
@@ -102,6 +103,7 @@ pub mod reference;
 pub mod rib;
 pub mod scene;
 pub mod shading;
+pub mod shadow;
 pub mod stats;
 pub mod surface_shader;
 pub mod texture;

@@ -23,7 +23,10 @@ use std::path::{Path, PathBuf};
 
 use image::{ImageBuffer, Rgba, Rgba32FImage, RgbaImage};
 
-pub use self::depth::{DEPTH_CHANNEL, DepthImage, ReadDepthError, read_depth, write_depth};
+pub use self::depth::{
+    DEPTH_CHANNEL, DepthImage, MakeShadowError, ReadDepthError, make_shadow, read_depth,
+    write_depth, write_shadow_map,
+};
 pub use self::guard::{OutputGuard, OutputKind};
 use self::staged::Staged;
 pub use self::staged::{StagedFiles, ignore_file_size_signal};

@@ -9,6 +9,7 @@ use glam::Vec3;
 
 use crate::params::POINT_LIGHT_MIN_DISTANCE_SQUARED;
 use crate::scene::{Light, LightKind, Surface};
+use crate::shadow::ShadowFilter;
 
 pub use crate::params::MAX_SPECULAR_EXPONENT;
 
@@ -141,10 +142,35 @@ pub struct PreparedLight {
     pub cos_inside: f32,
     /// A spotlight's `beamdistribution`.
     pub beam_distribution: f32,
+    /// The light's shadow, if it casts one: its maps in
+    /// [`crate::prepare::PreparedScene::shadow_maps`].
+    pub shadow: Option<PreparedShadow>,
+}
+
+/// A light's shadow maps (`map_count` of them from `first_map` in
+/// [`crate::prepare::PreparedScene::shadow_maps`]) and their lookup's filter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PreparedShadow {
+    /// The first map.
+    pub first_map: u32,
+    /// How many maps (one, or up to six for a point light).
+    pub map_count: u32,
+    /// The lookup's filter.
+    pub filter: ShadowFilter,
+}
+
+impl PreparedShadow {
+    /// The maps of this shadow among `maps` (the frame's).
+    pub fn maps<'a>(&self, maps: &'a [crate::shadow::ShadowMap]) -> &'a [crate::shadow::ShadowMap] {
+        let first = self.first_map as usize;
+        maps.get(first..first + self.map_count as usize)
+            .unwrap_or(&[])
+    }
 }
 
 impl PreparedLight {
-    /// The light `light` as shading takes it; `None` for an ambient light.
+    /// The light `light` as shading takes it, without its shadow (see
+    /// [`PreparedLight::shadow`]); `None` for an ambient light.
     pub fn new(light: &Light) -> Option<Self> {
         let radiance = light.color * light.intensity;
         let mut prepared = PreparedLight {
@@ -155,6 +181,7 @@ impl PreparedLight {
             cos_outside: 0.0,
             cos_inside: 0.0,
             beam_distribution: 0.0,
+            shadow: None,
         };
         match light.kind {
             LightKind::Ambient => return None,

@@ -335,13 +335,27 @@ fn write_depth_round_trips_under_any_name_but_png() {
         };
         image::Rgba([z, z, z, 1.0])
     });
+    let camera = reyes::camera::Camera::new(
+        glam::Vec3::new(1.0, 2.0, 3.0),
+        glam::Vec3::ZERO,
+        glam::Vec3::Y,
+        0.8,
+        3,
+        2,
+        0.1,
+        100.0,
+    );
     for name in ["a.shad", "a.z", "a.exr"] {
-        reyes::output::write_depth(&depths, dir.path(name)).expect(name);
+        reyes::output::write_depth(&depths, &camera, dir.path(name)).expect(name);
         let read = reyes::output::read_depth(&dir.path(name)).expect(name);
         assert_eq!((read.width, read.height), (3, 2), "{name}");
         assert_eq!(read.depths, reyes::depth::depths(&depths), "{name}");
+        // The camera travels with the depths: the file is a shadow map.
+        let map = reyes::shadow::read_shadow_map(&dir.path(name)).expect(name);
+        assert_eq!(map.world_to_camera, camera.view, "{name}");
+        assert_eq!(map.world_to_clip, camera.view_proj(), "{name}");
     }
-    let error = reyes::output::write_depth(&depths, dir.path("a.png")).unwrap_err();
+    let error = reyes::output::write_depth(&depths, &camera, dir.path("a.png")).unwrap_err();
     assert!(
         matches!(error, reyes::output::OutputError::DepthNeedsExr { .. }),
         "{error}"

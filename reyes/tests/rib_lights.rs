@@ -44,7 +44,7 @@ fn a_distant_light_keeps_its_direction() {
     let rib = scene(&format!(
         "LightSource \"distantlight\" 1 \"from\" [0 0 0] \"to\" [0 0 1]\n{TRIANGLE}"
     ));
-    let light = rib.scene.lights[0];
+    let light = rib.scene.lights[0].clone();
     assert_eq!(light.position, None);
     assert_eq!(light.direction, Vec3::new(0.0, 0.0, 1.0));
 }

@@ -82,7 +82,7 @@ impl<'g> Backend<'g> {
         // The image and the statistics are renamed into place together, or
         // neither is.
         if depth {
-            outputs.write_depth(&linear, &stats)?;
+            outputs.write_depth(&linear, &scene.camera, &stats)?;
         } else {
             outputs.write(&image, &linear, &stats)?;
         }

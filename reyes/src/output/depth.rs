@@ -1,47 +1,45 @@
-//! Writing the depth output ([`crate::depth`]): a single-channel OpenEXR
-//! file whose channel `Z` holds each pixel's camera-space depth as a 32-bit
-//! float (+inf where no surface is), the layout shadow-map tools read.
+//! Writing the depth output ([`crate::depth`]) and shadow maps: a
+//! single-channel OpenEXR file whose channel `Z` holds each pixel's
+//! camera-space depth as a 32-bit float (+inf where no surface is), with
+//! the camera's matrices as attributes ([`crate::shadow::file`]).
 
 use std::io::Write as _;
 use std::path::Path;
 
-use exr::prelude::{
-    AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, WritableImage,
-};
+use exr::prelude::FlatSamples;
 use image::Rgba32FImage;
 
 use super::staged::Staged;
 use super::{ImageFormat, OutputError, OutputKind, OutputPlan, single_output};
+use crate::camera::Camera;
+use crate::shadow::{ShadowFileError, ShadowMap};
 use crate::stats::RenderStats;
 
 /// The name of the depth channel.
-pub const DEPTH_CHANNEL: &str = "Z";
+pub const DEPTH_CHANNEL: &str = crate::shadow::file::DEPTH_CHANNEL;
 
 /// Encodes the depth channel of `depths` (a depth resolve's image, the
-/// depth in its red channel) as a single-channel float EXR into a
+/// depth in its red channel) seen through `camera` as a single-channel
+/// float EXR with the camera's matrices ([`crate::shadow::file`]) into a
 /// temporary file beside `path`.
-pub(super) fn stage_depth(depths: &Rgba32FImage, path: &Path) -> Result<Staged, OutputError> {
-    let size = (depths.width() as usize, depths.height() as usize);
-    let samples: Vec<f32> = crate::depth::depths(depths);
-    let channel = AnyChannel::new(DEPTH_CHANNEL, FlatSamples::F32(samples));
-    let layer = Layer::new(
-        size,
-        LayerAttributes::default(),
-        // Scan lines, which every EXR reader takes; ZIP keeps floats exact.
-        Encoding::SMALL_LOSSLESS,
-        AnyChannels::sort(vec![channel].into()),
-    );
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    Image::from_layer(layer)
-        .write()
-        .to_buffered(&mut bytes)
-        .map_err(|e| OutputError::Write {
-            path: path.to_path_buf(),
-            source: std::io::Error::other(e.to_string()),
-        })?;
+pub(super) fn stage_depth(
+    depths: &Rgba32FImage,
+    camera: &Camera,
+    path: &Path,
+) -> Result<Staged, OutputError> {
+    let map = ShadowMap::from_camera(camera, crate::depth::depths(depths));
+    stage_map(&map, "depth", path)
+}
+
+/// Encodes `map`, marked as `kind`, into a temporary file beside `path`.
+fn stage_map(map: &ShadowMap, kind: &str, path: &Path) -> Result<Staged, OutputError> {
+    let bytes = crate::shadow::file::encode(map, kind).map_err(|e| OutputError::Write {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(e),
+    })?;
     Staged::write(path, |writer| {
         writer
-            .write_all(bytes.get_ref())
+            .write_all(&bytes)
             .map_err(|source| OutputError::Write {
                 path: path.to_path_buf(),
                 source,
@@ -68,10 +66,11 @@ impl OutputPlan {
     pub fn write_depth(
         &self,
         depths: &Rgba32FImage,
+        camera: &Camera,
         stats: &RenderStats,
     ) -> Result<(), OutputError> {
         self.check_depth()?;
-        let staged_image = stage_depth(depths, &self.image.0)?;
+        let staged_image = stage_depth(depths, camera, &self.image.0)?;
         let staged_stats = self.stage_stats(stats)?;
         staged_image.commit()?;
         staged_stats.map(Staged::commit).transpose()?;
@@ -80,13 +79,47 @@ impl OutputPlan {
 }
 
 /// Writes a depth resolve's image (e.g. [`crate::GpuRendered::linear`] of a
-/// [`crate::Aov::Z`] frame) as a single-channel float EXR (channel
-/// [`DEPTH_CHANNEL`]) whatever the extension, but `.png` is
+/// [`crate::Aov::Z`] frame) seen through `camera` (the frame's) as a
+/// single-channel float EXR (channel [`DEPTH_CHANNEL`]) with the camera's
+/// matrices, whatever the extension, but `.png` is
 /// [`OutputError::DepthNeedsExr`] (see [`OutputKind::Depth`]); the path is
 /// checked and written as [`super::write_image`] does.
-pub fn write_depth(depths: &Rgba32FImage, path: impl AsRef<Path>) -> Result<(), OutputError> {
+pub fn write_depth(
+    depths: &Rgba32FImage,
+    camera: &Camera,
+    path: impl AsRef<Path>,
+) -> Result<(), OutputError> {
     let file = single_output(OutputKind::Depth, "depth image", path.as_ref())?;
-    stage_depth(depths, &file)?.commit()
+    stage_depth(depths, camera, &file)?.commit()
+}
+
+/// Writes `map` to `path` as a shadow map ([`crate::shadow::file`]), through
+/// a temporary file renamed into place; the path is checked as a depth
+/// image's.
+pub fn write_shadow_map(map: &ShadowMap, path: impl AsRef<Path>) -> Result<(), OutputError> {
+    let file = single_output(OutputKind::Depth, "shadow map", path.as_ref())?;
+    stage_map(map, "shadow", &file)?.commit()
+}
+
+/// Why `MakeShadow` failed.
+#[derive(Debug, thiserror::Error)]
+pub enum MakeShadowError {
+    /// The picture is not a depth image with its camera.
+    #[error(transparent)]
+    Picture(#[from] ShadowFileError),
+    /// The map could not be written.
+    #[error(transparent)]
+    Write(#[from] OutputError),
+}
+
+/// RIB `MakeShadow picturename texturename`: reads the depth image
+/// `picture` (as a frame with Display mode `"z"` writes it) and writes it
+/// to `shadow` as a shadow map. A picture that is not a depth image with
+/// its camera is [`ShadowFileError::WrongKind`]; nothing is written then.
+pub fn make_shadow(picture: &Path, shadow: &Path) -> Result<ShadowMap, MakeShadowError> {
+    let map = crate::shadow::read_shadow_map(picture)?;
+    write_shadow_map(&map, shadow)?;
+    Ok(map)
 }
 
 /// A depth image read back: `width * height` depths, row-major.

@@ -9,6 +9,7 @@ use crate::camera::{HomogeneousEye, towards_eye};
 use crate::prepare::{PreparedLight, PreparedObject, PreparedScene, PreparedSurface};
 use crate::shading::{pow_nonneg, specular_exponent};
 use crate::surface_shader::{ShadingContext, ShadingHost};
+use crate::shadow::{LightShadowMaps, ShadowMap};
 use crate::texture::{TextureId, TextureSet};
 
 /// What a surface sees of the scene: the eye, the lights and the ambient
@@ -23,6 +24,8 @@ pub struct Lighting<'a> {
     pub ambient: Vec3,
     /// The frame's textures, if any.
     pub textures: Option<&'a TextureSet>,
+    /// The shadow maps the lights' [`PreparedLight::shadow`] index.
+    pub shadow_maps: &'a [ShadowMap],
 }
 
 impl<'a> Lighting<'a> {
@@ -33,7 +36,23 @@ impl<'a> Lighting<'a> {
             lights: &scene.lights,
             ambient: scene.ambient,
             textures: Some(&scene.textures),
+            shadow_maps: &scene.shadow_maps,
         }
+    }
+
+    /// What `light` gives `position`: [`PreparedLight::at`], its colour
+    /// scaled by the fraction of the light its shadow maps let through.
+    /// The WGSL `light_at` computes the same.
+    pub fn light_at(&self, light: &PreparedLight, position: Vec3) -> Option<(Vec3, Vec3)> {
+        let (l, cl) = light.at(position)?;
+        let Some(shadow) = light.shadow else {
+            return Some((l, cl));
+        };
+        let maps = LightShadowMaps {
+            maps: shadow.maps(self.shadow_maps),
+            filter: shadow.filter,
+        };
+        Some((l, cl * maps.visibility(position)))
     }
 
     /// RenderMan's `diffuse(N)`: `sum Cl * normalize(L).N` over the lights
@@ -41,7 +60,7 @@ impl<'a> Lighting<'a> {
     pub fn diffuse(&self, position: Vec3, normal: Vec3) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for light in self.lights {
-            if let Some((l, cl)) = light.at(position) {
+            if let Some((l, cl)) = self.light_at(light, position) {
                 let cosine = normal.dot(l);
                 if cosine > 0.0 {
                     sum += cl * cosine;
@@ -57,7 +76,7 @@ impl<'a> Lighting<'a> {
     pub fn specular(&self, position: Vec3, normal: Vec3, view: Vec3, exponent: f32) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for light in self.lights {
-            if let Some((l, cl)) = light.at(position)
+            if let Some((l, cl)) = self.light_at(light, position)
                 && normal.dot(l) > 0.0
             {
                 let half = (l + view).normalize_or_zero();
@@ -98,7 +117,7 @@ impl ShadingHost for Lighting<'_> {
     fn light(&self, i: u32, p: Vec3) -> (Vec3, Vec3) {
         self.lights
             .get(i as usize)
-            .and_then(|light| light.at(p))
+            .and_then(|light| self.light_at(light, p))
             .unwrap_or((Vec3::ZERO, Vec3::ZERO))
     }
 }
@@ -184,6 +203,7 @@ mod tests {
             lights,
             ambient: Vec3::splat(ambient),
             textures: None,
+            shadow_maps: &[],
         }
     }
 
@@ -312,6 +332,7 @@ mod tests {
             lights: &lights,
             ambient: Vec3::ZERO,
             textures: None,
+            shadow_maps: &[],
         };
         assert!(Vec3::Z.dot((l + v).normalize()) > 0.0);
         let plastic = PreparedSurface::Plastic {
@@ -336,6 +357,7 @@ mod tests {
             lights: &[],
             ambient: Vec3::ZERO,
             textures: None,
+            shadow_maps: &[],
         };
         let c = shade_surface(
             Vec3::ZERO,

@@ -227,7 +227,7 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
 
     // Lights: RenderMan's ambient() is the ambient lights alone.
     scene.ambient = 0.0;
-    scene.lights.extend(lights.iter().map(|l| l.light));
+    scene.lights.extend(lights.iter().map(|l| l.light.clone()));
     let lit = interp
         .prims
         .iter()

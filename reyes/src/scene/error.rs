@@ -153,6 +153,20 @@ pub enum SceneError {
         /// The object's `model` string.
         model: String,
     },
+    /// A light's shadow map could not be read, or is not a shadow map.
+    #[error("lights[{light}] ({kind} light): shadow map {}: {source}", path.display())]
+    ShadowMap {
+        /// Index of the light in the scene's `lights`.
+        light: usize,
+        /// The light's kind (`spot`, `distant`, `point`).
+        kind: &'static str,
+        /// The map's path as the scene names it, resolved against the
+        /// scene's directory.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: crate::shadow::ShadowFileError,
+    },
     /// A prepared scene was given a different number of models than objects.
     #[error("the scene has {objects} objects but {models} models were given")]
     ModelCountMismatch {

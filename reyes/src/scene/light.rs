@@ -1,7 +1,11 @@
 //! Lights (RenderMan's standard lights) and the scene-wide specular term.
 
+use std::path::PathBuf;
+
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
+
+use crate::shadow::{DEFAULT_SHADOW_BIAS, DEFAULT_SHADOW_SAMPLES, ShadowFilter};
 
 use super::defaults::{default_light_direction, default_one, default_white};
 
@@ -24,7 +28,7 @@ pub enum LightKind {
 /// A light (`[[lights]]`): one of RenderMan's standard lights
 /// ([`LightKind`]). Without a `kind`, a light with a `position` is a point
 /// light and one without is a distant light.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "LightToml", into = "LightToml")]
 pub struct Light {
     /// The kind of light.
@@ -48,6 +52,48 @@ pub struct Light {
     /// A spotlight's `beamdistribution` (default 2): the light falls off as
     /// `cos^beamdistribution` of the angle from its axis.
     pub beam_distribution: f32,
+    /// The light's shadow, if it casts one (not for ambient lights).
+    pub shadow: Option<LightShadow>,
+}
+
+/// Where a light's shadow maps come from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ShadowMaps {
+    /// Shadow map files (RenderMan's `shadowname`; a point light's six
+    /// maps, one per direction), relative to the scene file's directory.
+    Files(Vec<PathBuf>),
+    /// The renderer renders the map from the light itself before the
+    /// frame: `map_size` texels on the longer side.
+    Automatic {
+        /// The map's larger side in texels.
+        map_size: u32,
+    },
+}
+
+/// The default side of an automatic shadow map.
+pub const DEFAULT_SHADOW_MAP_SIZE: u32 = 1024;
+/// The largest side of an automatic shadow map.
+pub const MAX_SHADOW_MAP_SIZE: u32 = 8192;
+
+/// A light's shadow: its maps and how they are looked up.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LightShadow {
+    /// The maps.
+    pub maps: ShadowMaps,
+    /// The lookup's filter (`samples`, `width`, `blur`, `bias`).
+    pub filter: ShadowFilter,
+}
+
+impl LightKind {
+    /// Its name in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            LightKind::Distant => "distant",
+            LightKind::Point => "point",
+            LightKind::Spot => "spot",
+            LightKind::Ambient => "ambient",
+        }
+    }
 }
 
 impl Light {
@@ -98,6 +144,7 @@ impl Default for Light {
             cone_angle_degrees: DEFAULT_CONE_ANGLE_DEGREES,
             cone_delta_degrees: DEFAULT_CONE_DELTA_DEGREES,
             beam_distribution: DEFAULT_BEAM_DISTRIBUTION,
+            shadow: None,
         }
     }
 }
@@ -109,8 +156,16 @@ pub const DEFAULT_CONE_DELTA_DEGREES: f32 = 5.0;
 /// RenderMan's `spotlight` default `beamdistribution`.
 pub const DEFAULT_BEAM_DISTRIBUTION: f32 = 2.0;
 
+/// A light's `shadow_map`: one file, or a point light's several.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(untagged)]
+enum ShadowMapFiles {
+    One(PathBuf),
+    Several(Vec<PathBuf>),
+}
+
 /// `[[lights]]` as written.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct LightToml {
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -129,6 +184,71 @@ struct LightToml {
     cone_delta_degrees: Option<f32>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     beam_distribution: Option<f32>,
+    /// Automatic shadows: the renderer renders the map.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    shadows: Option<bool>,
+    /// Shadow map files instead.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    shadow_map: Option<ShadowMapFiles>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    map_size: Option<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    bias: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    blur: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    samples: Option<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    filter_width: Option<f32>,
+}
+
+impl LightToml {
+    /// The shadow its fields describe, if any.
+    fn shadow(&self) -> Result<Option<LightShadow>, String> {
+        let automatic = self.shadows.unwrap_or(false);
+        let filter_given = self.bias.is_some()
+            || self.blur.is_some()
+            || self.samples.is_some()
+            || self.filter_width.is_some();
+        let maps = match (automatic, &self.shadow_map) {
+            (true, Some(_)) => {
+                return Err(
+                    "a light has `shadows = true` (the renderer renders its map) or `shadow_map` (map files), not both"
+                        .into(),
+                );
+            }
+            (true, None) => ShadowMaps::Automatic {
+                map_size: self.map_size.unwrap_or(DEFAULT_SHADOW_MAP_SIZE),
+            },
+            (false, Some(files)) => {
+                if self.map_size.is_some() {
+                    return Err("`map_size` belongs to automatic shadows (`shadows = true`), not to `shadow_map` files".into());
+                }
+                ShadowMaps::Files(match files.clone() {
+                    ShadowMapFiles::One(file) => vec![file],
+                    ShadowMapFiles::Several(files) => files,
+                })
+            }
+            (false, None) => {
+                if filter_given || self.map_size.is_some() {
+                    return Err(
+                        "`map_size`, `bias`, `blur`, `samples` and `filter_width` belong to a light with shadows (`shadows = true` or `shadow_map`)"
+                            .into(),
+                    );
+                }
+                return Ok(None);
+            }
+        };
+        Ok(Some(LightShadow {
+            maps,
+            filter: ShadowFilter {
+                samples: self.samples.unwrap_or(DEFAULT_SHADOW_SAMPLES),
+                width: self.filter_width.unwrap_or(1.0),
+                blur: self.blur.unwrap_or(0.0),
+                bias: self.bias.unwrap_or(DEFAULT_SHADOW_BIAS),
+            },
+        }))
+    }
 }
 
 impl TryFrom<LightToml> for Light {
@@ -173,8 +293,13 @@ impl TryFrom<LightToml> for Light {
                     .into(),
             );
         }
+        let shadow = light.shadow()?;
+        if shadow.is_some() && kind == LightKind::Ambient {
+            return Err("an ambient light casts no shadow".into());
+        }
         Ok(Light {
             kind,
+            shadow,
             direction: light.direction.unwrap_or_else(default_light_direction),
             position: light.position,
             color: light.color,
@@ -194,7 +319,28 @@ impl From<Light> for LightToml {
     fn from(light: Light) -> Self {
         let spot = light.kind == LightKind::Spot;
         let has_direction = matches!(light.kind, LightKind::Distant | LightKind::Spot);
+        let shadow = light.shadow.as_ref();
+        let filter = shadow.map(|s| s.filter);
+        let (shadows, shadow_map, map_size) = match shadow.map(|s| &s.maps) {
+            None => (None, None, None),
+            Some(ShadowMaps::Automatic { map_size }) => (Some(true), None, Some(*map_size)),
+            Some(ShadowMaps::Files(files)) => (
+                None,
+                Some(match files.as_slice() {
+                    [one] => ShadowMapFiles::One(one.clone()),
+                    several => ShadowMapFiles::Several(several.to_vec()),
+                }),
+                None,
+            ),
+        };
         LightToml {
+            shadows,
+            shadow_map,
+            map_size,
+            bias: filter.map(|f| f.bias),
+            blur: filter.map(|f| f.blur),
+            samples: filter.map(|f| f.samples),
+            filter_width: filter.map(|f| f.width),
             kind: Some(light.kind),
             direction: has_direction.then_some(light.direction),
             position: light.position,

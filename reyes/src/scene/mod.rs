@@ -143,8 +143,9 @@ pub use error::{SceneError, format_point};
 pub(crate) use framing::framed_bounds;
 pub use framing::{FramingError, MIN_FRAMED_DEPTH};
 pub use light::{
-    DEFAULT_BEAM_DISTRIBUTION, DEFAULT_CONE_ANGLE_DEGREES, DEFAULT_CONE_DELTA_DEGREES, Light,
-    LightKind, Specular,
+    DEFAULT_BEAM_DISTRIBUTION, DEFAULT_CONE_ANGLE_DEGREES, DEFAULT_CONE_DELTA_DEGREES,
+    DEFAULT_SHADOW_MAP_SIZE, Light, LightKind, LightShadow, MAX_SHADOW_MAP_SIZE, ShadowMaps,
+    Specular,
 };
 pub use object::{ModelSource, Scale, SceneObject, Transform};
 pub use surface::{ShaderValue, Surface};

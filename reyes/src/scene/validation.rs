@@ -15,7 +15,8 @@ use crate::params::{MAX_SHADING_RATE, MAX_SPLIT_DEPTH_LIMIT, VALID_SPP};
 
 use super::error::{finite, invalid};
 use super::{
-    CameraDesc, Light, LightKind, Resolution, Scene, SceneError, SceneObject, Surface, Transform,
+    CameraDesc, Light, LightKind, LightShadow, MAX_SHADOW_MAP_SIZE, Resolution, Scene, SceneError,
+    SceneObject, ShadowMaps, Surface, Transform,
 };
 
 impl Scene {
@@ -376,6 +377,49 @@ fn check_light(i: usize, light: &Light) -> Result<(), SceneError> {
                 &format!("lights[{i}].beam_distribution"),
                 "must be >= 0",
             ));
+        }
+    }
+    if let Some(shadow) = &light.shadow {
+        check_shadow(i, light.kind, shadow)?;
+    }
+    Ok(())
+}
+
+/// Light `i`'s shadow: a light that shines from somewhere (not ambient), a
+/// usable filter, an automatic map of 1 to [`MAX_SHADOW_MAP_SIZE`] texels,
+/// and one map file (six at most for a point light).
+fn check_shadow(i: usize, kind: LightKind, shadow: &LightShadow) -> Result<(), SceneError> {
+    if kind == LightKind::Ambient {
+        return Err(invalid(
+            &format!("lights[{i}]"),
+            "an ambient light casts no shadow",
+        ));
+    }
+    if let Some(reason) = shadow.filter.problem() {
+        return Err(invalid(&format!("lights[{i}]"), &reason));
+    }
+    match &shadow.maps {
+        ShadowMaps::Automatic { map_size } => {
+            if !(1..=MAX_SHADOW_MAP_SIZE).contains(map_size) {
+                return Err(invalid(
+                    &format!("lights[{i}].map_size"),
+                    &format!("must be in 1..={MAX_SHADOW_MAP_SIZE}"),
+                ));
+            }
+        }
+        ShadowMaps::Files(files) => {
+            let most = if kind == LightKind::Point { 6 } else { 1 };
+            if files.is_empty() || files.len() > most {
+                return Err(invalid(
+                    &format!("lights[{i}].shadow_map"),
+                    &format!(
+                        "names {} files; a {} light takes {}",
+                        files.len(),
+                        kind.name(),
+                        if most == 1 { "one" } else { "one to six" }
+                    ),
+                ));
+            }
         }
     }
     Ok(())

@@ -16,9 +16,14 @@ use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view}
 use crate::params::DEGENERATE_NORMAL_REL_EPS;
 use crate::quantize::Encoding;
 use crate::scene::{
-    CameraDesc, FramingError, LightKind, Sampling, Scene, SceneError, ShadingInterpolation, Surface,
+    CameraDesc, FramingError, Sampling, Scene, SceneError, ShadingInterpolation, Surface,
 };
-pub use crate::shading::{PreparedLight, PreparedSurface};
+pub use crate::shading::{PreparedLight, PreparedShadow, PreparedSurface};
+use crate::shadow::ShadowMap;
+
+mod lights;
+
+pub use self::lights::PendingShadow;
 use crate::surface_shader::{ParameterWarning, ShaderKind, ShaderTable};
 use crate::texture::TextureSet;
 use crate::uvt::{InterleaveTiles, UvtTables};
@@ -131,6 +136,12 @@ pub struct PreparedScene {
     pub objects: Vec<PreparedObject>,
     /// The lights that illuminate (distant, point and spot lights).
     pub lights: Vec<PreparedLight>,
+    /// The shadow maps the lights look up ([`PreparedLight::shadow`]).
+    pub shadow_maps: Vec<ShadowMap>,
+    /// The shadows still to render from their lights before the frame
+    /// (`shadows = true`); their lights have no
+    /// [`PreparedLight::shadow`] until then.
+    pub pending_shadows: Vec<PendingShadow>,
     /// What the surfaces' `ambient()` returns: the scene's `ambient` (a
     /// white ambient light) plus every ambient light's colour times
     /// intensity.
@@ -387,19 +398,16 @@ impl PreparedScene {
             });
         }
         let lens = PreparedLens::new(&camera, scene.lens.aperture, scene.lens.focus_distance);
+        let lights = lights::prepare_lights(scene)?;
         Ok(PreparedScene {
             lens,
             camera,
             patches,
             objects: prepared_objects,
-            lights: scene.lights.iter().filter_map(PreparedLight::new).collect(),
-            ambient: scene
-                .lights
-                .iter()
-                .filter(|l| l.kind == LightKind::Ambient)
-                .fold(Vec3::splat(scene.ambient), |sum, l| {
-                    sum + l.color * l.intensity
-                }),
+            lights: lights.lights,
+            ambient: lights.ambient,
+            shadow_maps: lights.shadow_maps,
+            pending_shadows: lights.pending_shadows,
             spp: scene.spp,
             sampling: scene.sampling,
             interleave_tile: scene.interleave_tile,
