@@ -7,7 +7,9 @@ use glam::{Mat4, Vec4};
 use super::abi::{sampling, stat};
 pub use super::counters::GpuCounters;
 use super::objects::{ObjectData, ObjectTables};
+use super::shadow_maps::{shadow_floats, shadow_map_floats, shadow_table_entry};
 use crate::prepare::PreparedScene;
+use crate::shading::PreparedLight;
 use crate::sampling::grid_size;
 use crate::uvt::{PixelTuples, UvtLayout};
 
@@ -214,7 +216,8 @@ impl FrameUniform {
 /// which the dice procedures evaluate), their corner texture coordinates
 /// (8 floats each), the user shaders' parameter slots (4 floats each), and
 /// the textures' tables ([`crate::texture::TextureSet::gpu_tables`], by
-/// their bits: 8 words per texture, 2 per texel).
+/// their bits: 8 words per texture, 2 per texel) and the shadow maps (a
+/// table entry per map, then their depths: [`super::shadow_maps`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct FloatLayout {
     /// First float of the time/lens tables.
@@ -229,6 +232,8 @@ struct FloatLayout {
     textures: u64,
     /// First float of the packed texels (2 words each).
     texels: u64,
+    /// First float of the shadow maps' table, followed by their depths.
+    shadow_maps: u64,
     /// Floats in all.
     total: u64,
 }
@@ -253,6 +258,7 @@ impl FloatLayout {
         let parameters = st + 8 * scene.patches.len() as u64;
         let textures = parameters + 4 * scene.shaders.parameters.len() as u64;
         let texels = textures + 8 * scene.textures.len() as u64;
+        let shadow_maps = texels + 2 * texel_words(scene) as u64;
         Self {
             uvt,
             patches,
@@ -260,7 +266,8 @@ impl FloatLayout {
             parameters,
             textures,
             texels,
-            total: texels + 2 * texel_words(scene) as u64,
+            shadow_maps,
+            total: shadow_maps + shadow_floats(scene),
         }
     }
 }
@@ -304,6 +311,48 @@ pub struct LightData {
     pub cos_inside: f32,
     /// A spotlight's `beamdistribution`.
     pub beam_distribution: f32,
+    /// Float offset in height_texels of the table entry of the light's
+    /// first shadow map ([`super::shadow_maps`]).
+    pub shadow_table: u32,
+    /// How many shadow maps the light looks up: 0, unshadowed.
+    pub shadow_maps: u32,
+    /// The shadow lookup's grid side
+    /// ([`crate::shadow::ShadowFilter::grid_side`]).
+    pub shadow_side: u32,
+    /// Its filter width in texels.
+    pub shadow_width: f32,
+    /// Its blur, a fraction of the map's larger side.
+    pub shadow_blur: f32,
+    /// Its bias, in world units.
+    pub shadow_bias: f32,
+    /// Padding to 16 bytes.
+    pub pad0: u32,
+    /// Padding.
+    pub pad1: u32,
+}
+
+/// The [`LightData`] of `light`, its shadow maps' table at float
+/// `shadow_table` of `height_texels`.
+fn light_data(light: &PreparedLight, shadow_table: u64) -> LightData {
+    let shadow = light.shadow.filter(|s| s.map_count > 0);
+    let filter = shadow.map(|s| s.filter).unwrap_or_default();
+    LightData {
+        to_light: light.to_light.extend(0.0),
+        radiance: light.radiance.extend(0.0),
+        axis: light.axis.extend(0.0),
+        kind: super::abi::light::code(light.kind),
+        cos_outside: light.cos_outside,
+        cos_inside: light.cos_inside,
+        beam_distribution: light.beam_distribution,
+        shadow_table: shadow.map_or(0, |s| shadow_table_entry(shadow_table, s.first_map)),
+        shadow_maps: shadow.map_or(0, |s| s.map_count),
+        shadow_side: filter.grid_side(),
+        shadow_width: filter.width,
+        shadow_blur: filter.blur,
+        shadow_bias: filter.bias,
+        pad0: 0,
+        pad1: 0,
+    }
 }
 
 /// The buffers the megakernel binds (see the resources in
@@ -415,21 +464,13 @@ impl FrameBuffers {
     /// changed) the height maps of `scene`.
     pub fn write(&mut self, queue: &wgpu::Queue, scene: &PreparedScene) {
         let tables = ObjectTables::new(scene);
+        let layout = FloatLayout::new(scene, &tables);
         let lights: Vec<LightData> = scene
             .lights
             .iter()
-            .map(|l| LightData {
-                to_light: l.to_light.extend(0.0),
-                radiance: l.radiance.extend(0.0),
-                axis: l.axis.extend(0.0),
-                kind: super::abi::light::code(l.kind),
-                cos_outside: l.cos_outside,
-                cos_inside: l.cos_inside,
-                beam_distribution: l.beam_distribution,
-            })
+            .map(|l| light_data(l, layout.shadow_maps))
             .collect();
         let mut frame = FrameUniform::new(scene);
-        let layout = FloatLayout::new(scene, &tables);
         // The renderer checks that every offset fits a u32 (texel_buffer_bytes).
         frame.patch_floats = layout.patches as u32;
         frame.parameter_floats = layout.parameters as u32;
@@ -468,6 +509,15 @@ impl FrameBuffers {
                 bytemuck::cast_slice(&infos),
             );
             queue.write_buffer(&self.height_texels, 4 * layout.texels, bytemuck::cast_slice(texels));
+        }
+        // Sent with every frame: the maps may change between frames with
+        // the same textures and sizes.
+        if !scene.shadow_maps.is_empty() {
+            queue.write_buffer(
+                &self.height_texels,
+                4 * layout.shadow_maps,
+                bytemuck::cast_slice(&shadow_map_floats(&scene.shadow_maps, layout.shadow_maps)),
+            );
         }
         let parameters = &scene.shaders.parameters;
         if !parameters.is_empty() {
