@@ -7,9 +7,10 @@ use glam::{Mat4, Vec4};
 use super::abi::{sampling, stat};
 pub use super::counters::GpuCounters;
 use super::objects::{ObjectData, ObjectTables};
-use super::shadow_maps::{shadow_floats, shadow_map_floats, shadow_table_entry};
+use super::lights::light_data;
+pub use super::lights::LightData;
+use super::shadow_maps::{shadow_floats, shadow_map_floats};
 use crate::prepare::PreparedScene;
-use crate::shading::PreparedLight;
 use crate::sampling::grid_size;
 use crate::uvt::{PixelTuples, UvtLayout};
 
@@ -291,70 +292,6 @@ pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
         .max(1)
 }
 
-/// One light, WGSL struct `Light`.
-#[scheduler::item]
-#[wgsl(name = "Light")]
-#[derive(Debug)]
-pub struct LightData {
-    /// A distant light: the unit vector towards it; a point light or a
-    /// spotlight: its position (reyes::shading::PreparedLight; w unused).
-    pub to_light: Vec4,
-    /// Intensity times colour (w unused).
-    pub radiance: Vec4,
-    /// A spotlight's unit axis (w unused).
-    pub axis: Vec4,
-    /// LIGHT_* ([`super::abi::light`]).
-    pub kind: u32,
-    /// A spotlight's `cos(coneangle)`.
-    pub cos_outside: f32,
-    /// A spotlight's `cos(coneangle - conedeltaangle)`.
-    pub cos_inside: f32,
-    /// A spotlight's `beamdistribution`.
-    pub beam_distribution: f32,
-    /// Float offset in height_texels of the table entry of the light's
-    /// first shadow map ([`super::shadow_maps`]).
-    pub shadow_table: u32,
-    /// How many shadow maps the light looks up: 0, unshadowed.
-    pub shadow_maps: u32,
-    /// The shadow lookup's grid side
-    /// ([`crate::shadow::ShadowFilter::grid_side`]).
-    pub shadow_side: u32,
-    /// Its filter width in texels.
-    pub shadow_width: f32,
-    /// Its blur, a fraction of the map's larger side.
-    pub shadow_blur: f32,
-    /// Its bias, in world units.
-    pub shadow_bias: f32,
-    /// Padding to 16 bytes.
-    pub pad0: u32,
-    /// Padding.
-    pub pad1: u32,
-}
-
-/// The [`LightData`] of `light`, its shadow maps' table at float
-/// `shadow_table` of `height_texels`.
-fn light_data(light: &PreparedLight, shadow_table: u64) -> LightData {
-    let shadow = light.shadow.filter(|s| s.map_count > 0);
-    let filter = shadow.map(|s| s.filter).unwrap_or_default();
-    LightData {
-        to_light: light.to_light.extend(0.0),
-        radiance: light.radiance.extend(0.0),
-        axis: light.axis.extend(0.0),
-        kind: super::abi::light::code(light.kind),
-        cos_outside: light.cos_outside,
-        cos_inside: light.cos_inside,
-        beam_distribution: light.beam_distribution,
-        shadow_table: shadow.map_or(0, |s| shadow_table_entry(shadow_table, s.first_map)),
-        shadow_maps: shadow.map_or(0, |s| s.map_count),
-        shadow_side: filter.grid_side(),
-        shadow_width: filter.width,
-        shadow_blur: filter.blur,
-        shadow_bias: filter.bias,
-        pad0: 0,
-        pad1: 0,
-    }
-}
-
 /// The buffers the megakernel binds (see the resources in
 /// [`super::graph::reyes_graph`]).
 #[derive(Debug)]
@@ -468,7 +405,7 @@ impl FrameBuffers {
         let lights: Vec<LightData> = scene
             .lights
             .iter()
-            .map(|l| light_data(l, layout.shadow_maps))
+            .map(|l| light_data(l, scene.shadow_maps.len(), layout.shadow_maps))
             .collect();
         let mut frame = FrameUniform::new(scene);
         // The renderer checks that every offset fits a u32 (texel_buffer_bytes).

@@ -87,10 +87,10 @@ impl KernelVariant {
             blurred: scene.samples_time_and_lens(),
             displaced: scene.objects.iter().any(|o| o.displacement.is_some()),
             second_depth: scene.keeps_second_depth(),
-            shadowed: scene
-                .lights
-                .iter()
-                .any(|l| l.shadow.is_some_and(|s| s.map_count > 0)),
+            shadowed: scene.lights.iter().any(|l| {
+                l.shadow
+                    .is_some_and(|s| !s.maps(&scene.shadow_maps).is_empty())
+            }),
         }
     }
 
