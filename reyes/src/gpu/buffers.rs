@@ -283,8 +283,10 @@ fn texel_words(scene: &PreparedScene) -> usize {
     }
 }
 
-/// Bytes of `height_texels` for `scene`: its maps, its time/lens tables
-/// and its patches (at least one float: a binding may not be empty). The
+/// Bytes of `height_texels` for `scene`: every float of `FloatLayout`
+/// (its height maps, time/lens tables, patches, shader parameters,
+/// textures and shadow maps; at least one float: a binding may not be
+/// empty). The
 /// renderer refuses scenes whose floats a u32 cannot index.
 pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
     4 * FloatLayout::new(scene, &ObjectTables::new(scene))
@@ -397,8 +399,8 @@ impl FrameBuffers {
             && self.height_texels.size() == texel_buffer_bytes(scene)
     }
 
-    /// Writes the frame uniform, the objects, the lights and (when they
-    /// changed) the height maps of `scene`.
+    /// Writes the frame uniform, the objects, the lights, the shadow maps
+    /// and (when they changed) the height maps and textures of `scene`.
     pub fn write(&mut self, queue: &wgpu::Queue, scene: &PreparedScene) {
         let tables = ObjectTables::new(scene);
         let layout = FloatLayout::new(scene, &tables);
