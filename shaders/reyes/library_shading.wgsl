@@ -80,11 +80,13 @@ fn surface_normal(p: ptr<function, array<f32, 48>>, s: f32, t: f32, position: ve
 
 // ------------------------------------------------------------ shading
 
-// reyes::shading::PreparedLight::at: distantlight, pointlight and
-// spotlight as RenderMan computes Cl.
+// reyes::reference::shade::Lighting::light_at: distantlight, pointlight
+// and spotlight as RenderMan computes Cl (reyes::shading::PreparedLight::at),
+// scaled by the fraction of the light its shadow maps let through
+// (light_visibility: library_shadow.wgsl, or 1 in frames without shadows).
 fn light_at(light: Light, position: vec3<f32>) -> LightSample {
     if (light.kind == LIGHT_DISTANT) {
-        return LightSample(light.to_light.xyz, light.radiance.xyz);
+        return LightSample(light.to_light.xyz, light.radiance.xyz * light_visibility(light, position));
     }
     let toward = light.to_light.xyz - position;
     let distance_squared = max(dot3(toward, toward), POINT_LIGHT_MIN_DISTANCE_SQUARED);
@@ -98,7 +100,7 @@ fn light_at(light: Light, position: vec3<f32>) -> LightSample {
         attenuation *= pow_nonneg(cos_angle, light.beam_distribution)
             * smoothstep_rm(light.cos_outside, light.cos_inside, cos_angle);
     }
-    return LightSample(l, light.radiance.xyz * attenuation);
+    return LightSample(l, light.radiance.xyz * attenuation * light_visibility(light, position));
 }
 
 // The host side of the surface shader interface (surface_api.wgsl): the

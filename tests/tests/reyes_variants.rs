@@ -65,6 +65,12 @@ fn every_variant_holds_what_it_runs_and_nothing_it_does_not() {
                 variant.second_depth,
                 "{variant}: the second-nearest key"
             );
+            // The shadow lookup only where some light has shadow maps.
+            assert_eq!(
+                declares(wgsl, "shadow_occlusion_at"),
+                variant.shadowed,
+                "{variant}: the shadow lookup"
+            );
             // The user's function is compiled in only where displacement is.
             assert_eq!(
                 declares(wgsl, "displacement_user"),
@@ -116,6 +122,20 @@ fn blurred_displaced_megakernel_wgsl_snapshot() {
         blurred: true,
         displaced: true,
         second_depth: false,
+        shadowed: false,
+    };
+    let compiled = compile_variant(Features::empty(), variant, &UserCode::NONE)
+        .expect("the Reyes graph compiles");
+    insta::assert_snapshot!(compiled.wgsl());
+}
+
+/// The megakernel of a still frame with shadow maps, for review: the
+/// shadow lookup (library_shadow.wgsl) where the other frames have a stub.
+#[test]
+fn shadowed_megakernel_wgsl_snapshot() {
+    let variant = KernelVariant {
+        shadowed: true,
+        ..KernelVariant::default()
     };
     let compiled = compile_variant(Features::empty(), variant, &UserCode::NONE)
         .expect("the Reyes graph compiles");

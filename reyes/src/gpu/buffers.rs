@@ -7,6 +7,9 @@ use glam::{Mat4, Vec4};
 use super::abi::{sampling, stat};
 pub use super::counters::GpuCounters;
 use super::objects::{ObjectData, ObjectTables};
+use super::lights::light_data;
+pub use super::lights::LightData;
+use super::shadow_maps::{shadow_floats, shadow_map_floats};
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::uvt::{PixelTuples, UvtLayout};
@@ -214,7 +217,8 @@ impl FrameUniform {
 /// which the dice procedures evaluate), their corner texture coordinates
 /// (8 floats each), the user shaders' parameter slots (4 floats each), and
 /// the textures' tables ([`crate::texture::TextureSet::gpu_tables`], by
-/// their bits: 8 words per texture, 2 per texel).
+/// their bits: 8 words per texture, 2 per texel) and the shadow maps (a
+/// table entry per map, then their depths: [`super::shadow_maps`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct FloatLayout {
     /// First float of the time/lens tables.
@@ -229,6 +233,8 @@ struct FloatLayout {
     textures: u64,
     /// First float of the packed texels (2 words each).
     texels: u64,
+    /// First float of the shadow maps' table, followed by their depths.
+    shadow_maps: u64,
     /// Floats in all.
     total: u64,
 }
@@ -253,6 +259,7 @@ impl FloatLayout {
         let parameters = st + 8 * scene.patches.len() as u64;
         let textures = parameters + 4 * scene.shaders.parameters.len() as u64;
         let texels = textures + 8 * scene.textures.len() as u64;
+        let shadow_maps = texels + 2 * texel_words(scene) as u64;
         Self {
             uvt,
             patches,
@@ -260,7 +267,8 @@ impl FloatLayout {
             parameters,
             textures,
             texels,
-            total: texels + 2 * texel_words(scene) as u64,
+            shadow_maps,
+            total: shadow_maps + shadow_floats(scene),
         }
     }
 }
@@ -275,35 +283,15 @@ fn texel_words(scene: &PreparedScene) -> usize {
     }
 }
 
-/// Bytes of `height_texels` for `scene`: its maps, its time/lens tables
-/// and its patches (at least one float: a binding may not be empty). The
+/// Bytes of `height_texels` for `scene`: every float of `FloatLayout`
+/// (its height maps, time/lens tables, patches, shader parameters,
+/// textures and shadow maps; at least one float: a binding may not be
+/// empty). The
 /// renderer refuses scenes whose floats a u32 cannot index.
 pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
     4 * FloatLayout::new(scene, &ObjectTables::new(scene))
         .total
         .max(1)
-}
-
-/// One light, WGSL struct `Light`.
-#[scheduler::item]
-#[wgsl(name = "Light")]
-#[derive(Debug)]
-pub struct LightData {
-    /// A distant light: the unit vector towards it; a point light or a
-    /// spotlight: its position (reyes::shading::PreparedLight; w unused).
-    pub to_light: Vec4,
-    /// Intensity times colour (w unused).
-    pub radiance: Vec4,
-    /// A spotlight's unit axis (w unused).
-    pub axis: Vec4,
-    /// LIGHT_* ([`super::abi::light`]).
-    pub kind: u32,
-    /// A spotlight's `cos(coneangle)`.
-    pub cos_outside: f32,
-    /// A spotlight's `cos(coneangle - conedeltaangle)`.
-    pub cos_inside: f32,
-    /// A spotlight's `beamdistribution`.
-    pub beam_distribution: f32,
 }
 
 /// The buffers the megakernel binds (see the resources in
@@ -411,25 +399,17 @@ impl FrameBuffers {
             && self.height_texels.size() == texel_buffer_bytes(scene)
     }
 
-    /// Writes the frame uniform, the objects, the lights and (when they
-    /// changed) the height maps of `scene`.
+    /// Writes the frame uniform, the objects, the lights, the shadow maps
+    /// and (when they changed) the height maps and textures of `scene`.
     pub fn write(&mut self, queue: &wgpu::Queue, scene: &PreparedScene) {
         let tables = ObjectTables::new(scene);
+        let layout = FloatLayout::new(scene, &tables);
         let lights: Vec<LightData> = scene
             .lights
             .iter()
-            .map(|l| LightData {
-                to_light: l.to_light.extend(0.0),
-                radiance: l.radiance.extend(0.0),
-                axis: l.axis.extend(0.0),
-                kind: super::abi::light::code(l.kind),
-                cos_outside: l.cos_outside,
-                cos_inside: l.cos_inside,
-                beam_distribution: l.beam_distribution,
-            })
+            .map(|l| light_data(l, scene.shadow_maps.len(), layout.shadow_maps))
             .collect();
         let mut frame = FrameUniform::new(scene);
-        let layout = FloatLayout::new(scene, &tables);
         // The renderer checks that every offset fits a u32 (texel_buffer_bytes).
         frame.patch_floats = layout.patches as u32;
         frame.parameter_floats = layout.parameters as u32;
@@ -468,6 +448,15 @@ impl FrameBuffers {
                 bytemuck::cast_slice(&infos),
             );
             queue.write_buffer(&self.height_texels, 4 * layout.texels, bytemuck::cast_slice(texels));
+        }
+        // Sent with every frame: the maps may change between frames with
+        // the same textures and sizes.
+        if !scene.shadow_maps.is_empty() {
+            queue.write_buffer(
+                &self.height_texels,
+                4 * layout.shadow_maps,
+                bytemuck::cast_slice(&shadow_map_floats(&scene.shadow_maps, layout.shadow_maps)),
+            );
         }
         let parameters = &scene.shaders.parameters;
         if !parameters.is_empty() {

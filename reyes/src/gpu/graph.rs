@@ -28,6 +28,7 @@ use std::sync::Arc;
 use crate::surface_shader::{SurfaceShader, megakernel_wgsl};
 use super::buffers::{FrameUniform, LightData};
 use super::objects::ObjectData;
+use super::shadow_maps::shadow_wgsl;
 use super::shared_constants::{grid_colors_wgsl, shared_constants};
 use super::variant::KernelVariant;
 use crate::dicing::GridClass;
@@ -157,6 +158,8 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     for part in LIBRARY_WGSL {
         graph.library(part);
     }
+    // Only frames with shadow maps compile the lookup in.
+    graph.library(&shadow_wgsl(variant.shadowed));
     graph.library(if variant.second_depth {
         OFFER_SECOND_DEPTH_WGSL
     } else {

@@ -5,6 +5,9 @@
 //! * `abi`: the codes the WGSL and the host agree on (statistics words,
 //!   mode codes), below the data layouts and the graph;
 //! * `buffers`: the frame uniform, scene buffers, framebuffer and statistics;
+//!   the lights' layout is `lights`;
+//! * `shadow_maps`: the shadow maps' table and depths in the texel
+//!   buffer, and the shadow lookup's WGSL;
 //! * `objects`: the per-object table (albedo, displacement) and the
 //!   height-map texels' layout;
 //! * `loop_limit`: [`LoopLimitError`], the advice when llvmpipe's loop
@@ -36,10 +39,12 @@ internal_modules! {
     objects;
     renderer;
     resolve;
+    shadow_maps;
 }
 
 mod batches;
 mod counters;
+mod lights;
 mod options;
 mod patch_item;
 mod pipeline_cache;

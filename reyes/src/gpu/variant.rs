@@ -15,7 +15,11 @@
 //!   filter reads ([`crate::depth::DepthFilter::Midpoint`]): small, but a
 //!   second atomic per sample that every other frame must not pay for; it
 //!   is no constant but a choice of the depth test's file and of the
-//!   framebuffer's type (`reyes::gpu::graph::reyes_graph_with`).
+//!   framebuffer's type (`reyes::gpu::graph::reyes_graph_with`);
+//! - shadow maps, which only frames with a shadowed light look up: no
+//!   constant either but a choice of library, the lookup
+//!   (`shaders/reyes/library_shadow.wgsl`) or a stub that lets all light
+//!   through.
 //!
 //! The sampling mode, the dicer and the AOV stay run-time switches in the
 //! frame uniform: their code is small, and a frame's mode can change (as in
@@ -42,26 +46,38 @@ pub struct KernelVariant {
     /// Every sample keeps its second-nearest key too
     /// ([`PreparedScene::keeps_second_depth`]).
     pub second_depth: bool,
+    /// Some light has shadow maps
+    /// ([`crate::shading::PreparedLight::shadow`]): the shadow lookup.
+    pub shadowed: bool,
 }
 
 impl KernelVariant {
     /// Every variant, in a fixed order.
-    pub const ALL: [Self; 8] = [
-        Self::new(false, false, false),
-        Self::new(false, true, false),
-        Self::new(true, false, false),
-        Self::new(true, true, false),
-        Self::new(false, false, true),
-        Self::new(false, true, true),
-        Self::new(true, false, true),
-        Self::new(true, true, true),
+    pub const ALL: [Self; 16] = [
+        Self::new(false, false, false, false),
+        Self::new(false, true, false, false),
+        Self::new(true, false, false, false),
+        Self::new(true, true, false, false),
+        Self::new(false, false, true, false),
+        Self::new(false, true, true, false),
+        Self::new(true, false, true, false),
+        Self::new(true, true, true, false),
+        Self::new(false, false, false, true),
+        Self::new(false, true, false, true),
+        Self::new(true, false, false, true),
+        Self::new(true, true, false, true),
+        Self::new(false, false, true, true),
+        Self::new(false, true, true, true),
+        Self::new(true, false, true, true),
+        Self::new(true, true, true, true),
     ];
 
-    const fn new(blurred: bool, displaced: bool, second_depth: bool) -> Self {
+    const fn new(blurred: bool, displaced: bool, second_depth: bool, shadowed: bool) -> Self {
         Self {
             blurred,
             displaced,
             second_depth,
+            shadowed,
         }
     }
 
@@ -71,13 +87,18 @@ impl KernelVariant {
             blurred: scene.samples_time_and_lens(),
             displaced: scene.objects.iter().any(|o| o.displacement.is_some()),
             second_depth: scene.keeps_second_depth(),
+            shadowed: scene.lights.iter().any(|l| {
+                l.shadow
+                    .is_some_and(|s| !s.maps(&scene.shadow_maps).is_empty())
+            }),
         }
     }
 
     /// The WGSL constants that state this variant, declared as graph
     /// constants.
-    /// (`second_depth` is no constant: it chooses the depth test's file
-    /// and the framebuffer's type, `reyes::gpu::graph::reyes_graph_with`.)
+    /// (`second_depth` and `shadowed` are no constants: they choose
+    /// files of the module and the framebuffer's type,
+    /// `reyes::gpu::graph::reyes_graph_with`.)
     pub fn constants(self) -> [(&'static str, ConstantValue); 2] {
         [
             ("VARIANT_BLURRED", self.blurred.into()),
@@ -95,7 +116,7 @@ impl KernelVariant {
 impl fmt::Display for KernelVariant {
     /// A short name: `still`, `blurred`, `still-displaced` or
     /// `blurred-displaced`, followed by `-second-depth` where it keeps the
-    /// second-nearest keys.
+    /// second-nearest keys, then `-shadowed` where it looks up shadow maps.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(if self.blurred { "blurred" } else { "still" })?;
         if self.displaced {
@@ -103,6 +124,9 @@ impl fmt::Display for KernelVariant {
         }
         if self.second_depth {
             f.write_str("-second-depth")?;
+        }
+        if self.shadowed {
+            f.write_str("-shadowed")?;
         }
         Ok(())
     }
@@ -125,7 +149,15 @@ mod tests {
                 "still-second-depth",
                 "still-displaced-second-depth",
                 "blurred-second-depth",
-                "blurred-displaced-second-depth"
+                "blurred-displaced-second-depth",
+                "still-shadowed",
+                "still-displaced-shadowed",
+                "blurred-shadowed",
+                "blurred-displaced-shadowed",
+                "still-second-depth-shadowed",
+                "still-displaced-second-depth-shadowed",
+                "blurred-second-depth-shadowed",
+                "blurred-displaced-second-depth-shadowed"
             ]
         );
         // FNV-1a of "still", computed independently, fixed here so that a

@@ -18,7 +18,7 @@
 //! the megakernel (`shaders/reyes/library_shadow.wgsl`) compute the same
 //! value, operation for operation.
 //!
-//! Files: [`file`] writes and reads maps as single-channel float EXR with
+//! Files: [`file`](mod@file) writes and reads maps as single-channel float EXR with
 //! the matrices as attributes; [`crate::output::make_shadow`] (RIB
 //! `MakeShadow`) turns the depth output of a frame rendered from a light
 //! into a map.
@@ -240,15 +240,22 @@ impl ShadowMap {
     }
 }
 
-/// The camera-space z of `p` under `world_to_camera` (negative in front).
+/// The camera-space z of `p` under `world_to_camera` (negative in front),
+/// summed in a fixed order (glam's `dot` differs between its SIMD
+/// backends) that the WGSL `shadow_camera_z` repeats.
 fn camera_z(world_to_camera: Mat4, p: Vec3) -> f32 {
-    let row = Vec4::new(
+    let row = camera_z_row(world_to_camera);
+    ((row.x * p.x + row.y * p.y) + row.z * p.z) + row.w
+}
+
+/// The row of `world_to_camera` that gives a point's camera-space z.
+pub fn camera_z_row(world_to_camera: Mat4) -> Vec4 {
+    Vec4::new(
         world_to_camera.x_axis.z,
         world_to_camera.y_axis.z,
         world_to_camera.z_axis.z,
         world_to_camera.w_axis.z,
-    );
-    row.dot(p.extend(1.0))
+    )
 }
 
 /// A light's shadow: the maps it looks up (one for a spotlight or a distant
