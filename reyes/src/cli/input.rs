@@ -30,6 +30,9 @@ pub(crate) struct BaseScene {
     /// models a scene names by path are read later, see
     /// [`Scene::model_files`].)
     pub(crate) read: Vec<ReadFile>,
+    /// Of a RIB frame: the transform from the file's world space, where its
+    /// shadow maps are, to the scene's ([`crate::rib::RibScene::world_from_file`]).
+    pub(crate) world_from_file: Option<glam::Mat4>,
 }
 
 /// The scene named on the command line, before overrides; `lenient` reads
@@ -53,6 +56,7 @@ pub(crate) fn base_scene(
             scene: Scene::default_teapot(),
             models: None,
             read: Vec::new(),
+            world_from_file: None,
         });
     };
     let scene_file = || vec![("scene", path.to_path_buf())];
@@ -83,6 +87,7 @@ pub(crate) fn base_scene(
                 scene,
                 models: None,
                 read: scene_file(),
+                world_from_file: None,
             })
         }
         Some("rib") => {
@@ -113,6 +118,7 @@ pub(crate) fn base_scene(
                 scene: Scene::for_model(path.to_string_lossy(), &model),
                 models: Some(vec![model]),
                 read: vec![("model", path.to_path_buf())],
+                world_from_file: None,
             })
         }
         _ => Err(format!(
@@ -162,6 +168,7 @@ pub(crate) fn rib_base(
         scene: rib.scene,
         models: Some(rib.models),
         read,
+        world_from_file: Some(rib.world_from_file),
     })
 }
 

@@ -33,6 +33,7 @@ mod parse;
 mod prepare;
 mod progress;
 mod render;
+mod requests;
 mod stats;
 #[cfg(feature = "viewer")]
 mod view;

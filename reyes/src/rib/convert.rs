@@ -319,9 +319,14 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
         file: file.to_path_buf(),
         source: Box::new(source),
     })?;
+    // The file's world space to the scene's (this frame's camera space,
+    // x mirrored), for shadow maps, which are kept in the former.
+    let world_from_file =
+        (super::interp::camera_to_world() * interp.camera.unwrap_or(DMat4::IDENTITY)).as_mat4();
     Ok(RibScene {
         scene,
         models,
+        world_from_file,
         display: interp.opts.display.clone(),
         warnings,
         sources: interp.sources.clone(),
