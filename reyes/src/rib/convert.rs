@@ -232,7 +232,8 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
         .prims
         .iter()
         .any(|p| !p.patches.is_empty() && super::surfaces::is_lit(&p.attrs.surface));
-    if lit && lights.is_empty() {
+    // A depth frame (a shadow map's) needs no light.
+    if lit && lights.is_empty() && !opts.depth_output {
         warn("no light sources: the surfaces that need lights (matte, metal, plastic) are black; add LightSource \"distantlight\", or leave their Surface out for RenderMan's defaultsurface".into());
     }
 

@@ -1,0 +1,155 @@
+//! Shadows in RIB: depth frames (`Display ... "z"`), `MakeShadow` between
+//! frames, and the shadowed standard lights reading the maps. The golden
+//! scene `tests/data/rib_shadows/shadows.rib` renders two depth frames from
+//! two spotlights, makes their maps and renders a beauty frame with two
+//! `shadowspot` lights; its hand-written TOML twin `shadows.toml` reads
+//! the same maps. Everything is rendered by the binary with `--cpu`, in a
+//! temporary directory (the RIB's names are relative to the current
+//! directory). Unbalanced `FrameBegin`/`FrameEnd` is tested in
+//! `rib_frames.rs` and `rib_structure.rs`.
+
+mod files;
+
+use std::path::Path;
+use std::process::Command;
+
+use files::TempDir;
+use glam::Vec3;
+use image::RgbImage;
+use reyes::prepare::PreparedScene;
+use reyes::scene::Scene;
+
+/// The golden scene's files.
+const SCENE_FILES: [&str; 5] = [
+    "shadows.rib",
+    "geometry.rib",
+    "shadows.toml",
+    "square.bpt",
+    "bump.bpt",
+];
+
+/// `reyes ARGS` run in `dir`: (success, stdout, stderr).
+fn reyes(dir: &TempDir, args: &[&str]) -> (bool, String, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_reyes"))
+        .current_dir(dir.path(""))
+        .args(args)
+        .output()
+        .expect("reyes runs");
+    (
+        output.status.success(),
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+/// A temporary directory holding the golden scene.
+fn scene_dir(name: &str) -> TempDir {
+    let dir = TempDir::new(name);
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/rib_shadows");
+    for file in SCENE_FILES {
+        std::fs::copy(data.join(file), dir.path(file)).unwrap();
+    }
+    dir
+}
+
+fn rgb(path: &Path) -> RgbImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8()
+}
+
+/// The twin's text without its lights' shadows.
+fn unshadowed(toml: &str) -> String {
+    toml.lines()
+        .filter(|l| {
+            !["shadow_map", "samples", "blur", "bias"]
+                .iter()
+                .any(|k| l.starts_with(k))
+        })
+        .map(|l| format!("{l}\n"))
+        .collect()
+}
+
+/// The pixel (column, row) where the twin's camera sees the world point `p`.
+fn pixel_of(dir: &TempDir, toml: &str, p: Vec3) -> (u32, u32) {
+    let scene = Scene::load(dir.path(toml)).unwrap();
+    let camera = PreparedScene::load(&scene).unwrap().camera;
+    let clip = camera.to_clip(p);
+    let (x, y) = (clip.x / clip.w, clip.y / clip.w);
+    let column = (x + 1.0) * 0.5 * camera.width as f32;
+    let row = (1.0 - y) * 0.5 * camera.height as f32;
+    (column as u32, row as u32)
+}
+
+/// The largest channel difference between two pixels.
+fn diff(a: &RgbImage, b: &RgbImage, (x, y): (u32, u32)) -> i32 {
+    let (p, q) = (a.get_pixel(x, y).0, b.get_pixel(x, y).0);
+    (0..3)
+        .map(|c| i32::from(q[c]) - i32::from(p[c]))
+        .max_by_key(|d| d.abs())
+        .unwrap()
+}
+
+#[test]
+fn depth_frames_make_the_maps_the_shadowed_spotlights_of_the_last_frame_read() {
+    let dir = scene_dir("rib-shadows-golden");
+    let (ok, stdout, stderr) = reyes(&dir, &["render", "--cpu", "shadows.rib"]);
+    assert!(ok, "{stderr}");
+    for line in [
+        "wrote spot1.z (256x256, 1 spp)",
+        "wrote shadow map spot1.shad (256x256, from spot1.z)",
+        "wrote shadow map spot2.shad (256x256, from spot2.z)",
+        "wrote shadows.png (160x120, 4 spp)",
+    ] {
+        assert!(stdout.contains(line), "{line:?} missing:\n{stdout}");
+    }
+    // In order: each map after its depth frame, both before the picture.
+    let at = |s: &str| stdout.find(s).unwrap();
+    assert!(at("wrote spot1.z") < at("spot1.shad") && at("spot2.shad") < at("wrote shadows.png"));
+    assert!(!stderr.contains("warning"), "{stderr}");
+
+    // The twin, with the same maps and without shadows.
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "shadows.toml", "-o", "twin.png"]);
+    assert!(ok, "{stderr}");
+    let plain = unshadowed(&std::fs::read_to_string(dir.path("shadows.toml")).unwrap());
+    std::fs::write(dir.path("plain.toml"), plain).unwrap();
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "plain.toml", "-o", "plain.png"]);
+    assert!(ok, "{stderr}");
+    let (rib, twin, plain) = (
+        rgb(&dir.path("shadows.png")),
+        rgb(&dir.path("twin.png")),
+        rgb(&dir.path("plain.png")),
+    );
+
+    // The RIB and its twin agree.
+    let pixels = rib.width() * rib.height();
+    let mut within = 0;
+    let mut largest = 0;
+    for y in 0..rib.height() {
+        for x in 0..rib.width() {
+            let d = diff(&rib, &twin, (x, y)).abs();
+            largest = largest.max(d);
+            within += u32::from(d <= 2);
+        }
+    }
+    assert!(
+        f64::from(within) >= 0.99 * f64::from(pixels) && largest <= 8,
+        "{within} of {pixels} pixels within 2/255, largest difference {largest}"
+    );
+
+    // Ground points in the floating square's shadow from each spotlight
+    // (the square at z = 1.2 projected from the light onto z = 0, where
+    // the camera sees the ground), and one both light.
+    let spot2_shadow = pixel_of(&dir, "plain.toml", Vec3::new(-0.05, 0.32, 0.0));
+    let spot1_shadow = pixel_of(&dir, "plain.toml", Vec3::new(-2.0, 0.2, 0.0));
+    let lit = pixel_of(&dir, "plain.toml", Vec3::new(1.2, 0.8, 0.0));
+    for (what, pixel) in [("spot2", spot2_shadow), ("spot1", spot1_shadow)] {
+        let darker = diff(&rib, &plain, pixel);
+        assert!(
+            darker >= 20,
+            "{what}'s shadow at {pixel:?}: only {darker}/255 darker than unshadowed"
+        );
+    }
+    let d = diff(&rib, &plain, lit);
+    assert!(d.abs() <= 2, "the lit ground at {lit:?} differs by {d}/255");
+}
