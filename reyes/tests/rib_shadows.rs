@@ -153,3 +153,128 @@ fn depth_frames_make_the_maps_the_shadowed_spotlights_of_the_last_frame_read() {
     let d = diff(&rib, &plain, lit);
     assert!(d.abs() <= 2, "the lit ground at {lit:?} differs by {d}/255");
 }
+
+/// A one-frame beauty scene lit by a `shadowspot` reading `map`, after
+/// `before` (requests before the frame).
+fn beauty(before: &str, map: &str) -> String {
+    format!(
+        "{before}FrameBegin 1\nFormat 16 12 1\nPixelSamples 1 1\nDisplay \"beauty.png\" \"file\" \"rgba\"\n\
+WorldBegin\nLightSource \"shadowspot\" 1 \"from\" [0 0 0] \"to\" [0 0 1] \"string shadowname\" [\"{map}\"]\n\
+Translate 0 0 3\nSphere 1 -1 1 360\nWorldEnd\nFrameEnd\n"
+    )
+}
+
+#[test]
+fn make_shadow_of_a_picture_that_is_no_depth_image_names_the_file_and_line() {
+    let dir = TempDir::new("rib-shadows-wrong-kind");
+    // An RGB EXR and a PNG, as a beauty frame writes them.
+    let frame = "FrameBegin 1\nFormat 8 8 1\nDisplay \"rgb.exr\" \"file\" \"rgba\"\nWorldBegin\n\
+Translate 0 0 3\nSphere 1 -1 1 360\nWorldEnd\nFrameEnd\n";
+    let frame_png = frame
+        .replace("rgb.exr", "rgb.png")
+        .replace("FrameBegin 1", "FrameBegin 2");
+    for (picture, line) in [("rgb.exr", 17), ("rgb.png", 18)] {
+        let rib = format!(
+            "{frame}{frame_png}MakeShadow \"rgb.exr\" \"a.shad\"\nMakeShadow \"rgb.png\" \"b.shad\"\n"
+        );
+        let rib = if picture == "rgb.png" {
+            rib.replace("MakeShadow \"rgb.exr\" \"a.shad\"\n", "\n")
+        } else {
+            rib
+        };
+        std::fs::write(dir.path("scene.rib"), rib).unwrap();
+        let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "scene.rib"]);
+        assert!(!ok, "{stderr}");
+        assert!(
+            stderr.contains(&format!("scene.rib:{line}: MakeShadow \"{picture}\"")),
+            "{stderr}"
+        );
+        assert!(stderr.contains("request failed"), "{stderr}");
+        if picture == "rgb.exr" {
+            assert!(
+                stderr.contains("not a depth image with its camera"),
+                "{stderr}"
+            );
+            // The failure stops the request after it.
+            assert!(
+                stderr.contains("not run: scene.rib:18: MakeShadow"),
+                "{stderr}"
+            );
+        } else {
+            assert!(
+                stderr.contains("cannot read it as a depth image"),
+                "{stderr}"
+            );
+        }
+        assert!(!dir.path("a.shad").exists() && !dir.path("b.shad").exists());
+    }
+}
+
+#[test]
+fn a_failed_make_shadow_stops_the_later_frames_unless_keep_going() {
+    let dir = TempDir::new("rib-shadows-stop");
+    let rib = beauty("MakeShadow \"missing.z\" \"a.shad\"\n", "a.shad");
+    std::fs::write(dir.path("scene.rib"), &rib).unwrap();
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "scene.rib"]);
+    assert!(
+        !ok && stderr.contains("scene.rib:1: MakeShadow"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("not rendered: frame 1"), "{stderr}");
+    assert!(!dir.path("beauty.png").exists());
+    // With --keep-going the frame renders, and fails on its missing map.
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "--keep-going", "scene.rib"]);
+    assert!(!ok, "{stderr}");
+    assert!(stderr.contains("1 of 1 frames failed: frame 1"), "{stderr}");
+    assert!(
+        stderr.contains("1 request failed: scene.rib:1: MakeShadow"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_missing_shadow_map_names_the_light_and_path_and_is_unshadowed_with_lenient() {
+    let dir = TempDir::new("rib-shadows-missing-map");
+    std::fs::write(dir.path("scene.rib"), beauty("", "nowhere.shad")).unwrap();
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "scene.rib"]);
+    assert!(!ok, "{stderr}");
+    assert!(
+        stderr.contains("lights[0] (spot light): shadow map nowhere.shad"),
+        "{stderr}"
+    );
+    let (ok, stdout, stderr) = reyes(&dir, &["render", "--cpu", "--lenient", "scene.rib"]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("warning: lights[0] (spot light): shadow map nowhere.shad is missing")
+            && stderr.contains("renders the light unshadowed"),
+        "{stderr}"
+    );
+    assert!(stdout.contains("wrote beauty.png"), "{stdout}");
+    // Unshadowed: as the same scene with a plain spotlight.
+    let lenient = rgb(&dir.path("beauty.png"));
+    let plain = beauty("", "").replace("shadowspot", "spotlight");
+    std::fs::write(dir.path("plain.rib"), plain).unwrap();
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "plain.rib", "-o", "plain.png"]);
+    assert!(ok, "{stderr}");
+    assert_eq!(lenient, rgb(&dir.path("plain.png")));
+}
+
+#[test]
+fn make_shadow_after_the_last_frame_runs_and_convert_says_it_is_not_converted() {
+    let dir = scene_dir("rib-shadows-after");
+    let rib = std::fs::read_to_string(dir.path("shadows.rib")).unwrap();
+    // Only the first depth frame, its MakeShadow after it, the last request.
+    let first = &rib[..rib.find("FrameBegin 2").unwrap()];
+    std::fs::write(dir.path("depth.rib"), first).unwrap();
+    let (ok, stdout, stderr) = reyes(&dir, &["render", "--cpu", "depth.rib"]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("wrote shadow map spot1.shad"), "{stdout}");
+    let map = reyes::shadow::read_shadow_map(&dir.path("spot1.shad")).unwrap();
+    assert_eq!((map.width, map.height), (256, 256));
+    let (ok, _, stderr) = reyes(&dir, &["convert", "depth.rib", "-o", "depth.toml"]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("MakeShadow is not run (not converted)"),
+        "{stderr}"
+    );
+}

@@ -60,7 +60,7 @@ pub(crate) fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
         )
         .into());
     }
-    for warning in &frames.warnings {
+    for warning in frames.warnings.iter().chain(&frames.requests_not_run()) {
         errln!("warning: {warning}")?;
     }
     let (frame, sources) = frames.into_frame(selected[0]).expect("a selected frame");

@@ -134,7 +134,7 @@ pub(crate) fn base_scene(
 pub(crate) fn load_rib(path: &Path, lenient: bool) -> Result<crate::rib::RibFrames, BoxError> {
     let options = crate::rib::RibOptions { lenient };
     let frames = crate::rib::RibFrames::load_with(path, options)?;
-    for warning in &frames.warnings {
+    for warning in frames.warnings.iter().chain(&frames.requests_not_run()) {
         errln!("warning: {warning}")?;
     }
     Ok(frames)

@@ -152,6 +152,25 @@ impl RibFrames {
         self.frames.into_iter().nth(index).map(|f| (f, sources))
     }
 
+    /// A warning for each request between frames (`MakeShadow`): they act
+    /// on files a render writes, and a scene read on its own (`reyes
+    /// convert`, `reyes view`) runs none of them.
+    pub fn requests_not_run(&self) -> Vec<Warning> {
+        self.frames
+            .iter()
+            .flat_map(|f| &f.requests_before)
+            .chain(&self.requests_after)
+            .map(|request| {
+                let FrameRequest::MakeShadow { file, line, .. } = request;
+                Warning {
+                    file: file.clone(),
+                    line: *line,
+                    message: "MakeShadow is not run (not converted) when the file is read as one scene; `reyes render` runs it between the frames".into(),
+                }
+            })
+            .collect()
+    }
+
     /// The interpreted file's frames: the one frame of a file without
     /// `FrameBegin`, else those its `FrameEnd`s made.
     pub(super) fn collect(mut interp: Interp, file: &Path) -> RibFrames {
@@ -178,22 +197,7 @@ impl RibFrames {
     pub(super) fn into_first(self, file: &Path) -> Result<RibScene, RibError> {
         let count = self.frames.len();
         let list = self.list();
-        // Requests between frames act on files a render writes: a scene
-        // read on its own runs none of them.
-        let not_run: Vec<Warning> = self
-            .frames
-            .iter()
-            .flat_map(|f| &f.requests_before)
-            .chain(&self.requests_after)
-            .map(|request| {
-                let FrameRequest::MakeShadow { file, line, .. } = request;
-                Warning {
-                    file: file.clone(),
-                    line: *line,
-                    message: "MakeShadow is not run (not converted) when the file is read as one scene; `reyes render` runs it between the frames".into(),
-                }
-            })
-            .collect();
+        let not_run = self.requests_not_run();
         let mut frames = self.frames.into_iter();
         let first = frames.next().expect("a file has at least one frame");
         let label = first.label();
