@@ -386,7 +386,8 @@ impl Failures {
     /// Whether what follows is skipped: something failed and `--keep-going`
     /// is not given.
     fn stop(&self, args: &RenderArgs) -> bool {
-        !args.keep_going && !(self.frames.is_empty() && self.requests.is_empty())
+        let failed = !(self.frames.is_empty() && self.requests.is_empty());
+        failed && !args.keep_going
     }
 
     /// Runs `request` unless a failure stops it; reports its error.
