@@ -17,7 +17,9 @@ use files::TempDir;
 use glam::Vec3;
 use image::RgbImage;
 use reyes::prepare::PreparedScene;
-use reyes::scene::Scene;
+use reyes::rib::FrameRequest;
+use reyes::scene::{Light, LightKind, LightShadow, Scene, ShadowMaps};
+use reyes::shadow::ShadowFilter;
 
 /// The golden scene's files.
 const SCENE_FILES: [&str; 5] = [
@@ -276,5 +278,161 @@ fn make_shadow_after_the_last_frame_runs_and_convert_says_it_is_not_converted() 
     assert!(
         stderr.contains("MakeShadow is not run (not converted)"),
         "{stderr}"
+    );
+}
+
+/// The one frame of RIB `world` (requests inside `WorldBegin`), read from
+/// text; its warnings joined.
+fn lights_of(world: &str) -> (Vec<reyes::scene::Light>, String) {
+    let text =
+        format!("Format 16 16 1\nWorldBegin\n{world}Polygon \"P\" [0 0 5 1 0 5 0 1 5]\nWorldEnd\n");
+    let rib =
+        reyes::rib::RibScene::from_text(&text, "l.rib").unwrap_or_else(|e| panic!("{e}\n{text}"));
+    let warnings: Vec<String> = rib.warnings.iter().map(ToString::to_string).collect();
+    (rib.scene.lights, warnings.join("\n"))
+}
+
+fn maps(light: &reyes::scene::Light) -> Vec<String> {
+    match &light.shadow.as_ref().expect("a shadow").maps {
+        ShadowMaps::Files(files) => files.iter().map(|f| f.display().to_string()).collect(),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn shadowed_lights_are_the_plain_lights_with_their_maps_and_filter() {
+    let spot = "\"from\" [1 2 3] \"to\" [0 0 5] \"coneangle\" [0.5] \"intensity\" [7]";
+    let (plain, _) = lights_of(&format!("LightSource \"spotlight\" 1 {spot}\n"));
+    let (shadowed, warnings) = lights_of(&format!(
+        "LightSource \"shadowspot\" 1 {spot} \"string shadowname\" \"a.shad\" \"float samples\" [4] \"float width\" [2] \"float blur\" [0.1] \"float bias\" [0.05]\n"
+    ));
+    assert_eq!(warnings, "");
+    let shadow = shadowed[0].shadow.clone().expect("a shadow");
+    assert_eq!(
+        shadow,
+        LightShadow {
+            maps: ShadowMaps::Files(vec!["a.shad".into()]),
+            filter: ShadowFilter {
+                samples: 4,
+                width: 2.0,
+                blur: 0.1,
+                bias: 0.05,
+            },
+        }
+    );
+    assert_eq!(
+        Light {
+            shadow: None,
+            ..shadowed[0].clone()
+        },
+        plain[0]
+    );
+
+    // shadowdistant: distantlight's direction; the filter's defaults.
+    let distant = "\"from\" [0 1 0] \"to\" [0 0 1]";
+    let (plain, _) = lights_of(&format!("LightSource \"distantlight\" 1 {distant}\n"));
+    let (shadowed, _) = lights_of(&format!(
+        "LightSource \"shadowdistant\" 1 {distant} \"string shadowname\" [\"d.shad\"]\n"
+    ));
+    assert_eq!(shadowed[0].kind, LightKind::Distant);
+    assert_eq!(shadowed[0].direction, plain[0].direction);
+    assert_eq!(maps(&shadowed[0]), ["d.shad"]);
+    assert_eq!(
+        shadowed[0].shadow.as_ref().unwrap().filter,
+        ShadowFilter::default()
+    );
+
+    // shadowpoint: the faces given, in the order px nx py ny pz nz.
+    let (shadowed, warnings) = lights_of(
+        "LightSource \"shadowpoint\" 1 \"from\" [0 0 1] \"string sfnz\" \"nz.shad\" \"string sfny\" \"\" \"string sfpx\" \"px.shad\"\n",
+    );
+    assert_eq!(warnings, "");
+    assert_eq!(shadowed[0].kind, LightKind::Point);
+    assert_eq!(maps(&shadowed[0]), ["px.shad", "nz.shad"]);
+}
+
+#[test]
+fn an_empty_shadowname_is_no_shadow_and_bad_filters_warn() {
+    let (lights, warnings) =
+        lights_of("LightSource \"shadowspot\" 1 \"string shadowname\" [\"\"]\n");
+    assert_eq!(
+        (lights[0].kind, lights[0].shadow.is_none()),
+        (LightKind::Spot, true)
+    );
+    assert_eq!(warnings, "");
+    let (lights, warnings) = lights_of("LightSource \"shadowpoint\" 1 \"from\" [0 0 1]\n");
+    assert!(lights[0].shadow.is_none());
+    assert!(
+        warnings.contains("l.rib:3: shadowpoint names no shadow map"),
+        "{warnings}"
+    );
+    let (lights, warnings) = lights_of(
+        "LightSource \"shadowspot\" 1 \"string shadowname\" \"a.shad\" \"float swidth\" [2] \"float twidth\" [3] \"float samples\" [0] \"float blur\" [-1]\n",
+    );
+    let filter = lights[0].shadow.as_ref().unwrap().filter;
+    assert_eq!((filter.width, filter.samples, filter.blur), (3.0, 1, 0.0));
+    for expected in [
+        "swidth 2 and twidth 3",
+        "shadow samples 0; using 1",
+        "shadow blur -1",
+    ] {
+        assert!(warnings.contains(expected), "{expected:?}: {warnings}");
+    }
+}
+
+#[test]
+fn make_shadow_is_handed_over_with_the_frame_after_it() {
+    let frame = |n: u32, inside: &str| {
+        format!("FrameBegin {n}\n{inside}WorldBegin\nSphere 1 -1 1 360\nWorldEnd\nFrameEnd\n")
+    };
+    let text = format!(
+        "MakeShadow \"a.z\" \"a.shad\"\n{}MakeShadow \"b.z\" \"b.shad\"\n{}MakeShadow \"c.z\" \"c.shad\"\n",
+        frame(1, "MakeShadow \"in.z\" \"in.shad\"\n"),
+        frame(2, "")
+    );
+    let frames = reyes::rib::RibFrames::from_text_with(&text, "f.rib", Default::default()).unwrap();
+    let names = |requests: &[FrameRequest]| -> Vec<(String, usize)> {
+        requests
+            .iter()
+            .map(|r| {
+                let FrameRequest::MakeShadow { shadow, line, .. } = r;
+                (shadow.display().to_string(), *line)
+            })
+            .collect()
+    };
+    assert_eq!(
+        names(&frames.frames[0].requests_before),
+        [("a.shad".to_owned(), 1), ("in.shad".to_owned(), 3)]
+    );
+    assert_eq!(
+        names(&frames.frames[1].requests_before),
+        [("b.shad".to_owned(), 8)]
+    );
+    assert_eq!(names(&frames.requests_after), [("c.shad".to_owned(), 14)]);
+    // Read as one scene, none runs: each warns.
+    let scene = reyes::rib::RibScene::from_text(&text, "f.rib").unwrap();
+    let not_run = scene
+        .warnings
+        .iter()
+        .filter(|w| w.message.starts_with("MakeShadow is not run"))
+        .count();
+    assert_eq!(not_run, 4);
+}
+
+#[test]
+fn a_frame_maps_the_files_world_into_its_own() {
+    // The camera 5 in front of the world's origin and 1 to its right:
+    // RenderMan's world point (1, 0, 0) is at the camera's origin, x
+    // mirrored into the renderer's world.
+    let text = "Format 16 16 1\nTranslate -1 0 5\nWorldBegin\nSphere 1 -1 1 360\nWorldEnd\n";
+    let rib = reyes::rib::RibScene::from_text(text, "w.rib").unwrap();
+    let to_world = rib.world_from_file;
+    assert_eq!(
+        to_world.transform_point3(Vec3::new(1.0, 0.0, 0.0)),
+        Vec3::new(0.0, 0.0, 5.0)
+    );
+    assert_eq!(
+        to_world.transform_point3(Vec3::new(2.0, 0.0, 0.0)),
+        Vec3::new(-1.0, 0.0, 5.0)
     );
 }
