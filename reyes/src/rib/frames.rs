@@ -100,7 +100,7 @@ pub struct RibFrame {
     pub scene: Result<RibScene, RibError>,
     /// The requests (`MakeShadow`) between the previous frame's `FrameEnd`
     /// (or the file's start) and this frame's `FrameEnd`, in order: to run
-    /// before the frame is prepared ([`super::requests`]).
+    /// before the frame is prepared ([`FrameRequest`]).
     pub requests_before: Vec<FrameRequest>,
 }
 
