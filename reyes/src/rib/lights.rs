@@ -1,6 +1,6 @@
 //! `LightSource` and `Illuminate`: RenderMan's light list (`distantlight`,
 //! `pointlight`, `spotlight` and `ambientlight`, and the shadowed
-//! `shadowdistant`, `shadowpoint` and `shadowspot` of [`super::shadow_lights`]),
+//! `shadowdistant`, `shadowpoint` and `shadowspot` of `super::shadow_lights`),
 //! mapped onto the renderer's scene-wide lights.
 //!
 //! In RenderMan the set of lights that are on is an attribute: a light
