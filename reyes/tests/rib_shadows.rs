@@ -241,14 +241,15 @@ fn a_missing_shadow_map_names_the_light_and_path_and_is_unshadowed_with_lenient(
     let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "scene.rib"]);
     assert!(!ok, "{stderr}");
     assert!(
-        stderr.contains("lights[0] (spot light): shadow map nowhere.shad"),
+        stderr.contains("scene.rib:6: lights[0] (spot light): shadow map nowhere.shad"),
         "{stderr}"
     );
     let (ok, stdout, stderr) = reyes(&dir, &["render", "--cpu", "--lenient", "scene.rib"]);
     assert!(ok, "{stderr}");
     assert!(
-        stderr.contains("warning: lights[0] (spot light): shadow map nowhere.shad is missing")
-            && stderr.contains("renders the light unshadowed"),
+        stderr.contains(
+            "warning: scene.rib:6: lights[0] (spot light): shadow map nowhere.shad is missing"
+        ) && stderr.contains("renders the light unshadowed"),
         "{stderr}"
     );
     assert!(stdout.contains("wrote beauty.png"), "{stdout}");

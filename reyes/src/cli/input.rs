@@ -33,6 +33,9 @@ pub(crate) struct BaseScene {
     /// Of a RIB frame: the transform from the file's world space, where its
     /// shadow maps are, to the scene's ([`crate::rib::RibScene::world_from_file`]).
     pub(crate) world_from_file: Option<glam::Mat4>,
+    /// Of a RIB frame: where each light was declared (`scene.rib:12`), for
+    /// messages; empty otherwise.
+    pub(crate) light_origins: Vec<String>,
 }
 
 /// The scene named on the command line, before overrides; `lenient` reads
@@ -57,6 +60,7 @@ pub(crate) fn base_scene(
             models: None,
             read: Vec::new(),
             world_from_file: None,
+            light_origins: Vec::new(),
         });
     };
     let scene_file = || vec![("scene", path.to_path_buf())];
@@ -88,6 +92,7 @@ pub(crate) fn base_scene(
                 models: None,
                 read: scene_file(),
                 world_from_file: None,
+                light_origins: Vec::new(),
             })
         }
         Some("rib") => {
@@ -119,6 +124,7 @@ pub(crate) fn base_scene(
                 models: Some(vec![model]),
                 read: vec![("model", path.to_path_buf())],
                 world_from_file: None,
+                light_origins: Vec::new(),
             })
         }
         _ => Err(format!(
@@ -169,6 +175,11 @@ pub(crate) fn rib_base(
         models: Some(rib.models),
         read,
         world_from_file: Some(rib.world_from_file),
+        light_origins: rib
+            .light_origins
+            .iter()
+            .map(|(file, line)| format!("{}:{line}", file.display()))
+            .collect(),
     })
 }
 

@@ -38,6 +38,7 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
         models: in_memory,
         mut read,
         world_from_file,
+        light_origins,
     } = base;
     let prepared = |scene: &Scene| match &in_memory {
         Some(models) => PreparedScene::new(scene, models),
@@ -74,10 +75,11 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
         }
     }
     let mut prepared = if args.lenient {
-        prepare_without_missing_files(&mut scene, prepared)?
+        prepare_without_missing_files(&mut scene, &light_origins, prepared)
     } else {
-        prepared(&scene)?
-    };
+        prepared(&scene).map_err(BoxError::from)
+    }
+    .map_err(|e| name_light(e, &light_origins))?;
     // A RIB frame's maps are in the file's world space: look them up from
     // the frame's.
     if let Some(world_from_file) = world_from_file {
@@ -319,6 +321,7 @@ fn objects_move(args: &RenderArgs) -> bool {
 /// it.
 fn prepare_without_missing_files(
     scene: &mut Scene,
+    light_origins: &[String],
     prepared: impl Fn(&Scene) -> Result<PreparedScene, crate::scene::SceneError>,
 ) -> Result<PreparedScene, BoxError> {
     use crate::displacement::DisplacementError;
@@ -344,8 +347,11 @@ fn prepare_without_missing_files(
                 path,
                 source,
             }) if !path.exists() && scene.lights[light].shadow.is_some() => {
+                let at = light_origins
+                    .get(light)
+                    .map_or_else(String::new, |origin| format!("{origin}: "));
                 errln!(
-                    "warning: lights[{light}] ({kind} light): shadow map {} is missing ({source}); --lenient renders the light unshadowed",
+                    "warning: {at}lights[{light}] ({kind} light): shadow map {} is missing ({source}); --lenient renders the light unshadowed",
                     path.display()
                 )?;
                 scene.lights[light].shadow = None;
@@ -376,4 +382,18 @@ fn prepare_without_missing_files(
         }
     }
     Ok(prepared(scene)?)
+}
+
+/// `error`, headed by where its light was declared when it is about a
+/// light's shadow map and the scene says where its lights come from (a
+/// RIB's `LightSource` line).
+fn name_light(error: BoxError, light_origins: &[String]) -> BoxError {
+    let origin = match error.downcast_ref::<crate::scene::SceneError>() {
+        Some(crate::scene::SceneError::ShadowMap { light, .. }) => light_origins.get(*light),
+        _ => None,
+    };
+    match origin {
+        Some(origin) => format!("{origin}: {error}").into(),
+        None => error,
+    }
 }

@@ -328,6 +328,7 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
         scene,
         models,
         world_from_file,
+        light_origins: lights.iter().map(|l| (l.file.clone(), l.line)).collect(),
         display: interp.opts.display.clone(),
         warnings,
         sources: interp.sources.clone(),

@@ -177,6 +177,9 @@ pub struct RibScene {
     /// `reyes render` writes a depth frame's camera relative to it, and
     /// moves the maps a frame reads from it into the scene's world.
     pub world_from_file: glam::Mat4,
+    /// Where each of the scene's lights was declared (`scene.lights[i]`'s
+    /// `LightSource` file and line), for messages.
+    pub light_origins: Vec<(PathBuf, usize)>,
     /// Every file read, in order: the RIB file (unless the text was given,
     /// [`RibScene::from_text`]), then each `ReadArchive` file as it was
     /// named. [`RibScene::write`] refuses to replace any of them.
