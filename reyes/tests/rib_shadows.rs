@@ -280,6 +280,19 @@ fn make_shadow_after_the_last_frame_runs_and_convert_says_it_is_not_converted() 
         stderr.contains("MakeShadow is not run (not converted)"),
         "{stderr}"
     );
+    // The beauty frame's shadowed lights keep their maps, with a warning
+    // that the maps are in another space than the TOML scene.
+    let (ok, _, stderr) = reyes(
+        &dir,
+        &["convert", "shadows.rib", "--frame", "3", "-o", "b.toml"],
+    );
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("shadow maps in the RIB's world space"),
+        "{stderr}"
+    );
+    let toml = std::fs::read_to_string(dir.path("b.toml")).unwrap();
+    assert!(toml.contains("shadow_map = \"spot1.shad\""), "{toml}");
 }
 
 /// The one frame of RIB `world` (requests inside `WorldBegin`), read from
