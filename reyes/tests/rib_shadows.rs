@@ -154,6 +154,18 @@ fn depth_frames_make_the_maps_the_shadowed_spotlights_of_the_last_frame_read() {
     }
     let d = diff(&rib, &plain, lit);
     assert!(d.abs() <= 2, "the lit ground at {lit:?} differs by {d}/255");
+
+    // Frame 3 alone runs the one request before it (spot2's), not the
+    // one before frame 2 (spot1's): its map is read as it is on disk.
+    std::fs::remove_file(dir.path("spot1.shad")).unwrap();
+    std::fs::remove_file(dir.path("spot2.shad")).unwrap();
+    let (ok, stdout, stderr) = reyes(&dir, &["render", "--cpu", "shadows.rib", "--frame", "3"]);
+    assert!(!ok && stdout.contains("wrote shadow map spot2.shad"), "{stdout}");
+    assert!(!dir.path("spot1.shad").exists());
+    assert!(
+        stderr.contains("shadows.rib:53: lights[2] (spot light): shadow map spot1.shad"),
+        "{stderr}"
+    );
 }
 
 /// A one-frame beauty scene lit by a `shadowspot` reading `map`, after
