@@ -160,7 +160,10 @@ fn depth_frames_make_the_maps_the_shadowed_spotlights_of_the_last_frame_read() {
     std::fs::remove_file(dir.path("spot1.shad")).unwrap();
     std::fs::remove_file(dir.path("spot2.shad")).unwrap();
     let (ok, stdout, stderr) = reyes(&dir, &["render", "--cpu", "shadows.rib", "--frame", "3"]);
-    assert!(!ok && stdout.contains("wrote shadow map spot2.shad"), "{stdout}");
+    assert!(
+        !ok && stdout.contains("wrote shadow map spot2.shad"),
+        "{stdout}"
+    );
     assert!(!dir.path("spot1.shad").exists());
     assert!(
         stderr.contains("shadows.rib:53: lights[2] (spot light): shadow map spot1.shad"),
@@ -460,5 +463,49 @@ fn a_frame_maps_the_files_world_into_its_own() {
     assert_eq!(
         to_world.transform_point3(Vec3::new(2.0, 0.0, 0.0)),
         Vec3::new(-1.0, 0.0, 5.0)
+    );
+}
+
+#[test]
+fn a_shadowdistant_reads_an_orthographic_depth_frame_from_above() {
+    let dir = scene_dir("rib-shadows-distant");
+    let golden = std::fs::read_to_string(dir.path("shadows.rib")).unwrap();
+    // The golden beauty frame's camera, lit by one light from straight above.
+    let beauty = &golden[golden.find("FrameBegin 3").unwrap()
+        ..golden.find("  WorldBegin\n    LightSource").unwrap()];
+    let rib = |light: &str, image: &str| {
+        let beauty = beauty.replace("shadows.png", image);
+        format!(
+            "Clipping 0.1 100\nFrameBegin 1\nFormat 256 256 1\nPixelSamples 1 1\n\
+Projection \"orthographic\"\nScreenWindow -3 3 -3 3\nDisplay \"sun.z\" \"zfile\" \"z\"\n\
+Hider \"hidden\" \"depthfilter\" \"midpoint\"\nTransform [1 0 0 0 0 1 0 0 0 0 -1 0 0 0 10 1]\n\
+WorldBegin\nReadArchive \"geometry.rib\"\nWorldEnd\nFrameEnd\nMakeShadow \"sun.z\" \"sun.shad\"\n\
+{beauty}  WorldBegin\nLightSource {light} 1 \"from\" [0 0 1] \"to\" [0 0 0] \"string shadowname\" \"sun.shad\"\n\
+ReadArchive \"geometry.rib\"\nWorldEnd\nFrameEnd\n"
+        )
+    };
+    std::fs::write(dir.path("sun.rib"), rib("\"shadowdistant\"", "sun.png")).unwrap();
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "sun.rib"]);
+    assert!(ok, "{stderr}");
+    std::fs::write(dir.path("plain.rib"), rib("\"distantlight\"", "plain.png")).unwrap();
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "plain.rib"]);
+    assert!(ok, "{stderr}");
+    let (shadowed, plain) = (rgb(&dir.path("sun.png")), rgb(&dir.path("plain.png")));
+    let twin = unshadowed(&std::fs::read_to_string(dir.path("shadows.toml")).unwrap());
+    std::fs::write(dir.path("plain.toml"), twin).unwrap();
+    // Straight below the floating square (x in [-1.6, -0.4], y in
+    // [-0.6, 0.6]), where the camera sees the ground past it; and the
+    // open ground.
+    let below = pixel_of(&dir, "plain.toml", Vec3::new(-1.0, -0.3, 0.0));
+    let open = pixel_of(&dir, "plain.toml", Vec3::new(1.5, 1.5, 0.0));
+    let darker = diff(&shadowed, &plain, below);
+    assert!(
+        darker >= 20,
+        "below the square at {below:?}: {darker}/255 darker"
+    );
+    let d = diff(&shadowed, &plain, open);
+    assert!(
+        d.abs() <= 2,
+        "the open ground at {open:?} differs by {d}/255"
     );
 }
