@@ -26,6 +26,7 @@
 mod args;
 mod cache;
 mod convert;
+mod failures;
 mod frames;
 mod input;
 mod jobs;
