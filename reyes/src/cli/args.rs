@@ -35,9 +35,10 @@ pub(crate) struct RenderArgs {
     /// error that lists the file's frames.
     #[arg(long, value_name = "N|N..M|LIST", value_parser = parse_frames)]
     pub(crate) frame: Option<FrameSelection>,
-    /// Render the later frames of a RIB file after a frame fails (by
-    /// default a failed frame stops the file). The exit status is non-zero
-    /// when any frame failed, and the last message lists them.
+    /// Render the later frames of a RIB file after a frame or a request
+    /// between frames (`MakeShadow`) fails (by default a failure stops the
+    /// file). The exit status is non-zero when anything failed, and the
+    /// last message lists it.
     #[arg(long)]
     pub(crate) keep_going: bool,
     /// Image width in pixels (default: the scene's, 800).
@@ -226,7 +227,8 @@ pub(crate) struct RenderArgs {
     /// without its begin) with warnings instead of an error, and render
     /// what was read. A shader's missing texture file is a warning too:
     /// the object keeps its colour with the default surface, or is not
-    /// displaced.
+    /// displaced; so is a light's missing shadow map: the light lights
+    /// unshadowed.
     #[arg(long)]
     pub(crate) lenient: bool,
     /// Neither read nor write compiled pipelines in the cache directory

@@ -30,6 +30,12 @@ pub(crate) struct BaseScene {
     /// models a scene names by path are read later, see
     /// [`Scene::model_files`].)
     pub(crate) read: Vec<ReadFile>,
+    /// Of a RIB frame: the transform from the file's world space, where its
+    /// shadow maps are, to the scene's ([`crate::rib::RibScene::world_from_file`]).
+    pub(crate) world_from_file: Option<glam::Mat4>,
+    /// Of a RIB frame: where each light was declared (`scene.rib:12`), for
+    /// messages; empty otherwise.
+    pub(crate) light_origins: Vec<String>,
 }
 
 /// The scene named on the command line, before overrides; `lenient` reads
@@ -53,6 +59,8 @@ pub(crate) fn base_scene(
             scene: Scene::default_teapot(),
             models: None,
             read: Vec::new(),
+            world_from_file: None,
+            light_origins: Vec::new(),
         });
     };
     let scene_file = || vec![("scene", path.to_path_buf())];
@@ -83,6 +91,8 @@ pub(crate) fn base_scene(
                 scene,
                 models: None,
                 read: scene_file(),
+                world_from_file: None,
+                light_origins: Vec::new(),
             })
         }
         Some("rib") => {
@@ -113,6 +123,8 @@ pub(crate) fn base_scene(
                 scene: Scene::for_model(path.to_string_lossy(), &model),
                 models: Some(vec![model]),
                 read: vec![("model", path.to_path_buf())],
+                world_from_file: None,
+                light_origins: Vec::new(),
             })
         }
         _ => Err(format!(
@@ -128,7 +140,7 @@ pub(crate) fn base_scene(
 pub(crate) fn load_rib(path: &Path, lenient: bool) -> Result<crate::rib::RibFrames, BoxError> {
     let options = crate::rib::RibOptions { lenient };
     let frames = crate::rib::RibFrames::load_with(path, options)?;
-    for warning in &frames.warnings {
+    for warning in frames.warnings.iter().chain(&frames.requests_not_run()) {
         errln!("warning: {warning}")?;
     }
     Ok(frames)
@@ -162,6 +174,12 @@ pub(crate) fn rib_base(
         scene: rib.scene,
         models: Some(rib.models),
         read,
+        world_from_file: Some(rib.world_from_file),
+        light_origins: rib
+            .light_origins
+            .iter()
+            .map(|(file, line)| format!("{}:{line}", file.display()))
+            .collect(),
     })
 }
 

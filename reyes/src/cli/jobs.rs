@@ -9,6 +9,11 @@
 //! renders. A frame may read what an earlier frame wrote (a depth map
 //! made by a first pass), never what it or a later frame writes.
 //!
+//! A RIB file's requests between frames (`MakeShadow`) run in their place:
+//! those before a selected frame run before it is prepared, those after the
+//! file's last frame once it is written, if it is selected; a request that
+//! fails stops what follows as a failed frame does ([`super::requests`]).
+//!
 //! A RIB file of several frames is read twice: once to plan (each frame's
 //! geometry is dropped as soon as its outputs are known), and again, one
 //! frame at a time, to render ([`crate::rib::FrameStream`]), so that memory
@@ -27,7 +32,7 @@ use crate::aov::Aov;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use crate::output::console::errln;
 use crate::output::{OutputGuard, OutputKind, OutputPlan};
-use crate::rib::{FrameStream, RibError, RibFrames, RibOptions, RibScene};
+use crate::rib::{FrameRequest, FrameStream, RibError, RibFrames, RibOptions, RibScene};
 
 /// One frame to render and where it goes.
 pub(crate) struct Job {
@@ -43,6 +48,16 @@ pub(crate) struct Job {
     /// The image, the statistics JSON and the trace (`None` for a frame
     /// whose scene failed: it writes nothing).
     outputs: Option<Outputs>,
+    /// The RIB requests to run before the frame is prepared.
+    requests_before: Vec<FrameRequest>,
+}
+
+/// What one `reyes render` does: its frames, the files read to find them
+/// (a RIB file and its archives) and the requests after the last frame.
+pub(crate) struct Plan {
+    jobs: Vec<Job>,
+    sources: Vec<ReadFile>,
+    requests_after: Vec<FrameRequest>,
 }
 
 /// The files one frame writes.
@@ -77,9 +92,9 @@ impl Job {
     }
 }
 
-/// The frames `args` asks for, with their outputs, and the files read to
-/// find them (a RIB file and its archives).
-pub(crate) fn plan(args: &RenderArgs) -> Result<(Vec<Job>, Vec<ReadFile>), BoxError> {
+/// The frames `args` asks for, with their outputs and requests, and the
+/// files read to find them (a RIB file and its archives).
+pub(crate) fn plan(args: &RenderArgs) -> Result<Plan, BoxError> {
     let rib = args
         .scene
         .as_deref()
@@ -101,8 +116,13 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<(Vec<Job>, Vec<ReadFile>), BoxEr
             scene: None,
             reread: None,
             outputs: Some(outputs),
+            requests_before: Vec::new(),
         };
-        return Ok((vec![job], Vec::new()));
+        return Ok(Plan {
+            jobs: vec![job],
+            sources: Vec::new(),
+            requests_after: Vec::new(),
+        });
     };
     let frames = plan_rib(path, args.lenient)?;
     let reread = frames.frames.len() > 1;
@@ -114,6 +134,13 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<(Vec<Job>, Vec<ReadFile>), BoxEr
         .enumerate()
         .map(|(i, p)| (if i == 0 { "scene" } else { "RIB archive" }, p.clone()))
         .collect();
+    // The requests after the last frame run once it is written.
+    let last_selected = selected.last() == Some(&(frames.frames.len() - 1));
+    let requests_after = if last_selected {
+        frames.requests_after
+    } else {
+        Vec::new()
+    };
     let mut jobs = Vec::new();
     for (i, frame) in frames.frames.into_iter().enumerate() {
         if !selected.contains(&i) {
@@ -141,9 +168,14 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<(Vec<Job>, Vec<ReadFile>), BoxEr
             reread: reread.then_some((i, frame.number)),
             scene: Some(frame.scene),
             outputs,
+            requests_before: frame.requests_before,
         });
     }
-    Ok((jobs, sources))
+    Ok(Plan {
+        jobs,
+        sources,
+        requests_after,
+    })
 }
 
 /// The frames of the RIB file at `path`, read one at a time and each but
@@ -175,6 +207,7 @@ fn plan_rib(path: &Path, lenient: bool) -> Result<RibFrames, BoxError> {
         frames,
         warnings: end.warnings,
         sources: end.sources,
+        requests_after: end.requests_after,
     })
 }
 
@@ -263,14 +296,17 @@ fn command_line_inputs(args: &RenderArgs) -> Vec<ReadFile> {
     inputs
 }
 
-/// Renders `jobs` in order. A frame that fails is reported and stops the
-/// later ones, unless `--keep-going`; then the run fails with the list of
-/// failed frames. A run of one frame returns its error as it is.
-pub(crate) fn run(
-    args: &RenderArgs,
-    mut jobs: Vec<Job>,
-    sources: Vec<ReadFile>,
-) -> Result<(), BoxError> {
+/// Renders the plan's frames in order, each after the requests before it,
+/// then runs the requests after the last. A frame or request that fails is
+/// reported and stops what follows, unless `--keep-going`; then the run
+/// fails with the list of what failed. A run of one frame and no request
+/// returns its error as it is.
+pub(crate) fn run(args: &RenderArgs, plan: Plan) -> Result<(), BoxError> {
+    let Plan {
+        mut jobs,
+        sources,
+        requests_after,
+    } = plan;
     // Every output, checked before any work: a render must not run for
     // minutes towards an output it cannot write, or overwrite its inputs.
     let mut reads = command_line_inputs(args);
@@ -301,43 +337,35 @@ pub(crate) fn run(
             _ => Ok(job.scene.take()),
         }
     };
-    if jobs.len() == 1 {
+    let no_requests =
+        requests_after.is_empty() && jobs.iter().all(|j| j.requests_before.is_empty());
+    if jobs.len() == 1 && no_requests {
         let label = jobs[0].label.clone();
         return scene_of(&mut jobs[0])
             .and_then(|scene| render_job(args, &mut backend, scene, &jobs, &mut reads))
             .map_err(|e| labelled(label.as_deref(), e));
     }
-    let mut failed = Vec::new();
-    let mut not_rendered = Vec::new();
+    let mut failures = super::failures::Failures::default();
     for k in 0..jobs.len() {
-        let label = jobs[k].label.clone().unwrap_or_default();
-        if !failed.is_empty() && !args.keep_going {
-            not_rendered.push(label);
+        let label = jobs[k].label.clone().unwrap_or_else(|| "the scene".into());
+        for request in std::mem::take(&mut jobs[k].requests_before) {
+            failures.run_request(args, &request, &reads);
+        }
+        if failures.stop(args) {
+            failures.not_rendered.push(label);
             continue;
         }
         let rendered = scene_of(&mut jobs[k])
             .and_then(|scene| render_job(args, &mut backend, scene, &jobs[k..], &mut reads));
         if let Err(error) = rendered {
             super::print_error(labelled(Some(&label), error).as_ref());
-            failed.push(label);
+            failures.frames.push(label);
         }
     }
-    if failed.is_empty() {
-        return Ok(());
+    for request in &requests_after {
+        failures.run_request(args, request, &reads);
     }
-    let mut message = format!(
-        "{} of {} frames failed: {}",
-        failed.len(),
-        jobs.len(),
-        failed.join(", ")
-    );
-    if !not_rendered.is_empty() {
-        message.push_str(&format!(
-            "; not rendered: {} (a failed frame stops the later ones; --keep-going renders them)",
-            not_rendered.join(", ")
-        ));
-    }
-    Err(message.into())
+    failures.into_result(jobs.len())
 }
 
 /// Prepares and renders the first of `jobs` (whose scene is `scene`) and
@@ -360,7 +388,11 @@ fn render_job(
             rib_base(rib, label, &sources)?
         }
     };
-    let Prepared { scene, read } = prepare_base(args, base)?;
+    let Prepared {
+        scene,
+        read,
+        world_from_file,
+    } = prepare_base(args, base)?;
     reads.extend(read);
     let mut guard = OutputGuard::new();
     guard.add_inputs(reads.iter().map(|(l, p)| (*l, p)))?;
@@ -373,7 +405,7 @@ fn render_job(
     guard.prepare_dirs()?;
     let outputs = job.outputs.as_ref().expect("checked above");
     let paths = (outputs.image.as_path(), outputs.trace.as_deref());
-    backend.render_and_write(args, &scene, &plan, paths, label)
+    backend.render_and_write(args, &scene, &plan, paths, label, world_from_file)
 }
 
 /// A frame's error, named by the frame.

@@ -26,6 +26,7 @@
 mod args;
 mod cache;
 mod convert;
+mod failures;
 mod frames;
 mod input;
 mod jobs;
@@ -33,6 +34,7 @@ mod parse;
 mod prepare;
 mod progress;
 mod render;
+mod requests;
 mod stats;
 #[cfg(feature = "viewer")]
 mod view;

@@ -19,6 +19,9 @@ pub(crate) struct Prepared {
     /// The scene file, RIB archives, models, height maps and user WGSL
     /// read, for the command's [`crate::output::OutputGuard`].
     pub(crate) read: Vec<ReadFile>,
+    /// Of a RIB frame: the transform from the file's world space to the
+    /// scene's; a depth frame's camera is written relative to the former.
+    pub(crate) world_from_file: Option<glam::Mat4>,
 }
 
 /// Loads the scene (of a RIB file, the first frame `--frame` selects),
@@ -34,6 +37,8 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
         mut scene,
         models: in_memory,
         mut read,
+        world_from_file,
+        light_origins,
     } = base;
     let prepared = |scene: &Scene| match &in_memory {
         Some(models) => PreparedScene::new(scene, models),
@@ -69,11 +74,21 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
             }
         }
     }
-    let prepared = if args.lenient {
-        prepare_without_missing_textures(&mut scene, prepared)?
+    let mut prepared = if args.lenient {
+        prepare_without_missing_files(&mut scene, &light_origins, prepared)
     } else {
-        prepared(&scene)?
-    };
+        prepared(&scene).map_err(BoxError::from)
+    }
+    .map_err(|e| name_light(e, &light_origins))?;
+    // A RIB frame's maps are in the file's world space: look them up from
+    // the frame's.
+    if let Some(world_from_file) = world_from_file {
+        let file_from_world = world_from_file.inverse();
+        for map in &mut prepared.shadow_maps {
+            map.world_to_camera *= file_from_world;
+            map.world_to_clip *= file_from_world;
+        }
+    }
     // What preparing read: models by path (a RIB's are in memory) and
     // height maps.
     if in_memory.is_none() {
@@ -84,6 +99,13 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
             .height_map_files()
             .into_iter()
             .map(|p| ("height map", p)),
+    );
+    // The shadow maps of the lights that kept theirs.
+    read.extend(
+        scene
+            .shadow_map_files()
+            .into_iter()
+            .map(|p| (super::requests::SHADOW_MAP_READ, p)),
     );
     // The surface shaders and the textures their parameters name.
     read.extend(
@@ -101,6 +123,7 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
     Ok(Prepared {
         scene: prepared,
         read,
+        world_from_file,
     })
 }
 
@@ -292,10 +315,13 @@ fn objects_move(args: &RenderArgs) -> bool {
 /// Prepares `scene` under `--lenient`: an object whose shader reads a
 /// texture file that is missing loses that shader (a surface falls back to
 /// the scene's default, lit in the object's colour; a displacement is
-/// dropped), with a warning naming the object and the file, instead of
-/// failing the run. Any other error still fails it.
-fn prepare_without_missing_textures(
+/// dropped), and a light whose shadow map file is missing loses its shadow
+/// (it lights unshadowed), each with a warning naming the object or light
+/// and the file, instead of failing the run. Any other error still fails
+/// it.
+fn prepare_without_missing_files(
     scene: &mut Scene,
+    light_origins: &[String],
     prepared: impl Fn(&Scene) -> Result<PreparedScene, crate::scene::SceneError>,
 ) -> Result<PreparedScene, BoxError> {
     use crate::displacement::DisplacementError;
@@ -311,9 +337,25 @@ fn prepare_without_missing_textures(
             }
         )
     };
-    // Each round drops one shader of one object: bounded by their number.
-    for _ in 0..=2 * scene.objects.len() {
+    // Each round drops one shader of one object or one light's shadow:
+    // bounded by their number.
+    for _ in 0..=2 * scene.objects.len() + scene.lights.len() {
         match prepared(scene) {
+            Err(SceneError::ShadowMap {
+                light,
+                kind,
+                path,
+                source,
+            }) if !path.exists() && scene.lights[light].shadow.is_some() => {
+                let at = light_origins
+                    .get(light)
+                    .map_or_else(String::new, |origin| format!("{origin}: "));
+                errln!(
+                    "warning: {at}lights[{light}] ({kind} light): shadow map {} is missing ({source}); --lenient renders the light unshadowed",
+                    path.display()
+                )?;
+                scene.lights[light].shadow = None;
+            }
             Err(SceneError::SurfaceShader {
                 index,
                 file,
@@ -340,4 +382,18 @@ fn prepare_without_missing_textures(
         }
     }
     Ok(prepared(scene)?)
+}
+
+/// `error`, headed by where its light was declared when it is about a
+/// light's shadow map and the scene says where its lights come from (a
+/// RIB's `LightSource` line).
+fn name_light(error: BoxError, light_origins: &[String]) -> BoxError {
+    let origin = match error.downcast_ref::<crate::scene::SceneError>() {
+        Some(crate::scene::SceneError::ShadowMap { light, .. }) => light_origins.get(*light),
+        _ => None,
+    };
+    match origin {
+        Some(origin) => format!("{origin}: {error}").into(),
+        None => error,
+    }
 }

@@ -15,6 +15,7 @@ use crate::input::Limits;
 use crate::output::console::{errln, outln};
 use crate::prepare::PreparedScene;
 use crate::progress::AdapterSummary;
+use crate::shadow::ShadowMap;
 use crate::stats::RenderStats;
 
 /// `reyes render`: prepares the scene, renders it on the GPU or with the CPU
@@ -26,8 +27,8 @@ pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
     if let Some(bytes) = args.max_input_bytes {
         crate::input::set_limits(Limits::all(bytes));
     }
-    let (jobs, sources) = super::jobs::plan(args)?;
-    super::jobs::run(args, jobs, sources)
+    let plan = super::jobs::plan(args)?;
+    super::jobs::run(args, plan)
 }
 
 /// The renderer of a run: the CPU reference, or one GPU renderer that every
@@ -63,6 +64,7 @@ impl<'g> Backend<'g> {
         outputs: &crate::output::OutputPlan,
         paths: (&Path, Option<&Path>),
         label: Option<&str>,
+        world_from_file: Option<glam::Mat4>,
     ) -> Result<(), BoxError> {
         let (output, trace) = paths;
         let depth = scene.aov == crate::Aov::Z;
@@ -82,7 +84,14 @@ impl<'g> Backend<'g> {
         // The image and the statistics are renamed into place together, or
         // neither is.
         if depth {
-            outputs.write_depth(&linear, &scene.camera, &stats)?;
+            // A RIB frame's camera is written relative to the file's world,
+            // which the file's other frames share.
+            let mut map = ShadowMap::from_camera(&scene.camera, crate::depth::depths(&linear));
+            if let Some(world_from_file) = world_from_file {
+                map.world_to_camera *= world_from_file;
+                map.world_to_clip *= world_from_file;
+            }
+            outputs.write_depth_map(&map, &stats)?;
         } else {
             outputs.write(&image, &linear, &stats)?;
         }

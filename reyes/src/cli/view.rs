@@ -79,7 +79,7 @@ pub(crate) fn view(args: &ViewArgs) -> Result<(), BoxError> {
     if let Some(path) = &args.log_json {
         guard.add_output(OutputKind::Json, "log", path)?;
     }
-    let Prepared { scene, read } = prepare(render)?;
+    let Prepared { scene, read, .. } = prepare(render)?;
     guard.add_inputs(read)?;
     let mut gpu_options = GpuOptions::default();
     if let Some(seconds) = render.timeout {

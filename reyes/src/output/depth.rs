@@ -69,8 +69,17 @@ impl OutputPlan {
         camera: &Camera,
         stats: &RenderStats,
     ) -> Result<(), OutputError> {
+        self.write_depth_map(
+            &ShadowMap::from_camera(camera, crate::depth::depths(depths)),
+            stats,
+        )
+    }
+
+    /// [`OutputPlan::write_depth`] of a depth frame already made a map
+    /// (its camera's matrices possibly relative to another world space).
+    pub fn write_depth_map(&self, map: &ShadowMap, stats: &RenderStats) -> Result<(), OutputError> {
         self.check_depth()?;
-        let staged_image = stage_depth(depths, camera, &self.image.0)?;
+        let staged_image = stage_map(map, "depth", &self.image.0)?;
         let staged_stats = self.stage_stats(stats)?;
         staged_image.commit()?;
         staged_stats.map(Staged::commit).transpose()?;

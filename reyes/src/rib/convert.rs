@@ -232,7 +232,8 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
         .prims
         .iter()
         .any(|p| !p.patches.is_empty() && super::surfaces::is_lit(&p.attrs.surface));
-    if lit && lights.is_empty() {
+    // A depth frame (a shadow map's) needs no light.
+    if lit && lights.is_empty() && !opts.depth_output {
         warn("no light sources: the surfaces that need lights (matte, metal, plastic) are black; add LightSource \"distantlight\", or leave their Surface out for RenderMan's defaultsurface".into());
     }
 
@@ -319,9 +320,15 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
         file: file.to_path_buf(),
         source: Box::new(source),
     })?;
+    // The file's world space to the scene's (this frame's camera space,
+    // x mirrored), for shadow maps, which are kept in the former.
+    let world_from_file =
+        (super::interp::camera_to_world() * interp.camera.unwrap_or(DMat4::IDENTITY)).as_mat4();
     Ok(RibScene {
         scene,
         models,
+        world_from_file,
+        light_origins: lights.iter().map(|l| (l.file.clone(), l.line)).collect(),
         display: interp.opts.display.clone(),
         warnings,
         sources: interp.sources.clone(),

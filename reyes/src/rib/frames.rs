@@ -23,7 +23,7 @@ use std::sync::mpsc::SyncSender;
 use super::interp::{Interp, Options};
 use super::parser::Value;
 use super::state::{self, Attributes, Xform};
-use super::{RibError, RibScene, Warning, convert};
+use super::{FrameRequest, RibError, RibScene, Warning, convert};
 use crate::budget::PatchBudget;
 
 /// The frame being read: its number, where its `FrameBegin` is, and the
@@ -98,6 +98,10 @@ pub struct RibFrame {
     /// the frame), its warnings those of its requests and of the requests
     /// since the previous frame.
     pub scene: Result<RibScene, RibError>,
+    /// The requests (`MakeShadow`) between the previous frame's `FrameEnd`
+    /// (or the file's start) and this frame's `FrameEnd`, in order: to run
+    /// before the frame is prepared ([`FrameRequest`]).
+    pub requests_before: Vec<FrameRequest>,
 }
 
 impl RibFrame {
@@ -121,6 +125,9 @@ pub struct RibFrames {
     /// Every file read: the RIB file (unless the text was given), then its
     /// archives.
     pub sources: Vec<PathBuf>,
+    /// The requests after the last frame (`MakeShadow`), in order: to run
+    /// once it is written.
+    pub requests_after: Vec<FrameRequest>,
 }
 
 impl RibFrames {
@@ -145,6 +152,25 @@ impl RibFrames {
         self.frames.into_iter().nth(index).map(|f| (f, sources))
     }
 
+    /// A warning for each request between frames (`MakeShadow`): they act
+    /// on files a render writes, and a scene read on its own (`reyes
+    /// convert`, `reyes view`) runs none of them.
+    pub fn requests_not_run(&self) -> Vec<Warning> {
+        self.frames
+            .iter()
+            .flat_map(|f| &f.requests_before)
+            .chain(&self.requests_after)
+            .map(|request| {
+                let FrameRequest::MakeShadow { file, line, .. } = request;
+                Warning {
+                    file: file.clone(),
+                    line: *line,
+                    message: "MakeShadow is not run (not converted) when the file is read as one scene; `reyes render` runs it between the frames".into(),
+                }
+            })
+            .collect()
+    }
+
     /// The interpreted file's frames: the one frame of a file without
     /// `FrameBegin`, else those its `FrameEnd`s made.
     pub(super) fn collect(mut interp: Interp, file: &Path) -> RibFrames {
@@ -162,6 +188,7 @@ impl RibFrames {
             frames: interp.frames.take_kept(),
             warnings,
             sources: std::mem::take(&mut interp.sources),
+            requests_after: std::mem::take(&mut interp.requests),
         }
     }
 
@@ -170,10 +197,12 @@ impl RibFrames {
     pub(super) fn into_first(self, file: &Path) -> Result<RibScene, RibError> {
         let count = self.frames.len();
         let list = self.list();
+        let not_run = self.requests_not_run();
         let mut frames = self.frames.into_iter();
         let first = frames.next().expect("a file has at least one frame");
         let label = first.label();
         let mut scene = first.scene?;
+        scene.warnings.extend(not_run);
         if count > 1 {
             scene.warnings.push(Warning {
                 file: file.to_path_buf(),
@@ -248,10 +277,12 @@ impl Interp {
         // Each frame has the whole patch budget: a frame is rendered, and
         // its patches dropped, before the next is read.
         self.patches = PatchBudget::from_setting();
+        let requests_before = std::mem::take(&mut self.requests);
         self.frames.deliver(RibFrame {
             number: Some(open.number),
             line: open.line,
             scene,
+            requests_before,
         })?;
         let Saved {
             opts,
@@ -280,10 +311,12 @@ impl Interp {
             return Ok(());
         }
         let scene = convert::build(self, file);
+        let requests_before = std::mem::take(&mut self.requests);
         self.frames.deliver(RibFrame {
             number: None,
             line: 0,
             scene,
+            requests_before,
         })
     }
 

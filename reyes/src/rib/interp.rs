@@ -149,6 +149,8 @@ pub struct Interp {
     /// The RIB file (or the name its text was given under): the scene's
     /// warnings and errors name it.
     pub(super) main_file: PathBuf,
+    /// Requests to run before the next frame ([`super::requests`]).
+    pub(super) requests: Vec<super::requests::FrameRequest>,
 }
 
 /// RenderMan's camera space is left-handed (x right, y up, z forward); the
@@ -195,6 +197,7 @@ impl Interp {
             first_frame_line: None,
             bare_world_line: None,
             main_file: PathBuf::new(),
+            requests: Vec::new(),
         }
     }
 
@@ -420,6 +423,7 @@ impl Interp {
             "MakeTexture" => self.make_texture(v, file)?,
             "MakeLatLongEnvironment" => self.make_latlong_environment(v, file)?,
             "MakeCubeFaceEnvironment" => self.make_cube_face_environment(v, file, line)?,
+            "MakeShadow" => self.make_shadow(v, file, line)?,
             "LightSource" => self.light_source(v, file, line)?,
             "Illuminate" => self.illuminate(v, file, line)?,
             "Sides" => {

@@ -1,6 +1,7 @@
 //! `LightSource` and `Illuminate`: RenderMan's light list (`distantlight`,
-//! `pointlight`, `spotlight` and `ambientlight`), mapped onto the renderer's
-//! scene-wide lights.
+//! `pointlight`, `spotlight` and `ambientlight`, and the shadowed
+//! `shadowdistant`, `shadowpoint` and `shadowspot` of `super::shadow_lights`),
+//! mapped onto the renderer's scene-wide lights.
 //!
 //! In RenderMan the set of lights that are on is an attribute: a light
 //! defined inside `AttributeBegin`/`AttributeEnd` is off after the block, and
@@ -100,10 +101,18 @@ impl Interp {
             );
             return Ok(());
         }
+        let shader = state::arg_str(&args, 0, "the shader")?;
+        let shadow = match shader {
+            "shadowspot" | "shadowdistant" => self.light_shadow(&params, &["shadowname"], file, line)?,
+            "shadowpoint" => self.light_shadow(&params, &super::shadow_lights::POINT_MAPS, file, line)?,
+            _ => None,
+        };
+
         let light = |light: Light| RibLight {
             light: Light {
                 color,
                 intensity,
+                shadow: shadow.clone(),
                 ..light
             },
             handle: handle.clone(),
@@ -112,8 +121,8 @@ impl Interp {
             file: file.to_path_buf(),
             line,
         };
-        match state::arg_str(&args, 0, "the shader")? {
-            "distantlight" => {
+        match shader {
+            "distantlight" | "shadowdistant" => {
                 let from = state::param_v3(&params, "from", DVec3::ZERO)?;
                 let to = state::param_v3(&params, "to", DVec3::Z)?;
                 let direction = m.transform_point3(to) - m.transform_point3(from);
@@ -131,7 +140,7 @@ impl Interp {
                     }
                 }
             }
-            "pointlight" => {
+            "pointlight" | "shadowpoint" => {
                 let from = state::param_v3(&params, "from", DVec3::ZERO)?;
                 let position = m.transform_point3(from);
                 if position.as_vec3().is_finite() {
@@ -146,7 +155,7 @@ impl Interp {
                     );
                 }
             }
-            "spotlight" => self.spotlight(&params, m, file, line, light)?,
+            "spotlight" | "shadowspot" => self.spotlight(&params, m, file, line, light)?,
             "ambientlight" => {
                 let ambient = Light::ambient(color, intensity);
                 self.add_light(light(ambient), file, line);

@@ -18,7 +18,9 @@
 //!   `PointsPolygons` and `GeneralPolygon`; `spaces`: coordinate systems
 //!   and `Skew`; `blocks`: the begin/end structure; `texcoords`: `s`, `t`
 //!   of the patches' corners; `environments`: the environment maps'
-//!   names; `frames`: `FrameBegin`/`FrameEnd`, each frame's scene);
+//!   names; `frames`: `FrameBegin`/`FrameEnd`, each frame's scene;
+//!   `requests`: `MakeShadow`, run between frames; `shadow_lights`: the
+//!   shadowed lights' maps and filters);
 //!   `convert`: the [`Scene`] it makes.
 //!
 //! [`RibFrames::load`] reads every frame of a file; [`RibScene::load`] the
@@ -42,7 +44,9 @@ mod frames;
 mod geometry;
 mod options;
 mod polygons;
+mod requests;
 mod shader_files;
+mod shadow_lights;
 mod spaces;
 mod stream;
 mod surfaces;
@@ -56,6 +60,7 @@ use crate::output::{OutputError, OutputGuard, OutputKind, StagedFiles};
 use crate::scene::{Scene, SceneError};
 
 pub use self::frames::{RibFrame, RibFrames};
+pub use self::requests::FrameRequest;
 pub use self::stream::{FrameStream, StreamEnd};
 
 /// Why a RIB file could not be read.
@@ -165,6 +170,16 @@ pub struct RibScene {
     pub display: Option<String>,
     /// What was ignored or approximated.
     pub warnings: Vec<Warning>,
+    /// The transform from the file's world space (RenderMan's world space,
+    /// as the requests after `WorldBegin` place things in it) to the
+    /// scene's world space (the frame's camera space, x mirrored). Shadow
+    /// maps are kept in the file's world space, which every frame shares:
+    /// `reyes render` writes a depth frame's camera relative to it, and
+    /// moves the maps a frame reads from it into the scene's world.
+    pub world_from_file: glam::Mat4,
+    /// Where each of the scene's lights was declared (`scene.lights[i]`'s
+    /// `LightSource` file and line), for messages.
+    pub light_origins: Vec<(PathBuf, usize)>,
     /// Every file read, in order: the RIB file (unless the text was given,
     /// [`RibScene::from_text`]), then each `ReadArchive` file as it was
     /// named. [`RibScene::write`] refuses to replace any of them.

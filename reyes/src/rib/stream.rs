@@ -22,6 +22,8 @@ pub struct StreamEnd {
     pub warnings: Vec<Warning>,
     /// The RIB file, then its archives, as they were read.
     pub sources: Vec<PathBuf>,
+    /// The requests after the last frame ([`super::RibFrames::requests_after`]).
+    pub requests_after: Vec<super::FrameRequest>,
 }
 
 /// The frames of a RIB file in order ([`super::RibFrames::stream`]).
@@ -50,6 +52,7 @@ impl FrameStream {
             Ok(StreamEnd {
                 warnings: collected.warnings,
                 sources: collected.sources,
+                requests_after: collected.requests_after,
             })
         });
         FrameStream {
@@ -88,6 +91,7 @@ impl FrameStream {
             None => Ok(StreamEnd {
                 warnings: Vec::new(),
                 sources: Vec::new(),
+                requests_after: Vec::new(),
             }),
         }
     }

@@ -281,6 +281,24 @@ impl Scene {
             .collect()
     }
 
+    /// The shadow map files the lights read when the scene is prepared
+    /// (resolved against the scene's directory), in light order.
+    pub fn shadow_map_files(&self) -> Vec<PathBuf> {
+        self.lights
+            .iter()
+            .filter_map(|light| light.shadow.as_ref())
+            .filter_map(|shadow| match &shadow.maps {
+                super::ShadowMaps::Files(files) => Some(files),
+                super::ShadowMaps::Automatic { .. } => None,
+            })
+            .flatten()
+            .map(|file| match &self.base_dir {
+                Some(dir) => dir.join(file),
+                None => file.clone(),
+            })
+            .collect()
+    }
+
     /// Loads every object's model, in object order, within one patch
     /// budget for the whole scene ([`crate::budget`]): each file's declared
     /// count is taken before it is read, so an object that would pass the
