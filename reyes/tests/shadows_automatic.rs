@@ -471,15 +471,15 @@ fn the_teapot_under_a_low_distant_light_has_no_acne() {
                     }));
         }
     }
-    let grown: Vec<bool> = (0..height as i64)
-        .flat_map(|y| (0..width as i64).map(move |x| (x, y)))
+    let grown: Vec<bool> = (0..i64::from(height))
+        .flat_map(|y| (0..i64::from(width)).map(move |x| (x, y)))
         .map(|(x, y)| {
             (-2..=2).any(|dy| {
                 (-2..=2).any(|dx| {
                     let (nx, ny) = (x + dx, y + dy);
-                    (0..width as i64).contains(&nx)
-                        && (0..height as i64).contains(&ny)
-                        && occluded[(ny * width as i64 + nx) as usize]
+                    (0..i64::from(width)).contains(&nx)
+                        && (0..i64::from(height)).contains(&ny)
+                        && occluded[(ny * i64::from(width) + nx) as usize]
                 })
             })
         })

@@ -172,7 +172,7 @@ pub struct PreparedScene {
     /// The thin lens (aperture 0: a pinhole).
     pub lens: PreparedLens,
     /// The camera's motion during the shutter as a motion of the world
-    /// ([`crate::motion::camera_motion`]; `None`: the camera is still).
+    /// (`crate::motion::camera_motion`; `None`: the camera is still).
     /// Every object's [`PreparedObject::motion`] includes it; a pass from
     /// a light, which does not move with the camera, takes it out.
     pub camera_motion: Option<glam::Mat4>,

@@ -18,7 +18,7 @@
 //! the megakernel (`shaders/reyes/library_shadow.wgsl`) compute the same
 //! value, operation for operation.
 //!
-//! Files: [`file`] writes and reads maps as single-channel float EXR with
+//! Files: [`file`](mod@file) writes and reads maps as single-channel float EXR with
 //! the matrices as attributes; [`crate::output::make_shadow`] (RIB
 //! `MakeShadow`) turns the depth output of a frame rendered from a light
 //! into a map.

@@ -142,7 +142,6 @@ mod tests {
         settings.shading_rate *= 2.0;
         assert!(!frame_with(&mut cache, &settings));
         assert!(frame_with(&mut cache, &settings));
-        drop(frame_with);
         assert_eq!(passes, 3);
     }
 }
