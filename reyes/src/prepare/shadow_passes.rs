@@ -324,3 +324,62 @@ fn depth_scene(frame: &PreparedScene, camera: Camera) -> PreparedScene {
         ..frame.clone()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{CameraPose, LightShadow, Scene, ShadowMaps};
+
+    /// The default teapot with its light's shadow automatic and `edit`
+    /// applied, prepared.
+    fn teapot(edit: impl FnOnce(&mut Scene)) -> PreparedScene {
+        let mut scene = Scene::default_teapot();
+        scene.lights[0].shadow = Some(LightShadow {
+            maps: ShadowMaps::Automatic { map_size: 64 },
+            filter: Default::default(),
+        });
+        edit(&mut scene);
+        PreparedScene::load(&scene).unwrap()
+    }
+
+    #[test]
+    fn a_distant_light_s_map_holds_every_control_point_between_its_planes() {
+        let scene = teapot(|_| {});
+        let [pass] = &depth_passes(&scene)[..] else {
+            panic!("one pass for a distant light");
+        };
+        let camera = &pass.scene.camera;
+        assert_eq!((camera.width, camera.height), (64, 64));
+        assert!(!camera.projection.is_perspective());
+        let map = ShadowMap::from_camera(camera, vec![0.0; 64 * 64]);
+        for point in scene.patches.iter().flat_map(|p| p.points) {
+            let at = map.locate(point).expect("inside the map");
+            assert!(
+                at.depth > camera.near && at.depth < camera.far,
+                "{point}: depth {} outside {}..{}",
+                at.depth,
+                camera.near,
+                camera.far
+            );
+        }
+    }
+
+    #[test]
+    fn a_depth_pass_keeps_the_objects_own_motion_but_not_the_camera_s() {
+        let scene = teapot(|scene| {
+            let camera = scene.camera.unwrap();
+            scene.camera_close = Some(CameraPose {
+                eye: camera.eye + glam::Vec3::new(1.0, 0.0, 0.0),
+                target: camera.target,
+                up: None,
+            });
+        });
+        assert!(scene.objects[0].motion.is_some(), "the camera moves");
+        let pass = &depth_passes(&scene)[0].scene;
+        assert_eq!(pass.objects[0].motion, None);
+        assert_eq!(pass.camera_motion, None);
+        assert_eq!((pass.aov, pass.spp, pass.lens.aperture), (Aov::Z, 1, 0.0));
+        assert_eq!(pass.depth_filter, DepthFilter::Midpoint);
+        assert_eq!(pass.objects[0].front, None);
+    }
+}
