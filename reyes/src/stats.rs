@@ -72,6 +72,43 @@ pub struct RenderStats {
     /// Wall-clock time of the frame in milliseconds, when measured.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frame_time_ms: Option<f64>,
+    /// A frame with automatic shadows: its passes in the order they ran,
+    /// each depth pass from a light, then the frame itself (`"frame"`),
+    /// with their own counts. The counters above are the frame's own
+    /// (without the depth passes). Empty for a frame of one pass.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub passes: Vec<PassStats>,
+}
+
+/// One pass of a frame with automatic shadows ([`RenderStats::passes`]).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct PassStats {
+    /// What the pass renders: `"frame"`, or a depth pass's name
+    /// (`crate::prepare::DepthPass::name`).
+    pub name: String,
+    /// Its image's width in pixels (a map's in texels).
+    pub width: u32,
+    /// Its image's height.
+    pub height: u32,
+    /// Micropolygons it produced.
+    pub micropolygons: u64,
+    /// Its time in milliseconds, measured as the renderer measures
+    /// [`RenderStats::frame_time_ms`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame_time_ms: Option<f64>,
+}
+
+impl PassStats {
+    /// The pass `name` of an image `width x height` with its counters.
+    pub fn of(name: impl Into<String>, width: u32, height: u32, stats: &RenderStats) -> Self {
+        PassStats {
+            name: name.into(),
+            width,
+            height,
+            micropolygons: stats.micropolygons,
+            frame_time_ms: stats.frame_time_ms,
+        }
+    }
 }
 
 impl RenderStats {

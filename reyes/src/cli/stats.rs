@@ -2,7 +2,7 @@
 
 use crate::output::console::{ConsoleError, outln};
 use crate::prepare::PreparedScene;
-use crate::stats::RenderStats;
+use crate::stats::{PassStats, RenderStats};
 
 /// Prints the statistics table of a frame rendered by `backend` on standard
 /// output.
@@ -74,5 +74,41 @@ pub(crate) fn print_stats(
     for (name, value) in rows {
         outln!("{name:<22}{value:>24}")?;
     }
+    print_passes(&stats.passes, backend)
+}
+
+/// A frame with automatic shadows: one row per pass (each depth pass from
+/// a light, then the frame) with its size, micropolygons and time; the
+/// table above counts the frame alone.
+fn print_passes(passes: &[PassStats], backend: &str) -> Result<(), ConsoleError> {
+    if passes.is_empty() {
+        return Ok(());
+    }
+    outln!("")?;
+    outln!(
+        "{:<34}{:>11}{:>15}{:>16}",
+        "pass",
+        "size",
+        "micropolygons",
+        "time"
+    )?;
+    for pass in passes {
+        let time = pass
+            .frame_time_ms
+            .map_or_else(|| "-".into(), |t| format!("{t:.3} ms"));
+        outln!(
+            "{:<34}{:>11}{:>15}{:>16}",
+            pass.name,
+            format!("{}x{}", pass.width, pass.height),
+            pass.micropolygons,
+            time
+        )?;
+    }
+    let total: f64 = passes.iter().filter_map(|p| p.frame_time_ms).sum();
+    outln!(
+        "{:<34}{:>42}",
+        "all passes",
+        format!("{total:.3} ms ({backend})")
+    )?;
     Ok(())
 }

@@ -55,6 +55,7 @@ impl GpuCounters {
             grids_by_class: std::array::from_fn(|c| w(stat::GRIDS_BY_CLASS + c as u32)),
             dice_threads: self.wide(stat::DICE_THREADS),
             frame_time_ms: None,
+            passes: Vec::new(),
         }
     }
 }

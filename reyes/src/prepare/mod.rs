@@ -22,8 +22,10 @@ pub use crate::shading::{PreparedLight, PreparedShadow, PreparedSurface};
 use crate::shadow::ShadowMap;
 
 mod lights;
+mod shadow_passes;
 
 pub use self::lights::PendingShadow;
+pub use self::shadow_passes::{DepthPass, MAX_SPOT_MAP_FOV_DEGREES, PassStats, depth_passes};
 use crate::surface_shader::{ParameterWarning, ShaderKind, ShaderTable};
 use crate::texture::TextureSet;
 use crate::uvt::{InterleaveTiles, UvtTables};
@@ -169,6 +171,11 @@ pub struct PreparedScene {
     pub skipped_degenerate_patches: usize,
     /// The thin lens (aperture 0: a pinhole).
     pub lens: PreparedLens,
+    /// The camera's motion during the shutter as a motion of the world
+    /// (`crate::motion::camera_motion`; `None`: the camera is still).
+    /// Every object's [`PreparedObject::motion`] includes it; a pass from
+    /// a light, which does not move with the camera, takes it out.
+    pub camera_motion: Option<glam::Mat4>,
     /// What the image shows.
     pub aov: Aov,
     /// How the `z` output makes a pixel's depth from its samples'.
@@ -402,6 +409,7 @@ impl PreparedScene {
         Ok(PreparedScene {
             lens,
             camera,
+            camera_motion,
             patches,
             objects: prepared_objects,
             lights: lights.lights,

@@ -48,7 +48,7 @@ use crate::dicing::EdgeSpacing;
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::scene::{Dicing, Scene, SceneError};
-use crate::stats::RenderStats;
+use crate::stats::{PassStats, RenderStats};
 use crate::uvt::PixelTuples;
 
 /// The result of a render.
@@ -234,7 +234,41 @@ pub fn render(scene: &PreparedScene) -> Rendered {
         .unwrap_or_else(|error| panic!("the reference cannot render this scene: {error}"))
 }
 
+/// Renders `scene`, its pending shadows first ([`PreparedScene::with_shadow_maps`]):
+/// each depth pass and then the frame, within `options` each.
 fn render_bounded(
+    scene: &PreparedScene,
+    options: &ReferenceOptions,
+) -> Result<Rendered, ReferenceError> {
+    if scene.pending_shadows.is_empty() {
+        return render_pass(scene, options);
+    }
+    let mut passes = Vec::new();
+    let frame = scene.with_shadow_maps(|pass| {
+        let camera = &pass.scene.camera;
+        let rendered = render_pass(&pass.scene, options)?;
+        passes.push(PassStats::of(
+            pass.name.clone(),
+            camera.width,
+            camera.height,
+            &rendered.stats,
+        ));
+        Ok::<_, ReferenceError>(crate::depth::depths(&rendered.linear))
+    })?;
+    let mut rendered = render_pass(&frame, options)?;
+    let camera = &frame.camera;
+    passes.push(PassStats::of(
+        "frame",
+        camera.width,
+        camera.height,
+        &rendered.stats,
+    ));
+    rendered.stats.passes = passes;
+    Ok(rendered)
+}
+
+/// Renders one pass: `scene` as it is (its maps already there).
+fn render_pass(
     scene: &PreparedScene,
     options: &ReferenceOptions,
 ) -> Result<Rendered, ReferenceError> {
@@ -283,7 +317,9 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
 }
 
 /// [`render_samples`] within `options` (see [`try_render_with`]; a user
-/// WGSL displacement is rendered undisplaced here, with a warning).
+/// WGSL displacement is rendered undisplaced here, with a warning). Pending
+/// shadows are not rendered here: render them first
+/// ([`PreparedScene::with_shadow_maps`]), or their lights shade unshadowed.
 pub fn try_render_samples(
     scene: &PreparedScene,
     options: &ReferenceOptions,

@@ -160,6 +160,8 @@ pub struct Settings {
     pub aperture: f32,
     /// What the image shows.
     pub aov: Aov,
+    /// Whether the lights cast their shadows (automatic or from files).
+    pub shadows: bool,
 }
 
 /// A mouse button the viewer reacts to.
@@ -192,6 +194,8 @@ pub enum Key {
     Coarser,
     /// Motion blur on or off.
     ToggleMotion,
+    /// Shadows on or off.
+    ToggleShadows,
     /// Larger lens.
     WiderAperture,
     /// Smaller lens (down to a pinhole).
@@ -335,6 +339,7 @@ impl Controls {
                 }
             }
             Key::ToggleMotion => s.motion_blur = !s.motion_blur,
+            Key::ToggleShadows => s.shadows = !s.shadows,
             Key::WiderAperture => s.aperture += self.aperture_step,
             Key::NarrowerAperture => s.aperture = (s.aperture - self.aperture_step).max(0.0),
         }

@@ -54,6 +54,7 @@ pub fn key_of(key: &WinitKey) -> Option<Key> {
             "[" => Key::Finer,
             "]" => Key::Coarser,
             "b" => Key::ToggleMotion,
+            "s" => Key::ToggleShadows,
             "a" => Key::WiderAperture,
             "z" => Key::NarrowerAperture,
             "v" => Key::NextAov,

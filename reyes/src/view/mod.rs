@@ -4,6 +4,8 @@
 //!   machine);
 //! * `events` turns window events into those inputs;
 //! * `worker` is the render thread, which owns the renderer;
+//! * `shadow_cache` keeps the shadow maps of automatic shadows between
+//!   frames while only the camera moves;
 //! * `present` holds the surface, the composite texture and the screenshot;
 //! * `overlay` draws the statistics with egui;
 //! * `save` is `P`: the PNG and the equivalent `reyes render` command;
@@ -23,6 +25,7 @@ internal_modules! {
     present;
     save;
     script;
+    shadow_cache;
     worker;
 }
 pub mod error;

@@ -8,6 +8,7 @@ use winit::event::WindowEvent;
 use winit::window::Window;
 
 use super::controls::Settings;
+use super::shadow_cache::ShadowTime;
 use super::worker::{Compiling, Frame, Quality};
 use crate::progress::elapsed_label;
 use crate::scene::Dicing;
@@ -28,6 +29,8 @@ pub struct FrameInfo {
     pub wall_ms: f64,
     /// The renderer's counters.
     pub stats: RenderStats,
+    /// The time of its shadow maps (automatic shadows).
+    pub shadows: Option<ShadowTime>,
 }
 
 impl FrameInfo {
@@ -43,6 +46,7 @@ impl FrameInfo {
             gpu_ms: frame.gpu_ms,
             wall_ms: frame.wall_ms,
             stats: frame.stats.clone(),
+            shadows: frame.shadows,
         }
     }
 }
@@ -211,12 +215,13 @@ fn panel(ui: &mut egui::Ui, info: &OverlayInfo<'_>) {
                 Dicing::Fixed => format!("dice threshold {} px", s.dice_threshold),
             };
             ui.label(format!(
-                "{} sampling, {} spp\n{dicing}\nmotion blur {}, aperture {:.4}\nAOV {}",
+                "{} sampling, {} spp\n{dicing}\nmotion blur {}, aperture {:.4}\nAOV {}, shadows {}",
                 s.sampling.name(),
                 s.spp,
                 if s.motion_blur { "on" } else { "off" },
                 s.aperture,
-                s.aov.name()
+                s.aov.name(),
+                if s.shadows { "on" } else { "off" }
             ));
             egui::CollapsingHeader::new("keys")
                 .default_open(false)
@@ -224,7 +229,7 @@ fn panel(ui: &mut egui::Ui, info: &OverlayInfo<'_>) {
                     ui.label(
                         "left drag: orbit, right/middle drag: pan\nwheel: zoom, F: frame\n\
                          M: sampling, +/-: spp\n[/]: finer/coarser dicing\n\
-                         B: motion blur, A/Z: aperture\nV: AOV, P: save PNG\n\
+                         B: motion blur, A/Z: aperture\nS: shadows, V: AOV\nP: save PNG, \
                          H: overlay, Esc: quit",
                     );
                 });
@@ -252,6 +257,13 @@ fn frame_rows(ui: &mut egui::Ui, frame: &FrameInfo) {
         stats.samples_hit,
         stats.sample_test_efficiency()
     ));
+    if let Some(shadows) = frame.shadows {
+        ui.label(format!(
+            "shadow maps {:.1} ms ({})",
+            shadows.passes_ms,
+            if shadows.reused { "reused" } else { "rendered" }
+        ));
+    }
 }
 
 #[cfg(test)]

@@ -64,6 +64,14 @@ pub fn render_command(
     } else if let Some(shutter) = base.shutter {
         push("--shutter", shutter.to_string());
     }
+    if !settings.shadows {
+        let shadows = "shadows are off in the view, and the command line has no flag for that: \
+                       the command renders the lights' shadows, if the scene has any";
+        note = Some(match note {
+            Some(note) => format!("{note}; {shadows}"),
+            None => shadows.to_owned(),
+        });
+    }
     push("-o", output.to_string_lossy().into_owned());
     let line = args
         .iter()
@@ -114,6 +122,7 @@ mod tests {
             motion_blur: false,
             aperture: 0.0,
             aov: Aov::Depth,
+            shadows: true,
         };
         let base = CommandBase {
             prefix: vec!["reyes".into(), "render".into(), "my scene.toml".into()],

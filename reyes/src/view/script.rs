@@ -110,6 +110,7 @@ fn key(text: &str) -> Option<Key> {
         "finer" => Key::Finer,
         "coarser" => Key::Coarser,
         "motion" => Key::ToggleMotion,
+        "shadows" => Key::ToggleShadows,
         "aperture+" => Key::WiderAperture,
         "aperture-" => Key::NarrowerAperture,
         "aov" => Key::NextAov,

@@ -24,6 +24,7 @@ use crate::progress::{Progress, ProgressEvent, compile_label};
 use crate::stats::RenderStats;
 
 use super::controls::Settings;
+use super::shadow_cache::{ShadowCache, ShadowTime};
 
 /// How finely a frame is rendered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -61,8 +62,12 @@ pub struct Frame {
     pub stats: RenderStats,
     /// Megakernel time measured on the GPU, when the adapter has timestamps.
     pub gpu_ms: Option<f64>,
-    /// Wall-clock time of the whole frame in the worker.
+    /// Wall-clock time of the whole frame in the worker (its shadow
+    /// maps' depth passes included when they were rendered for it).
     pub wall_ms: f64,
+    /// The time of the frame's shadow maps, for a frame with automatic
+    /// shadows.
+    pub shadows: Option<ShadowTime>,
 }
 
 /// The driver's compile of the megakernel, while it lasts.
@@ -174,15 +179,28 @@ fn run(
         Ok(renderer) => renderer,
         Err(error) => return report(WorkerEvent::Failed(describe(&error))),
     };
+    let mut shadow_maps = ShadowCache::default();
     while let Ok(mut spec) = requests.recv() {
         // Only the newest view matters.
         while let Ok(newer) = requests.try_recv() {
             spec = newer;
         }
-        let frame_scene = scene_for(scene, &spec);
+        let mut frame_scene = scene_for(scene, &spec);
         let start = std::time::Instant::now();
+        let depth_pass = |pass: &PreparedScene| {
+            let rendered = renderer.render(pass)?;
+            Ok::<_, crate::gpu::RenderError>(crate::depth::depths(&rendered.linear))
+        };
+        let shadows = match shadow_maps.apply(&mut frame_scene, &spec.settings, depth_pass) {
+            Ok(shadows) => shadows,
+            Err(error) => {
+                report(WorkerEvent::Failed(describe(&error)));
+                return;
+            }
+        };
         match renderer.render(&frame_scene) {
             Ok(rendered) => report(WorkerEvent::Frame(Box::new(Frame {
+                shadows,
                 spec,
                 image: rendered.image,
                 linear: rendered.linear,
@@ -241,6 +259,9 @@ pub fn scene_for(base: &PreparedScene, spec: &FrameSpec) -> PreparedScene {
             object.motion = None;
         }
     }
+    if !s.shadows {
+        scene = scene.without_shadows();
+    }
     scene
 }
 
@@ -255,6 +276,7 @@ pub fn settings_of(scene: &PreparedScene) -> Settings {
         motion_blur: true,
         aperture: scene.lens.aperture,
         aov: scene.aov,
+        shadows: true,
     }
 }
 

@@ -39,6 +39,8 @@ fn add_tile_stats(total: &mut RenderStats, tile: &RenderStats) {
         grids_by_class,
         dice_threads,
         frame_time_ms: _,
+        // A tile is one pass.
+        passes: _,
     } = tile;
     for (sum, n) in total.grids_by_class.iter_mut().zip(grids_by_class) {
         *sum += n;

@@ -25,6 +25,7 @@ fn settings() -> Settings {
         motion_blur: true,
         aperture: 0.0,
         aov: Aov::Shaded,
+        shadows: true,
     }
 }
 
@@ -148,6 +149,8 @@ fn keys_step_the_settings() {
     assert_eq!(c.settings.shading_rate, 0.5);
     c.handle(Input::Key(Key::ToggleMotion), size);
     assert!(!c.settings.motion_blur);
+    assert!(c.handle(Input::Key(Key::ToggleShadows), size).settings_changed);
+    assert!(!c.settings.shadows);
     c.handle(Input::Key(Key::WiderAperture), size);
     assert!(c.settings.aperture > 0.0);
     c.handle(Input::Key(Key::NextAov), size);
