@@ -27,6 +27,11 @@
 //! * constant surfaces and no lights: only depths are kept, so shading is
 //!   the cheapest there is. Displacement stays (displaced casters cast
 //!   displaced shadows).
+//! * a coarser shading rate, [`DEPTH_PASS_SHADING_RATE_FACTOR`] times the
+//!   frame's (and each object's own): a map needs where the surfaces are,
+//!   not how they are shaded, and the samples still test each
+//!   micropolygon's exact bilinear shape, so silhouettes stay sharp; only
+//!   curved surfaces are held by flat pieces twice as wide.
 
 use glam::{Mat4, Vec3};
 
@@ -34,6 +39,7 @@ use super::{PreparedObject, PreparedScene};
 use crate::aov::Aov;
 use crate::camera::Camera;
 use crate::depth::DepthFilter;
+use crate::dicing::DicingRule;
 use crate::filter::PixelFilter;
 use crate::motion::{ObjectMotion, PreparedLens};
 use crate::quantize::Encoding;
@@ -46,6 +52,13 @@ pub use crate::stats::PassStats;
 /// perspective cannot reach 180. A wider cone is lit beyond the map's
 /// edge without shadows.
 pub const MAX_SPOT_MAP_FOV_DEGREES: f32 = 170.0;
+
+/// How much coarser a depth pass dices than the frame: its shading rate
+/// (texels per micropolygon) is the frame's times this, micropolygons 2
+/// texels on a side at the default rate. Dicing is most of a depth pass's
+/// cost, and a depth pass of a map as large as the frame would otherwise
+/// cost as much as the frame.
+pub const DEPTH_PASS_SHADING_RATE_FACTOR: f32 = 4.0;
 
 /// The margin around the fitted bounds: this fraction of their extent on
 /// every side (so that a caster at the edge of the bounds is not on the
@@ -294,6 +307,12 @@ fn perspective_camera(
     Some(Camera::new(eye, eye + axis, up, fov, size, size, near, far))
 }
 
+/// A depth pass's shading rate for the frame's `rate`
+/// ([`DEPTH_PASS_SHADING_RATE_FACTOR`] times it, within the largest rate).
+fn coarser_rate(rate: f32) -> f32 {
+    (rate * DEPTH_PASS_SHADING_RATE_FACTOR).min(crate::params::MAX_SHADING_RATE)
+}
+
 /// The depth pass of `frame` through `camera` (see the module
 /// documentation).
 fn depth_scene(frame: &PreparedScene, camera: Camera) -> PreparedScene {
@@ -304,9 +323,15 @@ fn depth_scene(frame: &PreparedScene, camera: Camera) -> PreparedScene {
             surface: object.surface.map(|_| PreparedSurface::Constant),
             motion: world_motion(frame, object),
             front: None,
+            shading_rate: object.shading_rate.map(coarser_rate),
             ..object.clone()
         })
         .collect();
+    let dicing = DicingRule::new(
+        frame.dicing.mode(),
+        coarser_rate(frame.dicing.shading_rate()),
+        frame.dicing.fixed_threshold(),
+    );
     PreparedScene {
         camera,
         camera_motion: None,
@@ -315,6 +340,7 @@ fn depth_scene(frame: &PreparedScene, camera: Camera) -> PreparedScene {
         lights: Vec::new(),
         shadow_maps: Vec::new(),
         pending_shadows: Vec::new(),
+        dicing,
         spp: 1,
         jitter: false,
         aov: Aov::Z,
