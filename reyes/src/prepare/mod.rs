@@ -25,7 +25,9 @@ mod lights;
 mod shadow_passes;
 
 pub use self::lights::PendingShadow;
-pub use self::shadow_passes::{DepthPass, MAX_SPOT_MAP_FOV_DEGREES, PassStats, depth_passes};
+pub use self::shadow_passes::{
+    DEPTH_PASS_SHADING_RATE_FACTOR, DepthPass, MAX_SPOT_MAP_FOV_DEGREES, PassStats, depth_passes,
+};
 use crate::surface_shader::{ParameterWarning, ShaderKind, ShaderTable};
 use crate::texture::TextureSet;
 use crate::uvt::{InterleaveTiles, UvtTables};
