@@ -6,7 +6,6 @@
 use std::io::Write as _;
 use std::path::Path;
 
-use exr::prelude::FlatSamples;
 use image::Rgba32FImage;
 
 use super::staged::Staged;
@@ -155,33 +154,18 @@ pub struct ReadDepthError {
 /// Reads the channel [`DEPTH_CHANNEL`] of the first layer of the EXR file
 /// at `path`, as the depth output writes it ([`super::OutputPlan::write_depth`]).
 pub fn read_depth(path: &Path) -> Result<DepthImage, ReadDepthError> {
-    use exr::prelude::{ReadChannels as _, ReadLayers as _, read};
-    let error = |reason: String| ReadDepthError {
+    let layer = crate::shadow::file::read_depth_layer(path).map_err(|e| ReadDepthError {
         path: path.to_path_buf(),
-        reason,
-    };
-    let image = read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .first_valid_layer()
-        .all_attributes()
-        .from_file(path)
-        .map_err(|e| error(e.to_string()))?;
-    let layer = image.layer_data;
-    let channel = layer
-        .channel_data
-        .list
-        .iter()
-        .find(|c| c.name.to_string() == DEPTH_CHANNEL)
-        .ok_or_else(|| error(format!("it has no channel {DEPTH_CHANNEL}")))?;
-    let depths = match &channel.sample_data {
-        FlatSamples::F32(samples) => samples.clone(),
-        _ => return Err(error("the channel is not 32-bit float".into())),
-    };
+        reason: match e {
+            ShadowFileError::Read { reason, .. } | ShadowFileError::WrongKind { reason, .. } => {
+                reason
+            }
+            other => other.to_string(),
+        },
+    })?;
     Ok(DepthImage {
-        width: layer.size.0 as u32,
-        height: layer.size.1 as u32,
-        depths,
+        width: layer.width,
+        height: layer.height,
+        depths: layer.depths,
     })
 }

@@ -94,6 +94,52 @@ pub fn read_shadow_map(path: &Path) -> Result<ShadowMap, ShadowFileError> {
         path: path.to_path_buf(),
         reason,
     };
+    let DepthLayer {
+        width,
+        height,
+        depths,
+        attributes,
+    } = read_depth_layer(path)?;
+    let matrix = |name: &str, value: Option<exr::meta::attribute::Matrix4x4>| {
+        value
+            .map(|m| Mat4::from_cols_array(&m))
+            .ok_or_else(|| wrong(format!("it has no attribute {name}")))
+    };
+    let map = ShadowMap {
+        width,
+        height,
+        depths,
+        world_to_camera: matrix(WORLD_TO_CAMERA, attributes.world_to_camera)?,
+        world_to_clip: matrix(WORLD_TO_NDC, attributes.world_to_normalized_device)?,
+    };
+    if let Some(reason) = map.problem() {
+        return Err(wrong(reason));
+    }
+    Ok(map)
+}
+
+/// The channel [`DEPTH_CHANNEL`] of the first layer of an EXR file, with
+/// the layer's size and attributes.
+#[derive(Debug)]
+pub struct DepthLayer {
+    /// Width in texels.
+    pub width: u32,
+    /// Height in texels.
+    pub height: u32,
+    /// The depths, row-major.
+    pub depths: Vec<f32>,
+    /// The layer's attributes (the matrices among them).
+    pub attributes: LayerAttributes,
+}
+
+/// Reads the channel [`DEPTH_CHANNEL`] (32-bit float) of the first layer of
+/// the EXR file at `path`: [`ShadowFileError::Read`] when it is no EXR,
+/// [`ShadowFileError::WrongKind`] when it has no such channel.
+pub fn read_depth_layer(path: &Path) -> Result<DepthLayer, ShadowFileError> {
+    let wrong = |reason: String| ShadowFileError::WrongKind {
+        path: path.to_path_buf(),
+        reason,
+    };
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -131,20 +177,10 @@ pub fn read_shadow_map(path: &Path) -> Result<ShadowMap, ShadowFileError> {
             )));
         }
     };
-    let matrix = |name: &str, value: Option<exr::meta::attribute::Matrix4x4>| {
-        value
-            .map(|m| Mat4::from_cols_array(&m))
-            .ok_or_else(|| wrong(format!("it has no attribute {name}")))
-    };
-    let map = ShadowMap {
+    Ok(DepthLayer {
         width: layer.size.0 as u32,
         height: layer.size.1 as u32,
         depths,
-        world_to_camera: matrix(WORLD_TO_CAMERA, layer.attributes.world_to_camera)?,
-        world_to_clip: matrix(WORLD_TO_NDC, layer.attributes.world_to_normalized_device)?,
-    };
-    if let Some(reason) = map.problem() {
-        return Err(wrong(reason));
-    }
-    Ok(map)
+        attributes: layer.attributes,
+    })
 }
