@@ -109,11 +109,13 @@ fn shadow_compare_bilinear(map: ShadowMapEntry, texel: vec2<f32>, depth: f32) ->
 }
 
 // reyes::shadow::ShadowMap::occlusion_at, with the light's filter: the
-// grid's side (ShadowFilter::grid_side, computed on the host), width, blur
-// and bias.
+// grid's side (ShadowFilter::grid_side, computed on the host, narrowed to
+// the region), width, blur and bias.
 fn shadow_occlusion_at(map: ShadowMapEntry, at: ShadowMapPoint, light: Light) -> f32 {
-    let side = light.shadow_side;
     let region = light.shadow_width + light.shadow_blur * f32(max(map.width, map.height));
+    // reyes::shadow::region_grid_side: one lookup per side more than the
+    // texels the region spans, at most the samples' grid.
+    let side = min(light.shadow_side, u32(min(ceil(region) + 1.0, 16.0)));
     // A depth past f32's range compares as the reference's infinities do:
     // +inf as the largest depth (beyond every surface but the empty
     // texels'), -inf and NaN as one no texel lies nearer than.

@@ -13,7 +13,9 @@
 //! The filter ([`ShadowFilter`]) is RenderMan's: `samples` lookups over a
 //! square region `width` texels wide plus `blur` (a fraction of the map's
 //! size), each lookup comparing the four texels around it and weighting
-//! them bilinearly (percentage-closer filtering). The samples lie on a
+//! them bilinearly (percentage-closer filtering). A region narrower than
+//! the samples' grid takes one lookup per side more than the texels it
+//! spans: 2 x 2 for the default one-texel region. The samples lie on a
 //! fixed square grid, the same for every point, so the CPU reference and
 //! the megakernel (`shaders/reyes/library_shadow.wgsl`) compute the same
 //! value, operation for operation.
@@ -224,8 +226,8 @@ impl ShadowMap {
 
     /// [`ShadowMap::occlusion`] of a point already located.
     pub fn occlusion_at(&self, at: MapPoint, filter: &ShadowFilter) -> f32 {
-        let side = filter.grid_side();
         let region = filter.width + filter.blur * self.width.max(self.height) as f32;
+        let side = filter.grid_side().min(region_grid_side(region));
         let depth = at.depth - filter.bias;
         let step = region / side as f32;
         let start = at.texel - 0.5 * region + 0.5 * step;
@@ -238,6 +240,14 @@ impl ShadowMap {
         }
         sum / (side * side) as f32
     }
+}
+
+/// The most lookups per side a region `region` texels wide needs: one more
+/// than the texels it spans (bilinear compares closer than a texel apart
+/// add little), so a region of one texel takes 2 x 2 however many
+/// `samples` are asked for. The WGSL computes the same in f32.
+fn region_grid_side(region: f32) -> u32 {
+    (region.ceil() + 1.0).min(16.0) as u32
 }
 
 /// The camera-space z of `p` under `world_to_camera` (negative in front),
