@@ -145,3 +145,12 @@ pub struct GpuRendered {
     /// 0 for a scene without patches).
     pub batches: u32,
 }
+
+impl crate::prepare::RenderedPass for GpuRendered {
+    fn linear(&self) -> &image::Rgba32FImage {
+        &self.linear
+    }
+    fn stats_mut(&mut self) -> &mut crate::stats::RenderStats {
+        &mut self.stats
+    }
+}

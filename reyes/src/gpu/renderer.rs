@@ -26,7 +26,6 @@ use super::render_error::ShadingRateTooSmall;
 use super::resolve::{ResolveTarget, Resolver};
 use super::variant::KernelVariant;
 use crate::prepare::PreparedScene;
-use crate::stats::PassStats;
 use crate::surface_shader::SurfaceShader;
 
 pub use super::options::{
@@ -313,31 +312,7 @@ impl<'a> GpuRenderer<'a> {
     /// the maps; [`RenderStats::passes`](crate::stats::RenderStats::passes)
     /// counts each pass.
     pub fn render(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
-        if scene.pending_shadows.is_empty() {
-            return self.observed_frame(scene, Self::render_frame);
-        }
-        let mut passes = Vec::new();
-        let frame = scene.with_shadow_maps(|pass| {
-            let camera = &pass.scene.camera;
-            let rendered = self.observed_frame(&pass.scene, Self::render_frame)?;
-            passes.push(PassStats::of(
-                pass.name.clone(),
-                camera.width,
-                camera.height,
-                &rendered.stats,
-            ));
-            Ok::<_, RenderError>(crate::depth::depths(&rendered.linear))
-        })?;
-        let mut rendered = self.observed_frame(&frame, Self::render_frame)?;
-        let camera = &frame.camera;
-        passes.push(PassStats::of(
-            "frame",
-            camera.width,
-            camera.height,
-            &rendered.stats,
-        ));
-        rendered.stats.passes = passes;
-        Ok(rendered)
+        scene.render_with_shadows(|pass| self.observed_frame(pass, Self::render_frame))
     }
 
     /// [`Self::render`] without the observer's frame events.

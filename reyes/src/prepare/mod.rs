@@ -26,7 +26,8 @@ mod shadow_passes;
 
 pub use self::lights::PendingShadow;
 pub use self::shadow_passes::{
-    DEPTH_PASS_SHADING_RATE_FACTOR, DepthPass, MAX_SPOT_MAP_FOV_DEGREES, PassStats, depth_passes,
+    DEPTH_PASS_SHADING_RATE_FACTOR, DepthPass, MAX_SPOT_MAP_FOV_DEGREES, PassStats, RenderedPass,
+    depth_passes,
 };
 use crate::surface_shader::{ParameterWarning, ShaderKind, ShaderTable};
 use crate::texture::TextureSet;

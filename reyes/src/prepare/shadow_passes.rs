@@ -107,7 +107,48 @@ pub fn depth_passes(scene: &PreparedScene) -> Vec<DepthPass> {
     passes
 }
 
+/// A frame a renderer rendered, as [`PreparedScene::render_with_shadows`]
+/// reads it: its depths (a depth pass's) and its statistics.
+pub trait RenderedPass {
+    /// The resolved linear image (a depth pass's depths in its red channel).
+    fn linear(&self) -> &image::Rgba32FImage;
+    /// The frame's statistics.
+    fn stats_mut(&mut self) -> &mut crate::stats::RenderStats;
+}
+
 impl PreparedScene {
+    /// Renders this frame with `render` (how a renderer renders one frame):
+    /// without pending shadows, the frame alone; with them, each depth pass
+    /// first ([`PreparedScene::with_shadow_maps`]), then the frame with the
+    /// maps, its [`crate::stats::RenderStats::passes`] counting every pass.
+    pub fn render_with_shadows<R: RenderedPass, E>(
+        &self,
+        mut render: impl FnMut(&PreparedScene) -> Result<R, E>,
+    ) -> Result<R, E> {
+        if self.pending_shadows.is_empty() {
+            return render(self);
+        }
+        let mut passes = Vec::new();
+        let mut counted = |name: String, scene: &PreparedScene, rendered: &mut R| {
+            let camera = &scene.camera;
+            passes.push(PassStats::of(
+                name,
+                camera.width,
+                camera.height,
+                rendered.stats_mut(),
+            ));
+        };
+        let frame = self.with_shadow_maps(|pass| {
+            let mut rendered = render(&pass.scene)?;
+            counted(pass.name.clone(), &pass.scene, &mut rendered);
+            Ok(crate::depth::depths(rendered.linear()))
+        })?;
+        let mut rendered = render(&frame)?;
+        counted("frame".into(), &frame, &mut rendered);
+        rendered.stats_mut().passes = passes;
+        Ok(rendered)
+    }
+
     /// This frame with its pending shadows rendered: each [`depth_passes`]
     /// pass rendered by `render` to its depths (row-major, +inf where no
     /// surface is, as [`crate::depth::depths`] reads a depth image), the

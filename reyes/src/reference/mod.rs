@@ -48,7 +48,7 @@ use crate::dicing::EdgeSpacing;
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::scene::{Dicing, Scene, SceneError};
-use crate::stats::{PassStats, RenderStats};
+use crate::stats::RenderStats;
 use crate::uvt::PixelTuples;
 
 /// The result of a render.
@@ -240,31 +240,16 @@ fn render_bounded(
     scene: &PreparedScene,
     options: &ReferenceOptions,
 ) -> Result<Rendered, ReferenceError> {
-    if scene.pending_shadows.is_empty() {
-        return render_pass(scene, options);
+    scene.render_with_shadows(|pass| render_pass(pass, options))
+}
+
+impl crate::prepare::RenderedPass for Rendered {
+    fn linear(&self) -> &Rgba32FImage {
+        &self.linear
     }
-    let mut passes = Vec::new();
-    let frame = scene.with_shadow_maps(|pass| {
-        let camera = &pass.scene.camera;
-        let rendered = render_pass(&pass.scene, options)?;
-        passes.push(PassStats::of(
-            pass.name.clone(),
-            camera.width,
-            camera.height,
-            &rendered.stats,
-        ));
-        Ok::<_, ReferenceError>(crate::depth::depths(&rendered.linear))
-    })?;
-    let mut rendered = render_pass(&frame, options)?;
-    let camera = &frame.camera;
-    passes.push(PassStats::of(
-        "frame",
-        camera.width,
-        camera.height,
-        &rendered.stats,
-    ));
-    rendered.stats.passes = passes;
-    Ok(rendered)
+    fn stats_mut(&mut self) -> &mut RenderStats {
+        &mut self.stats
+    }
 }
 
 /// Renders one pass: `scene` as it is (its maps already there).
