@@ -105,6 +105,7 @@ pub mod scene;
 pub mod shading;
 pub mod shadow;
 pub mod stats;
+pub mod subdiv;
 pub mod surface_shader;
 pub mod texture;
 #[cfg(feature = "viewer")]
