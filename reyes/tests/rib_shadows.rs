@@ -509,3 +509,42 @@ ReadArchive \"geometry.rib\"\nWorldEnd\nFrameEnd\n"
         "the open ground at {open:?} differs by {d}/255"
     );
 }
+
+/// A depth frame of a sphere seen from the spotlight of [`beauty`], to `map`.
+fn depth_frame(map: &str) -> String {
+    format!(
+        "FrameBegin 0\nFormat 16 16 1\nPixelSamples 1 1\nProjection \"perspective\" \"fov\" [90]\n\
+Display \"{map}\" \"zfile\" \"z\"\nWorldBegin\nTranslate 0 0 3\nSphere 1 -1 1 360\nWorldEnd\nFrameEnd\n"
+    )
+}
+
+#[test]
+fn a_display_that_would_replace_a_made_map_is_refused_before_any_work() {
+    let dir = TempDir::new("rib-shadows-display-over-map");
+    let rib = depth_frame("d.z")
+        + &beauty("MakeShadow \"d.z\" \"m.exr\"\n", "m.exr").replace("beauty.png", "m.exr");
+    std::fs::write(dir.path("scene.rib"), &rib).unwrap();
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "scene.rib"]);
+    assert!(!ok, "{stderr}");
+    assert!(
+        stderr.contains("shadow map made by scene.rib:11: MakeShadow"),
+        "{stderr}"
+    );
+    assert!(!dir.path("d.z").exists(), "nothing is rendered");
+}
+
+#[test]
+fn a_map_remade_between_frames_is_no_conflict() {
+    let dir = TempDir::new("rib-shadows-remade-map");
+    let make = "MakeShadow \"d.z\" \"m.shad\"\n";
+    let rib = depth_frame("d.z") + make + make + &beauty("", "m.shad");
+    std::fs::write(dir.path("scene.rib"), &rib).unwrap();
+    let (ok, stdout, stderr) = reyes(&dir, &["render", "--cpu", "scene.rib"]);
+    assert!(ok, "{stderr}");
+    assert_eq!(
+        stdout.matches("wrote shadow map m.shad").count(),
+        2,
+        "{stdout}"
+    );
+    assert!(dir.path("beauty.png").exists());
+}

@@ -316,6 +316,8 @@ pub(crate) fn run(args: &RenderArgs, plan: Plan) -> Result<(), BoxError> {
     for job in &jobs {
         job.add_outputs(&mut guard)?;
     }
+    let requests = jobs.iter().flat_map(|j| &j.requests_before);
+    super::requests::add_outputs(&mut guard, requests.chain(&requests_after))?;
     let gpu = OnceCell::new();
     let mut backend = Backend::new(args, &gpu);
     let mut reread = jobs.iter().any(|j| j.reread.is_some()).then(|| {

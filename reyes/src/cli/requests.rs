@@ -5,7 +5,7 @@
 use super::BoxError;
 use super::input::ReadFile;
 use crate::output::console::outln;
-use crate::output::{OutputGuard, OutputKind};
+use crate::output::{OutputError, OutputGuard, OutputKind};
 use crate::rib::FrameRequest;
 
 /// The label of the shadow maps a frame reads, in its list of files read.
@@ -18,6 +18,29 @@ struct RequestError {
     request: String,
     #[source]
     source: BoxError,
+}
+
+/// The label of a request's output in the run's [`OutputGuard`].
+const MADE_MAP: &str = "shadow map made by";
+
+/// Records the maps `requests` make as outputs of the run, before any
+/// work: a frame's `Display` must not replace one of them. Several
+/// requests may remake one map (a file remakes its maps between frames).
+pub(crate) fn add_outputs<'a>(
+    guard: &mut OutputGuard,
+    requests: impl IntoIterator<Item = &'a FrameRequest>,
+) -> Result<(), BoxError> {
+    for request in requests {
+        let FrameRequest::MakeShadow { shadow, .. } = request;
+        let label = format!("{MADE_MAP} {}", request.describe());
+        match guard.add_output(OutputKind::Depth, label, shadow) {
+            Err(OutputError::SameFile { first, .. }) if first.starts_with(MADE_MAP) => {}
+            other => {
+                other?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Runs `request`. Its output may not replace a file the run reads
