@@ -549,3 +549,54 @@ fn the_teapot_under_a_low_distant_light_has_no_acne() {
         darker.len()
     );
 }
+
+/// A distant light from above and to the side, shadowed by a `map_size` map.
+fn distant_from_above(map_size: u32) -> Light {
+    shadowed(
+        Light {
+            kind: LightKind::Distant,
+            direction: Vec3::new(0.5, -1.0, 0.3),
+            ..Light::default()
+        },
+        map_size,
+        ShadowFilter::default(),
+    )
+}
+
+#[test]
+fn a_map_too_large_for_the_cpu_names_its_pass_and_the_map_size() {
+    let (scene, models) = sphere_over_plane(64, 48, vec![distant_from_above(8192)]);
+    let prepared = PreparedScene::new(&scene, &models).unwrap();
+    let error = reference::try_render(&prepared)
+        .err()
+        .expect("8192^2 is too large");
+    let message = error.to_string();
+    println!("{message}");
+    assert!(
+        matches!(&error, ReferenceError::DepthPassTooLarge { pass, width: 8192, .. }
+            if pass == "shadow of light 0 (distant)"),
+        "{error:?}"
+    );
+    assert!(
+        message.contains("map_size") && !message.contains("--width"),
+        "{message}"
+    );
+}
+
+#[test]
+fn the_samples_of_a_frame_with_pending_shadows_are_shadowed() {
+    let (scene, models) = sphere_over_plane(80, 60, vec![distant_from_above(256)]);
+    let prepared = PreparedScene::new(&scene, &models).unwrap();
+    let options = reyes::ReferenceOptions::default();
+    let (with, _) = reference::try_render_samples(&prepared, &options).unwrap();
+    let (without, _) =
+        reference::try_render_samples(&prepared.without_shadows(), &options).unwrap();
+    let changed = with
+        .keys
+        .iter()
+        .zip(&without.keys)
+        .filter(|(a, b)| a != b)
+        .count();
+    println!("{changed} of {} samples differ", with.keys.len());
+    assert!(changed > with.keys.len() / 100, "{changed} samples differ");
+}

@@ -312,7 +312,7 @@ impl<'a> GpuRenderer<'a> {
     /// the maps; [`RenderStats::passes`](crate::stats::RenderStats::passes)
     /// counts each pass.
     pub fn render(&mut self, scene: &PreparedScene) -> Result<GpuRendered, RenderError> {
-        scene.render_with_shadows(|pass| self.observed_frame(pass, Self::render_frame))
+        scene.render_with_shadows(|pass, _| self.observed_frame(pass, Self::render_frame))
     }
 
     /// [`Self::render`] without the observer's frame events.

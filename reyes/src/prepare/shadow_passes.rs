@@ -117,16 +117,17 @@ pub trait RenderedPass {
 }
 
 impl PreparedScene {
-    /// Renders this frame with `render` (how a renderer renders one frame):
-    /// without pending shadows, the frame alone; with them, each depth pass
-    /// first ([`PreparedScene::with_shadow_maps`]), then the frame with the
-    /// maps, its [`crate::stats::RenderStats::passes`] counting every pass.
+    /// Renders this frame with `render` (how a renderer renders one frame,
+    /// given the frame and, for a depth pass, the pass's name): without
+    /// pending shadows, the frame alone; with them, each depth pass first
+    /// ([`PreparedScene::with_shadow_maps`]), then the frame with the maps,
+    /// its [`crate::stats::RenderStats::passes`] counting every pass.
     pub fn render_with_shadows<R: RenderedPass, E>(
         &self,
-        mut render: impl FnMut(&PreparedScene) -> Result<R, E>,
+        mut render: impl FnMut(&PreparedScene, Option<&str>) -> Result<R, E>,
     ) -> Result<R, E> {
         if self.pending_shadows.is_empty() {
-            return render(self);
+            return render(self, None);
         }
         let mut passes = Vec::new();
         let mut counted = |name: String, scene: &PreparedScene, rendered: &mut R| {
@@ -139,11 +140,11 @@ impl PreparedScene {
             ));
         };
         let frame = self.with_shadow_maps(|pass| {
-            let mut rendered = render(&pass.scene)?;
+            let mut rendered = render(&pass.scene, Some(&pass.name))?;
             counted(pass.name.clone(), &pass.scene, &mut rendered);
             Ok(crate::depth::depths(rendered.linear()))
         })?;
-        let mut rendered = render(&frame)?;
+        let mut rendered = render(&frame, None)?;
         counted("frame".into(), &frame, &mut rendered);
         rendered.stats_mut().passes = passes;
         Ok(rendered)

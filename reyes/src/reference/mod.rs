@@ -122,6 +122,24 @@ pub enum ReferenceError {
         /// Bytes allowed.
         limit: u64,
     },
+    /// The depth pass of an automatic shadow map is larger than the
+    /// reference allows ([`ReferenceError::ImageTooLarge`] or
+    /// [`ReferenceError::FramebufferTooLarge`] of the pass).
+    #[error(
+        "the depth pass \"{pass}\": {width}x{height} needs {needed} bytes but the CPU reference allows at most {limit}; lower the light's map_size, or render on the GPU, which renders large frames in tiles"
+    )]
+    DepthPassTooLarge {
+        /// The pass (its light and side).
+        pass: String,
+        /// Map width.
+        width: u32,
+        /// Map height.
+        height: u32,
+        /// Bytes needed.
+        needed: u64,
+        /// Bytes allowed.
+        limit: u64,
+    },
     /// The sample framebuffer (8 bytes per sample) is larger than
     /// [`ReferenceOptions::max_framebuffer_bytes`].
     #[error(
@@ -171,6 +189,37 @@ pub enum ReferenceError {
         /// Time taken until the check that found it expired.
         elapsed: Duration,
     },
+}
+
+impl ReferenceError {
+    /// This error as it happened in the depth pass `pass` of an automatic
+    /// shadow map: a frame too large becomes [`ReferenceError::DepthPassTooLarge`],
+    /// which suggests the map size rather than the image size.
+    fn in_depth_pass(self, pass: &str) -> ReferenceError {
+        let pass = pass.to_owned();
+        match self {
+            ReferenceError::ImageTooLarge {
+                width,
+                height,
+                needed,
+                limit,
+            }
+            | ReferenceError::FramebufferTooLarge {
+                width,
+                height,
+                needed,
+                limit,
+                ..
+            } => ReferenceError::DepthPassTooLarge {
+                pass,
+                width,
+                height,
+                needed,
+                limit,
+            },
+            other => other,
+        }
+    }
 }
 
 /// Renders a prepared scene within the default [`ReferenceOptions`], or
@@ -240,7 +289,12 @@ fn render_bounded(
     scene: &PreparedScene,
     options: &ReferenceOptions,
 ) -> Result<Rendered, ReferenceError> {
-    scene.render_with_shadows(|pass| render_pass(pass, options))
+    scene.render_with_shadows(|pass, depth_pass| {
+        render_pass(pass, options).map_err(|error| match depth_pass {
+            Some(name) => error.in_depth_pass(name),
+            None => error,
+        })
+    })
 }
 
 impl crate::prepare::RenderedPass for Rendered {
@@ -303,12 +357,20 @@ pub fn render_samples(scene: &PreparedScene) -> (Framebuffer, RenderStats) {
 
 /// [`render_samples`] within `options` (see [`try_render_with`]; a user
 /// WGSL displacement is rendered undisplaced here, with a warning). Pending
-/// shadows are not rendered here: render them first
-/// ([`PreparedScene::with_shadow_maps`]), or their lights shade unshadowed.
+/// shadows are rendered first, as [`render`] renders them; the statistics
+/// are the frame's alone.
 pub fn try_render_samples(
     scene: &PreparedScene,
     options: &ReferenceOptions,
 ) -> Result<(Framebuffer, RenderStats), ReferenceError> {
+    if !scene.pending_shadows.is_empty() {
+        let frame = scene.with_shadow_maps(|pass| {
+            render_pass(&pass.scene, options)
+                .map(|rendered| crate::depth::depths(&rendered.linear))
+                .map_err(|error| error.in_depth_pass(&pass.name))
+        })?;
+        return try_render_samples(&frame, options);
+    }
     let camera = &scene.camera;
     options.check_frame(camera.width, camera.height, scene.spp)?;
     let mut budget = Budget::new(options);
