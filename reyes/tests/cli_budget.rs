@@ -38,13 +38,23 @@ struct Run {
 /// (`wait4`'s `ru_maxrss`) and wall time; killed after a minute.
 #[cfg(target_os = "linux")]
 fn measured(args: &[&str]) -> Run {
+    measured_with(args, &[])
+}
+
+/// [`measured`] with the environment variables `unset` removed.
+#[cfg(target_os = "linux")]
+fn measured_with(args: &[&str], unset: &[&str]) -> Run {
     use std::io::Read;
     let start = Instant::now();
+    let mut command = Command::new(env!("CARGO_BIN_EXE_reyes"));
+    for name in unset {
+        command.env_remove(name);
+    }
     #[expect(
         clippy::zombie_processes,
         reason = "reaped by wait4 below, which also reads its peak memory"
     )]
-    let mut child = Command::new(env!("CARGO_BIN_EXE_reyes"))
+    let mut child = command
         .args(args)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
@@ -369,4 +379,51 @@ fn memory_stays_within_the_stated_multiple_of_the_budget() {
             "{command}: {over} KiB over the base, more than {MEMORY_MULTIPLE} x {estimate_kib} KiB"
         );
     }
+}
+
+/// A RIB file of `frames` frames, each of `polygons` squares (a patch each).
+fn frames_of_squares(frames: u32, polygons: u32) -> String {
+    let mut rib = String::new();
+    for frame in 1..=frames {
+        rib += &format!("FrameBegin {frame}\nFormat 32 24 1\nWorldBegin\nTranslate 0 0 5\n");
+        for _ in 0..polygons {
+            rib += "Polygon \"P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0]\n";
+        }
+        rib += "WorldEnd\nFrameEnd\n";
+    }
+    rib
+}
+
+#[cfg(all(target_os = "linux", feature = "viewer"))]
+#[test]
+fn the_viewer_holds_one_frame_of_a_long_file_in_memory() {
+    let dir = TempDir::new("budget-view-frames");
+    let (long, one) = (dir.path("long.rib"), dir.path("one.rib"));
+    // 40 frames of 5,000 patches (a million bytes of control points each)
+    // against one such frame: the viewer needs no more memory for frame 2
+    // of the long file than for the short file's one frame.
+    std::fs::write(&long, frames_of_squares(40, 5_000)).unwrap();
+    std::fs::write(&one, frames_of_squares(1, 5_000)).unwrap();
+    let view = |rib: &Path, frame: &str| {
+        // Without a display the viewer stops at its window, after reading
+        // and preparing the frame.
+        let run = measured_with(
+            &["view", "--frames", "1", "--frame", frame, path_str(rib)],
+            &["DISPLAY", "WAYLAND_DISPLAY"],
+        );
+        assert!(
+            run.stderr.contains("cannot open a window"),
+            "{}",
+            run.stderr
+        );
+        run.peak_kib
+    };
+    let (long_kib, one_kib) = (view(&long, "2"), view(&one, "1"));
+    println!("peak resident: frame 2 of 40: {long_kib} KiB; the only frame: {one_kib} KiB");
+    // The 39 other frames' control points alone are 37 MiB; the file's
+    // text (10 MB) is read whole while the frames are planned.
+    assert!(
+        long_kib < one_kib + 24 * 1024,
+        "frame 2 of 40 took {long_kib} KiB against {one_kib} KiB for one frame"
+    );
 }

@@ -96,7 +96,10 @@ pub(crate) fn base_scene(
             })
         }
         Some("rib") => {
-            let frames = load_rib(path, lenient)?;
+            let frames = super::jobs::plan_rib(path, lenient)?;
+            for warning in frames.requests_not_run() {
+                errln!("warning: {warning}")?;
+            }
             let selected = super::frames::select(path, &frames, selection)?;
             if selected.len() > 1 {
                 errln!(
@@ -106,9 +109,17 @@ pub(crate) fn base_scene(
                     frames.frames[selected[0]].label()
                 )?;
             }
+            let several = frames.frames.len() > 1;
             let (frame, sources) = frames.into_frame(selected[0]).expect("a selected frame");
             let label = frame.number.map(|_| frame.label());
-            rib_base(frame.scene?, label.as_deref(), &sources)
+            // The plan kept the models of a file's only frame; of several,
+            // the selected one is read again, alone.
+            let scene = if several {
+                super::jobs::Reread::new(path, lenient).frame(selected[0], frame.number)??
+            } else {
+                frame.scene?
+            };
+            rib_base(scene, label.as_deref(), &sources)
         }
         Some("bpt" | "bez") => {
             let model = Model::load(path).map_err(|e| -> BoxError {
@@ -133,17 +144,6 @@ pub(crate) fn base_scene(
         )
         .into()),
     }
-}
-
-/// Every frame of the RIB file at `path` (see [`crate::rib::RibFrames`]);
-/// the warnings of the requests after the last frame are printed.
-pub(crate) fn load_rib(path: &Path, lenient: bool) -> Result<crate::rib::RibFrames, BoxError> {
-    let options = crate::rib::RibOptions { lenient };
-    let frames = crate::rib::RibFrames::load_with(path, options)?;
-    for warning in frames.warnings.iter().chain(&frames.requests_not_run()) {
-        errln!("warning: {warning}")?;
-    }
-    Ok(frames)
 }
 
 /// The base scene of one frame of a RIB file (`label` names it in the

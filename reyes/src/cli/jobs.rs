@@ -181,7 +181,7 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<Plan, BoxError> {
 /// The frames of the RIB file at `path`, read one at a time and each but
 /// a single frame's models dropped (they are read again to render); the
 /// file's warnings are printed.
-fn plan_rib(path: &Path, lenient: bool) -> Result<RibFrames, BoxError> {
+pub(crate) fn plan_rib(path: &Path, lenient: bool) -> Result<RibFrames, BoxError> {
     let mut stream = RibFrames::stream(path, RibOptions { lenient });
     let mut frames = Vec::new();
     for frame in stream.by_ref() {
@@ -213,7 +213,7 @@ fn plan_rib(path: &Path, lenient: bool) -> Result<RibFrames, BoxError> {
 
 /// A RIB file's frames read again in order, each when its turn to render
 /// comes.
-struct Reread {
+pub(crate) struct Reread {
     path: PathBuf,
     stream: FrameStream,
     /// The place in the file of the frame the stream gives next.
@@ -221,9 +221,18 @@ struct Reread {
 }
 
 impl Reread {
+    /// The frames of `path` from its start.
+    pub(crate) fn new(path: &Path, lenient: bool) -> Reread {
+        Reread {
+            stream: RibFrames::stream(path, RibOptions { lenient }),
+            path: path.to_path_buf(),
+            next: 0,
+        }
+    }
+
     /// Frame `index` of the file, which the plan found numbered `number`
     /// (the frames before it, not selected, are read and dropped).
-    fn frame(
+    pub(crate) fn frame(
         &mut self,
         index: usize,
         number: Option<u32>,
@@ -320,19 +329,10 @@ pub(crate) fn run(args: &RenderArgs, plan: Plan) -> Result<(), BoxError> {
     super::requests::add_outputs(&mut guard, requests.chain(&requests_after))?;
     let gpu = OnceCell::new();
     let mut backend = Backend::new(args, &gpu);
-    let mut reread = jobs.iter().any(|j| j.reread.is_some()).then(|| {
-        let path = args.scene.clone().unwrap_or_default();
-        Reread {
-            stream: RibFrames::stream(
-                &path,
-                RibOptions {
-                    lenient: args.lenient,
-                },
-            ),
-            path,
-            next: 0,
-        }
-    });
+    let mut reread = jobs
+        .iter()
+        .any(|j| j.reread.is_some())
+        .then(|| Reread::new(args.scene.as_deref().unwrap_or(Path::new("")), args.lenient));
     let mut scene_of = |job: &mut Job| -> Result<_, BoxError> {
         match (job.reread, reread.as_mut()) {
             (Some((index, number)), Some(reread)) => Ok(Some(reread.frame(index, number)?)),
