@@ -36,17 +36,29 @@ pub enum DepthFilter {
     /// midpoints keeps the lit surfaces in front of it, so they do not
     /// shadow themselves.
     Midpoint,
+    /// The maximum over the pixel's samples of the nearest surface's depth.
+    Max,
+    /// The mean over the pixel's covered samples of the nearest surface's
+    /// depth (a pixel on a silhouette mixes the two surfaces' depths).
+    Average,
 }
 
 impl DepthFilter {
     /// Every filter, in a fixed order.
-    pub const ALL: [DepthFilter; 2] = [DepthFilter::Min, DepthFilter::Midpoint];
+    pub const ALL: [DepthFilter; 4] = [
+        DepthFilter::Min,
+        DepthFilter::Midpoint,
+        DepthFilter::Max,
+        DepthFilter::Average,
+    ];
 
     /// Its name in scene files and in RIB.
     pub fn name(self) -> &'static str {
         match self {
             DepthFilter::Min => "min",
             DepthFilter::Midpoint => "midpoint",
+            DepthFilter::Max => "max",
+            DepthFilter::Average => "average",
         }
     }
 

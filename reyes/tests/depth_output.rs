@@ -362,3 +362,44 @@ fn write_depth_round_trips_under_any_name_but_png() {
     );
     assert!(!dir.path("a.png").exists());
 }
+
+#[test]
+fn max_and_average_take_the_largest_and_the_mean_of_a_pixel_s_samples() {
+    let (near, far) = (4.0f32, 6.0f32);
+    let filtered = |name: &str| {
+        let text = frame(
+            &format!(
+                "Display \"planes.z\" \"zfile\" \"z\"\nHider \"hidden\" \"depthfilter\" \"{name}\""
+            ),
+            &two_planes(f64::from(near), f64::from(far)),
+        );
+        let rib = RibScene::from_text(&text, "depth.rib").expect("the RIB reads");
+        assert!(rib.warnings.is_empty(), "{name}: {:?}", rib.warnings);
+        assert_eq!(DepthFilter::from_name(name), Some(rib.scene.depth_filter));
+        reference_depths(&text)
+    };
+    let (min, max, average) = (filtered("min"), filtered("max"), filtered("average"));
+    // Every pixel sees the near square with k of its 4 samples and the far
+    // one with the rest: the mean is (k near + (4 - k) far) / 4, and k
+    // decides the minimum and the maximum.
+    let mut mixed = 0;
+    for (i, ((&min, &max), &average)) in min.iter().zip(&max).zip(&average).enumerate() {
+        let k = (4.0 * far - 4.0 * average) / (far - near);
+        let samples_near = k.round();
+        assert!(
+            (k - samples_near).abs() < 1e-3 && (0.0..=4.0).contains(&samples_near),
+            "pixel {i}: average {average} is no mean of {near}s and {far}s"
+        );
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-4 * b;
+        assert!(
+            close(min, if samples_near > 0.0 { near } else { far }),
+            "pixel {i}: min {min}"
+        );
+        assert!(
+            close(max, if samples_near < 4.0 { far } else { near }),
+            "pixel {i}: max {max}"
+        );
+        mixed += usize::from(samples_near > 0.0 && samples_near < 4.0);
+    }
+    assert!(mixed > 20, "{mixed} pixels on the near square's edges");
+}

@@ -185,8 +185,9 @@ fn view_depth(d: f32) -> f32 {
     return params.depth_near + d * range;
 }
 
-// reyes::reference::resolve_depth: the minimum over the pixel's own
-// covered samples of each sample's depth: its nearest surface's
+// reyes::reference::resolve_depth: the minimum (or the maximum, or the
+// mean in sample order) over the pixel's own covered samples of each
+// sample's depth: its nearest surface's
 // camera-space depth, or with the midpoint filter the mean of that and the
 // second-nearest's (which such a frame keeps in the key's low word,
 // offer_second_depth.wgsl), +inf where there is none. Written raw as
@@ -222,8 +223,17 @@ fn resolve_depth(
             }
             z = 0.5 * (z + view_depth(bitcast<f32>(second)));
         }
-        depth = select(z, min(depth, z), finite);
+        if (params.depth_filter == DEPTH_FILTER_MAX) {
+            depth = select(z, max(depth, z), finite);
+        } else if (params.depth_filter == DEPTH_FILTER_AVERAGE) {
+            depth = select(z, depth + z, finite);
+        } else {
+            depth = select(z, min(depth, z), finite);
+        }
         finite = true;
+    }
+    if (params.depth_filter == DEPTH_FILTER_AVERAGE && finite) {
+        depth = depth / f32(covered);
     }
     image[pixel] = vec4<f32>(depth, select(0.0, 1.0, finite), 0.0, select(0.0, 1.0, covered != 0u));
     coverage[pixel] = covered;

@@ -154,3 +154,19 @@ fn depth_matches_the_reference_and_the_arithmetic() {
         }
     }
 }
+
+#[gpu_test]
+fn max_and_average_depths_match_the_reference() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let mut renderer = renderer(gpu, GpuOptions::default());
+    for filter in ["max", "average"] {
+        let hider = format!("Hider \"hidden\" \"depthfilter\" \"{filter}\"");
+        let planes = rib_frame_with(&hider, TWO_PLANES);
+        let cpu = depths(&reference::render(&planes).linear);
+        let gpu = depths(&renderer.render(&planes).expect("GPU render").linear);
+        assert_same_depths(&format!("planes, {filter}"), &gpu, &cpu);
+        // The frame's corner sees the far square alone.
+        assert!((gpu[0] - 6.0).abs() < 5e-4, "{filter}: corner {}", gpu[0]);
+    }
+}

@@ -12,7 +12,7 @@
 //!              [--displace bumps|sines|FILE.png|FILE.wgsl --displace-scale S
 //!               [--displace-bound B] [--displace-tiling T]] [--timeout SECONDS]
 //!              [--chunks N] [--dicing rate|fixed] [--shading-rate R] [--shading-interpolation smooth|constant] [--flat-shading]
-//!              [--aov shaded|grids|depth|normal|z] [--depth-filter min|midpoint]
+//!              [--aov shaded|grids|depth|normal|z] [--depth-filter min|midpoint|max|average]
 //!              [--sides 1|2] [--reverse-orientation]
 //!              [--max-input-bytes BYTES] [--max-patches N] [--no-pipeline-cache] [--lenient]
 //!              [--frame N|N..M|LIST] [--keep-going]

@@ -9,8 +9,10 @@ use super::framebuffer::Framebuffer;
 use crate::color::{CLEAR_KEY, key_depth};
 use crate::depth::{DepthFilter, DepthProjection, NO_SURFACE, finish_depths};
 
-/// Resolves `framebuffer` into depths: per pixel the minimum over its own
-/// covered samples of each sample's depth, in every channel, alpha 1;
+/// Resolves `framebuffer` into depths: per pixel the minimum (with
+/// [`DepthFilter::Max`] the maximum, with [`DepthFilter::Average`] the
+/// mean, summed in sample order) over its own covered samples of each
+/// sample's depth, in every channel, alpha 1;
 /// [`NO_SURFACE`] and alpha 0 where no sample is covered. A sample's depth
 /// is, with [`DepthFilter::Min`], its nearest surface's camera-space depth
 /// ([`DepthProjection::view_depth`] of the key's NDC depth); with
@@ -38,14 +40,25 @@ pub fn resolve_depth(
                 }
                 let nearest = projection.view_depth(key_depth(key));
                 let z = match filter {
-                    DepthFilter::Min => nearest,
+                    DepthFilter::Min | DepthFilter::Max | DepthFilter::Average => nearest,
                     DepthFilter::Midpoint => match framebuffer.second[start + s] {
                         u32::MAX => NO_SURFACE,
                         second => 0.5 * (nearest + projection.view_depth(f32::from_bits(second))),
                     },
                 };
-                depth = if covered == 0 { z } else { depth.min(z) };
+                depth = if covered == 0 {
+                    z
+                } else {
+                    match filter {
+                        DepthFilter::Max => depth.max(z),
+                        DepthFilter::Average => depth + z,
+                        DepthFilter::Min | DepthFilter::Midpoint => depth.min(z),
+                    }
+                };
                 covered += 1;
+            }
+            if filter == DepthFilter::Average && covered != 0 {
+                depth /= f32::from(covered);
             }
             // As the shader writes it, for finish_depths.
             let covered_flag = if covered == 0 { 0.0 } else { 1.0 };
