@@ -110,7 +110,7 @@ pub(crate) fn base_scene(
             let label = frame.number.map(|_| frame.label());
             rib_base(frame.scene?, label.as_deref(), &sources)
         }
-        Some("bpt" | "bez") => {
+        Some("bpt" | "bez" | "obj") => {
             let model = Model::load(path).map_err(|e| -> BoxError {
                 // Parse errors give only the line; name the file as the
                 // read errors already do.
@@ -128,7 +128,7 @@ pub(crate) fn base_scene(
             })
         }
         _ => Err(format!(
-            "{}: unknown scene type; expected a .toml or .rib scene or a .bpt/.bez model",
+            "{}: unknown scene type; expected a .toml or .rib scene or a .bpt/.bez/.obj model",
             path.display()
         )
         .into()),
