@@ -169,7 +169,7 @@ pub enum LoadError {
     /// or cannot be subdivided. Unlike [`crate::subdiv::MeshError`]'s own
     /// convention, its faces and vertices are numbered from 1 in file
     /// order, as OBJ indices are.
-    #[error("{}{}: {source} (faces and vertices numbered from 1, as in the file)", path.display(), line.map_or_else(String::new, |l| format!(":{l}")))]
+    #[error("{}{}: {source}{}", path.display(), line.map_or_else(String::new, |l| format!(":{l}")), numbering_note(source))]
     Mesh {
         /// The OBJ file.
         path: std::path::PathBuf,
@@ -218,6 +218,22 @@ impl LoadError {
             | LoadError::StCount { line, .. }
             | LoadError::WrongStCount { line, .. } => Some(*line),
         }
+    }
+}
+
+/// The note after a mesh error that numbers faces or vertices: they are
+/// the file's numbers, not [`crate::subdiv::MeshError`]'s 0-based ones.
+fn numbering_note(error: &crate::subdiv::MeshError) -> &'static str {
+    use crate::subdiv::MeshError as E;
+    match error {
+        E::FaceTooSmall { .. }
+        | E::VertexOutOfRange { .. }
+        | E::RepeatedVertex { .. }
+        | E::DuplicateFace { .. }
+        | E::InconsistentWinding { .. }
+        | E::NonManifoldEdge { .. }
+        | E::NonFinitePosition { .. } => " (faces and vertices numbered from 1, as in the file)",
+        _ => "",
     }
 }
 

@@ -414,66 +414,6 @@ impl Interp {
         self.emit(name, patches, st, file, line)
     }
 
-    /// The patches and corner `st` of a `SubdivisionMesh` with positional
-    /// values `args`, points `p` and texture coordinates `vars`, taken
-    /// from the budget; `None` (with a warning) for a valid mesh whose
-    /// scheme is not built yet.
-    #[expect(
-        clippy::type_complexity,
-        reason = "the same pair every geometry arm makes"
-    )]
-    fn subdivision_mesh(
-        &mut self,
-        args: &[Value],
-        p: &[DVec3],
-        vars: &texcoords::StVars,
-        file: &Path,
-        line: usize,
-    ) -> Result<Option<(Vec<[DVec3; 16]>, Vec<[DVec2; 4]>)>, RequestError> {
-        let estimate = super::subdivision::estimate(args)?;
-        self.take_patches(estimate, || "its faces' patches".to_owned())?;
-        let read = super::subdivision::mesh(args, p, vars)?;
-        for tag in &read.skipped_tags {
-            self.warn(
-                file,
-                line,
-                format!("SubdivisionMesh: tag {tag:?} is not supported; skipped"),
-            );
-        }
-        let subdivided = match read.mesh.to_patches() {
-            Ok(subdivided) => subdivided,
-            Err(crate::subdiv::MeshError::Unsupported { what }) => {
-                self.patches.give_back(estimate as u64);
-                self.warn(
-                    file,
-                    line,
-                    format!("SubdivisionMesh: {what} is not supported yet; skipped"),
-                );
-                return Ok(None);
-            }
-            Err(e) => return Err(e.to_string().into()),
-        };
-        let model = subdivided.model;
-        let made = model.patches.len();
-        if made > estimate {
-            self.take_patches(made - estimate, || format!("{made} patches"))?;
-        } else {
-            self.patches.give_back((estimate - made) as u64);
-        }
-        let patches = model
-            .patches
-            .iter()
-            .map(|patch| patch.points.map(|q| q.as_dvec3()))
-            .collect();
-        // Without texture coordinates each patch takes the unit square,
-        // as a polygon's patches do.
-        let st = match model.st {
-            Some(st) => st.iter().map(|c| c.map(|x| x.as_dvec2())).collect(),
-            None => vec![UNIT_SQUARE; made],
-        };
-        Ok(Some((patches, st)))
-    }
-
     /// Why points through the current transform leave f32 (for messages):
     /// the camera transform, the current transform (each with the request
     /// from which on it does), or the points.
