@@ -73,7 +73,9 @@ impl Counter {
         what: &str,
     ) -> Result<u32, String> {
         let resolved = if written < 0 {
-            self.defined as i64 + written
+            i64::try_from(self.defined)
+                .unwrap_or(i64::MAX)
+                .saturating_add(written)
         } else {
             if self.largest.is_none_or(|(w, _, _)| written > w) {
                 self.largest = Some((written, face, line));
