@@ -390,3 +390,42 @@ fn a_scene_loads_its_obj_models_with_their_scheme() {
         Err(e) => panic!("{e}"),
     }
 }
+
+#[test]
+fn reyes_render_reads_obj_scenes_and_models() {
+    let dir = temp_dir("cli");
+    std::fs::write(dir.join("cube.obj"), CUBE_OBJ).unwrap();
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, cube_scene("cube.obj", "subdivision = \"bilinear\"")).unwrap();
+    let render = |input: &Path, out: &Path| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_reyes"))
+            .arg("render")
+            .arg(input)
+            .args(["--cpu", "--width", "32", "--height", "24", "-o"])
+            .arg(out)
+            .output()
+            .expect("reyes starts")
+    };
+    let out = dir.join("scene.png");
+    let output = render(&scene, &out);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(out.is_file());
+    // A bare .obj model takes the default scheme, Catmull-Clark: refused,
+    // naming the file, until it is built (tightened then: it renders).
+    let out = dir.join("model.png");
+    let output = render(&dir.join("cube.obj"), &out);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    if output.status.success() {
+        assert!(out.is_file());
+    } else {
+        assert!(
+            stderr.contains("cube.obj") && stderr.contains("Catmull-Clark scheme is not supported"),
+            "{stderr}"
+        );
+        assert!(!out.exists());
+    }
+}
