@@ -14,7 +14,7 @@
 //!   integer) makes the boundary edges sharp creases and the vertices of
 //!   one face sharp corners, 2 the edges only, 0 (and no tag) neither:
 //!   RenderMan's rule;
-//! * any other tag: skipped, its arguments consumed (the caller warns).
+//! * any other tag: skipped, its arguments consumed, with a warning.
 //!
 //! `"st"` (or `"s"` and `"t"`) of any class become the face vertices'
 //! texture coordinates: a `vertex` or `varying` value is taken at each
