@@ -357,3 +357,40 @@ fn convert_writes_a_mesh_as_its_patches() {
         assert_eq!(a.points, b.points);
     }
 }
+
+#[test]
+fn a_mesh_takes_its_patches_from_the_budget_before_they_are_made() {
+    let dir = temp_dir("budget");
+    let (faces, points) = wavy_grid();
+    let rib = dir.join("grid.rib");
+    // The request on line 17 of the frame (see `framed`).
+    std::fs::write(
+        &rib,
+        framed(&format!(
+            "SubdivisionMesh \"bilinear\" {faces} [] [] [] [] {points}"
+        )),
+    )
+    .unwrap();
+    let render = |max_patches: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_reyes"))
+            .arg("render")
+            .arg(&rib)
+            .args(["--cpu", "--max-patches", max_patches, "-o"])
+            .arg(dir.join("grid.png"))
+            .output()
+            .expect("reyes starts")
+    };
+    let refused = render("11");
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success());
+    assert!(
+        stderr.contains("grid.rib:17:1: SubdivisionMesh: its faces' patches: 12 patches"),
+        "{stderr}"
+    );
+    let accepted = render("12");
+    assert!(
+        accepted.status.success(),
+        "{}",
+        String::from_utf8_lossy(&accepted.stderr)
+    );
+}
