@@ -312,7 +312,12 @@ impl Interp {
         let model = subdivided.model;
         let made = model.patches.len();
         if made > estimate {
-            self.take_patches(made - estimate, || format!("{made} patches"))?;
+            self.take_patches(made - estimate, || {
+                format!(
+                    "its {made} patches ({} more than its faces' count)",
+                    made - estimate
+                )
+            })?;
         } else {
             self.patches.give_back((estimate - made) as u64);
         }
