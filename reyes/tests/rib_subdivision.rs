@@ -420,7 +420,10 @@ fn an_obj_file_and_a_subdivision_mesh_of_the_same_faces_are_the_same_mesh() {
         // (tightened then: the same patches).
         assert_eq!(from_obj.to_patches(), from_rib.to_patches());
         if scheme == Scheme::Bilinear {
-            assert_eq!(from_obj.to_patches().unwrap().model.patches.len(), 1 + 1 + 3);
+            assert_eq!(
+                from_obj.to_patches().unwrap().model.patches.len(),
+                1 + 1 + 3
+            );
         }
     }
 }
