@@ -52,7 +52,7 @@ const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 /// in error messages.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum InputKind {
-    /// A `.bpt` or `.bez` patch model.
+    /// A `.bpt` or `.bez` patch model, or an `.obj` mesh.
     Model,
     /// A `.toml` scene.
     Scene,
@@ -110,7 +110,7 @@ impl fmt::Display for InputKind {
 /// The size cap, in bytes, of every kind of input file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limits {
-    /// `.bpt` and `.bez` models.
+    /// `.bpt`, `.bez` and `.obj` models.
     pub model: u64,
     /// `.toml` scenes.
     pub scene: u64,

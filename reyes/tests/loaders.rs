@@ -357,7 +357,7 @@ fn bez_truncated_and_trailing() {
 
 #[test]
 fn load_by_path_errors() {
-    let e = Model::load("model.obj").unwrap_err();
+    let e = Model::load("model.stl").unwrap_err();
     assert!(matches!(e, LoadError::UnknownExtension { .. }), "{e:?}");
     let e = Model::load("no-extension").unwrap_err();
     assert!(matches!(e, LoadError::UnknownExtension { .. }), "{e:?}");

@@ -1,9 +1,10 @@
 //! Mutation tests: real inputs (the embedded teapot as `.bpt`, the shared
-//! `teapot.bez`, scene TOML texts with motion, a lens and displacement
+//! `teapot.bez`, OBJ meshes, scene TOML texts with motion, a lens and displacement
 //! tables, and the RIB scenes of the tests and the documentation) are
 //! mutated at random — byte flips, inserted and deleted runs, duplicated,
 //! swapped and deleted lines, numbers replaced by extreme values,
-//! truncation — and fed to the `.bpt` loader, the `.bez` loader, the TOML
+//! truncation — and fed to the `.bpt` loader, the `.bez` loader, the OBJ
+//! loader (both subdivision schemes), the TOML
 //! scene parser (with [`Scene::validate`] and [`PreparedScene::new`] on
 //! what parses) and the RIB tokenizer, parser and interpreter (with
 //! [`RibScene::prepare`] on what reads). Nothing may panic, and every error
@@ -28,11 +29,13 @@ use std::time::{Duration, Instant};
 
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use reyes::load::{bez, bpt};
+use reyes::budget::PatchBudget;
+use reyes::load::{bez, bpt, obj};
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
 use reyes::rib::RibScene;
 use reyes::scene::Scene;
+use reyes::subdiv::Scheme;
 use std::path::PathBuf;
 
 /// The longest error message (per level of its source chain) allowed.
@@ -159,6 +162,24 @@ fn check_bpt(text: &str) -> Verdict {
 
 fn check_bez(text: &str) -> Verdict {
     check_model(text, bez::parse, bez::write)
+}
+
+/// Reads an OBJ text under both schemes (Catmull-Clark, until it is
+/// built, is refused as unsupported: only its messages are checked) and
+/// prepares the bilinear patches.
+fn check_obj(text: &str) -> Verdict {
+    let path = std::path::Path::new("mutated.obj");
+    let read = |scheme| obj::parse_within(text, path, scheme, &mut PatchBudget::from_setting());
+    if let Err(e) = read(Scheme::CatmullClark) {
+        let messages = messages(&e);
+        if messages.iter().any(|m| m.len() > MAX_MESSAGE_BYTES) {
+            return Verdict::Rejected(messages);
+        }
+    }
+    match read(Scheme::Bilinear) {
+        Ok(model) => prepare_model(model),
+        Err(e) => Verdict::Rejected(messages(&e)),
+    }
 }
 
 fn check_scene(text: &str) -> Verdict {
@@ -883,8 +904,46 @@ fn scene_seeds() -> Vec<String> {
     ]
 }
 
+/// OBJ seeds: a cube of quads with texture coordinates in groups, and a
+/// mesh of a triangle, a quad and a pentagon with relative indices.
+const OBJ_SEEDS: [&str; 2] = [
+    "# cube\nmtllib cube.mtl\nv -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
+     vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\no cube\ng bottom\nusemtl grey\nf 1/1/1 4/2/1 3/3/1 2/4/1\n\
+     g top\ns 1\nf 5/1/1 6/2/1 7/3/1 8/4/1\nf 1/1/1 2/2/1 6/3/1 5/4/1\nf 2/1/1 3/2/1 7/3/1 6/4/1\n\
+     f 3/1/1 4/2/1 8/3/1 7/4/1\nf 4/1/1 1/2/1 5/3/1 8/4/1\n",
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nv 3 0.5 0\nv 0.5 2 0\n\
+     f 1 2 3 4\nf -5 -6 -1\nf 2 5 7 6 3\n",
+];
+const OBJ_BYTES: &[u8] = b"0123456789.-+eE \t\n\r/#fvtnglpo\x00\xc3\xa9";
+const OBJ_FRAGMENTS: &[&str] = &[
+    "v 0 0 0\n",
+    "v 1e39 0 0\n",
+    "v 1 2 3 0\n",
+    "vt 0.5 0.5\n",
+    "vn 0 0 1\n",
+    "f 1 2 3\n",
+    "f 1 2 3 4\n",
+    "f 3 2 1\n",
+    "f 1/1 2/2 3/3\n",
+    "f 1//1 2//1 3//1\n",
+    "f -1 -2 -3\n",
+    "f 0 1 2\n",
+    "f 1 2\n",
+    "f\n",
+    "l 1 2\n",
+    "p 1\n",
+    "g group\n",
+    "o\n",
+    "usemtl m\n",
+    "/",
+    "//",
+    "-1",
+];
+
 const RIB_BYTES: &[u8] = b"[]\"#-+.eE0123456789 \n\t\\PWorldBeginEndAttribute";
 const RIB_FRAGMENTS: &[&str] = &[
+    "SubdivisionMesh \"bilinear\" [4 3] [0 1 2 3 1 4 2] [\"hole\" \"crease\"] [1 0 2 1] [1 0 1] [2] \"P\" [0 0 0 1 0 0 1 1 0 0 1 0 2 0 0]\n",
+    "SubdivisionMesh \"catmull-clark\" [4] [0 1 2 3] [\"interpolateboundary\"] [1 0] [2] [] \"P\" [0 0 0 1 0 0 1 1 0 0 1 0] \"st\" [0 0 1 0 1 1 0 1]\n",
     "WorldBegin\n",
     "WorldEnd\n",
     "AttributeBegin\n",
@@ -943,6 +1002,7 @@ fn rib_seeds() -> Vec<String> {
         root.join("tests/rib/quadrant.rib"),
         root.join("tests/rib/archive/main.rib"),
         root.join("../docs/scenes/gallery.rib"),
+        root.join("tests/rib/subdivision.rib"),
     ];
     if let Ok(dir) = std::fs::read_dir(root.join("tests/data/rib_golden")) {
         let mut golden: Vec<PathBuf> = dir
@@ -1025,6 +1085,17 @@ fn mutated_bez_never_panics() {
         bytes: MODEL_BYTES,
         fragments: BEZ_FRAGMENTS,
         check: check_bez,
+    });
+}
+
+#[test]
+fn mutated_obj_never_panics() {
+    fuzz(&Target {
+        name: "mutated_obj_never_panics",
+        seeds: OBJ_SEEDS.map(str::to_owned).to_vec(),
+        bytes: OBJ_BYTES,
+        fragments: OBJ_FRAGMENTS,
+        check: check_obj,
     });
 }
 

@@ -208,6 +208,7 @@ fn card_scene(cards: &[(Vec3, f32, Vec3)], sampling: Sampling) -> (Scene, Vec<Mo
     for &(centre, half, motion) in cards {
         scene.objects.push(SceneObject {
             model: "card".into(),
+            subdivision: None,
             transform: Transform::default(),
             color: Vec3::ONE,
             surface: None,

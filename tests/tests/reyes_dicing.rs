@@ -237,6 +237,7 @@ fn card_scene() -> (Scene, Vec<Model>) {
     scene.camera = Some(camera_down_z());
     scene.objects.push(SceneObject {
         model: "card".into(),
+        subdivision: None,
         transform: Default::default(),
         color: Vec3::splat(0.8),
         surface: None,

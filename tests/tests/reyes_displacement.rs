@@ -178,6 +178,7 @@ fn wall_scene(bound: f32) -> PreparedScene {
     scene.lights[0].direction = Vec3::new(-1.0, -0.2, -0.5);
     scene.objects.push(reyes::scene::SceneObject {
         model: "wall".into(),
+        subdivision: None,
         transform: Default::default(),
         color: Vec3::splat(0.8),
         surface: None,

@@ -45,6 +45,7 @@ fn write_bumps(dir: &std::path::Path) -> PathBuf {
 fn sphere(i: usize, displacement: DisplacementDesc) -> SceneObject {
     SceneObject {
         model: format!("sphere-{i}"),
+        subdivision: None,
         transform: Transform {
             translate: Vec3::new((i as f32 - 1.0) * 1.2, 0.0, -5.0),
             scale: reyes::scene::Scale::Uniform(0.55),

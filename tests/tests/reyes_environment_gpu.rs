@@ -101,6 +101,7 @@ fn mirror_scene(sky: &Path) -> (Scene, Vec<Model>) {
     let number = ShaderValue::Number;
     scene.objects.push(SceneObject {
         model: "mirror".to_owned(),
+        subdivision: None,
         transform: Transform::default(),
         color: Vec3::ONE,
         surface: Some(Surface::Wgsl {

@@ -36,6 +36,7 @@ fn spheres(width: u32, height: u32) -> (Scene, Vec<Model>) {
     ] {
         scene.objects.push(SceneObject {
             model: "sphere".into(),
+            subdivision: None,
             transform: Transform {
                 translate: centre,
                 ..Transform::default()
@@ -218,6 +219,7 @@ fn defocused_card(dicing: Dicing, dice_threshold: f32) -> PreparedScene {
     scene.lens.focus_distance = Some(1.0);
     scene.objects.push(SceneObject {
         model: "card".into(),
+        subdivision: None,
         transform: Transform::default(),
         color: Vec3::ONE,
         surface: None,
@@ -352,6 +354,7 @@ fn a_frame_wider_than_one_dispatch_dimension_resolves_every_column() {
     });
     scene.objects.push(SceneObject {
         model: "sphere".into(),
+        subdivision: None,
         transform: Transform {
             translate: Vec3::new(400_000.0, 0.0, -200.0),
             scale: reyes::scene::Scale::Uniform(50.0),

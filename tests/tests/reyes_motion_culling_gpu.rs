@@ -43,6 +43,7 @@ fn scene(open: f32, close: f32) -> PreparedScene {
     };
     scene.objects.push(SceneObject {
         model: "square".to_owned(),
+        subdivision: None,
         transform: placed(open),
         color: Vec3::ONE,
         surface: Some(Surface::Constant),

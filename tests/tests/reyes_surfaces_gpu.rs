@@ -49,6 +49,7 @@ fn scene(spp: u32) -> (Scene, Vec<Model>) {
         let row = if i < 3 { 0.6 } else { -0.6 };
         scene.objects.push(SceneObject {
             model: format!("sphere-{i}"),
+            subdivision: None,
             transform: Transform {
                 translate: Vec3::new(column * 1.2, row, -5.0),
                 scale: reyes::scene::Scale::Uniform(0.5),

@@ -83,6 +83,7 @@ fn scene(spp: u32, displaced: bool) -> (Scene, Vec<Model>) {
     {
         let mut object = SceneObject {
             model: format!("sphere-{i}"),
+            subdivision: None,
             transform: Transform {
                 translate: Vec3::new((i as f32 - 1.0) * 1.2, 0.0, -5.0),
                 scale: reyes::scene::Scale::Uniform(0.58),
@@ -288,6 +289,7 @@ fn a_texture_at_one_texel_per_pixel_comes_back() {
     }
     scene.objects.push(SceneObject {
         model: "square".to_owned(),
+        subdivision: None,
         transform: Transform::default(),
         color: Vec3::ONE,
         surface: Some(Surface::Wgsl {

@@ -14,8 +14,9 @@ use crate::modes::{Dicing, Sampling, ShadingInterpolation};
 /// The arguments of `reyes render`, which `reyes view` shares.
 #[derive(Debug, clap::Args)]
 pub(crate) struct RenderArgs {
-    /// A scene file (.toml) or a bare model (.bpt/.bez, framed automatically
-    /// with a default light). Default: the embedded teapot.
+    /// A scene file (.toml) or a bare model (.bpt/.bez patches, or an .obj
+    /// mesh subdivided as Catmull-Clark; framed automatically with a default
+    /// light). Default: the embedded teapot.
     pub(crate) scene: Option<PathBuf>,
     /// Output image; the extension chooses the format: `.png` (8-bit sRGB,
     /// with the scene's exposure and quantization) or `.exr` (OpenEXR, the

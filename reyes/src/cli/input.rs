@@ -121,7 +121,7 @@ pub(crate) fn base_scene(
             };
             rib_base(scene, label.as_deref(), &sources)
         }
-        Some("bpt" | "bez") => {
+        Some("bpt" | "bez" | "obj") => {
             let model = Model::load(path).map_err(|e| -> BoxError {
                 // Parse errors give only the line; name the file as the
                 // read errors already do.
@@ -139,7 +139,7 @@ pub(crate) fn base_scene(
             })
         }
         _ => Err(format!(
-            "{}: unknown scene type; expected a .toml or .rib scene or a .bpt/.bez model",
+            "{}: unknown scene type; expected a .toml or .rib scene or a .bpt/.bez/.obj model",
             path.display()
         )
         .into()),

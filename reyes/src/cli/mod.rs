@@ -67,7 +67,7 @@ pub struct Cli {
     )
 )]
 enum Command {
-    /// Render a scene (.toml or RenderMan .rib), a model (.bpt/.bez) or,
+    /// Render a scene (.toml or RenderMan .rib), a model (.bpt/.bez/.obj) or,
     /// without SCENE, the teapot. A RIB file's frames (`FrameBegin n` …
     /// `FrameEnd`) are rendered in order, each to its own image (`--frame`,
     /// `-o out.####.png`).

@@ -24,8 +24,9 @@ pub enum LoadError {
     /// [`LoadError::Io`]).
     #[error(transparent)]
     Input(InputError),
-    /// The file name does not end in a supported extension (`.bpt`, `.bez`).
-    #[error("unsupported model file extension for {} (expected .bpt or .bez)", path.display())]
+    /// The file name does not end in a supported extension (`.bpt`, `.bez`,
+    /// `.obj`).
+    #[error("unsupported model file extension for {} (expected .bpt, .bez or .obj)", path.display())]
     UnknownExtension {
         /// The offending path.
         path: PathBuf,
@@ -144,14 +145,65 @@ pub enum LoadError {
         /// Number of indices found.
         found: usize,
     },
+    /// An OBJ statement that cannot be read (a bad number, an index out of
+    /// range, a polyline): the file, the line and what is wrong (naming
+    /// the face, numbered from 1, when it is a face's).
+    #[error("{}:{line}: {message}", path.display())]
+    ObjSyntax {
+        /// The OBJ file.
+        path: std::path::PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// `tobj` refused an OBJ file (its errors name no line).
+    #[error("{}: {message}", path.display())]
+    ObjRead {
+        /// The OBJ file.
+        path: std::path::PathBuf,
+        /// tobj's message.
+        message: String,
+    },
+    /// An OBJ file's mesh has no surface ([`crate::subdiv::Mesh::validate`])
+    /// or cannot be subdivided. Unlike [`crate::subdiv::MeshError`]'s own
+    /// convention, its faces and vertices are numbered from 1 in file
+    /// order, as OBJ indices are.
+    #[error("{}{}: {source}{}", path.display(), line.map_or_else(String::new, |l| format!(":{l}")), numbering_note(source))]
+    Mesh {
+        /// The OBJ file.
+        path: std::path::PathBuf,
+        /// 1-based line of the face at fault, when one is.
+        line: Option<usize>,
+        /// What is wrong, in the file's numbering.
+        #[source]
+        source: crate::subdiv::MeshError,
+    },
+    /// The patches an OBJ file's faces make are more than the scene's
+    /// patch budget has left ([`crate::budget`]).
+    #[error("{}: its faces' patches: {source}", path.display())]
+    PatchBudgetOf {
+        /// The OBJ file.
+        path: std::path::PathBuf,
+        /// The count and the budget.
+        #[source]
+        source: crate::budget::BudgetExceeded,
+    },
 }
 
 impl LoadError {
-    /// The 1-based line number of a parse error (`None` for I/O, input and
-    /// extension errors).
+    /// The 1-based line number of a `.bpt` or `.bez` parse error (`None`
+    /// for I/O, input and extension errors, and for the OBJ errors, whose
+    /// messages name their file and line themselves).
     pub fn line(&self) -> Option<usize> {
         match self {
-            LoadError::Io { .. } | LoadError::Input(_) | LoadError::UnknownExtension { .. } => None,
+            LoadError::Io { .. }
+            | LoadError::Input(_)
+            | LoadError::UnknownExtension { .. }
+            | LoadError::ObjSyntax { .. }
+            | LoadError::ObjRead { .. }
+            | LoadError::Mesh { .. }
+            | LoadError::PatchBudgetOf { .. } => None,
             LoadError::MissingCount { line, .. }
             | LoadError::InvalidCount { line, .. }
             | LoadError::UnsupportedDegree { line, .. }
@@ -166,6 +218,22 @@ impl LoadError {
             | LoadError::StCount { line, .. }
             | LoadError::WrongStCount { line, .. } => Some(*line),
         }
+    }
+}
+
+/// The note after a mesh error that numbers faces or vertices: they are
+/// the file's numbers, not [`crate::subdiv::MeshError`]'s 0-based ones.
+fn numbering_note(error: &crate::subdiv::MeshError) -> &'static str {
+    use crate::subdiv::MeshError as E;
+    match error {
+        E::FaceTooSmall { .. }
+        | E::VertexOutOfRange { .. }
+        | E::RepeatedVertex { .. }
+        | E::DuplicateFace { .. }
+        | E::InconsistentWinding { .. }
+        | E::NonManifoldEdge { .. }
+        | E::NonFinitePosition { .. } => " (faces and vertices numbered from 1, as in the file)",
+        _ => "",
     }
 }
 

@@ -5,8 +5,10 @@
 //! * `bez`: Newell's `.bez` format: a patch count, one line of 16
 //!   comma-separated 1-based vertex indices per patch, a vertex count, and one
 //!   `x,y,z` line per vertex.
+//! * [`obj`]: Wavefront `.obj` polygon meshes (read with `tobj`), subdivided
+//!   into patches ([`crate::subdiv`]).
 //!
-//! Both parsers work on `&str`, skip a leading UTF-8 byte-order mark and
+//! The patch parsers work on `&str`, skip a leading UTF-8 byte-order mark and
 //! blank lines, tolerate extra whitespace, and report errors as [`LoadError`]
 //! with the 1-based line number; text they quote is cut to
 //! `crate::input::EXCERPT_CHARS` characters. Use
@@ -21,6 +23,8 @@ internal_modules! {
 }
 mod error;
 mod lines;
+pub mod obj;
+mod obj_scan;
 mod sources;
 
 pub use error::LoadError;

@@ -9,8 +9,9 @@ use std::path::Path;
 use crate::budget::PatchBudget;
 use crate::input::{self, InputKind};
 use crate::model::Model;
+use crate::subdiv::Scheme;
 
-use super::{LoadError, bez, bpt};
+use super::{LoadError, bez, bpt, obj};
 
 /// The embedded Utah teapot (32 patches, z up) in `.bpt` format.
 const TEAPOT_BPT: &str = include_str!("../../assets/teapot.bpt");
@@ -22,8 +23,10 @@ impl Model {
         bpt::parse(TEAPOT_BPT).expect("the embedded teapot.bpt is valid")
     }
 
-    /// Loads a model file, choosing the parser by extension: `.bpt` or `.bez`
-    /// (case-insensitive). Any other extension is [`LoadError::UnknownExtension`].
+    /// Loads a model file, choosing the parser by extension: `.bpt`, `.bez`
+    /// or `.obj` (case-insensitive; an OBJ mesh is subdivided with the
+    /// default scheme, Catmull-Clark). Any other extension is
+    /// [`LoadError::UnknownExtension`].
     ///
     /// The file is read through `crate::input`: it must be a regular file
     /// of at most the model cap ([`InputKind::Model`]`.limit()`, 1 GiB by
@@ -46,6 +49,17 @@ impl Model {
         limit: u64,
         budget: &mut PatchBudget,
     ) -> Result<Model, LoadError> {
+        Model::load_subdivided_within(path, limit, budget, Scheme::default())
+    }
+
+    /// [`Model::load_within`], subdividing an `.obj` mesh with `scheme`
+    /// (the scene's `subdivision`); other formats ignore it.
+    pub fn load_subdivided_within(
+        path: impl AsRef<Path>,
+        limit: u64,
+        budget: &mut PatchBudget,
+        scheme: Scheme,
+    ) -> Result<Model, LoadError> {
         let path = path.as_ref();
         let extension = path
             .extension()
@@ -55,6 +69,10 @@ impl Model {
             match extension.as_deref() {
                 Some("bpt") => bpt::parse_within,
                 Some("bez") => bez::parse_within,
+                Some("obj") => {
+                    let text = input::read_text(path, InputKind::Model, limit)?;
+                    return obj::parse_within(&text, path, scheme, budget);
+                }
                 _ => {
                     return Err(LoadError::UnknownExtension {
                         path: path.to_path_buf(),

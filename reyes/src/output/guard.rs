@@ -20,7 +20,7 @@ use super::{ImageFormat, OutputError, paths, prepare_dir};
 /// Extensions of the formats the renderer reads or writes: a JSON output
 /// with one of them is refused, because the name promises another format
 /// (and a reader of that format would fail on it).
-const FOREIGN_TO_JSON: [&str; 7] = ["png", "exr", "toml", "rib", "bpt", "bez", "wgsl"];
+const FOREIGN_TO_JSON: [&str; 8] = ["png", "exr", "toml", "rib", "bpt", "bez", "obj", "wgsl"];
 
 /// What an output holds, which its extension must agree with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

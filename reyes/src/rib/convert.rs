@@ -279,6 +279,7 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
             };
             scene.objects.push(SceneObject {
                 model: format!("rib-object-{}", scene.objects.len()),
+                subdivision: None,
                 transform: Transform::default(),
                 color: key.0,
                 surface: Some(key.4.clone()),

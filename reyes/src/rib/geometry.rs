@@ -71,6 +71,7 @@ impl Interp {
                 | "PointsPolygons"
                 | "GeneralPolygon"
                 | "PointsGeneralPolygons"
+                | "SubdivisionMesh"
         ) || super::quadrics::arity(name).is_some();
         if !supported {
             self.warn(file, line, format!("{name} is not supported yet; skipped"));
@@ -251,6 +252,7 @@ impl Interp {
             "PointsPolygons" => 2,
             "GeneralPolygon" => 1,
             "PointsGeneralPolygons" => 3,
+            "SubdivisionMesh" => super::subdivision::POSITIONAL,
             _ => 0,
         };
         let (args, params, unknown) = state::split_params(v, positional, &self.declared)?;
@@ -342,6 +344,12 @@ impl Interp {
                 let patches = basis::patch_mesh(bicubic, u, vd, &p)?;
                 let st = texcoords::mesh(&vars, coords, bicubic, u, vd)?;
                 (patches, st)
+            }
+            "SubdivisionMesh" => {
+                let Some(made) = self.subdivision_mesh(&args, &p, &vars, file, line)? else {
+                    return Ok(());
+                };
+                made
             }
             "PointsPolygons" | "GeneralPolygon" | "PointsGeneralPolygons" => {
                 let estimate = super::polygons::estimate(name, &args)?;

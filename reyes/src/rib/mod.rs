@@ -15,7 +15,8 @@
 //!   `interp`: the interpreter (`options`: its option requests;
 //!   `geometry`: its transform, motion, basis and geometry requests;
 //!   `quadrics`: the quadrics as Bezier patches; `polygons`:
-//!   `PointsPolygons` and `GeneralPolygon`; `spaces`: coordinate systems
+//!   `PointsPolygons` and `GeneralPolygon`; `subdivision`: `SubdivisionMesh`
+//!   as a [`crate::subdiv::Mesh`]; `spaces`: coordinate systems
 //!   and `Skew`; `blocks`: the begin/end structure; `texcoords`: `s`, `t`
 //!   of the patches' corners; `environments`: the environment maps'
 //!   names; `frames`: `FrameBegin`/`FrameEnd`, each frame's scene;
@@ -36,6 +37,7 @@ internal_modules! {
     parser;
     quadrics;
     state;
+    subdivision;
 }
 mod convert;
 mod displacements;

@@ -40,7 +40,7 @@ impl Polygons {
 }
 
 /// The non-negative integers of positional value `i` of `args`.
-fn counts(args: &[Value], i: usize, what: &str) -> Result<Vec<usize>, String> {
+pub(super) fn counts(args: &[Value], i: usize, what: &str) -> Result<Vec<usize>, String> {
     state::arg_nums(args, i, what)?
         .into_iter()
         .map(|n| {

@@ -291,6 +291,31 @@ pub(super) fn resolve(
         .collect())
 }
 
+/// The `(s, t)` of `vars` at each of `corners` (a mesh's face vertices),
+/// checked against `layout`; `None` without variables. A mesh's face
+/// vertices have no default of their own, so one of `s`, `t` alone is
+/// refused rather than half used.
+pub(super) fn at_corners(
+    vars: &StVars,
+    layout: &Layout,
+    corners: &[CornerRef],
+) -> Result<Option<Vec<DVec2>>, String> {
+    match (&vars.s, &vars.t) {
+        (None, None) => Ok(None),
+        (Some(s), Some(t)) => {
+            s.check("s", layout)?;
+            t.check("t", layout)?;
+            Ok(Some(
+                corners
+                    .iter()
+                    .map(|c| DVec2::new(s.at(c), t.at(c)))
+                    .collect(),
+            ))
+        }
+        _ => Err("texture coordinates need both \"s\" and \"t\" (or \"st\") here".into()),
+    }
+}
+
 /// The bilinear blend of `corners` (patch corner order) at `(u, v)`.
 pub(super) fn bilerp(corners: &[DVec2; 4], u: f64, v: f64) -> DVec2 {
     corners[0] * ((1.0 - u) * (1.0 - v))

@@ -233,6 +233,7 @@ impl Scene {
             camera,
             objects: vec![SceneObject {
                 model: model_name.into(),
+                subdivision: None,
                 transform: Transform::default(),
                 color: default_color(),
                 surface: None,
@@ -323,10 +324,13 @@ impl Scene {
                             .map_err(|source| error(LoadError::PatchBudget { line: 1, source }))?;
                         Ok(teapot)
                     }
-                    ModelSource::File(path) => {
-                        Model::load_within(&path, InputKind::Model.limit(), &mut budget)
-                            .map_err(error)
-                    }
+                    ModelSource::File(path) => Model::load_subdivided_within(
+                        &path,
+                        InputKind::Model.limit(),
+                        &mut budget,
+                        object.subdivision.unwrap_or_default().scheme(),
+                    )
+                    .map_err(error),
                 }
             })
             .collect()

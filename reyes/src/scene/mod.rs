@@ -147,7 +147,7 @@ pub use light::{
     DEFAULT_SHADOW_MAP_SIZE, Light, LightKind, LightShadow, MAX_SHADOW_MAP_SIZE, ShadowMaps,
     Specular,
 };
-pub use object::{ModelSource, Scale, SceneObject, Transform};
+pub use object::{ModelSource, Scale, SceneObject, Subdivision, Transform, is_obj_model};
 pub use surface::{ShaderValue, Surface};
 
 /// The warning for a scene without objects, which renders as its

@@ -8,6 +8,9 @@ use serde::{Deserialize, Serialize};
 use crate::displacement::DisplacementDesc;
 #[cfg(doc)]
 use crate::model::Model;
+#[cfg(doc)]
+use crate::scene::Scene;
+use crate::subdiv::Scheme;
 
 use super::Surface;
 use super::defaults::{default_color, default_sides};
@@ -90,9 +93,14 @@ impl Transform {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneObject {
-    /// `"teapot"` for the embedded teapot, or a `.bpt`/`.bez` path (relative
-    /// paths are resolved against the scene file's directory).
+    /// `"teapot"` for the embedded teapot, or a `.bpt`/`.bez`/`.obj` path
+    /// (relative paths are resolved against the scene file's directory).
     pub model: String,
+    /// How an `.obj` model's mesh becomes patches (default
+    /// [`Subdivision::CatmullClark`]). Only `.obj` models have a mesh: the
+    /// key on any other model is an error ([`Scene::validate`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub subdivision: Option<Subdivision>,
     /// Placement (default identity).
     #[serde(default)]
     pub transform: Transform,
@@ -126,6 +134,36 @@ pub struct SceneObject {
     /// models.
     #[serde(default)]
     pub reverse_orientation: bool,
+}
+
+/// The subdivision scheme of an object's mesh (`subdivision`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Subdivision {
+    /// `"catmull-clark"`: the smooth limit surface ([`Scheme::CatmullClark`]).
+    #[default]
+    CatmullClark,
+    /// `"bilinear"`: every face flat ([`Scheme::Bilinear`]).
+    Bilinear,
+}
+
+impl Subdivision {
+    /// The mesh scheme.
+    pub fn scheme(self) -> Scheme {
+        match self {
+            Subdivision::CatmullClark => Scheme::CatmullClark,
+            Subdivision::Bilinear => Scheme::Bilinear,
+        }
+    }
+}
+
+/// Whether `model` names an OBJ file (extension `.obj`, any case): the
+/// models that have a mesh to subdivide.
+pub fn is_obj_model(model: &str) -> bool {
+    std::path::Path::new(model)
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
 }
 
 /// Where an object's model comes from.

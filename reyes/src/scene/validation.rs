@@ -259,6 +259,15 @@ fn check_object(i: usize, object: &SceneObject) -> Result<(), SceneError> {
     if !matches!(object.sides, 1 | 2) {
         return Err(invalid(&format!("objects[{i}].sides"), "must be 1 or 2"));
     }
+    if object.subdivision.is_some() && !super::object::is_obj_model(&object.model) {
+        return Err(invalid(
+            &format!("objects[{i}].subdivision"),
+            &format!(
+                "applies only to .obj models (meshes); model {:?} is made of patches already",
+                crate::input::excerpt(&object.model)
+            ),
+        ));
+    }
     if let Some(t) = &object.transform_close {
         check_transform(&format!("objects[{i}].transform_close"), t)?;
         let degenerate = |t: &Transform| t.scale.to_vec3().cmpeq(Vec3::ZERO).any();
