@@ -81,7 +81,7 @@ fn round_runner(plan: &Plan, q: usize, queue: &QueuePlan, barrier_free: bool) ->
         .param("count", "u32");
     let count_fan_out = kernels::batch_prologue(&mut f, plan, q, queue);
     f.line("// The slots were written before this dispatch began: no fence needed.");
-    let call = |chunk: &str| kernels::body_call_lines(q, queue, chunk);
+    let call = |chunk: &str| kernels::body_call_lines(plan, q, queue, chunk);
     if plan.chunks_per_batch == 1 {
         for line in call("0u") {
             f.line(line);

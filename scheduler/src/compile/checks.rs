@@ -8,7 +8,7 @@ use naga::{Block, Function, Handle, Module, Statement};
 
 use crate::codegen::module::Rendered;
 use crate::naming::{
-    BODY_PREFIX, RESERVED_PREFIXES, SCHEDULER_PREFIX, body_name, enqueue_name, scratch_name,
+    BODY_PREFIX, RESERVED_PREFIXES, SCHEDULER_PREFIX, body_name, enqueue_name, join_open_name, scratch_name,
 };
 use crate::plan::Plan;
 use crate::{CompileError, Resource};
@@ -41,7 +41,8 @@ pub(crate) fn reserved_names(
 }
 
 /// Walks each body's call graph (helpers included) and rejects any reachable
-/// `enqueue_<T>` for which the procedure has no connection to `T`.
+/// `enqueue_<T>` for which the procedure has no connection to `T`, and any
+/// `join_open_<C>` for which it has no join to `C`.
 pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), CompileError> {
     let by_name: HashMap<&str, Handle<Function>> = module
         .functions
@@ -53,6 +54,12 @@ pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), Com
         .iter()
         .enumerate()
         .map(|(q, queue)| (enqueue_name(&queue.name), q))
+        .collect();
+    let join_kinds: HashMap<String, usize> = plan
+        .joins
+        .iter()
+        .enumerate()
+        .map(|(k, join)| (join_open_name(&plan.queues[join.continuation].name), k))
         .collect();
 
     for queue in &plan.queues {
@@ -70,17 +77,30 @@ pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), Com
             collect_calls(&caller.body, &mut callees);
             for callee in callees {
                 let callee_name = module.functions[callee].name.clone().unwrap_or_default();
+                let via = || {
+                    if handle == root {
+                        "its body".to_owned()
+                    } else {
+                        format!("helper `{}`", caller.name.clone().unwrap_or_default())
+                    }
+                };
+                if let Some(&kind) = join_kinds.get(&callee_name) {
+                    let q = plan.queue_index(&queue.name).unwrap_or(usize::MAX);
+                    if !plan.joins[kind].openers.contains(&q) {
+                        return Err(CompileError::UndeclaredJoin {
+                            procedure: queue.name.clone(),
+                            continuation: plan.queues[plan.joins[kind].continuation].name.clone(),
+                            via: via(),
+                        });
+                    }
+                    continue;
+                }
                 if let Some(&target) = enqueue_targets.get(&callee_name) {
                     if !queue.targets.iter().any(|&(t, _)| t == target) {
-                        let via = if handle == root {
-                            "its body".to_owned()
-                        } else {
-                            format!("helper `{}`", caller.name.clone().unwrap_or_default())
-                        };
                         return Err(CompileError::UndeclaredEnqueue {
                             procedure: queue.name.clone(),
                             target: plan.queues[target].name.clone(),
-                            via,
+                            via: via(),
                         });
                     }
                     // Enqueue functions are generated; no need to descend.

@@ -1,0 +1,148 @@
+//! Joins (`Graph::join`) on the GPU, through the tree sum of
+//! `workloads::tree_sum`: a random tree built top-down and summed bottom-up
+//! in the same run, checked node by node against the CPU.
+//!
+//! - `random_trees_sum_like_the_cpu`: trees of depth 1, 30 and a random
+//!   depth, fan-outs drawn from 1..=16 (so joins nest up to 30 deep), under
+//!   both strategies at 1 and 64 workgroups: every continuation fires
+//!   exactly once, after all its children, and every node's sum equals the
+//!   CPU's. `TEST_SEED=<seed>` replays a case.
+//! - `a_full_join_pool_is_measured_and_grown_once`: a pool too small fails
+//!   with `JoinPoolOverflow` and the exact need; a retry succeeds in two
+//!   attempts.
+//! - `a_lost_child_is_reported_with_its_joins`: a body that counts a child
+//!   it never enqueues leaves its join and every join above it unfired,
+//!   reported as `JoinsUnfinished` naming the continuation.
+
+use std::time::Duration;
+
+use gpu_test::gpu_test;
+use rand::{Rng, SeedableRng, rngs::StdRng};
+use scheduler::{Capacities, Executor, ExecutorConfig, RunError, Strategy};
+use workloads::tree_sum::{self, TreeParams, TreeSumGraph};
+
+fn config(workgroups: u32, join_pool: u32) -> ExecutorConfig {
+    ExecutorConfig {
+        workgroups: Some(workgroups),
+        capacities: Capacities::default().with_join_pool(join_pool),
+        timeout: Duration::from_secs(60),
+        ..Default::default()
+    }
+}
+
+fn executor(workgroups: u32, join_pool: u32, split_body: Option<&str>) -> (Executor, TreeSumGraph) {
+    tree_sum::executor(tests::gpu(), &config(workgroups, join_pool), split_body)
+        .unwrap_or_else(|e| panic!("building the tree sum: {e}"))
+}
+
+const STRATEGIES: [Strategy; 2] = [
+    Strategy::Megakernel,
+    Strategy::Rounds {
+        rounds_per_batch: 8,
+    },
+];
+
+#[gpu_test]
+fn random_trees_sum_like_the_cpu() {
+    let seed = tests::seed("random_trees_sum_like_the_cpu");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let trees: Vec<TreeParams> = [1, 30, rng.random_range(2..=12)]
+        .into_iter()
+        .map(|depth| TreeParams {
+            depth,
+            fan: rng.random_range(1..=tree_sum::MAX_FAN),
+            root_key: rng.random(),
+        })
+        .collect();
+    for workgroups in [1, 64] {
+        let (mut executor, tree) = executor(workgroups, scheduler::DEFAULT_JOIN_POOL, None);
+        for params in &trees {
+            let totals = tree_sum::cpu_reference(params);
+            assert_eq!(totals.depth, params.depth, "the spine reaches the last level");
+            for strategy in STRATEGIES {
+                let what = format!("{params:?}, {strategy}, {workgroups} workgroup(s), seed {seed}");
+                let checked = tree_sum::run(&mut executor, &tree, params, strategy, 4)
+                    .unwrap_or_else(|e| panic!("{what}: {e}"));
+                eprintln!("{what}\n{}{}", checked.summary, checked.report);
+                assert!(
+                    checked.mismatches.is_empty(),
+                    "{what}: GPU and CPU disagree:\n{}",
+                    checked.mismatches.join("\n")
+                );
+            }
+        }
+    }
+}
+
+#[gpu_test]
+fn a_full_join_pool_is_measured_and_grown_once() {
+    let params = TreeParams {
+        depth: 12,
+        fan: 6,
+        root_key: 0x1234_5678,
+    };
+    let totals = tree_sum::cpu_reference(&params);
+    assert!(totals.inner > 8, "a tree with joins to spare: {totals:?}");
+    for strategy in STRATEGIES {
+        let (mut executor, tree) = executor(4, 8, None);
+        tree_sum::prepare(&mut executor, &params, totals.nodes).unwrap();
+        match executor.run_with(strategy, &tree_sum::seeds(&tree, &params), &[]) {
+            Err(RunError::JoinPoolOverflow {
+                capacity, needed, ..
+            }) => assert_eq!((capacity, needed), (8, totals.inner), "{strategy}"),
+            other => panic!("{strategy}: expected a join pool overflow, got {other:?}"),
+        }
+        let checked = tree_sum::run(&mut executor, &tree, &params, strategy, 2)
+            .unwrap_or_else(|e| panic!("{strategy}: {e}"));
+        assert!(checked.mismatches.is_empty(), "{strategy}: {:?}", checked.mismatches);
+        assert_eq!(checked.report.attempts, 2, "{strategy}");
+        assert_eq!(checked.report.retries.join_pool, 1, "{strategy}");
+        assert!(u64::from(checked.report.join_pool.capacity) >= totals.inner);
+    }
+}
+
+/// `Split` as in the workload, except that the spine node at depth 2
+/// counts one child more than it enqueues.
+fn losing_split_body() -> String {
+    tree_sum::SPLIT_BODY.replace(
+        "_ = join_open_Refit(Refit(item.id, item.key, first, n));",
+        "_ = join_open_Refit(Refit(item.id, item.key, first, n));
+            if (item.depth == 2u && item.level == 0u) {
+                sched_join_add_child();
+            }",
+    )
+}
+
+#[gpu_test]
+fn a_lost_child_is_reported_with_its_joins() {
+    let body = losing_split_body();
+    assert_ne!(body, tree_sum::SPLIT_BODY, "the lost child is in the body");
+    let params = TreeParams {
+        depth: 6,
+        fan: 3,
+        root_key: 7,
+    };
+    let totals = tree_sum::cpu_reference(&params);
+    for strategy in STRATEGIES {
+        let (mut executor, tree) = executor(4, scheduler::DEFAULT_JOIN_POOL, Some(&body));
+        tree_sum::prepare(&mut executor, &params, totals.nodes).unwrap();
+        match executor.run_with(strategy, &tree_sum::seeds(&tree, &params), &[]) {
+            Err(RunError::JoinsUnfinished {
+                continuation,
+                joins,
+                report,
+                ..
+            }) => {
+                // The depth-2 spine node's join, and the two above it.
+                assert_eq!((continuation.as_str(), joins), ("Refit", 3), "{strategy}");
+                let stats = report.join(&tree.refit).unwrap();
+                assert_eq!(
+                    (stats.opened, stats.fired),
+                    (totals.inner, totals.inner - 3),
+                    "{strategy}"
+                );
+            }
+            other => panic!("{strategy}: expected unfinished joins, got {other:?}"),
+        }
+    }
+}
