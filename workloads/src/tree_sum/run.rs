@@ -46,7 +46,7 @@ pub fn graph(split_body: Option<&str>) -> TreeSumGraph {
         .constant("NODE_DONE", 3u32);
     graph.library(LIBRARY);
     graph.resource(Resource::storage_read::<[u32]>("params").min_len(2));
-    graph.resource(Resource::storage::<[u32]>("nodes"));
+    graph.resource(Resource::storage::<[Atomic<u32>]>("nodes"));
     graph.resource(Resource::storage::<[Atomic<u32>]>("fires"));
     graph.resource(Resource::storage::<[Atomic<u32>]>("counters").min_len(3));
     let split = graph.procedure(

@@ -49,12 +49,12 @@ fn tree_value(key: u32) -> u32 {
 /// is 0), `counters[2]` counts ids beyond the resources.
 pub const SPLIT_BODY: &str = "if (valid) {
     let at = NODE_WORDS * item.id;
-    nodes[at + NODE_KEY] = item.key;
-    nodes[at + NODE_SHAPE] = item.depth | (item.level << 8u);
+    atomicStore(&nodes[at + NODE_KEY], item.key);
+    atomicStore(&nodes[at + NODE_SHAPE], item.depth | (item.level << 8u));
     let n = tree_children(item.key, item.depth, item.level);
     if (n == 0u) {
-        nodes[at + NODE_SUM] = tree_value(item.key);
-        nodes[at + NODE_DONE] = 1u;
+        atomicStore(&nodes[at + NODE_SUM], tree_value(item.key));
+        atomicStore(&nodes[at + NODE_DONE], 1u);
     } else {
         let first = atomicAdd(&counters[0], n) + 1u;
         if (first + n > arrayLength(&fires)) {
@@ -71,19 +71,21 @@ pub const SPLIT_BODY: &str = "if (valid) {
     }
 }";
 
-/// `Refit`: every child has finished; sum them. `counters[1]` counts children
+/// `Refit`: every child has finished; sum them. `nodes` holds relaxed
+/// atomics: they are coherent between workgroups on every device, and the
+/// join orders them (docs/scheduler.md, "Joins"). `counters[1]` counts children
 /// found unfinished, `fires` the continuations per node.
 pub(crate) const REFIT_BODY: &str = "if (valid) {
     var total = tree_value(item.key);
     for (var i = 0u; i < item.count; i += 1u) {
         let child = NODE_WORDS * (item.first + i);
-        if (nodes[child + NODE_DONE] != 1u) {
+        if (atomicLoad(&nodes[child + NODE_DONE]) != 1u) {
             atomicAdd(&counters[1], 1u);
         }
-        total += nodes[child + NODE_SUM];
+        total += atomicLoad(&nodes[child + NODE_SUM]);
     }
     let at = NODE_WORDS * item.id;
-    nodes[at + NODE_SUM] = total;
+    atomicStore(&nodes[at + NODE_SUM], total);
     atomicAdd(&fires[item.id], 1u);
-    nodes[at + NODE_DONE] = 1u;
+    atomicStore(&nodes[at + NODE_DONE], 1u);
 }";
