@@ -46,11 +46,19 @@ const STRATEGIES: [Strategy; 2] = [
 fn random_trees_sum_like_the_cpu() {
     let seed = tests::seed("random_trees_sum_like_the_cpu");
     let mut rng = StdRng::seed_from_u64(seed);
-    let trees: Vec<TreeParams> = [1, 30, rng.random_range(2..=12)]
+    // (depth, fan-out): the extremes, then random ones.
+    let shapes = [
+        (1, rng.random_range(1..=tree_sum::MAX_FAN)),
+        (30, tree_sum::MAX_FAN),
+        (30, 1),
+        (30, rng.random_range(1..=tree_sum::MAX_FAN)),
+        (rng.random_range(2..=12), rng.random_range(1..=tree_sum::MAX_FAN)),
+    ];
+    let trees: Vec<TreeParams> = shapes
         .into_iter()
-        .map(|depth| TreeParams {
+        .map(|(depth, fan)| TreeParams {
             depth,
-            fan: rng.random_range(1..=tree_sum::MAX_FAN),
+            fan,
             root_key: rng.random(),
         })
         .collect();
