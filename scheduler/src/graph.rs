@@ -389,7 +389,11 @@ impl Graph {
     /// graph.connect(&split, &split).join(&split, &refit);
     /// graph.compile(&scheduler::CompileOptions::default()).unwrap();
     /// ```
-    pub fn join<P, C>(&mut self, parent: &ProcedureId<P>, continuation: &ProcedureId<C>) -> &mut Self {
+    pub fn join<P, C>(
+        &mut self,
+        parent: &ProcedureId<P>,
+        continuation: &ProcedureId<C>,
+    ) -> &mut Self {
         self.joins.push(Join {
             parent: parent.name().to_owned(),
             continuation: continuation.name().to_owned(),

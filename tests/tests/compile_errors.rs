@@ -538,5 +538,9 @@ fn a_continuation_is_reachable_through_its_join() {
     );
     g.join(&a, &c);
     let compiled = compile(&g).unwrap();
-    assert!(compiled.wgsl().contains("fn join_open_C(record: Node) -> bool"));
+    assert!(
+        compiled
+            .wgsl()
+            .contains("fn join_open_C(record: Node) -> bool")
+    );
 }

@@ -52,7 +52,10 @@ fn random_trees_sum_like_the_cpu() {
         (30, tree_sum::MAX_FAN),
         (30, 1),
         (30, rng.random_range(1..=tree_sum::MAX_FAN)),
-        (rng.random_range(2..=12), rng.random_range(1..=tree_sum::MAX_FAN)),
+        (
+            rng.random_range(2..=12),
+            rng.random_range(1..=tree_sum::MAX_FAN),
+        ),
     ];
     let trees: Vec<TreeParams> = shapes
         .into_iter()
@@ -66,9 +69,13 @@ fn random_trees_sum_like_the_cpu() {
         let (mut executor, tree) = executor(workgroups, scheduler::DEFAULT_JOIN_POOL, None);
         for params in &trees {
             let totals = tree_sum::cpu_reference(params);
-            assert_eq!(totals.depth, params.depth, "the spine reaches the last level");
+            assert_eq!(
+                totals.depth, params.depth,
+                "the spine reaches the last level"
+            );
             for strategy in STRATEGIES {
-                let what = format!("{params:?}, {strategy}, {workgroups} workgroup(s), seed {seed}");
+                let what =
+                    format!("{params:?}, {strategy}, {workgroups} workgroup(s), seed {seed}");
                 let checked = tree_sum::run(&mut executor, &tree, params, strategy, 4)
                     .unwrap_or_else(|e| panic!("{what}: {e}"));
                 eprintln!("{what}\n{}{}", checked.summary, checked.report);
@@ -102,7 +109,11 @@ fn a_full_join_pool_is_measured_and_grown_once() {
         }
         let checked = tree_sum::run(&mut executor, &tree, &params, strategy, 2)
             .unwrap_or_else(|e| panic!("{strategy}: {e}"));
-        assert!(checked.mismatches.is_empty(), "{strategy}: {:?}", checked.mismatches);
+        assert!(
+            checked.mismatches.is_empty(),
+            "{strategy}: {:?}",
+            checked.mismatches
+        );
         assert_eq!(checked.report.attempts, 2, "{strategy}");
         assert_eq!(checked.report.retries.join_pool, 1, "{strategy}");
         assert!(u64::from(checked.report.join_pool.capacity) >= totals.inner);

@@ -24,8 +24,8 @@ mod wgsl;
 pub use wgsl::SPLIT_BODY;
 
 pub use crate::Checked;
-pub use cpu::{Shape, cpu_reference, subtree_sums};
 pub use cpu::Totals;
+pub use cpu::{Shape, cpu_reference, subtree_sums};
 pub use run::{NODE_WORDS, RESOURCES, TreeSumGraph, check, executor, graph, prepare, run, seeds};
 
 /// The most children a node has (the graph's fan-out of `Split`).

@@ -188,7 +188,9 @@ pub(crate) fn functions(
     fire.line(format!(
         "let parent = atomicLoad(&sched_control[at + {PARENT}u]);"
     ));
-    fire.line(format!("let kind = atomicLoad(&sched_control[at + {KIND}u]);"));
+    fire.line(format!(
+        "let kind = atomicLoad(&sched_control[at + {KIND}u]);"
+    ));
     fire.line(format!(
         "atomicAdd(&sched_control[SCHED_CTRL_JOIN_KINDS + kind * {KIND_WORDS}u + {FIRED}u], 1u);"
     ));

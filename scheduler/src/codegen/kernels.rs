@@ -303,7 +303,12 @@ pub(crate) fn batch_prologue(f: &mut Function, plan: &Plan, q: usize, queue: &Qu
 /// body, then check whether the body spent the driver's loop budget.
 /// In a graph with joins, the item's join is read with it, and the joins
 /// are released and fired after the call (`codegen::joins`).
-pub(crate) fn body_call_lines(plan: &Plan, q: usize, queue: &QueuePlan, chunk: &str) -> Vec<String> {
+pub(crate) fn body_call_lines(
+    plan: &Plan,
+    q: usize,
+    queue: &QueuePlan,
+    chunk: &str,
+) -> Vec<String> {
     let joins = joins::any(plan);
     let (join_reset, join_decode) = joins::decode_lines(q, queue);
     let mut lines = vec![
@@ -323,7 +328,10 @@ pub(crate) fn body_call_lines(plan: &Plan, q: usize, queue: &QueuePlan, chunk: &
         lines.push(join_decode);
     }
     lines.push("}".to_owned());
-    lines.push(format!("{}(item, valid, thread, slot);", body_name(&queue.name)));
+    lines.push(format!(
+        "{}(item, valid, thread, slot);",
+        body_name(&queue.name)
+    ));
     lines.push("sched_check_body_loops();".to_owned());
     if joins {
         lines.extend(joins::after_body_lines());

@@ -8,7 +8,8 @@ use naga::{Block, Function, Handle, Module, Statement};
 
 use crate::codegen::module::Rendered;
 use crate::naming::{
-    BODY_PREFIX, RESERVED_PREFIXES, SCHEDULER_PREFIX, body_name, enqueue_name, join_open_name, scratch_name,
+    BODY_PREFIX, RESERVED_PREFIXES, SCHEDULER_PREFIX, body_name, enqueue_name, join_open_name,
+    scratch_name,
 };
 use crate::plan::Plan;
 use crate::{CompileError, Resource};

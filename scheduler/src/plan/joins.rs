@@ -7,8 +7,8 @@
 //! under (`join + 1`, 0 for none), in the word after the item, so slots
 //! grow by a packet only where the item fills its last one.
 
-use crate::plan::{Plan, QueuePlan, fan_out};
 use crate::plan::layout::PACKET_WORDS;
+use crate::plan::{Plan, QueuePlan, fan_out};
 
 /// One kind of join: the joins of one continuation procedure.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -6,8 +6,8 @@ use std::time::Duration;
 
 use crate::plan::{Plan, checked, control, fan_out, joins};
 use crate::{
-    BoundsViolation, FanOutViolation, JoinPoolStats, JoinStats, ProcedureStats, RunError, RunReport,
-    Strategy,
+    BoundsViolation, FanOutViolation, JoinPoolStats, JoinStats, ProcedureStats, RunError,
+    RunReport, Strategy,
 };
 
 /// What a report is built from besides the control words.

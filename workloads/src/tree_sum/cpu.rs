@@ -44,7 +44,8 @@ pub fn subtree_sums(params: &TreeParams) -> (HashMap<Shape, u32>, Totals) {
         }
         let mut total = value(key);
         for i in 0..n {
-            total = total.wrapping_add(sums[&(child_key(key, i), depth + 1, child_level(level, i))]);
+            total =
+                total.wrapping_add(sums[&(child_key(key, i), depth + 1, child_level(level, i))]);
         }
         sums.insert(shape, total);
     }

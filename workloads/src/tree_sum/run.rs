@@ -81,13 +81,12 @@ pub fn executor(
 
 /// Writes the parameters and zeroes the resources for a tree of `nodes`
 /// nodes.
-pub fn prepare(
-    executor: &mut Executor,
-    params: &TreeParams,
-    nodes: u64,
-) -> Result<(), RunError> {
+pub fn prepare(executor: &mut Executor, params: &TreeParams, nodes: u64) -> Result<(), RunError> {
     executor.write("params", &params.words())?;
-    executor.write("nodes", &vec![0u32; (nodes * u64::from(NODE_WORDS)) as usize])?;
+    executor.write(
+        "nodes",
+        &vec![0u32; (nodes * u64::from(NODE_WORDS)) as usize],
+    )?;
     executor.write("fires", &vec![0u32; nodes as usize])?;
     executor.write("counters", &[0u32; 3])
 }
