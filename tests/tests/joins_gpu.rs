@@ -59,11 +59,7 @@ fn random_trees_sum_like_the_cpu() {
     ];
     let trees: Vec<TreeParams> = shapes
         .into_iter()
-        .map(|(depth, fan)| TreeParams {
-            depth,
-            fan,
-            root_key: rng.random(),
-        })
+        .map(|(depth, fan)| TreeParams::new(depth, fan, rng.random()))
         .collect();
     for workgroups in [1, 64] {
         let (mut executor, tree) = executor(workgroups, scheduler::DEFAULT_JOIN_POOL, None);
@@ -91,11 +87,7 @@ fn random_trees_sum_like_the_cpu() {
 
 #[gpu_test]
 fn a_full_join_pool_is_measured_and_grown_once() {
-    let params = TreeParams {
-        depth: 12,
-        fan: 6,
-        root_key: 0x1234_5678,
-    };
+    let params = TreeParams::new(12, 6, 0x1234_5678);
     let totals = tree_sum::cpu_reference(&params);
     assert!(totals.inner > 8, "a tree with joins to spare: {totals:?}");
     for strategy in STRATEGIES {
@@ -136,11 +128,7 @@ fn losing_split_body() -> String {
 fn a_lost_child_is_reported_with_its_joins() {
     let body = losing_split_body();
     assert_ne!(body, tree_sum::SPLIT_BODY, "the lost child is in the body");
-    let params = TreeParams {
-        depth: 6,
-        fan: 3,
-        root_key: 7,
-    };
+    let params = TreeParams::new(6, 3, 7);
     let totals = tree_sum::cpu_reference(&params);
     for strategy in STRATEGIES {
         let (mut executor, tree) = executor(4, scheduler::DEFAULT_JOIN_POOL, Some(&body));

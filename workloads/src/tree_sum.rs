@@ -19,18 +19,23 @@
 
 mod cpu;
 mod run;
+mod two_pass;
 mod wgsl;
 
+pub use two_pass::{TwoPass, TwoPassRun};
 pub use wgsl::SPLIT_BODY;
 
 pub use crate::Checked;
 pub use cpu::Totals;
 pub use cpu::{Shape, cpu_reference, subtree_sums};
-pub use run::{NODE_WORDS, RESOURCES, TreeSumGraph, check, executor, graph, prepare, run, seeds};
+pub use run::{
+    NODE_WORDS, RESOURCES, TreeSumGraph, check, compare, executor, graph, prepare, run, seeds,
+};
 
 /// The most children a node has (the graph's fan-out of `Split`).
 pub const MAX_FAN: u32 = 16;
-/// Levels below the spine at which bushes end.
+/// Levels below the spine at which bushes end, unless the parameters say
+/// otherwise ([`TreeParams::bush_levels`]).
 pub const BUSH_LEVELS: u32 = 2;
 
 /// A node to visit: its id (index into the resources), key, depth and
@@ -64,22 +69,35 @@ pub struct Refit {
 }
 
 /// The parameters of a tree: the spine's depth, the most children per node
-/// (1 to [`MAX_FAN`]) and the root's key.
+/// (1 to [`MAX_FAN`]), the levels below the spine at which bushes end, and
+/// the root's key.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TreeParams {
     /// Depth of the deepest leaves (the spine's length).
     pub depth: u32,
     /// The most children of a node.
     pub fan: u32,
+    /// Levels below the spine at which bushes end ([`BUSH_LEVELS`] in the
+    /// tests; more make a much larger tree).
+    pub bush_levels: u32,
     /// The root's key.
     pub root_key: u32,
 }
 
-/// The words of the `params` resource the bodies read.
 impl TreeParams {
-    /// As the `params` resource holds them: depth, fan.
-    pub fn words(&self) -> [u32; 2] {
-        [self.depth, self.fan]
+    /// A tree with bushes of [`BUSH_LEVELS`] levels.
+    pub fn new(depth: u32, fan: u32, root_key: u32) -> Self {
+        Self {
+            depth,
+            fan,
+            bush_levels: BUSH_LEVELS,
+            root_key,
+        }
+    }
+
+    /// As the `params` resource holds them: depth, fan, bush levels.
+    pub fn words(&self) -> [u32; 3] {
+        [self.depth, self.fan, self.bush_levels]
     }
 }
 
@@ -101,7 +119,7 @@ pub fn children(params: &TreeParams, key: u32, depth: u32, level: u32) -> u32 {
     let h = hash(key);
     if level == 0 {
         1 + h % params.fan
-    } else if level >= BUSH_LEVELS {
+    } else if level >= params.bush_levels {
         0
     } else {
         h % (params.fan + 1)

@@ -2,7 +2,6 @@
 //! every join's firing, compared with the CPU exactly.
 
 use std::error::Error;
-use std::fmt::Write as _;
 
 use scheduler::{
     Atomic, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Procedure, ProcedureId, Resource,
@@ -11,7 +10,7 @@ use scheduler::{
 
 use super::cpu::subtree_sums;
 use super::wgsl::{LIBRARY, REFIT_BODY, SPLIT_BODY};
-use super::{BUSH_LEVELS, MAX_FAN, Node, Refit, TreeParams, children};
+use super::{MAX_FAN, Node, Refit, TreeParams, children};
 use crate::Checked;
 
 /// The resources of the graph, which a run writes (or zeroes) first.
@@ -38,14 +37,13 @@ pub struct TreeSumGraph {
 pub fn graph(split_body: Option<&str>) -> TreeSumGraph {
     let mut graph = Graph::new("tree sum");
     graph
-        .constant("BUSH_LEVELS", BUSH_LEVELS)
         .constant("NODE_WORDS", NODE_WORDS)
         .constant("NODE_SUM", 0u32)
         .constant("NODE_KEY", 1u32)
         .constant("NODE_SHAPE", 2u32)
         .constant("NODE_DONE", 3u32);
     graph.library(LIBRARY);
-    graph.resource(Resource::storage_read::<[u32]>("params").min_len(2));
+    graph.resource(Resource::storage_read::<[u32]>("params").min_len(3));
     graph.resource(Resource::storage::<[Atomic<u32>]>("nodes"));
     graph.resource(Resource::storage::<[Atomic<u32>]>("fires"));
     graph.resource(Resource::storage::<[Atomic<u32>]>("counters").min_len(3));
@@ -136,8 +134,35 @@ pub fn check(
     params: &TreeParams,
     report: RunReport,
 ) -> Result<Checked, Box<dyn Error>> {
-    let (expected, totals) = subtree_sums(params);
     let words = executor.read::<u32>("nodes")?;
+    let fires = executor.read::<u32>("fires")?;
+    let counters = executor.read::<u32>("counters")?;
+    let (mut mismatches, summary) = compare(params, &words, &fires, &counters);
+    let totals = subtree_sums(params).1;
+    let joins = report.join(&tree.refit).cloned().unwrap_or_default();
+    if (joins.opened, joins.fired, joins.outstanding) != (totals.inner, totals.inner, 0) {
+        mismatches.push(format!(
+            "joins opened {}, fired {}, outstanding {}; the CPU's tree has {} inner nodes",
+            joins.opened, joins.fired, joins.outstanding, totals.inner
+        ));
+    }
+    Ok(Checked {
+        report,
+        mismatches,
+        summary,
+    })
+}
+
+/// Compares the resources a run left (`nodes` words, `fires`, `counters`)
+/// with the CPU: every node's sum, every inner node summed exactly once,
+/// after all its children. Returns the disagreements and a summary.
+pub fn compare(
+    params: &TreeParams,
+    words: &[u32],
+    fires: &[u32],
+    counters: &[u32],
+) -> (Vec<String>, String) {
+    let (expected, totals) = subtree_sums(params);
     let field = |offset: usize| -> Vec<u32> {
         words
             .chunks_exact(NODE_WORDS as usize)
@@ -145,8 +170,6 @@ pub fn check(
             .collect()
     };
     let (sums, keys, shapes, done) = (field(0), field(1), field(2), field(3));
-    let fires = executor.read::<u32>("fires")?;
-    let counters = executor.read::<u32>("counters")?;
     let mut mismatches = Vec::new();
     let used = u64::from(counters[0]) + 1;
     if used != totals.nodes {
@@ -165,7 +188,8 @@ pub fn check(
         mismatches.push(format!("{} ids beyond the resources", counters[2]));
     }
     let mut wrong = 0usize;
-    for id in 0..(used.min(totals.nodes) as usize) {
+    let nodes = used.min(totals.nodes).min(sums.len() as u64) as usize;
+    for id in 0..nodes {
         let (depth, level) = (shapes[id] & 0xff, shapes[id] >> 8);
         let shape = (keys[id], depth, level);
         let inner = children(params, keys[id], depth, level) > 0;
@@ -191,7 +215,7 @@ pub fn check(
         }
     }
     if wrong > 8 {
-        mismatches.push(format!("... {} problems in all", wrong));
+        mismatches.push(format!("... {wrong} problems in all"));
     }
     if sums.first() != Some(&totals.root_sum) {
         mismatches.push(format!(
@@ -200,27 +224,14 @@ pub fn check(
             totals.root_sum
         ));
     }
-    let joins = report.join(&tree.refit).cloned().unwrap_or_default();
-    if (joins.opened, joins.fired, joins.outstanding) != (totals.inner, totals.inner, 0) {
-        mismatches.push(format!(
-            "joins opened {}, fired {}, outstanding {}; the CPU's tree has {} inner nodes",
-            joins.opened, joins.fired, joins.outstanding, totals.inner
-        ));
-    }
-    let mut summary = String::new();
-    writeln!(
-        summary,
-        "tree of depth {} (fan-out up to {}): {} nodes, {} joins, root sum {} (CPU {})",
+    let summary = format!(
+        "tree of depth {} (fan-out up to {}): {} nodes, {} joins, root sum {} (CPU {})\n",
         totals.depth,
         params.fan,
         totals.nodes,
         totals.inner,
         sums.first().copied().unwrap_or_default(),
         totals.root_sum
-    )?;
-    Ok(Checked {
-        report,
-        mismatches,
-        summary,
-    })
+    );
+    (mismatches, summary)
 }

@@ -22,7 +22,7 @@ fn tree_children(key: u32, depth: u32, level: u32) -> u32 {
     if (level == 0u) {
         return 1u + h % params[1];
     }
-    if (level >= BUSH_LEVELS) {
+    if (level >= params[2]) {
         return 0u;
     }
     return h % (params[1] + 1u);
