@@ -10,6 +10,9 @@
 //! - `a_full_join_pool_is_measured_and_grown_once`: a pool too small fails
 //!   with `JoinPoolOverflow` and the exact need; a retry succeeds in two
 //!   attempts.
+//! - `quadrature_estimates_combine_bottom_up`: adaptive quadrature whose
+//!   value and error estimates are combined bottom-up by joins, every root's
+//!   equal to the CPU's.
 //! - `a_lost_child_is_reported_with_its_joins`: a body that counts a child
 //!   it never enqueues leaves its join and every join above it unfired,
 //!   reported as `JoinsUnfinished` naming the continuation.
@@ -150,6 +153,33 @@ fn a_lost_child_is_reported_with_its_joins() {
                 );
             }
             other => panic!("{strategy}: expected unfinished joins, got {other:?}"),
+        }
+    }
+}
+
+/// Adaptive quadrature whose value and error estimates are combined
+/// bottom-up by joins: every root's estimates equal the CPU's, under both
+/// strategies, at 1 and 64 workgroups.
+#[gpu_test]
+fn quadrature_estimates_combine_bottom_up() {
+    let seed = tests::seed("quadrature_estimates_combine_bottom_up");
+    let problem = workloads::quadrature::Problem::random(seed, 100, 16);
+    for workgroups in [1, 64] {
+        for strategy in STRATEGIES {
+            let what = format!("{strategy}, {workgroups} workgroup(s), seed {seed}");
+            let checked = workloads::quadrature::run_combined(
+                tests::gpu(),
+                &problem,
+                &config(workgroups, scheduler::DEFAULT_JOIN_POOL),
+                strategy,
+            )
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
+            eprintln!("{what}\n{}{}", checked.summary, checked.report);
+            assert!(
+                checked.mismatches.is_empty(),
+                "{what}: GPU and CPU disagree:\n{}",
+                checked.mismatches.join("\n")
+            );
         }
     }
 }
