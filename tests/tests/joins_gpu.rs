@@ -33,9 +33,19 @@ fn config(workgroups: u32, join_pool: u32) -> ExecutorConfig {
     }
 }
 
-fn executor(workgroups: u32, join_pool: u32, split_body: Option<&str>) -> (Executor, TreeSumGraph) {
-    tree_sum::executor(tests::gpu(), &config(workgroups, join_pool), split_body)
-        .unwrap_or_else(|e| panic!("building the tree sum: {e}"))
+fn executor(
+    workgroups: u32,
+    join_pool: u32,
+    split_body: Option<&str>,
+    checked: bool,
+) -> (Executor, TreeSumGraph) {
+    tree_sum::executor(
+        tests::gpu(),
+        &config(workgroups, join_pool),
+        split_body,
+        checked,
+    )
+    .unwrap_or_else(|e| panic!("building the tree sum: {e}"))
 }
 
 const STRATEGIES: [Strategy; 2] = [
@@ -65,7 +75,7 @@ fn random_trees_sum_like_the_cpu() {
         .map(|(depth, fan)| TreeParams::new(depth, fan, rng.random()))
         .collect();
     for workgroups in [1, 64] {
-        let (mut executor, tree) = executor(workgroups, scheduler::DEFAULT_JOIN_POOL, None);
+        let (mut executor, tree) = executor(workgroups, scheduler::DEFAULT_JOIN_POOL, None, false);
         for params in &trees {
             let totals = tree_sum::cpu_reference(params);
             assert_eq!(
@@ -94,7 +104,7 @@ fn a_full_join_pool_is_measured_and_grown_once() {
     let totals = tree_sum::cpu_reference(&params);
     assert!(totals.inner > 8, "a tree with joins to spare: {totals:?}");
     for strategy in STRATEGIES {
-        let (mut executor, tree) = executor(4, 8, None);
+        let (mut executor, tree) = executor(4, 8, None, false);
         tree_sum::prepare(&mut executor, &params, totals.nodes).unwrap();
         match executor.run_with(strategy, &tree_sum::seeds(&tree, &params), &[]) {
             Err(RunError::JoinPoolOverflow {
@@ -133,8 +143,9 @@ fn a_lost_child_is_reported_with_its_joins() {
     assert_ne!(body, tree_sum::SPLIT_BODY, "the lost child is in the body");
     let params = TreeParams::new(6, 3, 7);
     let totals = tree_sum::cpu_reference(&params);
-    for strategy in STRATEGIES {
-        let (mut executor, tree) = executor(4, scheduler::DEFAULT_JOIN_POOL, Some(&body));
+    for (strategy, checked) in STRATEGIES.into_iter().flat_map(|s| [(s, false), (s, true)]) {
+        let strategy_name = format!("{strategy}, checked mode {checked}");
+        let (mut executor, tree) = executor(4, scheduler::DEFAULT_JOIN_POOL, Some(&body), checked);
         tree_sum::prepare(&mut executor, &params, totals.nodes).unwrap();
         match executor.run_with(strategy, &tree_sum::seeds(&tree, &params), &[]) {
             Err(RunError::JoinsUnfinished {
@@ -144,15 +155,19 @@ fn a_lost_child_is_reported_with_its_joins() {
                 ..
             }) => {
                 // The depth-2 spine node's join, and the two above it.
-                assert_eq!((continuation.as_str(), joins), ("Refit", 3), "{strategy}");
+                assert_eq!(
+                    (continuation.as_str(), joins),
+                    ("Refit", 3),
+                    "{strategy_name}"
+                );
                 let stats = report.join(&tree.refit).unwrap();
                 assert_eq!(
                     (stats.opened, stats.fired),
                     (totals.inner, totals.inner - 3),
-                    "{strategy}"
+                    "{strategy_name}"
                 );
             }
-            other => panic!("{strategy}: expected unfinished joins, got {other:?}"),
+            other => panic!("{strategy_name}: expected unfinished joins, got {other:?}"),
         }
     }
 }

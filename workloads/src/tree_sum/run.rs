@@ -63,16 +63,20 @@ pub fn graph(split_body: Option<&str>) -> TreeSumGraph {
     }
 }
 
-/// Compiles [`graph`] for `gpu` and makes an executor with `config`.
+/// Compiles [`graph`] for `gpu` (in checked mode if `checked`) and makes
+/// an executor with `config`.
 pub fn executor(
     gpu: &Gpu,
     config: &ExecutorConfig,
     split_body: Option<&str>,
+    checked: bool,
 ) -> Result<(Executor, TreeSumGraph), Box<dyn Error>> {
     let tree = graph(split_body);
-    let compiled = tree.graph.compile(&CompileOptions::with_features(
-        scheduler::recommended_features(&gpu.device),
-    ))?;
+    let options = CompileOptions {
+        checked,
+        ..CompileOptions::with_features(scheduler::recommended_features(&gpu.device))
+    };
+    let compiled = tree.graph.compile(&options)?;
     let executor = Executor::new(&gpu.device, &gpu.queue, &compiled, config)?;
     Ok((executor, tree))
 }
