@@ -58,6 +58,10 @@
 //! - `enqueue_<Target>(item)` may be called from any thread, under any
 //!   condition, up to the declared fan-out; the items are published when the
 //!   batch ends.
+//! - `join_open_<Continuation>(record)`, in a procedure declared with
+//!   [`Graph::join`], opens a join: the thread's enqueues from then on (and
+//!   all their descendants) are its children, and once the last of them has
+//!   finished, `record` is enqueued into the continuation, exactly once.
 //!
 //! # Runtime helpers
 //!
