@@ -328,17 +328,55 @@ pub(crate) fn decode_lines(q: usize, queue: &QueuePlan) -> (String, String) {
     )
 }
 
+/// Where the joins of a body call are released and fired.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Finish {
+    /// Right after the call, between two fences of their own (the
+    /// megakernel's batches of several chunks).
+    Fenced,
+    /// After a fence the batch passes anyway (the megakernel's one-chunk
+    /// batch: `sched_receive_done`'s), so only the acquire fence is added.
+    AfterReleaseFence,
+    /// Without fences: under Rounds a continuation runs in a later dispatch
+    /// than every write it reads, and a record is read in the round that
+    /// opened it only by its opener's own thread.
+    OrderedByDispatch,
+}
+
 /// After a body call, all threads: release the item's and the opened
-/// joins, then fire those brought to zero.
-pub(crate) fn after_body_lines() -> Vec<String> {
-    vec![
-        "// Joins. Release: the item's writes (every thread's) are complete before".to_owned(),
-        "// its references are dropped.".to_owned(),
-        "storageBarrier();".to_owned(),
-        "sched_join_finish(valid && thread == 0u);".to_owned(),
-        "// Acquire: the writes of every child of a join brought to zero, and its".to_owned(),
-        "// record, are visible before the continuation is staged.".to_owned(),
-        "storageBarrier();".to_owned(),
-        "sched_join_fire_staged();".to_owned(),
-    ]
+/// joins, then fire those brought to zero, with the fences `finish` needs.
+pub(crate) fn finish_lines(finish: Finish) -> Vec<String> {
+    let mut lines = Vec::new();
+    match finish {
+        Finish::Fenced => {
+            lines.push(
+                "// Joins. Release: the item's writes (every thread's) are complete before"
+                    .to_owned(),
+            );
+            lines.push("// its references are dropped.".to_owned());
+            lines.push("storageBarrier();".to_owned());
+        }
+        Finish::AfterReleaseFence => {
+            lines.push(
+                "// Joins. The fence above released the item's writes (every thread's).".to_owned(),
+            );
+        }
+        Finish::OrderedByDispatch => {
+            lines.push(
+                "// Joins. A continuation runs in a later round than every write it reads:"
+                    .to_owned(),
+            );
+            lines.push("// the dispatches order them, so no fence is needed.".to_owned());
+        }
+    }
+    lines.push("sched_join_finish(valid && thread == 0u);".to_owned());
+    if finish != Finish::OrderedByDispatch {
+        lines.push(
+            "// Acquire: the writes of every child of a join brought to zero, and its".to_owned(),
+        );
+        lines.push("// record, are visible before the continuation is staged.".to_owned());
+        lines.push("storageBarrier();".to_owned());
+    }
+    lines.push("sched_join_fire_staged();".to_owned());
+    lines
 }

@@ -85,8 +85,12 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     f.line("// Acquire: the reads below come after the claim saw `published`.");
     f.line("storageBarrier();");
     // The body's call on one chunk; `chunk` is its index within the batch.
+    // A batch of one chunk finishes its joins after `sched_receive_done`,
+    // whose fence releases the items' writes.
+    let single = plan.chunks_per_batch == 1;
     let call = |chunk: &str| {
-        let mut lines = body_call_lines(plan, q, queue, chunk);
+        let finish = (!single).then_some(joins::Finish::Fenced);
+        let mut lines = body_call_lines(plan, q, queue, chunk, finish);
         lines.splice(
             2..2,
             [
@@ -127,6 +131,11 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     }
     f.line("// Every item was read: release the slots.");
     f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
+    if single && joins::any(plan) {
+        for line in joins::finish_lines(joins::Finish::AfterReleaseFence) {
+            f.line(line);
+        }
+    }
     if !queue.targets.is_empty() {
         flush_lines(&mut f, plan, q, queue);
     }
@@ -301,13 +310,15 @@ pub(crate) fn batch_prologue(f: &mut Function, plan: &Plan, q: usize, queue: &Qu
 /// The body's call on chunk `chunk` (a WGSL expression) of a batch: decode
 /// the thread's item from its slot when it is one of the batch's, call the
 /// body, then check whether the body spent the driver's loop budget.
-/// In a graph with joins, the item's join is read with it, and the joins
-/// are released and fired after the call (`codegen::joins`).
+/// In a graph with joins, the item's join is read with it, and with
+/// `finish` the joins are released and fired after the call
+/// (`codegen::joins`; `None`: the caller does it).
 pub(crate) fn body_call_lines(
     plan: &Plan,
     q: usize,
     queue: &QueuePlan,
     chunk: &str,
+    finish: Option<joins::Finish>,
 ) -> Vec<String> {
     let joins = joins::any(plan);
     let (join_reset, join_decode) = joins::decode_lines(q, queue);
@@ -333,8 +344,8 @@ pub(crate) fn body_call_lines(
         body_name(&queue.name)
     ));
     lines.push("sched_check_body_loops();".to_owned());
-    if joins {
-        lines.extend(joins::after_body_lines());
+    if let (true, Some(finish)) = (joins, finish) {
+        lines.extend(joins::finish_lines(finish));
     }
     lines
 }
