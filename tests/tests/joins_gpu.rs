@@ -21,7 +21,9 @@ use std::time::Duration;
 
 use gpu_test::gpu_test;
 use rand::{Rng, SeedableRng, rngs::StdRng};
-use scheduler::{Capacities, Executor, ExecutorConfig, RunError, Strategy};
+use scheduler::{
+    Capacities, CompileOptions, Executor, ExecutorConfig, RunError, Strategy, TraceOptions,
+};
 use workloads::tree_sum::{self, TreeParams, TreeSumGraph};
 
 fn config(workgroups: u32, join_pool: u32) -> ExecutorConfig {
@@ -37,13 +39,13 @@ fn executor(
     workgroups: u32,
     join_pool: u32,
     split_body: Option<&str>,
-    checked: bool,
+    options: CompileOptions,
 ) -> (Executor, TreeSumGraph) {
     tree_sum::executor(
         tests::gpu(),
+        &options,
         &config(workgroups, join_pool),
         split_body,
-        checked,
     )
     .unwrap_or_else(|e| panic!("building the tree sum: {e}"))
 }
@@ -74,8 +76,22 @@ fn random_trees_sum_like_the_cpu() {
         .into_iter()
         .map(|(depth, fan)| TreeParams::new(depth, fan, rng.random()))
         .collect();
-    for workgroups in [1, 64] {
-        let (mut executor, tree) = executor(workgroups, scheduler::DEFAULT_JOIN_POOL, None, false);
+    let default = tree_sum::options(tests::gpu());
+    // The megakernel's one-chunk batches finish their joins after the slots'
+    // release, batches of several chunks after each chunk; a traced module
+    // keeps its trace between the markers and the join pool.
+    let several_chunks = CompileOptions {
+        chunks_per_batch: 4,
+        ..default.clone()
+    }
+    .traced(TraceOptions { capacity: 256 });
+    for (workgroups, options) in [(1, &default), (64, &default), (8, &several_chunks)] {
+        let (mut executor, tree) = executor(
+            workgroups,
+            scheduler::DEFAULT_JOIN_POOL,
+            None,
+            options.clone(),
+        );
         for params in &trees {
             let totals = tree_sum::cpu_reference(params);
             assert_eq!(
@@ -104,7 +120,7 @@ fn a_full_join_pool_is_measured_and_grown_once() {
     let totals = tree_sum::cpu_reference(&params);
     assert!(totals.inner > 8, "a tree with joins to spare: {totals:?}");
     for strategy in STRATEGIES {
-        let (mut executor, tree) = executor(4, 8, None, false);
+        let (mut executor, tree) = executor(4, 8, None, tree_sum::options(tests::gpu()));
         tree_sum::prepare(&mut executor, &params, totals.nodes).unwrap();
         match executor.run_with(strategy, &tree_sum::seeds(&tree, &params), &[]) {
             Err(RunError::JoinPoolOverflow {
@@ -145,7 +161,11 @@ fn a_lost_child_is_reported_with_its_joins() {
     let totals = tree_sum::cpu_reference(&params);
     for (strategy, checked) in STRATEGIES.into_iter().flat_map(|s| [(s, false), (s, true)]) {
         let strategy_name = format!("{strategy}, checked mode {checked}");
-        let (mut executor, tree) = executor(4, scheduler::DEFAULT_JOIN_POOL, Some(&body), checked);
+        let options = CompileOptions {
+            checked,
+            ..tree_sum::options(tests::gpu())
+        };
+        let (mut executor, tree) = executor(4, scheduler::DEFAULT_JOIN_POOL, Some(&body), options);
         tree_sum::prepare(&mut executor, &params, totals.nodes).unwrap();
         match executor.run_with(strategy, &tree_sum::seeds(&tree, &params), &[]) {
             Err(RunError::JoinsUnfinished {

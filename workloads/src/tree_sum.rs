@@ -29,7 +29,8 @@ pub use crate::Checked;
 pub use cpu::Totals;
 pub use cpu::{Shape, cpu_reference, subtree_sums};
 pub use run::{
-    NODE_WORDS, RESOURCES, TreeSumGraph, check, compare, executor, graph, prepare, run, seeds,
+    NODE_WORDS, RESOURCES, TreeSumGraph, check, compare, executor, graph, options, prepare, run,
+    seeds,
 };
 
 /// The most children a node has (the graph's fan-out of `Split`).

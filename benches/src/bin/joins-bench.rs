@@ -77,7 +77,7 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         timeout: Duration::from_secs(120),
         ..ExecutorConfig::default()
     };
-    let (mut joined, tree) = tree_sum::executor(&gpu, &config, None, false)?;
+    let (mut joined, tree) = tree_sum::executor(&gpu, &tree_sum::options(&gpu), &config, None)?;
     let mut two_pass = TwoPass::new(&gpu, &config)?;
     println!(
         "{:<10}{:<22}{:>6}{:>12}{:>12}",

@@ -63,20 +63,22 @@ pub fn graph(split_body: Option<&str>) -> TreeSumGraph {
     }
 }
 
-/// Compiles [`graph`] for `gpu` (in checked mode if `checked`) and makes
-/// an executor with `config`.
+/// The compile options for `gpu`: its recommended features, the rest
+/// default.
+pub fn options(gpu: &Gpu) -> CompileOptions {
+    CompileOptions::with_features(scheduler::recommended_features(&gpu.device))
+}
+
+/// Compiles [`graph`] with `options` (see [`options`]) and makes an
+/// executor on `gpu` with `config`.
 pub fn executor(
     gpu: &Gpu,
+    options: &CompileOptions,
     config: &ExecutorConfig,
     split_body: Option<&str>,
-    checked: bool,
 ) -> Result<(Executor, TreeSumGraph), Box<dyn Error>> {
     let tree = graph(split_body);
-    let options = CompileOptions {
-        checked,
-        ..CompileOptions::with_features(scheduler::recommended_features(&gpu.device))
-    };
-    let compiled = tree.graph.compile(&options)?;
+    let compiled = tree.graph.compile(options)?;
     let executor = Executor::new(&gpu.device, &gpu.queue, &compiled, config)?;
     Ok((executor, tree))
 }
