@@ -186,7 +186,7 @@ pub fn run_combined(
     executor.write("bumps", &problem.bumps)?;
     executor.write(
         "estimates",
-        &vec![0u32; (ESTIMATE_WORDS as u64 * processed) as usize],
+        &vec![0u32; (u64::from(ESTIMATE_WORDS) * processed) as usize],
     )?;
     executor.write("counters", &[0u32; 2])?;
     let seeds: Vec<Span> = roots(problem)
