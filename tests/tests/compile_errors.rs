@@ -544,3 +544,26 @@ fn a_continuation_is_reachable_through_its_join() {
             .contains("fn join_open_C(record: Node) -> bool")
     );
 }
+
+#[test]
+fn enqueueing_into_a_continuation_needs_a_connection() {
+    let mut g = Graph::new("join");
+    let a = g.procedure(
+        Procedure::of::<Node>("A")
+            .initial(true)
+            .body("if (valid && join_open_C(item)) { enqueue_C(item); }"),
+    );
+    let c = g.procedure(Procedure::of::<Node>("C").body("_ = item;"));
+    g.join(&a, &c);
+    // The join lets `A` fire continuations, not enqueue into `C` itself.
+    assert_eq!(
+        compile(&g).unwrap_err(),
+        CompileError::UndeclaredEnqueue {
+            procedure: "A".into(),
+            target: "C".into(),
+            via: "its body".into(),
+        }
+    );
+    g.connect(&a, &c);
+    assert!(compile(&g).is_ok());
+}

@@ -12,6 +12,7 @@ use crate::naming::{
     scratch_name,
 };
 use crate::plan::Plan;
+use crate::plan::joins::FIRES_PER_ITEM;
 use crate::{CompileError, Resource};
 
 /// Rejects user declarations whose names start with a reserved prefix.
@@ -97,7 +98,7 @@ pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), Com
                     continue;
                 }
                 if let Some(&target) = enqueue_targets.get(&callee_name) {
-                    if !queue.targets.iter().any(|&(t, _)| t == target) {
+                    if !declared_target(plan, queue, target) {
                         return Err(CompileError::UndeclaredEnqueue {
                             procedure: queue.name.clone(),
                             target: plan.queues[target].name.clone(),
@@ -112,6 +113,22 @@ pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), Com
         }
     }
     Ok(())
+}
+
+/// Whether `queue` has a connection to `target` of the user's: in a graph
+/// with joins every procedure gets [`FIRES_PER_ITEM`] into every
+/// continuation for the joins it fires, which a connection of its own
+/// (fan-out at least 1) comes on top of.
+fn declared_target(plan: &Plan, queue: &crate::plan::QueuePlan, target: usize) -> bool {
+    let for_joins = if plan.joins.iter().any(|j| j.continuation == target) {
+        FIRES_PER_ITEM
+    } else {
+        0
+    };
+    queue
+        .targets
+        .iter()
+        .any(|&(t, fan_out)| t == target && fan_out > for_joins)
 }
 
 /// Every function `block` calls, pushed onto `out`.
