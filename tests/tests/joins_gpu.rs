@@ -147,7 +147,7 @@ fn losing_split_body() -> String {
     tree_sum::SPLIT_BODY.replace(
         "_ = join_open_Refit(Refit(item.id, item.key, first, n));",
         "_ = join_open_Refit(Refit(item.id, item.key, first, n));
-            if (item.depth == 2u && item.level == 0u) {
+            if (depth == 2u && level == 0u) {
                 sched_join_add_child();
             }",
     )

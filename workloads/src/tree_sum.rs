@@ -39,8 +39,10 @@ pub const MAX_FAN: u32 = 16;
 /// otherwise ([`TreeParams::bush_levels`]).
 pub const BUSH_LEVELS: u32 = 2;
 
-/// A node to visit: its id (index into the resources), key, depth and
-/// level (0 on the spine, else levels below it).
+/// A node to visit: its id (index into the resources), key, and shape:
+/// its depth, and its level (0 on the spine, else levels below it) shifted
+/// left by 8. Three words, so that in a graph with joins the join word
+/// shares the item's packet (a fourth word would double the slot).
 #[scheduler::item]
 #[derive(Debug)]
 #[expect(
@@ -50,8 +52,7 @@ pub const BUSH_LEVELS: u32 = 2;
 pub struct Node {
     pub id: u32,
     pub key: u32,
-    pub depth: u32,
-    pub level: u32,
+    pub shape: u32,
 }
 
 /// A join's record: the node to sum, its key, and its children's ids

@@ -102,8 +102,7 @@ pub fn seeds(tree: &TreeSumGraph, params: &TreeParams) -> Seeds {
         &[Node {
             id: 0,
             key: params.root_key,
-            depth: 0,
-            level: 0,
+            shape: 0,
         }],
     )
 }

@@ -164,8 +164,7 @@ impl TwoPass {
         let root = Node {
             id: 0,
             key: params.root_key,
-            depth: 0,
-            level: 0,
+            shape: 0,
         };
         let build_bindings = bind(&["params", "nodes", "fires", "counters", "links"]);
         let report = self.build.run_with(

@@ -50,8 +50,10 @@ fn tree_value(key: u32) -> u32 {
 pub const SPLIT_BODY: &str = "if (valid) {
     let at = NODE_WORDS * item.id;
     atomicStore(&nodes[at + NODE_KEY], item.key);
-    atomicStore(&nodes[at + NODE_SHAPE], item.depth | (item.level << 8u));
-    let n = tree_children(item.key, item.depth, item.level);
+    let depth = item.shape & 0xffu;
+    let level = item.shape >> 8u;
+    atomicStore(&nodes[at + NODE_SHAPE], item.shape);
+    let n = tree_children(item.key, depth, level);
     if (n == 0u) {
         atomicStore(&nodes[at + NODE_SUM], tree_value(item.key));
         atomicStore(&nodes[at + NODE_DONE], 1u);
@@ -65,7 +67,7 @@ pub const SPLIT_BODY: &str = "if (valid) {
             // reports carries the whole need.
             _ = join_open_Refit(Refit(item.id, item.key, first, n));
             for (var i = 0u; i < n; i += 1u) {
-                enqueue_Split(Node(first + i, tree_child_key(item.key, i), item.depth + 1u, tree_child_level(item.level, i)));
+                enqueue_Split(Node(first + i, tree_child_key(item.key, i), (depth + 1u) | (tree_child_level(level, i) << 8u)));
             }
         }
     }
