@@ -13,6 +13,8 @@
 //! - `quadrature_estimates_combine_bottom_up`: adaptive quadrature whose
 //!   value and error estimates are combined bottom-up by joins, every root's
 //!   equal to the CPU's.
+//! - `joins_of_children_lost_to_an_overflow_are_listed`: a queue too small
+//!   drops children; the overflow error lists their unfired joins.
 //! - `a_lost_child_is_reported_with_its_joins`: a body that counts a child
 //!   it never enqueues leaves its join and every join above it unfired,
 //!   reported as `JoinsUnfinished` naming the continuation.
@@ -216,5 +218,50 @@ fn quadrature_estimates_combine_bottom_up() {
                 checked.mismatches.join("\n")
             );
         }
+    }
+}
+
+/// Children lost to an overflowed queue leave their joins unfired: the run
+/// fails with the overflow, which lists the unfired joins, and a retry that
+/// grows the queue sums the tree.
+#[gpu_test]
+fn joins_of_children_lost_to_an_overflow_are_listed() {
+    let params = TreeParams::new(12, 6, 0x00c0_ffee);
+    let totals = tree_sum::cpu_reference(&params);
+    for strategy in STRATEGIES {
+        let config = ExecutorConfig {
+            capacities: Capacities::default().with("Split", 16),
+            ..config(4, scheduler::DEFAULT_JOIN_POOL)
+        };
+        let (mut executor, tree) = tree_sum::executor(
+            tests::gpu(),
+            &tree_sum::options(tests::gpu()),
+            &config,
+            None,
+        )
+        .unwrap();
+        tree_sum::prepare(&mut executor, &params, totals.nodes).unwrap();
+        match executor.run_with(strategy, &tree_sum::seeds(&tree, &params), &[]) {
+            Err(RunError::QueueOverflow {
+                procedure,
+                also,
+                report,
+                ..
+            }) => {
+                assert_eq!(procedure, "Split", "{strategy}");
+                let stats = report.join(&tree.refit).unwrap();
+                assert!(stats.outstanding > 0, "{strategy}: {stats:?}");
+                let listed = format!("{} join(s) of `Refit` never fired", stats.outstanding);
+                assert!(also.contains(&listed), "{strategy}: {also:?}");
+            }
+            other => panic!("{strategy}: expected an overflow, got {other:?}"),
+        }
+        let checked = tree_sum::run(&mut executor, &tree, &params, strategy, 4)
+            .unwrap_or_else(|e| panic!("{strategy}: {e}"));
+        assert!(
+            checked.mismatches.is_empty(),
+            "{strategy}: {:?}",
+            checked.mismatches
+        );
     }
 }
