@@ -123,6 +123,31 @@ pub enum CompileError {
         /// The function that calls `enqueue_<target>`.
         via: String,
     },
+    /// A join ([`Graph::join`](crate::Graph::join)) names a procedure the
+    /// graph does not have.
+    #[error("join `{parent}` -> `{continuation}` names unknown procedure `{unknown}`")]
+    UnknownJoinProcedure {
+        /// The procedure whose items open the joins.
+        parent: String,
+        /// The continuation.
+        continuation: String,
+        /// The name not found.
+        unknown: String,
+    },
+    /// A procedure's body (or a helper it calls) opens a join with
+    /// `join_open_<continuation>` without a declared
+    /// [`Graph::join`](crate::Graph::join) from it to that continuation.
+    #[error(
+        "procedure `{procedure}` opens joins of `{continuation}` (via {via}) but the graph has no join `{procedure}` -> `{continuation}`"
+    )]
+    UndeclaredJoin {
+        /// The procedure whose call graph reaches the open.
+        procedure: String,
+        /// The continuation of the join it opens.
+        continuation: String,
+        /// The function that calls `join_open_<continuation>`.
+        via: String,
+    },
     /// A connection made with [`Graph::connect`](crate::Graph::connect)
     /// has no fan-out to derive: the body (or a helper it calls) enqueues
     /// into the target inside a loop.

@@ -245,6 +245,15 @@ pub struct Graph {
     pub(crate) library: String,
     pub(crate) constants: Vec<(String, ConstantValue)>,
     pub(crate) resources: Vec<Resource>,
+    pub(crate) joins: Vec<Join>,
+}
+
+/// A join: items of `parent` may open a join record whose continuation is
+/// `continuation` (see [`Graph::join`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Join {
+    pub(crate) parent: String,
+    pub(crate) continuation: String,
 }
 
 impl Graph {
@@ -337,6 +346,57 @@ impl Graph {
             from: from.name().to_owned(),
             to: to.name().to_owned(),
             fan_out: Some(fan_out),
+        });
+        self
+    }
+
+    /// Lets items of `parent` open joins whose continuation is
+    /// `continuation`: top-down work that is finished bottom-up (split a
+    /// tree, then refit it from the leaves).
+    ///
+    /// In `parent`'s body, `join_open_<Continuation>(record)` opens a join
+    /// whose record is an item of the continuation's type `C` (the node to
+    /// refit, say) and returns whether it did. From then until the body
+    /// ends, the thread's enqueues are the join's children. Children's own
+    /// enqueues (and the joins they open) are the join's too, transitively:
+    /// once every one of them has finished, the last to finish enqueues
+    /// `record` into `continuation`, exactly once. The continuation runs as
+    /// part of whatever the opener ran under, so joins nest: a continuation
+    /// finishing is what finishes its opener for the join above it.
+    ///
+    /// Results flow up through the graph's resources (an array indexed by
+    /// node): a child's writes are visible to the continuation, as
+    /// docs/scheduler.md ("Joins") argues. Each thread opens at most one
+    /// join per item (a second call returns `false`). Records live in a
+    /// pool of [`Capacities::join_pool`](crate::Capacities::join_pool)
+    /// records per run; a run that asks for more fails with
+    /// [`RunError::JoinPoolOverflow`](crate::RunError::JoinPoolOverflow)
+    /// and its measured need, and a join that never fires (a child lost to an
+    /// overflow) is reported as
+    /// [`RunError::JoinsUnfinished`](crate::RunError::JoinsUnfinished).
+    ///
+    /// ```
+    /// # #[scheduler::item] struct Node { id: u32, depth: u32 }
+    /// # #[scheduler::item] struct Refit { id: u32 }
+    /// let mut graph = scheduler::Graph::new("tree");
+    /// let split = graph.procedure(scheduler::Procedure::of::<Node>("Split").initial(true).body(
+    ///     "if (valid && item.depth < 3u && join_open_Refit(Refit(item.id))) {
+    ///     enqueue_Split(Node(2u * item.id, item.depth + 1u));
+    ///     enqueue_Split(Node(2u * item.id + 1u, item.depth + 1u));
+    /// }",
+    /// ));
+    /// let refit = graph.procedure(scheduler::Procedure::of::<Refit>("Refit"));
+    /// graph.connect(&split, &split).join(&split, &refit);
+    /// graph.compile(&scheduler::CompileOptions::default()).unwrap();
+    /// ```
+    pub fn join<P, C>(
+        &mut self,
+        parent: &ProcedureId<P>,
+        continuation: &ProcedureId<C>,
+    ) -> &mut Self {
+        self.joins.push(Join {
+            parent: parent.name().to_owned(),
+            continuation: continuation.name().to_owned(),
         });
         self
     }

@@ -58,6 +58,10 @@
 //! - `enqueue_<Target>(item)` may be called from any thread, under any
 //!   condition, up to the declared fan-out; the items are published when the
 //!   batch ends.
+//! - `join_open_<Continuation>(record)`, in a procedure declared with
+//!   [`Graph::join`], opens a join: the thread's enqueues from then on (and
+//!   all their descendants) are its children, and once the last of them has
+//!   finished, `record` is enqueued into the continuation, exactly once.
 //!
 //! # Runtime helpers
 //!
@@ -133,7 +137,7 @@ pub use adapter::{DeviceRequest, Gpu};
 pub use compile::{CompiledGraph, Specialization};
 pub use constant::ConstantValue;
 pub use error::{CompileError, DeviceError, SourceOrigin};
-pub use graph::{Connection, DEFAULT_PRIORITY, Graph, Procedure};
+pub use graph::{Connection, DEFAULT_PRIORITY, Graph, Join, Procedure};
 pub use handle::{ProcedureId, Untyped};
 pub use item::{Item, ItemType, WgslStructs, WgslType, layout as wgsl_layout};
 pub use options::{
@@ -143,14 +147,16 @@ pub use plan::QueuePlan;
 pub use quirks::{CpuWorkgroups, DEFAULT_SPIN_LIMIT, LoopBudget, PersistentThreads, Quirks};
 pub use resource::{Access, Atomic, BufferContents, BufferShape, Resource, ResourceKind};
 pub use runtime::config::{
-    Capacities, DEFAULT_CAPACITY, DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS, ExecutorConfig, MemoryPlan,
+    Capacities, DEFAULT_CAPACITY, DEFAULT_JOIN_POOL, DEFAULT_TIMEOUT, DEFAULT_WORKGROUPS,
+    ExecutorConfig, MemoryPlan,
 };
 pub use runtime::error::RunError;
 pub use runtime::executor::{Binding, Executor};
 pub use runtime::pipeline_cache::{self, CompileTimings, PipelineCacheState};
 pub use runtime::readback;
 pub use runtime::report::{
-    BoundsViolation, FanOutViolation, ProcedureStats, RetryCauses, RunReport,
+    BoundsViolation, FanOutViolation, JoinPoolStats, JoinStats, ProcedureStats, RetryCauses,
+    RunReport,
 };
 pub use runtime::reset::ResetContext;
 pub use runtime::retry::{LoopCheckFn, ResetFn, Retry};

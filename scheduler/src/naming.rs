@@ -5,7 +5,12 @@
 
 /// Prefixes reserved for generated identifiers; user declarations may not
 /// start with them.
-pub(crate) const RESERVED_PREFIXES: [&str; 3] = [SCHEDULER_PREFIX, CONSTANT_PREFIX, ENQUEUE_PREFIX];
+pub(crate) const RESERVED_PREFIXES: [&str; 4] = [
+    SCHEDULER_PREFIX,
+    CONSTANT_PREFIX,
+    ENQUEUE_PREFIX,
+    JOIN_OPEN_PREFIX,
+];
 
 /// Prefix of the scheduler's functions and module-scope variables.
 pub(crate) const SCHEDULER_PREFIX: &str = "sched_";
@@ -94,4 +99,24 @@ pub(crate) fn queue_constant_name(procedure: &str) -> String {
 /// block.
 pub(crate) fn queue_field_constant_name(field: &str) -> String {
     format!("SCHED_Q_{field}")
+}
+
+/// Prefix of the functions that open a join ([`join_open_name`]).
+pub(crate) const JOIN_OPEN_PREFIX: &str = "join_open_";
+
+/// Name of the function a body calls to open a join whose continuation is
+/// `continuation`.
+pub(crate) fn join_open_name(continuation: &str) -> String {
+    format!("{JOIN_OPEN_PREFIX}{continuation}")
+}
+
+/// Name of the function that enqueues a fired join's record into
+/// `continuation`.
+pub(crate) fn join_continue_name(continuation: &str) -> String {
+    format!("sched_join_continue_{continuation}")
+}
+
+/// Name of the function that writes an `item` into a join record.
+pub(crate) fn join_store_name(item: &str) -> String {
+    format!("sched_join_store_{item}")
 }

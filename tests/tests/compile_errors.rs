@@ -483,3 +483,87 @@ fn user_code_may_not_name_the_schedulers_state() {
         other => panic!("expected a located error, got {other}"),
     }
 }
+
+#[test]
+fn join_with_unknown_procedure() {
+    let mut g = Graph::new("join");
+    let a = g.procedure(leaf("A"));
+    g.join(&a, &ProcedureId::named("Missing"));
+    assert_eq!(
+        compile(&g).unwrap_err(),
+        CompileError::UnknownJoinProcedure {
+            parent: "A".into(),
+            continuation: "Missing".into(),
+            unknown: "Missing".into(),
+        }
+    );
+}
+
+#[test]
+fn opening_an_undeclared_join() {
+    let mut g = Graph::new("join");
+    let a = g.procedure(leaf("A"));
+    // `B` opens joins of `C` without `g.join(&b, &c)`; `A`'s are declared.
+    let b = g.procedure(
+        Procedure::of::<Node>("B")
+            .initial(true)
+            .body("if (valid) { _ = join_open_C(item); }"),
+    );
+    let c = g.procedure(Procedure::of::<Node>("C").body("_ = item;"));
+    g.join(&a, &c);
+    let _ = b;
+    assert_eq!(
+        compile(&g).unwrap_err(),
+        CompileError::UndeclaredJoin {
+            procedure: "B".into(),
+            continuation: "C".into(),
+            via: "its body".into(),
+        }
+    );
+}
+
+#[test]
+fn a_continuation_is_reachable_through_its_join() {
+    let mut g = Graph::new("join");
+    let a = g.procedure(
+        Procedure::of::<Node>("A")
+            .initial(true)
+            .body("if (valid) { _ = join_open_C(item); }"),
+    );
+    let c = g.procedure(Procedure::of::<Node>("C").body("_ = item;"));
+    assert_eq!(
+        compile(&g).unwrap_err(),
+        CompileError::UnreachableProcedure("C".into()),
+        "without the join, `C` is unreachable"
+    );
+    g.join(&a, &c);
+    let compiled = compile(&g).unwrap();
+    assert!(
+        compiled
+            .wgsl()
+            .contains("fn join_open_C(record: Node) -> bool")
+    );
+}
+
+#[test]
+fn enqueueing_into_a_continuation_needs_a_connection() {
+    let mut g = Graph::new("join");
+    let a = g.procedure(
+        Procedure::of::<Node>("A")
+            .initial(true)
+            .body("if (valid && join_open_C(item)) { enqueue_C(item); }"),
+    );
+    let c = g.procedure(Procedure::of::<Node>("C").body("_ = item;"));
+    g.join(&a, &c);
+    // The join lets `A` fire continuations, not enqueue into `C` itself.
+    assert_eq!(
+        compile(&g).unwrap_err(),
+        CompileError::UndeclaredEnqueue {
+            procedure: "A".into(),
+            target: "C".into(),
+            via: "its body".into(),
+        }
+    );
+    g.connect(&a, &c);
+    assert!(compile(&g).is_ok());
+}

@@ -9,6 +9,8 @@ fn graphs() -> Vec<(&'static str, Graph)> {
         ("binary_tree", binary_tree(6).graph),
         ("scratch_sum", scratch_sum().graph),
         ("ping_pong", ping_pong(5).graph),
+        // Joins: generated only for a graph that declares them.
+        ("tree_sum_joins", workloads::tree_sum::graph(None).graph),
     ]
 }
 

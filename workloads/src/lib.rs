@@ -8,11 +8,14 @@
 //! * [`quadrature`]: adaptive Simpson quadrature in fixed point, one
 //!   recursive procedure;
 //! * [`bfs`]: breadth-first search levels, two procedures enqueueing each
-//!   other.
+//!   other;
+//! * [`tree_sum`]: a hierarchical sum over a random tree built top-down and
+//!   summed bottom-up with joins in the same run.
 
 pub mod bfs;
 mod checked;
 pub mod mandelbrot;
 pub mod quadrature;
+pub mod tree_sum;
 
 pub use checked::Checked;

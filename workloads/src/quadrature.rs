@@ -19,6 +19,7 @@
 //! [`run`]). The example `scheduler/examples/quadrature.rs` runs it from the
 //! command line.
 
+mod combined;
 mod cpu;
 mod run;
 mod wgsl;
@@ -26,7 +27,8 @@ mod wgsl;
 use rand::{Rng, SeedableRng, rngs::StdRng};
 
 pub use crate::Checked;
-pub use cpu::{Tally, cpu_reference, dense_simpson, f, roots};
+pub use combined::{Combine, CombinedGraph, Span, combined_graph, run_combined};
+pub use cpu::{Estimate, Tally, cpu_reference, dense_simpson, f, root_estimates, roots};
 pub use run::{QuadratureGraph, graph, run};
 
 /// Grid points per unit length: x = k / 2^20, the domain is [0, 1].

@@ -78,3 +78,25 @@ pub(crate) fn encode_function(item: &str, layout: &ItemLayout) -> Function {
     }
     encode
 }
+
+/// The function that writes an `item` into the words of a join record from
+/// control word `at` (joins only): every field's word, by relaxed atomic
+/// stores (the control words are atomics). The words of the padding are
+/// left as they are; they are copied but never read.
+pub(crate) fn join_store_function(item: &str, layout: &ItemLayout) -> Function {
+    let mut f = Function::new(crate::naming::join_store_name(item))
+        .doc(format!(
+            "Writes a `{item}` into the join record words from control word `at`."
+        ))
+        .param("at", "u32")
+        .param("item", item);
+    f.line("let value = item;");
+    for leaf in &layout.leaves {
+        f.line(format!(
+            "atomicStore(&sched_control[at + {}u], {});",
+            leaf.word,
+            store(leaf)
+        ));
+    }
+    f
+}

@@ -8,7 +8,7 @@ use crate::codegen::kernels::{
     copy_out_function, entry_point, payload_functions, policy_function, runner,
 };
 use crate::codegen::module::{Constant, Function, Global, KernelModule, Verbatim};
-use crate::codegen::{checked, codec, fan_out, globals, helpers, rounds, trace};
+use crate::codegen::{checked, codec, fan_out, globals, helpers, joins, rounds, trace};
 use crate::graph::Procedure;
 use crate::naming::{
     ENTRY_POINT, PREPARE_ENTRY_POINT, body_name, encode_name, enqueue_name, queue_constant_name,
@@ -224,6 +224,8 @@ pub(crate) fn generate(
     }
     module.constants.extend(trace::constants(plan));
     module.globals.extend(trace::globals(plan));
+    module.constants.extend(joins::constants(plan));
+    module.globals.extend(joins::globals(plan));
     if !library.trim().is_empty() {
         module.library = Some(Verbatim {
             title: "graph library".into(),
@@ -267,6 +269,7 @@ pub(crate) fn generate(
     for queue in &plan.queues {
         module.functions.push(copy_out_function(queue));
     }
+    module.functions.extend(joins::functions(plan, items));
     for (q, queue) in plan.queues.iter().enumerate() {
         let mut f = Function::new(enqueue_name(&queue.name))
             .doc(format!(
@@ -277,12 +280,18 @@ pub(crate) fn generate(
         if count_fan_out {
             f.line(format!("sched_fan_out_count({q}u);"));
         }
+        if joins::any(plan) {
+            f.line("sched_join_add_child();");
+        }
         f.line(format!(
             "let base = sched_stage({q}u, {}u, {}u);",
             queue.stage_offset, queue.stage_capacity
         ));
         f.line("if (base != 0xffffffffu) {");
         f.line(format!("    {}(base, item);", encode_name(&queue.item)));
+        if joins::any(plan) {
+            f.line(joins::enqueue_tag_line(queue));
+        }
         f.line("}");
         module.functions.push(f);
     }

@@ -3,7 +3,7 @@
 
 use crate::Policy;
 use crate::codegen::module::Function;
-use crate::codegen::{checked, fan_out, helpers, trace};
+use crate::codegen::{checked, fan_out, helpers, joins, trace};
 use crate::naming::{ENTRY_POINT, body_name, copy_out_name, decode_name, runner_name};
 use crate::plan::layout::PACKET_WORDS;
 use crate::plan::{Plan, QueuePlan};
@@ -85,8 +85,12 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     f.line("// Acquire: the reads below come after the claim saw `published`.");
     f.line("storageBarrier();");
     // The body's call on one chunk; `chunk` is its index within the batch.
+    // A batch of one chunk finishes its joins after `sched_receive_done`,
+    // whose fence releases the items' writes.
+    let single = plan.chunks_per_batch == 1;
     let call = |chunk: &str| {
-        let mut lines = body_call_lines(q, queue, chunk);
+        let finish = (!single).then_some(joins::Finish::Fenced);
+        let mut lines = body_call_lines(plan, q, queue, chunk, finish);
         lines.splice(
             2..2,
             [
@@ -127,6 +131,11 @@ pub(crate) fn runner(plan: &Plan, q: usize, queue: &QueuePlan) -> Function {
     }
     f.line("// Every item was read: release the slots.");
     f.line(format!("sched_receive_done(lid, {q}u, first, count);"));
+    if single && joins::any(plan) {
+        for line in joins::finish_lines(joins::Finish::AfterReleaseFence) {
+            f.line(line);
+        }
+    }
     if !queue.targets.is_empty() {
         flush_lines(&mut f, plan, q, queue);
     }
@@ -301,18 +310,42 @@ pub(crate) fn batch_prologue(f: &mut Function, plan: &Plan, q: usize, queue: &Qu
 /// The body's call on chunk `chunk` (a WGSL expression) of a batch: decode
 /// the thread's item from its slot when it is one of the batch's, call the
 /// body, then check whether the body spent the driver's loop budget.
-pub(crate) fn body_call_lines(q: usize, queue: &QueuePlan, chunk: &str) -> Vec<String> {
-    vec![
+/// In a graph with joins, the item's join is read with it, and with
+/// `finish` the joins are released and fired after the call
+/// (`codegen::joins`; `None`: the caller does it).
+pub(crate) fn body_call_lines(
+    plan: &Plan,
+    q: usize,
+    queue: &QueuePlan,
+    chunk: &str,
+    finish: Option<joins::Finish>,
+) -> Vec<String> {
+    let joins = joins::any(plan);
+    let (join_reset, join_decode) = joins::decode_lines(q, queue);
+    let mut lines = vec![
         format!("let at = {chunk} * {}u + slot;", queue.items_per_workgroup),
         "let valid = at < count;".to_owned(),
         format!("var item: {};", queue.item),
-        "if (valid) {".to_owned(),
-        format!(
-            "    item = {}(sched_slot_word({q}u, first + at));",
-            decode_name(&queue.item)
-        ),
-        "}".to_owned(),
-        format!("{}(item, valid, thread, slot);", body_name(&queue.name)),
-        "sched_check_body_loops();".to_owned(),
-    ]
+    ];
+    if joins {
+        lines.push(join_reset);
+    }
+    lines.push("if (valid) {".to_owned());
+    lines.push(format!(
+        "    item = {}(sched_slot_word({q}u, first + at));",
+        decode_name(&queue.item)
+    ));
+    if joins {
+        lines.push(join_decode);
+    }
+    lines.push("}".to_owned());
+    lines.push(format!(
+        "{}(item, valid, thread, slot);",
+        body_name(&queue.name)
+    ));
+    lines.push("sched_check_body_loops();".to_owned());
+    if let (true, Some(finish)) = (joins, finish) {
+        lines.extend(joins::finish_lines(finish));
+    }
+    lines
 }

@@ -10,6 +10,7 @@ pub(crate) mod generate;
 pub(crate) mod globals;
 pub(crate) mod graph_constants;
 pub(crate) mod helpers;
+pub(crate) mod joins;
 pub(crate) mod kernels;
 pub(crate) mod module;
 pub(crate) mod rounds;

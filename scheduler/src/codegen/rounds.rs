@@ -11,7 +11,7 @@
 //! there.
 
 use crate::codegen::module::Function;
-use crate::codegen::{kernels, trace};
+use crate::codegen::{joins, kernels, trace};
 use crate::graph::Procedure;
 use crate::naming::{PREPARE_ENTRY_POINT, round_entry_point, round_runner_name};
 use crate::plan::{Plan, QueuePlan};
@@ -81,7 +81,15 @@ fn round_runner(plan: &Plan, q: usize, queue: &QueuePlan, barrier_free: bool) ->
         .param("count", "u32");
     let count_fan_out = kernels::batch_prologue(&mut f, plan, q, queue);
     f.line("// The slots were written before this dispatch began: no fence needed.");
-    let call = |chunk: &str| kernels::body_call_lines(q, queue, chunk);
+    let call = |chunk: &str| {
+        kernels::body_call_lines(
+            plan,
+            q,
+            queue,
+            chunk,
+            Some(joins::Finish::OrderedByDispatch),
+        )
+    };
     if plan.chunks_per_batch == 1 {
         for line in call("0u") {
             f.line(line);

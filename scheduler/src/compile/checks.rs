@@ -8,9 +8,11 @@ use naga::{Block, Function, Handle, Module, Statement};
 
 use crate::codegen::module::Rendered;
 use crate::naming::{
-    BODY_PREFIX, RESERVED_PREFIXES, SCHEDULER_PREFIX, body_name, enqueue_name, scratch_name,
+    BODY_PREFIX, RESERVED_PREFIXES, SCHEDULER_PREFIX, body_name, enqueue_name, join_open_name,
+    scratch_name,
 };
 use crate::plan::Plan;
+use crate::plan::joins::FIRES_PER_ITEM;
 use crate::{CompileError, Resource};
 
 /// Rejects user declarations whose names start with a reserved prefix.
@@ -41,7 +43,8 @@ pub(crate) fn reserved_names(
 }
 
 /// Walks each body's call graph (helpers included) and rejects any reachable
-/// `enqueue_<T>` for which the procedure has no connection to `T`.
+/// `enqueue_<T>` for which the procedure has no connection to `T`, and any
+/// `join_open_<C>` for which it has no join to `C`.
 pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), CompileError> {
     let by_name: HashMap<&str, Handle<Function>> = module
         .functions
@@ -53,6 +56,12 @@ pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), Com
         .iter()
         .enumerate()
         .map(|(q, queue)| (enqueue_name(&queue.name), q))
+        .collect();
+    let join_kinds: HashMap<String, usize> = plan
+        .joins
+        .iter()
+        .enumerate()
+        .map(|(k, join)| (join_open_name(&plan.queues[join.continuation].name), k))
         .collect();
 
     for queue in &plan.queues {
@@ -70,17 +79,30 @@ pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), Com
             collect_calls(&caller.body, &mut callees);
             for callee in callees {
                 let callee_name = module.functions[callee].name.clone().unwrap_or_default();
+                let via = || {
+                    if handle == root {
+                        "its body".to_owned()
+                    } else {
+                        format!("helper `{}`", caller.name.clone().unwrap_or_default())
+                    }
+                };
+                if let Some(&kind) = join_kinds.get(&callee_name) {
+                    let q = plan.queue_index(&queue.name).unwrap_or(usize::MAX);
+                    if !plan.joins[kind].openers.contains(&q) {
+                        return Err(CompileError::UndeclaredJoin {
+                            procedure: queue.name.clone(),
+                            continuation: plan.queues[plan.joins[kind].continuation].name.clone(),
+                            via: via(),
+                        });
+                    }
+                    continue;
+                }
                 if let Some(&target) = enqueue_targets.get(&callee_name) {
-                    if !queue.targets.iter().any(|&(t, _)| t == target) {
-                        let via = if handle == root {
-                            "its body".to_owned()
-                        } else {
-                            format!("helper `{}`", caller.name.clone().unwrap_or_default())
-                        };
+                    if !declared_target(plan, queue, target) {
                         return Err(CompileError::UndeclaredEnqueue {
                             procedure: queue.name.clone(),
                             target: plan.queues[target].name.clone(),
-                            via,
+                            via: via(),
                         });
                     }
                     // Enqueue functions are generated; no need to descend.
@@ -91,6 +113,22 @@ pub(crate) fn enqueue_call_graph(module: &Module, plan: &Plan) -> Result<(), Com
         }
     }
     Ok(())
+}
+
+/// Whether `queue` has a connection to `target` of the user's: in a graph
+/// with joins every procedure gets [`FIRES_PER_ITEM`] into every
+/// continuation for the joins it fires, which a connection of its own
+/// (fan-out at least 1) comes on top of.
+fn declared_target(plan: &Plan, queue: &crate::plan::QueuePlan, target: usize) -> bool {
+    let for_joins = if plan.joins.iter().any(|j| j.continuation == target) {
+        FIRES_PER_ITEM
+    } else {
+        0
+    };
+    queue
+        .targets
+        .iter()
+        .any(|&(t, fan_out)| t == target && fan_out > for_joins)
 }
 
 /// Every function `block` calls, pushed onto `out`.

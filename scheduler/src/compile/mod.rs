@@ -15,6 +15,7 @@ use crate::codegen::bindings::{self, Kernels};
 use crate::codegen::generate::generate;
 use crate::codegen::graph_constants;
 use crate::codegen::module::{KernelModule, Rendered};
+use crate::plan::joins::JoinPlan;
 use crate::plan::layout::{ExtraStructs, ItemLayout};
 use crate::plan::{Plan, build};
 use crate::{CompileError, CompileOptions, Graph, MAX_CHUNKS_PER_BATCH, SourceOrigin};
@@ -107,6 +108,7 @@ impl Graph {
         for &(from, to) in &derived {
             targets[from].entry(to).or_insert(1);
         }
+        let joins = join_plans(self, &index)?;
 
         // Reachability from initial procedures.
         let mut reachable = vec![false; self.procedures.len()];
@@ -125,6 +127,12 @@ impl Graph {
                 continue;
             }
             frontier.extend(targets[p].keys().copied());
+            frontier.extend(
+                joins
+                    .iter()
+                    .filter(|j| j.openers.contains(&p))
+                    .map(|j| j.continuation),
+            );
         }
         if let Some(p) = reachable.iter().position(|r| !r) {
             return Err(CompileError::UnreachableProcedure(
@@ -136,10 +144,10 @@ impl Graph {
         crate::constant::check(&self.constants)?;
         let (items, extra_structs) = item_layouts(self)?;
 
-        let mut built = self.build(&targets, &items, &extra_structs, options)?;
+        let mut built = self.build(&targets, &joins, &items, &extra_structs, options)?;
         let fan_outs = fan_out::targets(&built.module, &built.plan, &declared, &derived)?;
         if fan_outs != targets {
-            built = self.build(&fan_outs, &items, &extra_structs, options)?;
+            built = self.build(&fan_outs, &joins, &items, &extra_structs, options)?;
         }
         let Built {
             plan,
@@ -166,6 +174,34 @@ impl Graph {
     }
 }
 
+/// The kinds of join of `graph`, one per continuation in the order of
+/// their first declaration, with the procedures that open them.
+fn join_plans(graph: &Graph, index: &HashMap<&str, usize>) -> Result<Vec<JoinPlan>, CompileError> {
+    let mut plans: Vec<JoinPlan> = Vec::new();
+    for join in &graph.joins {
+        let lookup = |name: &str| {
+            index
+                .get(name)
+                .copied()
+                .ok_or_else(|| CompileError::UnknownJoinProcedure {
+                    parent: join.parent.clone(),
+                    continuation: join.continuation.clone(),
+                    unknown: name.to_owned(),
+                })
+        };
+        let (parent, continuation) = (lookup(&join.parent)?, lookup(&join.continuation)?);
+        match plans.iter_mut().find(|p| p.continuation == continuation) {
+            Some(plan) if !plan.openers.contains(&parent) => plan.openers.push(parent),
+            Some(_) => {}
+            None => plans.push(JoinPlan {
+                continuation,
+                openers: vec![parent],
+            }),
+        }
+    }
+    Ok(plans)
+}
+
 /// A generated module, parsed, validated and checked, with its plan.
 struct Built {
     plan: Plan,
@@ -179,16 +215,28 @@ impl Graph {
     fn build(
         &self,
         targets: &[BTreeMap<usize, u32>],
+        joins: &[JoinPlan],
         items: &BTreeMap<String, (String, ItemLayout)>,
         extra_structs: &[ExtraStructs],
         options: &CompileOptions,
     ) -> Result<Built, CompileError> {
+        // Any item may be the last to finish under a join of any kind, and
+        // fire it (and the join it opened): every procedure stages
+        // continuations.
+        let mut targets = targets.to_vec();
+        for join in joins {
+            for procedure_targets in &mut targets {
+                *procedure_targets.entry(join.continuation).or_insert(0) +=
+                    crate::plan::joins::FIRES_PER_ITEM;
+            }
+        }
         let (queues, stage_words) = build::queue_plans(
             &self.procedures,
-            targets,
+            &targets,
             items,
             options.workgroup_size,
             options.chunks_per_batch,
+            !joins.is_empty(),
         );
         let scratch_words = build::shared_scratch_words(&queues);
         let scan_order = Plan::compute_scan_order(&queues, options.policy);
@@ -206,6 +254,7 @@ impl Graph {
             features: options.features,
             checked: options.checked,
             trace: options.trace,
+            joins: joins.to_vec(),
         };
         let mut kernel = generate(&plan, &self.procedures, &self.library, items, extra_structs);
         kernel

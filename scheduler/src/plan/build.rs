@@ -10,13 +10,15 @@ use crate::plan::layout::ItemLayout;
 /// One queue plan per procedure, in declaration order, with its staging
 /// region placed; and the staging words per workgroup. `targets` holds each
 /// procedure's connections (target index and fan-out, merged), `layouts` the
-/// checked item layouts by WGSL name.
+/// checked item layouts by WGSL name. With `joins`, every slot also holds
+/// the join its item runs under (`plan::joins`).
 pub(crate) fn queue_plans(
     procedures: &[Procedure],
     targets: &[BTreeMap<usize, u32>],
     layouts: &BTreeMap<String, (String, ItemLayout)>,
     workgroup_size: u32,
     chunks_per_batch: u32,
+    joins: bool,
 ) -> (Vec<QueuePlan>, u32) {
     let mut queues: Vec<QueuePlan> = procedures
         .iter()
@@ -25,7 +27,11 @@ pub(crate) fn queue_plans(
             name: p.name.clone(),
             item: p.item.wgsl_name.clone(),
             item_words: layouts[&p.item.wgsl_name].1.words,
-            slot_words: layouts[&p.item.wgsl_name].1.slot_words,
+            slot_words: if joins {
+                crate::plan::joins::tagged_slot_words(layouts[&p.item.wgsl_name].1.words)
+            } else {
+                layouts[&p.item.wgsl_name].1.slot_words
+            },
             threads_per_item: p.threads_per_item,
             items_per_workgroup: workgroup_size / p.threads_per_item,
             items_per_batch: workgroup_size / p.threads_per_item * chunks_per_batch,

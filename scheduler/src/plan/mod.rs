@@ -8,6 +8,7 @@ pub(crate) mod build;
 pub(crate) mod checked;
 pub(crate) mod control;
 pub(crate) mod fan_out;
+pub(crate) mod joins;
 pub(crate) mod layout;
 
 use crate::{Policy, Resource};
@@ -68,6 +69,8 @@ pub(crate) struct Plan {
     pub checked: bool,
     /// Tracing: the trace buffer's capacity in records (`None`: off).
     pub trace: Option<crate::TraceOptions>,
+    /// The kinds of join, one per continuation (empty without joins).
+    pub joins: Vec<joins::JoinPlan>,
 }
 
 impl Plan {
@@ -85,10 +88,10 @@ impl Plan {
     }
 
     /// Control words the host reads back: the counters, then checked mode's
-    /// words per procedure and guarded resource, and its per-item fan-out
-    /// words per procedure.
+    /// words per procedure and guarded resource, its per-item fan-out words
+    /// per procedure, and the joins' words.
     pub(crate) fn control_words(&self) -> u32 {
-        fan_out::first_word(self) + fan_out::words(self)
+        joins::first_word(self) + joins::words(self)
     }
 
     pub(crate) fn queue_index(&self, name: &str) -> Option<usize> {

@@ -21,6 +21,11 @@ pub const DEFAULT_CAPACITY: u32 = 1 << 16;
 /// [`ExecutorConfig::round_workgroups`].
 pub const DEFAULT_WORKGROUPS: u32 = 256;
 
+/// Default capacity of the join pool in records (graphs with joins only):
+/// each record is a few words of the control buffer, and a run needs one
+/// per join it opens.
+pub const DEFAULT_JOIN_POOL: u32 = 1 << 16;
+
 /// Default host-side timeout of one run.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(60);
 
@@ -31,6 +36,12 @@ pub struct Capacities {
     pub default: u32,
     /// Overrides by procedure name.
     pub per_procedure: BTreeMap<String, u32>,
+    /// Records of the join pool ([`Graph::join`](crate::Graph::join)): the
+    /// joins one run may open (records are not reused within a run; at
+    /// least 1). Only graphs with joins allocate it.
+    /// [`Executor::run_with_retry`](crate::Executor::run_with_retry) grows
+    /// it to a run's measured need.
+    pub join_pool: u32,
 }
 
 impl Default for Capacities {
@@ -45,7 +56,14 @@ impl Capacities {
         Self {
             default: capacity,
             per_procedure: BTreeMap::new(),
+            join_pool: DEFAULT_JOIN_POOL,
         }
+    }
+
+    /// Sets the join pool's capacity in records.
+    pub fn with_join_pool(mut self, records: u32) -> Self {
+        self.join_pool = records;
+        self
     }
 
     /// Sets the capacity of one procedure's queue.
@@ -148,7 +166,8 @@ pub struct MemoryPlan {
     pub queue_bytes: u64,
     /// Per-workgroup staging of enqueued items.
     pub staging_bytes: u64,
-    /// Counters (plus their read-back copy) and per-slot range markers.
+    /// Counters (plus their read-back copy), per-slot range markers and the
+    /// join pool.
     pub control_bytes: u64,
     /// Uniform configuration.
     pub config_bytes: u64,
@@ -185,7 +204,9 @@ impl CompiledGraph {
             .iter()
             .map(|q| u64::from(config.capacities.of(&q.name)))
             .sum();
-        let control_bytes = 2 * 4 * u64::from(self.plan.control_words()) + 4 * 2 * slots;
+        let control_bytes = 2 * 4 * u64::from(self.plan.control_words())
+            + 4 * 2 * slots
+            + join_pool_bytes(&self.plan, config.capacities.join_pool.max(1));
         let config_bytes = uniform::bytes(self.plan.queues.len());
         MemoryPlan {
             queue_bytes,
@@ -195,4 +216,12 @@ impl CompiledGraph {
             total_bytes: queue_bytes + staging_bytes + control_bytes + config_bytes,
         }
     }
+}
+
+/// Bytes of a join pool of `records` records for `plan` (0 without joins).
+pub(crate) fn join_pool_bytes(plan: &crate::plan::Plan, records: u32) -> u64 {
+    if plan.joins.is_empty() {
+        return 0;
+    }
+    4 * u64::from(records) * u64::from(crate::plan::joins::record_words(plan))
 }

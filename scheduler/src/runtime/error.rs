@@ -86,6 +86,45 @@ pub enum RunError {
         /// Its queue's capacity.
         capacity: u32,
     },
+    /// The run asked for more join records than the pool holds
+    /// ([`Capacities::join_pool`](crate::Capacities::join_pool)):
+    /// the `join_open` calls beyond it returned false, so their joins never
+    /// opened. `needed` is every record the run asked for, the capacity that
+    /// would have held them all (records are not reused within a run);
+    /// [`Executor::run_with_retry`](crate::Executor::run_with_retry) grows
+    /// the pool to it.
+    #[error(
+        "the join pool overflowed: capacity {capacity} records, the run asked for {needed} (`Executor::run_with_retry` grows it){}",
+        also_note(also)
+    )]
+    JoinPoolOverflow {
+        /// Records the pool held.
+        capacity: u32,
+        /// Records the run asked for.
+        needed: u64,
+        /// What else went wrong, in words.
+        also: Vec<String>,
+        /// The full report of the run.
+        report: Box<RunReport>,
+    },
+    /// Joins opened and never fired: some child of theirs never finished
+    /// (lost to an overflow, say), so their continuation never ran and the
+    /// bottom-up results are incomplete. Names the first continuation with
+    /// joins outstanding; `also` lists the rest.
+    #[error(
+        "{joins} join(s) of `{continuation}` never fired: a child of each never finished, so `{continuation}` never received their records{}",
+        also_note(also)
+    )]
+    JoinsUnfinished {
+        /// The continuation procedure whose joins are outstanding.
+        continuation: String,
+        /// Its joins opened and never fired.
+        joins: u64,
+        /// What else went wrong, in words.
+        also: Vec<String>,
+        /// The full report of the run.
+        report: Box<RunReport>,
+    },
     /// Items of one workgroup batch enqueued more into a queue than the declared
     /// fan-outs allow; the excess was counted, not silently dropped.
     #[error(
@@ -279,6 +318,8 @@ impl RunError {
     pub fn report(&self) -> Option<&RunReport> {
         match self {
             Self::QueueOverflow { report, .. }
+            | Self::JoinPoolOverflow { report, .. }
+            | Self::JoinsUnfinished { report, .. }
             | Self::FanOutExceeded { report, .. }
             | Self::ItemFanOutExceeded { report, .. }
             | Self::OutOfBounds { report, .. }

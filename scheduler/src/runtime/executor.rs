@@ -112,6 +112,7 @@ impl Executor {
             round_workgroups,
             iteration_budget,
             spin_limit: quirks.spin_limit(),
+            join_pool: config.capacities.join_pool.max(1),
         };
         let layouts = Layouts::new(device);
         let state = QueueState::new(device, queue, compiled, &layouts, capacities, tuning)?;

@@ -4,8 +4,11 @@
 
 use std::time::Duration;
 
-use crate::plan::{Plan, checked, control, fan_out};
-use crate::{BoundsViolation, FanOutViolation, ProcedureStats, RunError, RunReport, Strategy};
+use crate::plan::{Plan, checked, control, fan_out, joins};
+use crate::{
+    BoundsViolation, FanOutViolation, JoinPoolStats, JoinStats, ProcedureStats, RunError,
+    RunReport, Strategy,
+};
 
 /// What a report is built from besides the control words.
 pub(crate) struct RunFacts<'a> {
@@ -56,6 +59,8 @@ pub(crate) fn report(facts: &RunFacts<'_>, counters: &[u32]) -> RunReport {
             .collect(),
         bounds_violations: bounds_violations(facts.plan, counters),
         fan_out_violations: fan_out_violations(facts.plan, counters),
+        joins: join_stats(facts.plan, counters),
+        join_pool: join_pool(facts.plan, counters),
         workgroups: facts.workgroups,
         submissions: facts.submissions,
         dispatches: facts.dispatches,
@@ -68,6 +73,38 @@ pub(crate) fn report(facts: &RunFacts<'_>, counters: &[u32]) -> RunReport {
         wall_time: facts.wall_time,
         gpu_time: facts.gpu_time,
         trace: None,
+    }
+}
+
+/// The joins opened and fired per continuation, from the joins' words.
+fn join_stats(plan: &Plan, counters: &[u32]) -> Vec<JoinStats> {
+    let first = joins::first_word(plan) + joins::KINDS;
+    plan.joins
+        .iter()
+        .enumerate()
+        .map(|(k, join)| {
+            let word = (first + joins::KIND_WORDS * k as u32) as usize;
+            let opened = u64::from(counters[word + joins::OPENED as usize]);
+            let fired = u64::from(counters[word + joins::FIRED as usize]);
+            JoinStats {
+                continuation: plan.queues[join.continuation].name.clone(),
+                opened,
+                fired,
+                outstanding: opened.saturating_sub(fired),
+            }
+        })
+        .collect()
+}
+
+/// The join pool's capacity and the records asked for (zero without joins).
+fn join_pool(plan: &Plan, counters: &[u32]) -> JoinPoolStats {
+    if plan.joins.is_empty() {
+        return JoinPoolStats::default();
+    }
+    let first = joins::first_word(plan) as usize;
+    JoinPoolStats {
+        capacity: counters[first + joins::CAPACITY as usize],
+        requested: u64::from(counters[first + joins::NEXT as usize]),
     }
 }
 
@@ -167,6 +204,12 @@ pub(crate) fn problems(report: &RunReport, cuts: Cuts) -> Vec<String> {
             )
         })
         .collect();
+    if report.join_pool.requested > u64::from(report.join_pool.capacity) {
+        problems.push(format!(
+            "the join pool (capacity {}) was asked for {} records",
+            report.join_pool.capacity, report.join_pool.requested
+        ));
+    }
     problems.extend(report.bounds_violations.iter().map(|v| {
         format!(
             "`{}` indexed `{}` out of bounds {} time(s), first at {} (bound {})",
@@ -207,6 +250,12 @@ pub(crate) fn problems(report: &RunReport, cuts: Cuts) -> Vec<String> {
                 )
             }),
     );
+    problems.extend(report.joins.iter().filter(|j| j.outstanding > 0).map(|j| {
+        format!(
+            "{} join(s) of `{}` never fired",
+            j.outstanding, j.continuation
+        )
+    }));
     problems
 }
 
@@ -227,6 +276,15 @@ pub(crate) fn judge(
             dropped: p.dropped,
             needed_at_least: p.needed_at_least.max(u64::from(p.capacity) + 1),
             needed: p.needed,
+            also: problems,
+            report: Box::new(report),
+        });
+    }
+    if report.join_pool.requested > u64::from(report.join_pool.capacity) {
+        problems.remove(0);
+        return Err(RunError::JoinPoolOverflow {
+            capacity: report.join_pool.capacity,
+            needed: report.join_pool.requested,
             also: problems,
             report: Box::new(report),
         });
@@ -268,6 +326,19 @@ pub(crate) fn judge(
         return Err(RunError::FanOutExceeded {
             procedure: p.name.clone(),
             excess: p.fan_out_overflow,
+            report: Box::new(report),
+        });
+    }
+    if let Some(j) = report.joins.iter().find(|j| j.outstanding > 0) {
+        let first = problems
+            .iter()
+            .position(|p| p.ends_with("never fired"))
+            .unwrap_or(0);
+        problems.remove(first);
+        return Err(RunError::JoinsUnfinished {
+            continuation: j.continuation.clone(),
+            joins: j.outstanding,
+            also: problems,
             report: Box::new(report),
         });
     }

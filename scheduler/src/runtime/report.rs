@@ -82,6 +82,32 @@ pub struct FanOutViolation {
     pub items: u64,
 }
 
+/// The joins of one continuation in one run ([`Graph::join`](crate::Graph::join)).
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct JoinStats {
+    /// The continuation procedure.
+    pub continuation: String,
+    /// Joins opened (records granted by the pool).
+    pub opened: u64,
+    /// Joins fired: their last child finished and their record was staged
+    /// for the continuation.
+    pub fired: u64,
+    /// Joins opened and never fired: `opened - fired`, nonzero only in a run
+    /// that failed (a lost child, an overflow).
+    pub outstanding: u64,
+}
+
+/// The pool of join records in one run (all zero without joins).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct JoinPoolStats {
+    /// Records the pool held.
+    pub capacity: u32,
+    /// Records the run asked for: every `join_open` call, granted or not.
+    /// Above `capacity`, the pool overflowed and this is the capacity that
+    /// would have held them all (records are not reused within a run).
+    pub requested: u64,
+}
+
 /// The retries of one [`Executor::run_with_retry`](crate::Executor::run_with_retry)
 /// call, by cause (all 0 for a run without retries).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -90,6 +116,9 @@ pub struct RetryCauses {
     pub overflow: u32,
     /// Retries after too many seeds, with the seeded queue grown.
     pub seeds: u32,
+    /// Retries after a join pool overflow, with the pool grown.
+    #[serde(default)]
+    pub join_pool: u32,
     /// Retries after a loop limit (the scheduler's waits or, reported by
     /// [`Retry::check_loops`](crate::Retry::check_loops), the bodies' own
     /// loops), with a lower iteration budget.
@@ -111,6 +140,13 @@ pub struct RunReport {
     /// (always empty without).
     #[serde(default)]
     pub fan_out_violations: Vec<FanOutViolation>,
+    /// The joins of each continuation, in the order of their first
+    /// [`Graph::join`](crate::Graph::join) (empty without joins).
+    #[serde(default)]
+    pub joins: Vec<JoinStats>,
+    /// The pool of join records.
+    #[serde(default)]
+    pub join_pool: JoinPoolStats,
     /// Workgroups launched per dispatch.
     pub workgroups: u32,
     /// Command submissions it took, each followed by a read-back of the
@@ -156,6 +192,13 @@ impl RunReport {
         self.procedures.iter().find(|p| p.name == name)
     }
 
+    /// Join counts of a continuation procedure.
+    pub fn join<T>(&self, continuation: &ProcedureId<T>) -> Option<&JoinStats> {
+        self.joins
+            .iter()
+            .find(|j| j.continuation == continuation.name())
+    }
+
     /// The run's trace: present when the graph was compiled with
     /// [`CompileOptions::trace`](crate::CompileOptions::trace).
     pub fn trace(&self) -> Option<&crate::Trace> {
@@ -185,6 +228,18 @@ impl fmt::Display for RunReport {
                 f,
                 "{:<20}{:>10}{:>12}{:>12}{:>12}{:>11}{:>9}",
                 p.name, p.capacity, p.seeded, p.executed, p.enqueued, p.high_water, p.dropped
+            )?;
+        }
+        for j in &self.joins {
+            writeln!(
+                f,
+                "joins of {:<11}{:>10} opened{:>10} fired{:>10} outstanding (pool {} of {})",
+                j.continuation,
+                j.opened,
+                j.fired,
+                j.outstanding,
+                self.join_pool.requested,
+                self.join_pool.capacity
             )?;
         }
         write!(

@@ -26,6 +26,10 @@ pub type LoopCheckFn<'a> =
 ///   of the children the refused items would have enqueued, as a power of
 ///   two. A measured need the device cannot hold fails with
 ///   [`RunError::QueueExceedsDevice`].
+/// - After [`RunError::JoinPoolOverflow`], the join pool grows in one step
+///   to the records the run asked for, as a power of two. The need is
+///   complete when bodies enqueue their children whether or not their
+///   join opened (the run explores everything and counts every request).
 /// - After [`RunError::TooManySeeds`], the seeded queue grows to hold the
 ///   seeds (or fails the same way).
 /// - After a loop limit under the megakernel, the iteration budget halves
@@ -155,6 +159,22 @@ impl Executor {
                     self.rebuild_state(capacities, self.tuning)?;
                     (retry.reset)(&ResetContext::new(self));
                     causes.overflow += 1;
+                    attempt += 1;
+                }
+                Err(RunError::JoinPoolOverflow { needed, .. }) if attempt < retry.max_attempts => {
+                    let mut tuning = self.tuning;
+                    tuning.join_pool = u32::try_from(needed)
+                        .unwrap_or(u32::MAX)
+                        .checked_next_power_of_two()
+                        .unwrap_or(u32::MAX)
+                        .max(tuning.join_pool);
+                    log::info!(
+                        "attempt {attempt}: {needed} join records asked for; retrying with a pool of {}",
+                        tuning.join_pool
+                    );
+                    self.rebuild_state(self.state.capacities.clone(), tuning)?;
+                    (retry.reset)(&ResetContext::new(self));
+                    causes.join_pool += 1;
                     attempt += 1;
                 }
                 Err(RunError::TooManySeeds {

@@ -47,12 +47,16 @@ pub(crate) struct Tuning {
     pub round_workgroups: u32,
     pub iteration_budget: u32,
     pub spin_limit: u32,
+    /// Records of the join pool.
+    pub join_pool: u32,
 }
 
 /// The buffers for one set of queue capacities.
 #[derive(Debug)]
 pub(crate) struct QueueState {
     pub capacities: Vec<u32>,
+    /// Records of the join pool.
+    pub join_pool: u32,
     /// Where each queue's slots and markers start, as the uniform holds it.
     queue_configs: Vec<QueueConfig>,
     queue_words: wgpu::Buffer,
@@ -78,6 +82,7 @@ impl QueueState {
         let config = ExecutorConfig {
             capacities: crate::Capacities {
                 default: 1,
+                join_pool: tuning.join_pool,
                 per_procedure: plan
                     .queues
                     .iter()
@@ -123,7 +128,8 @@ impl QueueState {
         );
         let staging = buffer("scheduler staging", memory.staging_bytes, U::STORAGE);
         let header_bytes = 4 * u64::from(plan.control_words());
-        // A traced module's records follow the markers.
+        // A traced module's records follow the markers, then the join pool
+        // (counted in the memory plan).
         let control_bytes =
             memory.control_bytes - header_bytes + crate::runtime::trace_run::bytes(plan);
         if control_bytes > binding_limit {
@@ -213,6 +219,7 @@ impl QueueState {
         );
         Ok(Self {
             capacities,
+            join_pool: tuning.join_pool,
             queue_configs,
             queue_words,
             control,
@@ -296,6 +303,10 @@ impl QueueState {
             }
         }
         control_words[control::PENDING as usize] = counts.iter().sum::<u64>() as u32;
+        if !plan.joins.is_empty() {
+            let word = crate::plan::joins::first_word(plan) + crate::plan::joins::CAPACITY;
+            control_words[word as usize] = self.join_pool;
+        }
         queue.write_buffer(&self.control, 0, bytemuck::cast_slice(&control_words));
         // Markers of an earlier run could look like complete ranges: clear them.
         let header = 4 * control_words.len() as u64;

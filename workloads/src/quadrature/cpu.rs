@@ -64,8 +64,15 @@ impl Tally {
 /// What one interval does: accept (with its contribution) or split (with the
 /// integrand at its quarter points, which the children inherit).
 enum Decision {
-    Accept { forced: bool, contribution: u32 },
-    Split { fl: u32, fr: u32 },
+    Accept {
+        forced: bool,
+        contribution: u32,
+        error: u32,
+    },
+    Split {
+        fl: u32,
+        fr: u32,
+    },
 }
 
 /// The decision for one interval, mirrored by the WGSL body. With
@@ -86,6 +93,7 @@ fn classify(problem: &Problem, item: &Interval) -> Decision {
         Decision::Accept {
             forced: !ok,
             contribution: 8 * (tl + tr) - t,
+            error: diff.unsigned_abs(),
         }
     } else {
         Decision::Split { fl, fr }
@@ -142,6 +150,7 @@ pub fn cpu_reference(problem: &Problem) -> (Tally, u64) {
             Decision::Accept {
                 forced,
                 contribution,
+                ..
             } => {
                 let d = item.depth as usize;
                 tally.accepted[d] += 1;
@@ -180,4 +189,41 @@ pub fn dense_simpson(problem: &Problem) -> f64 {
         })
         .sum();
     weighted as f64 / 3.0 / f64::from(GRID) / VALUE_SCALE
+}
+
+/// What the accepted intervals under one root add up to: their Richardson
+/// contributions (in 1/180 grid-units of `VALUE_SCALE`, as the tally sums)
+/// and their error estimates `|T_l + T_r - 2 T|`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Estimate {
+    /// The sum of the accepted intervals' contributions.
+    pub value: u64,
+    /// The sum of their error estimates.
+    pub error: u64,
+}
+
+/// Per root interval (in the order of [`roots`]), the estimate of its
+/// accepted intervals: what combining them bottom-up must give.
+pub fn root_estimates(problem: &Problem) -> Vec<Estimate> {
+    roots(problem)
+        .into_iter()
+        .map(|root| {
+            let mut estimate = Estimate::default();
+            let mut stack = vec![root];
+            while let Some(item) = stack.pop() {
+                match classify(problem, &item) {
+                    Decision::Accept {
+                        contribution,
+                        error,
+                        ..
+                    } => {
+                        estimate.value += u64::from(contribution);
+                        estimate.error += u64::from(error);
+                    }
+                    Decision::Split { fl, fr } => stack.extend(children(&item, fl, fr)),
+                }
+            }
+            estimate
+        })
+        .collect()
 }

@@ -2,7 +2,7 @@
 //! accumulator, and the body mirroring the CPU's decision.
 
 /// WGSL shared by the body: the integrand and a 64-bit atomic accumulator.
-pub(super) const WGSL_LIBRARY: &str = "
+pub(crate) const WGSL_LIBRARY: &str = "
 // The full 64-bit product a * b as (low, high), from 16-bit halves.
 fn mul_wide(a: u32, b: u32) -> vec2<u32> {
     let a0 = a & 0xffffu;
