@@ -11,9 +11,16 @@
 //!   centroid.
 //! * [`Scheme::CatmullClark`]: the Catmull-Clark limit surface.
 
+mod approximate;
 mod bilinear;
+mod catmull_clark;
+mod level;
 mod mesh;
+mod refine;
+mod regular;
+mod stitch;
 
+pub use catmull_clark::{ISOLATION_LEVEL, MAX_PATCHES};
 pub use mesh::{
     BoundaryInterpolation, Corner, Crease, INFINITE_SHARPNESS, Mesh, MeshError, Scheme,
 };
@@ -55,9 +62,7 @@ impl Mesh {
         self.validate()?;
         match self.scheme {
             Scheme::Bilinear => Ok(bilinear::patches(self)),
-            Scheme::CatmullClark => Err(MeshError::Unsupported {
-                what: "the Catmull-Clark scheme",
-            }),
+            Scheme::CatmullClark => catmull_clark::patches(self),
         }
     }
 }

@@ -1,0 +1,156 @@
+//! The Catmull-Clark scheme: the limit surface as Bezier patches, by
+//! feature-adaptive subdivision (Niessner et al. 2012).
+//!
+//! 1. A mesh with any face that is not a quad is refined once everywhere;
+//!    after that every face is a quad.
+//! 2. Level by level, each face still to be made is classified: a regular
+//!    one (`regular.rs`) becomes its B-spline patch in Bezier form, exactly;
+//!    the others are refined together with their 1-ring (`refine.rs`) and
+//!    their children are classified at the next level.
+//! 3. At the deepest level, what is still irregular is approximated
+//!    (`approximate.rs`) and its distance to the limit surface measured.
+//! 4. The patches are stitched so that neighbours share their edge curves
+//!    bit for bit, or halves of them (`stitch.rs`).
+
+use glam::Vec2;
+
+use super::approximate::{self, MEASURE_DEPTH};
+use super::level::{Level, is_infinite};
+use super::mesh::{Mesh, MeshError};
+use super::refine::refine;
+use super::regular;
+use super::stitch::{self, Emitted};
+use super::{Subdivided, SubdivisionReport};
+use crate::model::{Model, Patch};
+
+/// The deepest level for isolating extraordinary vertices (deeper only
+/// where a semi-sharp crease needs its levels to become smooth).
+pub const ISOLATION_LEVEL: usize = 8;
+
+/// The most patches (and faces in one level) a mesh may make.
+pub const MAX_PATCHES: usize = 1 << 22;
+
+/// The patches of a validated Catmull-Clark mesh.
+pub(super) fn patches(mesh: &Mesh) -> Result<Subdivided, MeshError> {
+    let mut levels = vec![Level::from_mesh(mesh)];
+    let mut active: Vec<u32>;
+    let all_quads = mesh.face_sizes.iter().all(|&s| s == 4);
+    if all_quads {
+        active = visible(&levels[0], 0..levels[0].face_count() as u32);
+    } else {
+        let everything: Vec<u32> = (0..levels[0].face_count() as u32).collect();
+        let refined = refine(&levels[0], &everything, 1);
+        active = visible(&refined.level, refined.children.iter().copied());
+        levels.push(refined.level);
+    }
+    check_size(levels[levels.len() - 1].face_count())?;
+    let deepest = deepest_level(mesh, levels.len() - 1);
+
+    let mut emitted: Vec<Emitted> = Vec::new();
+    loop {
+        let l = levels.len() - 1;
+        let mut to_refine = Vec::new();
+        let mut to_approximate = Vec::new();
+        for &f in &active {
+            if let Some(grid) = regular::bspline_points(&levels[l], f) {
+                emitted.push(Emitted {
+                    level: l,
+                    face: f,
+                    exact: true,
+                    points: regular::bspline_to_bezier(&grid),
+                });
+            } else if l >= deepest {
+                to_approximate.push(f);
+            } else {
+                to_refine.push(f);
+            }
+        }
+        check_size(emitted.len() + to_approximate.len() + 4 * to_refine.len())?;
+        if !to_approximate.is_empty() {
+            // Three more levels under the approximated faces: their limit
+            // points at u, v = k / 2 (the patches) to k / 8 (the error).
+            let mut faces = to_approximate.clone();
+            for d in 0..MEASURE_DEPTH {
+                let refined = refine(&levels[l + d], &faces, l + d + 1);
+                faces = refined.children;
+                check_size(refined.level.face_count())?;
+                levels.push(refined.level);
+            }
+            for &f in &to_approximate {
+                emitted.push(Emitted {
+                    level: l,
+                    face: f,
+                    exact: false,
+                    points: approximate::approximate_patch(&levels, l, f),
+                });
+            }
+            break;
+        }
+        if to_refine.is_empty() {
+            break;
+        }
+        let refined = refine(&levels[l], &to_refine, l + 1);
+        check_size(refined.level.face_count())?;
+        active = visible(&refined.level, refined.children.iter().copied());
+        levels.push(refined.level);
+    }
+
+    stitch::stitch(&levels, &mut emitted);
+    let mut report = SubdivisionReport {
+        faces: mesh.face_count(),
+        ..SubdivisionReport::default()
+    };
+    let mut patches = Vec::with_capacity(emitted.len());
+    let mut st = mesh.st.as_ref().map(|_| Vec::with_capacity(emitted.len()));
+    for e in &emitted {
+        if e.exact {
+            report.exact_patches += 1;
+        } else {
+            report.approximate_patches += 1;
+            let error = approximate::patch_error(&levels, e.level, e.face, &e.points);
+            report.max_error = report.max_error.max(error);
+        }
+        report.max_level = report.max_level.max(e.level as u32);
+        patches.push(Patch { points: e.points });
+        if let (Some(st), Some(s)) = (st.as_mut(), levels[e.level].face_st(e.face)) {
+            st.push(model_st(s));
+        }
+    }
+    Ok(Subdivided {
+        model: Model { patches, st },
+        report,
+    })
+}
+
+/// The faces among `faces` that have a surface of their own.
+fn visible(level: &Level, faces: impl Iterator<Item = u32>) -> Vec<u32> {
+    faces.filter(|&f| !level.hidden[f as usize]).collect()
+}
+
+/// The level where irregular faces are approximated: [`ISOLATION_LEVEL`]
+/// below `first` (the first level of quads), and no shallower than the
+/// level where the sharpest semi-sharp tag has become smooth, so that the
+/// limit positions there follow the smooth, crease and corner rules alone.
+fn deepest_level(mesh: &Mesh, first: usize) -> usize {
+    let semi_sharp = mesh
+        .creases
+        .iter()
+        .map(|c| c.sharpness)
+        .chain(mesh.corners.iter().map(|c| c.sharpness))
+        .filter(|&s| !is_infinite(s))
+        .fold(0.0f32, f32::max);
+    (first + ISOLATION_LEVEL).max(semi_sharp.ceil() as usize)
+}
+
+fn check_size(count: usize) -> Result<(), MeshError> {
+    if count > MAX_PATCHES {
+        return Err(MeshError::TooManyPatches { limit: MAX_PATCHES });
+    }
+    Ok(())
+}
+
+/// A face's corner texture coordinates (in winding order `v0 v1 v2 v3`) in
+/// the model's order `(0,0), (1,0), (0,1), (1,1)`.
+fn model_st(s: &[Vec2]) -> [Vec2; 4] {
+    [s[0], s[1], s[3], s[2]]
+}
