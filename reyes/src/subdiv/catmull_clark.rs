@@ -32,6 +32,17 @@ pub const MAX_PATCHES: usize = 1 << 22;
 
 /// The patches of a validated Catmull-Clark mesh.
 pub(super) fn patches(mesh: &Mesh) -> Result<Subdivided, MeshError> {
+    patches_within(mesh, MAX_PATCHES)
+}
+
+/// [`patches`], with at most `limit` patches (and faces in one level).
+fn patches_within(mesh: &Mesh, limit: usize) -> Result<Subdivided, MeshError> {
+    let check_size = |count: usize| {
+        if count > limit {
+            return Err(MeshError::TooManyPatches { limit });
+        }
+        Ok(())
+    };
     let mut levels = vec![Level::from_mesh(mesh)];
     let mut active: Vec<u32>;
     let all_quads = mesh.face_sizes.iter().all(|&s| s == 4);
@@ -142,15 +153,143 @@ fn deepest_level(mesh: &Mesh, first: usize) -> usize {
     (first + ISOLATION_LEVEL).max(semi_sharp.ceil() as usize)
 }
 
-fn check_size(count: usize) -> Result<(), MeshError> {
-    if count > MAX_PATCHES {
-        return Err(MeshError::TooManyPatches { limit: MAX_PATCHES });
-    }
-    Ok(())
-}
-
 /// A face's corner texture coordinates (in winding order `v0 v1 v2 v3`) in
 /// the model's order `(0,0), (1,0), (0,1), (1,1)`.
 fn model_st(s: &[Vec2]) -> [Vec2; 4] {
     [s[0], s[1], s[3], s[2]]
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::bezier;
+
+    fn quads(positions: Vec<Vec3>, faces: &[[u32; 4]]) -> Mesh {
+        Mesh {
+            positions,
+            face_sizes: vec![4; faces.len()],
+            face_vertices: faces.iter().flatten().copied().collect(),
+            ..Mesh::default()
+        }
+    }
+
+    /// A `n x n` grid of quads with heights from `height`.
+    fn grid(n: u32, height: impl Fn(f32, f32) -> f32) -> Mesh {
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let (x, y) = (i as f32, j as f32);
+                positions.push(Vec3::new(x, y, height(x, y)));
+            }
+        }
+        let mut faces = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let v = j * (n + 1) + i;
+                faces.push([v, v + 1, v + n + 2, v + n + 1]);
+            }
+        }
+        quads(positions, &faces)
+    }
+
+    fn cube() -> Mesh {
+        let positions = (0..8)
+            .map(|i| {
+                Vec3::new(
+                    if i & 1 == 0 { -1.0 } else { 1.0 },
+                    if i & 2 == 0 { -1.0 } else { 1.0 },
+                    if i & 4 == 0 { -1.0 } else { 1.0 },
+                )
+            })
+            .collect();
+        quads(
+            positions,
+            &[
+                [0, 2, 3, 1],
+                [4, 5, 7, 6],
+                [0, 1, 5, 4],
+                [2, 6, 7, 3],
+                [0, 4, 6, 2],
+                [1, 3, 7, 5],
+            ],
+        )
+    }
+
+    #[test]
+    fn an_interior_grid_face_is_one_exact_patch_through_the_limit_points() {
+        let (seed, mut rng) = crate::test_random::fresh_rng("grid face");
+        let mut m = grid(4, |_, _| 0.0);
+        for p in &mut m.positions {
+            *p += crate::test_random::random_vec3(&mut rng, 0.3);
+        }
+        let out = patches(&m).unwrap();
+        // Interior rule 0: 2 x 2 central faces are regular (the others
+        // touch the boundary and make nothing).
+        assert_eq!(out.model.patches.len(), 4, "seed {seed}");
+        assert_eq!(out.report.exact_patches, 4, "seed {seed}");
+        // The patch over face (1, 1) -> its corner at vertex (1, 1) is the
+        // limit of that valence-4 vertex: (16 v + 4 sum e + sum d) / 36.
+        let at = |i: i32, j: i32| m.positions[(j * 5 + i) as usize];
+        let limit = (at(1, 1) * 16.0
+            + (at(0, 1) + at(2, 1) + at(1, 0) + at(1, 2)) * 4.0
+            + at(0, 0)
+            + at(2, 0)
+            + at(0, 2)
+            + at(2, 2))
+            / 36.0;
+        let patch = out.model.patches[0];
+        assert!(
+            (patch.points[0] - limit).length() < 1e-5,
+            "seed {seed}: {} vs {limit}",
+            patch.points[0]
+        );
+    }
+
+    #[test]
+    fn patches_face_outwards_on_a_closed_mesh() {
+        let out = patches(&cube()).unwrap();
+        for p in &out.model.patches {
+            let e = bezier::evaluate(&p.points, 0.5, 0.5);
+            assert!(e.d_ds.cross(e.d_dt).dot(e.position) > 0.0);
+        }
+    }
+
+    #[test]
+    fn too_many_patches_is_an_error_not_an_allocation() {
+        assert_eq!(
+            patches_within(&cube(), 100).unwrap_err(),
+            MeshError::TooManyPatches { limit: 100 }
+        );
+        assert!(patches_within(&cube(), 10_000).is_ok());
+    }
+
+    #[test]
+    fn texture_coordinates_are_refined_linearly() {
+        // A triangle fan closed into a tetrahedron, each face's st its own
+        // corners (0,0), (1,0), (0,1): every patch's st stays in that
+        // triangle, and one of them starts at each face's centroid.
+        let mut m = Mesh {
+            positions: vec![
+                Vec3::new(1.0, 1.0, 1.0),
+                Vec3::new(1.0, -1.0, -1.0),
+                Vec3::new(-1.0, 1.0, -1.0),
+                Vec3::new(-1.0, -1.0, 1.0),
+            ],
+            face_sizes: vec![3; 4],
+            face_vertices: vec![0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2],
+            ..Mesh::default()
+        };
+        let corners = [Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(0.0, 1.0)];
+        m.st = Some((0..12).map(|i| corners[i % 3]).collect());
+        let out = patches(&m).unwrap();
+        let st = out.model.st.unwrap();
+        assert_eq!(st.len(), out.model.patches.len());
+        let centroid = Vec2::splat(1.0 / 3.0);
+        for s in st.iter().flatten() {
+            assert!(s.x >= 0.0 && s.y >= 0.0 && s.x + s.y <= 1.0 + 1e-6, "{s}");
+        }
+        assert!(st.iter().flatten().any(|s| (*s - centroid).length() < 1e-6));
+    }
 }
