@@ -607,3 +607,38 @@ fn open_grids_under_each_boundary_rule() {
         check_surface(&format!("grid {boundary:?}"), &m);
     }
 }
+
+/// A 1000 x 1000 grid (a million faces) with a semi-sharp crease, a sharp
+/// corner and a dart: refinement stays local, so the patches are about one
+/// per face and the run takes seconds.
+#[test]
+fn a_million_faces_refine_only_around_their_features() {
+    let n = 1000;
+    let mut m = grid(n);
+    m.boundary = BoundaryInterpolation::EdgeAndCorner;
+    let row = 500 * (n + 1);
+    m.creases = vec![
+        Crease {
+            vertices: (row + 100..row + 120).collect(),
+            sharpness: 2.5,
+        },
+        Crease {
+            vertices: vec![row + 700, row + 701],
+            sharpness: INFINITE_SHARPNESS,
+        },
+    ];
+    m.corners = vec![Corner {
+        vertex: row + 300,
+        sharpness: INFINITE_SHARPNESS,
+    }];
+    let start = std::time::Instant::now();
+    let out = m.to_patches().unwrap();
+    let faces = (n * n) as usize;
+    println!("{:?} in {:.1?}", out.report, start.elapsed());
+    assert!(out.model.patches.len() >= faces);
+    assert!(
+        out.model.patches.len() < faces + 20_000,
+        "{} patches",
+        out.model.patches.len()
+    );
+}
