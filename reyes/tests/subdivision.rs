@@ -475,7 +475,12 @@ fn reversed(c: [Vec3; 4]) -> [Vec3; 4] {
 
 /// The four boundary curves of every patch, each running around the patch.
 fn boundary_curves(model: &Model) -> Vec<[Vec3; 4]> {
-    const EDGES: [[usize; 4]; 4] = [[0, 1, 2, 3], [3, 7, 11, 15], [15, 14, 13, 12], [12, 8, 4, 0]];
+    const EDGES: [[usize; 4]; 4] = [
+        [0, 1, 2, 3],
+        [3, 7, 11, 15],
+        [15, 14, 13, 12],
+        [12, 8, 4, 0],
+    ];
     model
         .patches
         .iter()

@@ -26,6 +26,9 @@ use reyes::scene::{CameraDesc, Light, Scene};
 use reyes::subdiv::Mesh;
 use tests::watertight::{coverage_iou, cracks, dense_coverage, smooth_front, visible_patches};
 
+/// Pixel positions `(x, y)`.
+type Pixels = Vec<(u32, u32)>;
+
 const SPP: u32 = 16;
 const SHADING_RATES: [f32; 4] = [1.0, 4.0, 16.0, 64.0];
 const WIDTH: u32 = 256;
@@ -129,7 +132,11 @@ fn shot(whole: &Model, eye: Vec3, target: Vec3) -> Shot {
         PreparedScene::new(&scene, std::slice::from_ref(&model)).expect("the scene prepares");
     let coverage = dense_coverage(&prepared, DENSITY);
     let smooth = smooth_front(&prepared, DENSITY, SPP.isqrt(), 0.01);
-    let counted = coverage.iter().zip(&smooth).map(|(&c, &s)| c && s).collect();
+    let counted = coverage
+        .iter()
+        .zip(&smooth)
+        .map(|(&c, &s)| c && s)
+        .collect();
     Shot {
         scene,
         model,
@@ -142,7 +149,12 @@ fn shot(whole: &Model, eye: Vec3, target: Vec3) -> Shot {
 /// (reversed): at T-junctions, one side of a coarse edge whose other side
 /// is made of De Casteljau halves of it, and those halves.
 fn t_junction_curves(model: &Model) -> Vec<[Vec3; 4]> {
-    const EDGES: [[usize; 4]; 4] = [[0, 1, 2, 3], [3, 7, 11, 15], [15, 14, 13, 12], [12, 8, 4, 0]];
+    const EDGES: [[usize; 4]; 4] = [
+        [0, 1, 2, 3],
+        [3, 7, 11, 15],
+        [15, 14, 13, 12],
+        [12, 8, 4, 0],
+    ];
     let bits = |c: [Vec3; 4]| c.map(|p| p.to_array().map(f32::to_bits));
     let curves: Vec<[Vec3; 4]> = model
         .patches
@@ -180,13 +192,7 @@ fn render(shot: &Shot, model: &Model, rate: f32) -> (Vec<(u32, u32)>, f64) {
         PreparedScene::new(&scene, std::slice::from_ref(model)).expect("the scene prepares");
     let rendered = reference::render(&prepared);
     (
-        cracks(
-            &rendered.covered_samples,
-            SPP,
-            &shot.counted,
-            WIDTH,
-            HEIGHT,
-        ),
+        cracks(&rendered.covered_samples, SPP, &shot.counted, WIDTH, HEIGHT),
         coverage_iou(&rendered.covered_samples, SPP, &shot.coverage),
     )
 }
@@ -217,7 +223,7 @@ fn catmull_clark_patches_render_without_cracks() {
             .expect("the scene prepares");
         for rate in SHADING_RATES {
             let (found, iou) = render(&shot, &shot.model, rate);
-            let (at_junctions, elsewhere): (Vec<(u32, u32)>, Vec<(u32, u32)>) = found
+            let (at_junctions, elsewhere): (Pixels, Pixels) = found
                 .iter()
                 .copied()
                 .partition(|&p| near_curves(&prepared, &junctions, p));
@@ -265,8 +271,8 @@ fn a_gap_of_1e_4_is_seen() {
         let towards = (patch.points[i + inward] - patch.points[i]).normalize();
         patch.points[i] += towards * 1e-4;
     }
-    let prepared = PreparedScene::new(&shot.scene, std::slice::from_ref(&moved))
-        .expect("the scene prepares");
+    let prepared =
+        PreparedScene::new(&shot.scene, std::slice::from_ref(&moved)).expect("the scene prepares");
     let mut elsewhere = 0;
     for rate in SHADING_RATES {
         let (found, _) = render(&shot, &moved, rate);

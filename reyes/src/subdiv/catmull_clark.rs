@@ -281,7 +281,11 @@ mod tests {
             face_vertices: vec![0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2],
             ..Mesh::default()
         };
-        let corners = [Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(0.0, 1.0)];
+        let corners = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(0.0, 1.0),
+        ];
         m.st = Some((0..12).map(|i| corners[i % 3]).collect());
         let out = patches(&m).unwrap();
         let st = out.model.st.unwrap();

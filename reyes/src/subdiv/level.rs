@@ -144,14 +144,18 @@ impl Level {
         match mesh.boundary {
             BoundaryInterpolation::None => {
                 for f in 0..level.face_count() {
-                    if level.face(f as u32).iter().any(|&v| on_boundary[v as usize]) {
+                    if level
+                        .face(f as u32)
+                        .iter()
+                        .any(|&v| on_boundary[v as usize])
+                    {
                         level.hidden[f] = true;
                     }
                 }
             }
             BoundaryInterpolation::EdgeAndCorner => {
-                for v in 0..count {
-                    if on_boundary[v] && level.faces_of(v as u32).len() == 1 {
+                for (v, &boundary) in on_boundary.iter().enumerate() {
+                    if boundary && level.faces_of(v as u32).len() == 1 {
                         level.vertex_sharpness[v] = INFINITE_SHARPNESS;
                     }
                 }
@@ -228,10 +232,7 @@ impl Level {
 
     /// The sharpness of the edge between `a` and `b`.
     pub(super) fn sharpness(&self, a: u32, b: u32) -> f32 {
-        self.edge_sharpness
-            .get(&edge(a, b))
-            .copied()
-            .unwrap_or(0.0)
+        self.edge_sharpness.get(&edge(a, b)).copied().unwrap_or(0.0)
     }
 
     /// The corner of vertex `v` in face `f`.

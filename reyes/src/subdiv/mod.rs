@@ -9,7 +9,12 @@
 //! * [`Scheme::Bilinear`]: every face is flat (`bilinear`): quads become
 //!   bilinear patches, other faces are first cut into quads at their
 //!   centroid.
-//! * [`Scheme::CatmullClark`]: the Catmull-Clark limit surface.
+//! * [`Scheme::CatmullClark`]: the Catmull-Clark limit surface, by
+//!   feature-adaptive subdivision: regular faces become their B-spline
+//!   patches exactly, irregular ones are refined locally down to
+//!   [`ISOLATION_LEVEL`] and what is left is approximated, its error
+//!   measured; neighbouring patches share their edge curves bit for bit or
+//!   as De Casteljau halves (`docs/reyes.md`, "Subdivision surfaces").
 
 mod approximate;
 mod bilinear;

@@ -216,11 +216,7 @@ fn edge_point_position(parent: &Level, e: (u32, u32), face_point: &HashMap<u32, 
     let (c0, c1) = (parent.centroid(f0), parent.centroid(f1));
     debug_assert!(face_point.contains_key(&f0) && face_point.contains_key(&f1));
     let smooth = (pa + pb + c0 + c1) * 0.25;
-    if s > 0.0 {
-        smooth.lerp(mid, s)
-    } else {
-        smooth
-    }
+    if s > 0.0 { smooth.lerp(mid, s) } else { smooth }
 }
 
 /// The vertex point of `v` under its rule, blended with the next level's
@@ -233,10 +229,7 @@ fn vertex_point_position(parent: &Level, v: u32, face_point: &HashMap<u32, u32>)
     let parent_rule = rule(vs, edges.iter().filter(|e| sharp(e.1)).count());
     let child_rule = rule(
         child_sharpness(vs),
-        edges
-            .iter()
-            .filter(|e| sharp(child_sharpness(e.1)))
-            .count(),
+        edges.iter().filter(|e| sharp(child_sharpness(e.1))).count(),
     );
     let mask = |rule: Rule, child: bool| -> Vec3 {
         match rule {

@@ -29,7 +29,8 @@ type Block = [[Vec3; 3]; 3];
 pub(super) fn bspline_points(level: &Level, f: u32) -> Option<[Vec3; 16]> {
     let quad = level.quad(f);
     // Corner k sits at `origin`, its x axis along `x` and y along `y`.
-    const FRAMES: [((i32, i32), (i32, i32), (i32, i32)); 4] = [
+    type Frame = ((i32, i32), (i32, i32), (i32, i32));
+    const FRAMES: [Frame; 4] = [
         ((1, 1), (1, 0), (0, 1)),
         ((2, 1), (0, 1), (-1, 0)),
         ((2, 2), (-1, 0), (0, -1)),

@@ -152,15 +152,17 @@ impl RefMesh {
     /// One uniform Catmull-Clark step.
     pub(crate) fn refine(&self) -> RefMesh {
         let nv = self.points.len();
-        let centroid = |f: &Vec<usize>| {
-            f.iter().map(|&v| self.points[v]).sum::<DVec3>() / f.len() as f64
-        };
+        let centroid =
+            |f: &Vec<usize>| f.iter().map(|&v| self.points[v]).sum::<DVec3>() / f.len() as f64;
         let face_points: Vec<DVec3> = self.faces.iter().map(centroid).collect();
         let edge_faces = self.edge_faces();
         let mut edges: Vec<(usize, usize)> = edge_faces.keys().copied().collect();
         edges.sort();
-        let edge_index: HashMap<(usize, usize), usize> =
-            edges.iter().enumerate().map(|(i, &e)| (e, nv + i)).collect();
+        let edge_index: HashMap<(usize, usize), usize> = edges
+            .iter()
+            .enumerate()
+            .map(|(i, &e)| (e, nv + i))
+            .collect();
         let mut points = vec![DVec3::ZERO; nv + edges.len() + self.faces.len()];
         for &(a, b) in &edges {
             let mid = (self.points[a] + self.points[b]) / 2.0;
@@ -203,9 +205,16 @@ impl RefMesh {
                     (self.points[ends[0]] + p * 6.0 + self.points[ends[1]]) / 8.0
                 } else {
                     let n = ns.len() as f64;
-                    let q = vertex_faces[v].iter().map(|&f| face_points[f]).sum::<DVec3>()
+                    let q = vertex_faces[v]
+                        .iter()
+                        .map(|&f| face_points[f])
+                        .sum::<DVec3>()
                         / vertex_faces[v].len() as f64;
-                    let r = ns.iter().map(|&w| (p + self.points[w]) / 2.0).sum::<DVec3>() / n;
+                    let r = ns
+                        .iter()
+                        .map(|&w| (p + self.points[w]) / 2.0)
+                        .sum::<DVec3>()
+                        / n;
                     (q + r * 2.0 + p * (n - 3.0)) / n
                 }
             };
@@ -281,8 +290,8 @@ impl RefMesh {
             }
         }
         let mut corner = vec![0.0; points.len()];
-        for v in 0..nv {
-            corner[v] = child(self.corner[v]);
+        for (out, &c) in corner.iter_mut().zip(&self.corner) {
+            *out = child(c);
         }
         RefMesh {
             points,
