@@ -296,4 +296,28 @@ mod tests {
         }
         assert!(st.iter().flatten().any(|s| (*s - centroid).length() < 1e-6));
     }
+
+    #[test]
+    fn odd_meshes_make_patches_without_panicking() {
+        assert!(patches(&Mesh::default()).unwrap().model.patches.is_empty());
+        // Two quads sharing only vertex 2 (two fans at one vertex), with an
+        // unused vertex 7; each boundary rule.
+        let mut positions: Vec<Vec3> = (0..8)
+            .map(|i| Vec3::new(i as f32, (i * i % 5) as f32, 0.0))
+            .collect();
+        positions[2] = Vec3::new(2.0, 2.0, 1.0);
+        for boundary in [
+            super::super::BoundaryInterpolation::None,
+            super::super::BoundaryInterpolation::EdgeOnly,
+            super::super::BoundaryInterpolation::EdgeAndCorner,
+        ] {
+            let mut m = quads(positions.clone(), &[[0, 1, 2, 3], [2, 4, 5, 6]]);
+            m.boundary = boundary;
+            let out = patches(&m).unwrap();
+            // Under rule 0 every face touches the boundary and makes nothing.
+            let none = boundary == super::super::BoundaryInterpolation::None;
+            assert_eq!(out.model.patches.is_empty(), none, "{boundary:?}");
+            assert!(out.report.max_error.is_finite());
+        }
+    }
 }
