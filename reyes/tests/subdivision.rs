@@ -647,3 +647,80 @@ fn a_million_faces_refine_only_around_their_features() {
         out.model.patches.len()
     );
 }
+
+/// Whether the pixel centre `p` is inside the triangle `a b c` (either
+/// winding).
+fn inside(p: glam::Vec2, [a, b, c]: [glam::Vec2; 3]) -> bool {
+    let edge = |a: glam::Vec2, b: glam::Vec2| (b - a).perp_dot(p - a);
+    let (e0, e1, e2) = (edge(a, b), edge(b, c), edge(c, a));
+    (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0)
+}
+
+/// At 800 x 600, the CPU reference's coverage of the patches against the
+/// reference mesh's limit quads rasterized at pixel centres: IoU >= 0.995.
+#[test]
+fn coverage_matches_the_reference_tessellation() {
+    use glam::Vec2;
+    use reyes::prepare::PreparedScene;
+    use reyes::scene::Scene;
+    let (width, height, spp) = (800usize, 600usize, 4u32);
+    for (name, m) in [("cube", cube()), ("valences", valences())] {
+        let out = m.to_patches().unwrap();
+        // The same mesh's flat (bilinear) patches, which must fall short.
+        let flat = Mesh {
+            scheme: reyes::subdiv::Scheme::Bilinear,
+            ..m.clone()
+        }
+        .to_patches()
+        .unwrap();
+        let mut scene = Scene::for_model("subdivision test model", &out.model);
+        scene.resolution.width = width as u32;
+        scene.resolution.height = height as u32;
+        scene.spp = spp;
+        let prepared = PreparedScene::new(&scene, std::slice::from_ref(&out.model)).unwrap();
+        let (r, limit) = reference(&m, 5);
+        let camera = &prepared.camera;
+        let view_proj = camera.view_proj();
+        let pixel = |p: DVec3| {
+            camera
+                .to_pixel(view_proj * p.as_vec3().extend(1.0))
+                .truncate()
+        };
+        let mut mask = vec![false; width * height];
+        for (f, face) in r.faces.iter().enumerate() {
+            if r.hidden[f] {
+                continue;
+            }
+            let q: Vec<Vec2> = face.iter().map(|&v| pixel(limit[v])).collect();
+            for tri in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
+                let lo = tri[0].min(tri[1]).min(tri[2]).floor().max(Vec2::ZERO);
+                let hi = tri[0].max(tri[1]).max(tri[2]).ceil();
+                for y in lo.y as usize..(hi.y as usize).min(height) {
+                    for x in lo.x as usize..(hi.x as usize).min(width) {
+                        if inside(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), tri) {
+                            mask[y * width + x] = true;
+                        }
+                    }
+                }
+            }
+        }
+        let iou = |model: &Model| {
+            let prepared = PreparedScene::new(&scene, std::slice::from_ref(model)).unwrap();
+            let rendered = reyes::reference::render(&prepared);
+            let (mut both, mut either) = (0usize, 0usize);
+            for (&c, &m) in rendered.covered_samples.iter().zip(&mask) {
+                let covered = 2 * u32::from(c) >= spp && c > 0;
+                both += usize::from(covered && m);
+                either += usize::from(covered || m);
+            }
+            both as f64 / either as f64
+        };
+        let (smooth, bilinear) = (iou(&out.model), iou(&flat.model));
+        println!("{name}: coverage IoU {smooth:.5}; the bilinear patches' {bilinear:.5}");
+        assert!(smooth >= 0.995, "{name}: IoU {smooth}");
+        assert!(
+            bilinear < 0.995,
+            "{name}: the bilinear patches pass too ({bilinear})"
+        );
+    }
+}
