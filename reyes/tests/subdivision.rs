@@ -281,6 +281,11 @@ fn patch_triangles(model: &Model, n: usize) -> Vec<Triangle> {
             for i in 0..n {
                 let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
                 for [x, y, z] in [[a, b, c], [a, c, d]] {
+                    // Collapsed edges (fan patches meet at a point) make
+                    // triangles of no area: nothing to measure against.
+                    if (y.0 - x.0).cross(z.0 - x.0).length() < 1e-14 {
+                        continue;
+                    }
                     out.push(Triangle {
                         corners: [x.0, y.0, z.0],
                         patch: index,
@@ -407,6 +412,8 @@ fn compare(mesh: &Mesh, model: &Model, levels: usize) -> Comparison {
         };
         let u = t.uv[0].0 * bary[0] + t.uv[1].0 * bary[1] + t.uv[2].0 * bary[2];
         let w = t.uv[0].1 * bary[0] + t.uv[1].1 * bary[1] + t.uv[2].1 * bary[2];
+        // Off a collapsed edge, where the normal is still defined.
+        let (u, w) = (u.clamp(0.0, 1.0), w.clamp(0.0, 0.98));
         let e = bezier::evaluate(&model.patches[t.patch].points, u as f32, w as f32);
         let n = e.d_ds.cross(e.d_dt).as_dvec3().normalize();
         let angle = n.dot(normals[v].normalize()).clamp(-1.0, 1.0).acos();

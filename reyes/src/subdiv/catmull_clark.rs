@@ -20,6 +20,7 @@ use super::mesh::{Mesh, MeshError};
 use super::refine::refine;
 use super::regular;
 use super::stitch::{self, Emitted};
+use super::transition;
 use super::{Subdivided, SubdivisionReport};
 use crate::model::{Model, Patch};
 
@@ -106,7 +107,7 @@ fn patches_within(mesh: &Mesh, limit: usize) -> Result<Subdivided, MeshError> {
         levels.push(refined.level);
     }
 
-    stitch::stitch(&levels, &mut emitted);
+    let stitched = stitch::stitch(&levels, &mut emitted);
     let mut report = SubdivisionReport {
         faces: mesh.face_count(),
         ..SubdivisionReport::default()
@@ -114,17 +115,34 @@ fn patches_within(mesh: &Mesh, limit: usize) -> Result<Subdivided, MeshError> {
     let mut patches = Vec::with_capacity(emitted.len());
     let mut st = mesh.st.as_ref().map(|_| Vec::with_capacity(emitted.len()));
     for e in &emitted {
-        if e.exact {
-            report.exact_patches += 1;
-        } else {
+        report.max_level = report.max_level.max(e.level as u32);
+        let face_st = levels[e.level].face_st(e.face).map(model_st);
+        if !e.exact {
             report.approximate_patches += 1;
             let error = approximate::patch_error(&levels, e.level, e.face, &e.points);
             report.max_error = report.max_error.max(error);
+        } else if let Some(fan) = transition::fan(&levels, &stitched, e.level, e.face, &e.points) {
+            for piece in &fan {
+                report.transition_patches += 1;
+                report.max_error = report
+                    .max_error
+                    .max(transition::fan_error(&e.points, piece));
+                patches.push(Patch {
+                    points: piece.points,
+                });
+                if let (Some(st), Some(s)) = (st.as_mut(), face_st) {
+                    let at = |d: Vec2| s[0].lerp(s[1], d.x).lerp(s[2].lerp(s[3], d.x), d.y);
+                    let c = at(Vec2::splat(0.5));
+                    st.push([at(piece.domain[0]), at(piece.domain[1]), c, c]);
+                }
+            }
+            continue;
+        } else {
+            report.exact_patches += 1;
         }
-        report.max_level = report.max_level.max(e.level as u32);
         patches.push(Patch { points: e.points });
-        if let (Some(st), Some(s)) = (st.as_mut(), levels[e.level].face_st(e.face)) {
-            st.push(model_st(s));
+        if let (Some(st), Some(s)) = (st.as_mut(), face_st) {
+            st.push(s);
         }
     }
     Ok(Subdivided {

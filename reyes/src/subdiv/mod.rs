@@ -24,6 +24,7 @@ mod mesh;
 mod refine;
 mod regular;
 mod stitch;
+mod transition;
 
 pub use catmull_clark::{ISOLATION_LEVEL, MAX_PATCHES};
 pub use mesh::{
@@ -53,10 +54,14 @@ pub struct SubdivisionReport {
     /// Patches that approximate the limit surface (next to extraordinary
     /// vertices after the deepest isolation level).
     pub approximate_patches: usize,
+    /// Patches of the fans that replace a coarse exact patch next to finer
+    /// ones (so that no edge is a T-junction); they interpolate it.
+    pub transition_patches: usize,
     /// The deepest subdivision level used to isolate irregular features.
     pub max_level: u32,
     /// The largest distance, in the model's units, measured between an
-    /// approximate patch and the limit surface (0 when all are exact).
+    /// approximate patch and the limit surface, or a transition patch and
+    /// the exact patch it replaces (0 when all are exact).
     pub max_error: f32,
 }
 

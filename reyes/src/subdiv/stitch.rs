@@ -15,7 +15,7 @@
 //! So two patches on an edge share its curve exactly, or the finer one's
 //! is a De Casteljau half (quarter, ...) of the coarser one's.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 
@@ -104,9 +104,28 @@ impl Stitcher<'_> {
     }
 }
 
+/// The shared curves after stitching.
+pub(super) struct Stitched {
+    /// Every registered curve, from the smaller key to the larger.
+    pub curves: HashMap<(Key, Key), [Vec3; 4]>,
+    /// The edges (smaller key first) that are an edge of some patch.
+    pub used: HashSet<(Key, Key)>,
+}
+
+impl Stitched {
+    /// The curve from `a` to `b`, if one is registered.
+    pub(super) fn curve(&self, a: Key, b: Key) -> Option<[Vec3; 4]> {
+        if a < b {
+            self.curves.get(&(a, b)).copied()
+        } else {
+            self.curves.get(&(b, a)).copied().map(reversed)
+        }
+    }
+}
+
 /// Gives the patches shared corners and edge curves (see the module
-/// documentation); returns the patches in the order they were stitched.
-pub(super) fn stitch(levels: &[Level], patches: &mut [Emitted]) {
+/// documentation), sorting them coarse first.
+pub(super) fn stitch(levels: &[Level], patches: &mut [Emitted]) -> Stitched {
     patches.sort_by_key(|p| (p.level, !p.exact));
     let mut s = Stitcher {
         levels,
@@ -158,5 +177,18 @@ pub(super) fn stitch(levels: &[Level], patches: &mut [Emitted]) {
             }
         }
         start = end;
+    }
+    let mut used = HashSet::new();
+    for p in patches.iter() {
+        let q = corner_keys(p);
+        let keys = &levels[p.level].keys;
+        for k in 0..4 {
+            let (a, b) = (keys[q[k] as usize], keys[q[(k + 1) % 4] as usize]);
+            used.insert((a.min(b), a.max(b)));
+        }
+    }
+    Stitched {
+        curves: s.curves,
+        used,
     }
 }
