@@ -3,7 +3,9 @@
 //! patches and every patch point on the reference surface, within a small
 //! fraction of the mesh's size; normals agree away from extraordinary
 //! vertices; neighbouring patches share their edge curves bit for bit (or
-//! De Casteljau halves of them).
+//! De Casteljau halves of them); the CPU reference's coverage at 800 x 600
+//! matches the reference mesh's; a million faces stay about a million
+//! patches.
 
 mod subdiv_reference;
 
@@ -395,7 +397,7 @@ fn compare(mesh: &Mesh, model: &Model, levels: usize) -> Comparison {
         .map(|v| limit[v])
         .collect();
     // Central differences converge slowly near a sharp vertex's cone.
-    let (radius, cone_radius) = (0.04 * diagonal, 0.1 * diagonal);
+    let (radius, cone_radius) = (0.04 * diagonal, 0.15 * diagonal);
     let mut normal_degrees: f64 = 0.0;
     let mut worst_normal_at = 0.0;
     for &v in &visible {
@@ -412,9 +414,13 @@ fn compare(mesh: &Mesh, model: &Model, levels: usize) -> Comparison {
         };
         let u = t.uv[0].0 * bary[0] + t.uv[1].0 * bary[1] + t.uv[2].0 * bary[2];
         let w = t.uv[0].1 * bary[0] + t.uv[1].1 * bary[1] + t.uv[2].1 * bary[2];
-        // Off a collapsed edge, where the normal is still defined.
-        let (u, w) = (u.clamp(0.0, 1.0), w.clamp(0.0, 0.98));
-        let e = bezier::evaluate(&model.patches[t.patch].points, u as f32, w as f32);
+        let points = &model.patches[t.patch].points;
+        let (u, w) = (u.clamp(0.0, 1.0) as f32, w.clamp(0.0, 1.0) as f32);
+        // A fan patch's edge v = 1 collapses to a point, where its normal is
+        // all rounding: look just off it.
+        let collapsed = points[12..].iter().all(|&p| p == points[12]);
+        let w = if collapsed { w.min(0.98) } else { w };
+        let e = bezier::evaluate(points, u, w);
         let n = e.d_ds.cross(e.d_dt).as_dvec3().normalize();
         let angle = n.dot(normals[v].normalize()).clamp(-1.0, 1.0).acos();
         if angle.to_degrees() > normal_degrees {

@@ -113,7 +113,8 @@ pub(super) fn fan(
             let keys = &levels[l].keys;
             let curve = stitched.curve(keys[a as usize], keys[b as usize])?;
             boundary.push((from.lerp(to, at), curve));
-            at += 0.5f32.powi((l - level) as i32);
+            // A piece `l - level` levels down spans 2^-(l - level) of the edge.
+            at += (0..l - level).fold(1.0f32, |x, _| x * 0.5);
         }
     }
     if !split {
