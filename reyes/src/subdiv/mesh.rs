@@ -206,6 +206,12 @@ pub enum MeshError {
         /// What is wrong with them.
         problem: String,
     },
+    /// The surface needs more patches than one mesh may make.
+    #[error("the surface needs more than {limit} patches (the most one mesh may make)")]
+    TooManyPatches {
+        /// The bound.
+        limit: usize,
+    },
     /// Something the mesh asks for is not built.
     #[error("{what} is not supported")]
     Unsupported {

@@ -9,11 +9,24 @@
 //! * [`Scheme::Bilinear`]: every face is flat (`bilinear`): quads become
 //!   bilinear patches, other faces are first cut into quads at their
 //!   centroid.
-//! * [`Scheme::CatmullClark`]: the Catmull-Clark limit surface.
+//! * [`Scheme::CatmullClark`]: the Catmull-Clark limit surface, by
+//!   feature-adaptive subdivision: regular faces become their B-spline
+//!   patches exactly, irregular ones are refined locally down to
+//!   [`ISOLATION_LEVEL`] and what is left is approximated, its error
+//!   measured; neighbouring patches share their edge curves bit for bit or
+//!   as De Casteljau halves (`docs/reyes.md`, "Subdivision surfaces").
 
+mod approximate;
 mod bilinear;
+mod catmull_clark;
+mod level;
 mod mesh;
+mod refine;
+mod regular;
+mod stitch;
+mod transition;
 
+pub use catmull_clark::{ISOLATION_LEVEL, MAX_PATCHES};
 pub use mesh::{
     BoundaryInterpolation, Corner, Crease, INFINITE_SHARPNESS, Mesh, MeshError, Scheme,
 };
@@ -41,10 +54,14 @@ pub struct SubdivisionReport {
     /// Patches that approximate the limit surface (next to extraordinary
     /// vertices after the deepest isolation level).
     pub approximate_patches: usize,
+    /// Patches of the fans that replace a coarse exact patch next to finer
+    /// ones (so that no edge is a T-junction); they interpolate it.
+    pub transition_patches: usize,
     /// The deepest subdivision level used to isolate irregular features.
     pub max_level: u32,
     /// The largest distance, in the model's units, measured between an
-    /// approximate patch and the limit surface (0 when all are exact).
+    /// approximate patch and the limit surface, or a transition patch and
+    /// the exact patch it replaces (0 when all are exact).
     pub max_error: f32,
 }
 
@@ -55,9 +72,7 @@ impl Mesh {
         self.validate()?;
         match self.scheme {
             Scheme::Bilinear => Ok(bilinear::patches(self)),
-            Scheme::CatmullClark => Err(MeshError::Unsupported {
-                what: "the Catmull-Clark scheme",
-            }),
+            Scheme::CatmullClark => catmull_clark::patches(self),
         }
     }
 }
