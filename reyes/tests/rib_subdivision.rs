@@ -252,25 +252,15 @@ fn an_unknown_tag_is_warned_with_its_line_and_skipped() {
 }
 
 #[test]
-fn a_catmull_clark_mesh_renders_or_is_skipped_as_not_yet_supported() {
+fn a_catmull_clark_mesh_becomes_its_limit_surface_s_patches() {
     let text = format!(
         "Projection \"perspective\"\nWorldBegin\nTranslate 0 0 5\n\
          SubdivisionMesh \"catmull-clark\" {GRID} [\"interpolateboundary\"] [0 0] [] [] {GRID_P}\nWorldEnd\n"
     );
     let rib = RibScene::from_text(&text, "mesh.rib").unwrap();
     let patches: usize = rib.models.iter().map(|m| m.patches.len()).sum();
-    // Tightened once Catmull-Clark is built: then its patches, no warning.
-    if patches == 0 {
-        assert!(
-            rib.warnings
-                .iter()
-                .any(|w| w.line == 4 && w.message.contains("not supported yet")),
-            "{:?}",
-            rib.warnings
-        );
-    } else {
-        assert!(patches >= 2);
-    }
+    assert!(rib.warnings.is_empty(), "{:?}", rib.warnings);
+    assert!(patches >= 2, "{patches} patches");
 }
 
 /// A wavy 4 x 3 grid of quads (20 points), as `nverts vertids` and `"P"`.
@@ -416,9 +406,10 @@ fn an_obj_file_and_a_subdivision_mesh_of_the_same_faces_are_the_same_mesh() {
         .unwrap()
         .mesh;
         assert_eq!(from_obj, from_rib);
-        // Catmull-Clark, until it is built, is refused by both alike
-        // (tightened then: the same patches).
-        assert_eq!(from_obj.to_patches(), from_rib.to_patches());
+        // The same mesh, so the same patches, bit for bit.
+        let patches = from_obj.to_patches().unwrap();
+        assert_eq!(patches, from_rib.to_patches().unwrap());
+        assert!(!patches.model.patches.is_empty());
         if scheme == Scheme::Bilinear {
             assert_eq!(
                 from_obj.to_patches().unwrap().model.patches.len(),

@@ -273,7 +273,7 @@ impl Interp {
     /// The patches and corner `st` of a `SubdivisionMesh` with positional
     /// values `args`, points `p` and texture coordinates `vars`, taken
     /// from the budget; `None` (with a warning) for a valid mesh whose
-    /// scheme is not built yet.
+    /// scheme the subdivision code refuses as unsupported.
     #[expect(
         clippy::type_complexity,
         reason = "the same pair every geometry arm makes"
