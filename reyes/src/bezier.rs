@@ -21,16 +21,11 @@ pub fn bernstein(t: f32) -> [f32; 4] {
     [mt * mt * mt, 3.0 * t * mt * mt, 3.0 * t * t * mt, t * t * t]
 }
 
-/// The derivative of [`bernstein`] with respect to `t`:
-/// `[-3(1-t)^2, 3(1-t)^2 - 6t(1-t), 6t(1-t) - 3t^2, 3t^2]`.
-pub fn bernstein_derivative(t: f32) -> [f32; 4] {
+/// The quadratic Bernstein basis at `t`: `[(1-t)^2, 2t(1-t), t^2]`, which
+/// weighs the differences of the control points in a cubic's derivative.
+pub fn bernstein_quadratic(t: f32) -> [f32; 3] {
     let mt = 1.0 - t;
-    [
-        -3.0 * mt * mt,
-        3.0 * mt * mt - 6.0 * t * mt,
-        6.0 * t * mt - 3.0 * t * t,
-        3.0 * t * t,
-    ]
+    [mt * mt, 2.0 * t * mt, t * t]
 }
 
 /// A surface point with its two exact partial derivatives.
@@ -57,20 +52,51 @@ fn tensor(points: &[Vec3; 16], wu: &[f32; 4], wv: &[f32; 4]) -> Vec3 {
     sum
 }
 
+/// `dP/ds`: `3 * sum over rows v of wv[v] * (sum over i of q[i] * (p[v * 4 +
+/// i + 1] - p[v * 4 + i]))`, with `q` the quadratic basis at `s`. In this
+/// difference (hodograph) form the tangent along a collapsed edge (all four
+/// points equal) is exactly zero, so the normal there is seen to be
+/// degenerate; Bernstein-derivative weights, whose float sum is not exactly
+/// zero, would leave rounding noise of any direction.
+fn tangent_s(points: &[Vec3; 16], s: f32, wv: &[f32; 4]) -> Vec3 {
+    let q = bernstein_quadratic(s);
+    let mut sum = Vec3::ZERO;
+    for v in 0..4 {
+        let p = |i: usize| points[v * 4 + i];
+        let row = (p(1) - p(0)) * q[0] + (p(2) - p(1)) * q[1] + (p(3) - p(2)) * q[2];
+        sum += row * wv[v];
+    }
+    sum * 3.0
+}
+
+/// `dP/dt`: `3 * sum over v < 3 of q[v] * (sum over u of wu[u] * (p[(v +
+/// 1) * 4 + u] - p[v * 4 + u]))`, with `q` the quadratic basis at `t` (the
+/// difference form of [`tangent_s`]).
+fn tangent_t(points: &[Vec3; 16], wu: &[f32; 4], t: f32) -> Vec3 {
+    let q = bernstein_quadratic(t);
+    let mut sum = Vec3::ZERO;
+    for v in 0..3 {
+        let d = |u: usize| points[(v + 1) * 4 + u] - points[v * 4 + u];
+        let row = d(0) * wu[0] + d(1) * wu[1] + d(2) * wu[2] + d(3) * wu[3];
+        sum += row * q[v];
+    }
+    sum * 3.0
+}
+
 /// Evaluates the patch position at `(s, t)`.
 pub fn position(points: &[Vec3; 16], s: f32, t: f32) -> Vec3 {
     tensor(points, &bernstein(s), &bernstein(t))
 }
 
 /// Evaluates the position and the exact tangents `dP/ds`, `dP/dt` at `(s, t)`
-/// from the Bernstein form.
+/// from the Bernstein form, the tangents in difference form (exactly zero
+/// along a collapsed edge).
 pub fn evaluate(points: &[Vec3; 16], s: f32, t: f32) -> SurfacePoint {
     let (bs, bt) = (bernstein(s), bernstein(t));
-    let (ds, dt) = (bernstein_derivative(s), bernstein_derivative(t));
     SurfacePoint {
         position: tensor(points, &bs, &bt),
-        d_ds: tensor(points, &ds, &bt),
-        d_dt: tensor(points, &bs, &dt),
+        d_ds: tangent_s(points, s, &bt),
+        d_dt: tangent_t(points, &bs, t),
     }
 }
 
@@ -227,7 +253,7 @@ mod tests {
         for i in 0..=10 {
             let t = i as f32 / 10.0;
             assert!((bernstein(t).iter().sum::<f32>() - 1.0).abs() < 1e-6);
-            assert!(bernstein_derivative(t).iter().sum::<f32>().abs() < 1e-5);
+            assert!((bernstein_quadratic(t).iter().sum::<f32>() - 1.0).abs() < 1e-6);
         }
     }
 }

@@ -1,19 +1,14 @@
 // ------------------------------------------------------------ evaluation
 
-// reyes::bezier::bernstein and bernstein_derivative.
+// reyes::bezier::bernstein and bernstein_quadratic.
 fn bernstein(t: f32) -> vec4<f32> {
     let mt = 1.0 - t;
     return vec4<f32>(mt * mt * mt, 3.0 * t * mt * mt, 3.0 * t * t * mt, t * t * t);
 }
 
-fn bernstein_derivative(t: f32) -> vec4<f32> {
+fn bernstein_quadratic(t: f32) -> vec3<f32> {
     let mt = 1.0 - t;
-    return vec4<f32>(
-        -3.0 * mt * mt,
-        3.0 * mt * mt - 6.0 * t * mt,
-        6.0 * t * mt - 3.0 * t * t,
-        3.0 * t * t,
-    );
+    return vec3<f32>(mt * mt, 2.0 * t * mt, t * t);
 }
 
 // sum over rows v of wv[v] * (sum over u of wu[u] * p[v * 4 + u]), rows
@@ -33,6 +28,42 @@ fn tensor(p: ptr<function, array<f32, 48>>, wu: vec4<f32>, wv: vec4<f32>) -> vec
     return sum;
 }
 
+// reyes::bezier::tangent_s: dP/ds in difference form, exactly zero along a
+// collapsed edge (four equal points).
+fn tangent_s_row(p: ptr<function, array<f32, 48>>, v: u32, q: vec3<f32>) -> vec3<f32> {
+    let p0 = patch_point(p, v * 4u);
+    let p1 = patch_point(p, v * 4u + 1u);
+    let p2 = patch_point(p, v * 4u + 2u);
+    let p3 = patch_point(p, v * 4u + 3u);
+    return (p1 - p0) * q.x + (p2 - p1) * q.y + (p3 - p2) * q.z;
+}
+
+fn tangent_s(p: ptr<function, array<f32, 48>>, s: f32, wv: vec4<f32>) -> vec3<f32> {
+    let q = bernstein_quadratic(s);
+    var sum = tangent_s_row(p, 0u, q) * wv.x;
+    sum += tangent_s_row(p, 1u, q) * wv.y;
+    sum += tangent_s_row(p, 2u, q) * wv.z;
+    sum += tangent_s_row(p, 3u, q) * wv.w;
+    return sum * 3.0;
+}
+
+// reyes::bezier::tangent_t: dP/dt in difference form.
+fn tangent_t_row(p: ptr<function, array<f32, 48>>, v: u32, wu: vec4<f32>) -> vec3<f32> {
+    let d0 = patch_point(p, v * 4u + 4u) - patch_point(p, v * 4u);
+    let d1 = patch_point(p, v * 4u + 5u) - patch_point(p, v * 4u + 1u);
+    let d2 = patch_point(p, v * 4u + 6u) - patch_point(p, v * 4u + 2u);
+    let d3 = patch_point(p, v * 4u + 7u) - patch_point(p, v * 4u + 3u);
+    return d0 * wu.x + d1 * wu.y + d2 * wu.z + d3 * wu.w;
+}
+
+fn tangent_t(p: ptr<function, array<f32, 48>>, wu: vec4<f32>, t: f32) -> vec3<f32> {
+    let q = bernstein_quadratic(t);
+    var sum = tangent_t_row(p, 0u, wu) * q.x;
+    sum += tangent_t_row(p, 1u, wu) * q.y;
+    sum += tangent_t_row(p, 2u, wu) * q.z;
+    return sum * 3.0;
+}
+
 // reyes::reference::dice::degenerate.
 fn degenerate(n: vec3<f32>, a: vec3<f32>, b: vec3<f32>) -> bool {
     let n2 = dot3(n, n);
@@ -43,8 +74,8 @@ fn degenerate(n: vec3<f32>, a: vec3<f32>, b: vec3<f32>) -> bool {
 fn tangent_normal(p: ptr<function, array<f32, 48>>, s: f32, t: f32) -> vec3<f32> {
     let bs = bernstein(s);
     let bt = bernstein(t);
-    let d_ds = tensor(p, bernstein_derivative(s), bt);
-    let d_dt = tensor(p, bs, bernstein_derivative(t));
+    let d_ds = tangent_s(p, s, bt);
+    let d_dt = tangent_t(p, bs, t);
     let n = cross3(d_ds, d_dt);
     if (degenerate(n, d_ds, d_dt)) {
         return vec3<f32>(0.0);
@@ -182,8 +213,8 @@ fn shading_context(
         step.y,
         st.st.x,
         st.st.y,
-        tensor(q, bernstein_derivative(uv.x), bv),
-        tensor(q, bu, bernstein_derivative(uv.y)),
+        tangent_s(q, uv.x, bv),
+        tangent_t(q, bu, uv.y),
         st.dstdu,
         st.dstdv,
         object.color.xyz,
