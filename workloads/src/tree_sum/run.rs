@@ -31,11 +31,11 @@ pub struct TreeSumGraph {
     pub refit: ProcedureId<Refit>,
 }
 
-/// `Split` enqueues into itself (up to [`MAX_FAN`] children) and opens
-/// joins whose continuation is `Refit`. `split_body` replaces `Split`'s
-/// body (tests lose a child on purpose); `None` is the real one.
-pub fn graph(split_body: Option<&str>) -> TreeSumGraph {
-    let mut graph = Graph::new("tree sum");
+/// A graph named `name` with the tree's node layout constants, its WGSL
+/// library and the resources every tree-sum graph binds (`params`, `nodes`,
+/// `fires`, `counters`).
+pub(super) fn graph_with_resources(name: &str) -> Graph {
+    let mut graph = Graph::new(name);
     graph
         .constant("NODE_WORDS", NODE_WORDS)
         .constant("NODE_SUM", 0u32)
@@ -47,6 +47,14 @@ pub fn graph(split_body: Option<&str>) -> TreeSumGraph {
     graph.resource(Resource::storage::<[Atomic<u32>]>("nodes"));
     graph.resource(Resource::storage::<[Atomic<u32>]>("fires"));
     graph.resource(Resource::storage::<[Atomic<u32>]>("counters").min_len(3));
+    graph
+}
+
+/// `Split` enqueues into itself (up to [`MAX_FAN`] children) and opens
+/// joins whose continuation is `Refit`. `split_body` replaces `Split`'s
+/// body (tests lose a child on purpose); `None` is the real one.
+pub fn graph(split_body: Option<&str>) -> TreeSumGraph {
+    let mut graph = graph_with_resources("tree sum");
     let split = graph.procedure(
         Procedure::of::<Node>("Split")
             .initial(true)

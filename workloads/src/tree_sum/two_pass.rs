@@ -9,13 +9,13 @@ use std::time::{Duration, Instant};
 
 use scheduler::wgpu;
 use scheduler::{
-    Atomic, Binding, CompileOptions, Executor, ExecutorConfig, Gpu, Graph, Procedure, ProcedureId,
-    Resource, Seeds, Strategy,
+    Binding, CompileOptions, Executor, ExecutorConfig, Gpu, Procedure, ProcedureId, Resource,
+    Seeds, Strategy,
 };
 
 use super::cpu::subtree_sums;
-use super::run::{NODE_WORDS, compare};
-use super::wgsl::{LIBRARY, REFIT_BODY, SPLIT_BODY};
+use super::run::{NODE_WORDS, compare, graph_with_resources as graph};
+use super::wgsl::{REFIT_BODY, SPLIT_BODY};
 use super::{MAX_FAN, Node, Refit, TreeParams};
 
 /// What [`SPLIT_BODY`] does instead of opening a join: record the
@@ -26,22 +26,6 @@ const RECORD: &str = "links[2u * item.id] = first;
 
 /// The resources both graphs bind, with the build graph's `links`.
 const SHARED: [&str; 4] = ["params", "nodes", "fires", "counters"];
-
-fn graph(name: &str) -> Graph {
-    let mut graph = Graph::new(name);
-    graph
-        .constant("NODE_WORDS", NODE_WORDS)
-        .constant("NODE_SUM", 0u32)
-        .constant("NODE_KEY", 1u32)
-        .constant("NODE_SHAPE", 2u32)
-        .constant("NODE_DONE", 3u32);
-    graph.library(LIBRARY);
-    graph.resource(Resource::storage_read::<[u32]>("params").min_len(3));
-    graph.resource(Resource::storage::<[Atomic<u32>]>("nodes"));
-    graph.resource(Resource::storage::<[Atomic<u32>]>("fires"));
-    graph.resource(Resource::storage::<[Atomic<u32>]>("counters").min_len(3));
-    graph
-}
 
 /// The two executors and the buffers they share.
 #[derive(Debug)]
