@@ -179,11 +179,13 @@ mod tests {
             translate: Vec3::new(1.0, 2.0, 3.0),
             rotate_degrees: Vec3::new(10.0, 20.0, 30.0),
             scale: crate::scene::Scale::PerAxis(Vec3::new(1.0, 2.0, 0.5)),
+            matrix: None,
         };
         let close = Transform {
             translate: Vec3::new(-1.0, 0.0, 3.0),
             rotate_degrees: Vec3::new(10.0, 20.0, 60.0),
             scale: crate::scene::Scale::Uniform(1.5),
+            matrix: None,
         };
         assert_eq!(open.interpolate(&close, 0.0), open.matrix());
         let end = open.interpolate(&close, 1.0);
@@ -204,6 +206,7 @@ mod tests {
             translate: Vec3::new(1.0, 3.0, 0.0),
             rotate_degrees: Vec3::new(0.0, 0.0, 90.0),
             scale: crate::scene::Scale::Uniform(2.0),
+            matrix: None,
         };
         let motion = ObjectMotion::new(open.matrix(), close.matrix()).unwrap();
         let model = Vec3::new(0.5, -0.25, 2.0);

@@ -980,6 +980,10 @@ const RIB_FRAGMENTS: &[&str] = &[
     "ReadArchive \"parts/square.rib\"\n",
     "ReadArchive \"mutated.rib\"\n",
     "ObjectBegin 1\n",
+    "ObjectBegin \"thing\"\nSphere 1 -1 1 360\nObjectEnd\n",
+    "ObjectEnd\n",
+    "ObjectInstance 1\n",
+    "ObjectInstance \"thing\"\n",
     "Projection \"perspective\" \"fov\" [179.9]\n",
     "Format 1 100000 1\n",
     "PixelSamples 100 0\n",
@@ -1003,6 +1007,7 @@ fn rib_seeds() -> Vec<String> {
         root.join("tests/rib/archive/main.rib"),
         root.join("../docs/scenes/gallery.rib"),
         root.join("tests/rib/subdivision.rib"),
+        root.join("tests/rib/instances.rib"),
     ];
     if let Ok(dir) = std::fs::read_dir(root.join("tests/data/rib_golden")) {
         let mut golden: Vec<PathBuf> = dir

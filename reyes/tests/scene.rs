@@ -503,3 +503,61 @@ translate = [0.0, 200.0, 0.0]
     let still = PreparedScene::load(&still).unwrap();
     assert!(still.camera.far < 40.0, "{}", still.camera.far);
 }
+
+#[test]
+fn a_matrix_places_an_object_after_its_other_placement() {
+    // RenderMan's ConcatTransform order: the translation is numbers 13-15.
+    let with_matrix = Scene::from_toml_str(
+        "[[objects]]\nmodel = \"teapot\"\n\
+         transform = { scale = 2.0, matrix = [0, 1, 0, 0,  -1, 0, 0, 0,  0, 0, 1, 0,  5, 6, 7, 1] }\n",
+    )
+    .unwrap();
+    let matrix = with_matrix.objects[0].transform.matrix();
+    // Scale by 2, then turn 90 degrees about z, then move by (5, 6, 7).
+    let moved = matrix.transform_point3(Vec3::new(1.0, 0.0, 0.0));
+    assert!(moved.abs_diff_eq(Vec3::new(5.0, 8.0, 7.0), 1e-6), "{moved}");
+    let plain = Scene::from_toml_str(
+        "[[objects]]\nmodel = \"teapot\"\n\
+         transform = { scale = 2.0, rotate_degrees = [0, 0, 90], translate = [5, 6, 7] }\n",
+    )
+    .unwrap();
+    assert!(
+        matrix.abs_diff_eq(plain.objects[0].transform.matrix(), 1e-6),
+        "{matrix} against {}",
+        plain.objects[0].transform.matrix()
+    );
+    // Written back, the matrix round-trips.
+    let again = Scene::from_toml_str(&with_matrix.to_toml_string()).unwrap();
+    assert_eq!(again.objects[0].transform, with_matrix.objects[0].transform);
+    // A non-finite matrix is named.
+    let error = Scene::from_toml_str(
+        "[[objects]]\nmodel = \"teapot\"\n\
+         transform = { matrix = [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  nan, 0, 0, 1] }\n",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("objects[0].transform.matrix"), "{error}");
+    // Not 16 numbers: a parse error.
+    assert!(
+        Scene::from_toml_str(
+            "[[objects]]\nmodel = \"teapot\"\ntransform = { matrix = [1, 0, 0] }\n"
+        )
+        .is_err()
+    );
+}
+
+#[test]
+fn objects_that_reuse_a_model_share_its_stored_patches() {
+    let text = "[[objects]]\nmodel = \"teapot\"\n\
+                [[objects]]\nmodel = \"teapot\"\ntransform = { translate = [4, 0, 0] }\n\
+                [[objects]]\nmodel = \"teapot\"\ntransform = { translate = [8, 0, 0] }\n";
+    let scene = PreparedScene::load(&Scene::from_toml_str(text).unwrap()).unwrap();
+    let teapot = Model::teapot().patches.len();
+    assert_eq!(scene.patches.len(), 3 * teapot);
+    assert_eq!(scene.store.len as usize, teapot);
+    assert_eq!(scene.store.shared.len(), teapot);
+    assert!(scene.objects.iter().all(|o| o.placement.is_some()));
+    let one = PreparedScene::load(&Scene::default_teapot()).unwrap();
+    assert_eq!(one.store.len as usize, teapot);
+    assert!(one.store.shared.is_empty() && one.objects[0].placement.is_none());
+}

@@ -1,4 +1,7 @@
 // Body of `Bound` (16 threads per input patch, one per control point).
+// The item names the input patch; its control points come from the patch
+// store, placed in world space (load_patch, dicing.wgsl), and Bound routes
+// it on as a PatchItem of the whole parameter square at split depth 0.
 // Each thread projects its control point and publishes its outcode (of the
 // ball the object's displacement bound, motion and lens blur grow it to), its pixel position and
 // the bound's growth on screen in scratch; after the barrier thread 0
@@ -13,7 +16,7 @@ let POINT_SCRATCH = 5u;
 let object = objects[item.object];
 let may_cull_back = object.front != 0.0 && object.moving == 0u && frame.aperture == 0.0 && object.displace_kind == DISPLACE_NONE;
 if (valid) {
-    var p = item.p;
+    var p = load_patch(item.input_patch, object);
     let bound = object.displace_bound;
     let radius = clip_radius(bound);
     let point = patch_point(&p, thread);
@@ -33,7 +36,7 @@ if (valid) {
 workgroupBarrier();
 if (valid && thread == 0u) {
     atomicAdd(&stats[STAT_INPUT_PATCHES], 1u);
-    var p = item.p;
+    var p = load_patch(item.input_patch, object);
     var flags = FLAGS_IDENTITY;
     var screen: ScreenPiece;
     var growth = 0.0;
@@ -68,7 +71,13 @@ if (valid && thread == 0u) {
         v3 += dist3(patch_point(&p, k), patch_point(&p, 12u + k));
     }
     let size = max_ignoring_nan(hi.x - lo.x, hi.y - lo.y);
-    var piece = item;
+    var piece: PatchItem;
+    piece.p = p;
+    piece.uv = vec4<f32>(0.0, 0.0, 1.0, 1.0);
+    piece.object = item.object;
+    piece.split_depth = 0u;
+    piece.input_patch = item.input_patch;
+    piece.edges = EDGES_UNFIXED;
     if (frame.dicing == DICING_RATE) {
         piece.edges = input_edges(&screen, object.micropolygon_side);
     }
@@ -77,6 +86,6 @@ if (valid && thread == 0u) {
     if (back) {
         route(DECIDE_CULL, piece);
     } else {
-        route(decide(flags, size, growth, u2, v2, u3, v3, item.split_depth, grid, object.dice_threshold), piece);
+        route(decide(flags, size, growth, u2, v2, u3, v3, 0u, grid, object.dice_threshold), piece);
     }
 }

@@ -31,8 +31,8 @@ let nv = (item.grid >> 8u) & 0xffu;
 let columns = nu + 1u;
 let points = columns * (nv + 1u);
 if (valid) {
-    var q = load_patch(item.input_patch);
     let object = objects[item.object];
+    var q = load_patch(item.input_patch, object);
     for (var k = thread; k < points; k += DICE_THREADS) {
         let i = k % columns;
         let j = k / columns;

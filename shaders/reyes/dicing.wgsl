@@ -233,13 +233,23 @@ fn grid_param(a: f32, b: f32, i: u32, n: u32) -> f32 {
     return a + (b - a) * (f32(i) / f32(n));
 }
 
-// The input patch `index`, from its 48 floats after the scene's other
-// floats in height_texels.
-fn load_patch(index: u32) -> array<f32, 48> {
+// The input patch `index` in world space, from its 48 floats after the
+// scene's other floats in height_texels: as stored, or placed by the
+// object's placement when the object shares its model's patches
+// (reyes::prepare::PatchStore).
+fn load_patch(index: u32, object: Object) -> array<f32, 48> {
     var q: array<f32, 48>;
     let base = frame.patch_floats + 48u * index;
     for (var k = 0u; k < 48u; k += 1u) {
         q[k] = height_texels[base + k];
+    }
+    if (object.placed != 0u) {
+        for (var k = 0u; k < 48u; k += 3u) {
+            let placed = object.placement * vec4<f32>(q[k], q[k + 1u], q[k + 2u], 1.0);
+            q[k] = placed.x;
+            q[k + 1u] = placed.y;
+            q[k + 2u] = placed.z;
+        }
     }
     return q;
 }

@@ -1,5 +1,5 @@
 //! The Rust structs the Reyes megakernel shares with WGSL (`Frame`,
-//! `Object`, `Light`, `PatchItem`) agree with the module's, member by member:
+//! `Object`, `Light`, `PatchItem`, `InputPatch`) agree with the module's, member by member:
 //! naga lays out the generated module, and every WGSL member must sit at the
 //! offset of the Rust field of its name. The structs are generated from the
 //! Rust ones by `#[scheduler::item]`, which checks the layout when the crate
@@ -10,7 +10,7 @@
 use std::mem::size_of;
 
 use reyes::gpu::buffers::{FrameUniform, LightData};
-use reyes::gpu::graph::PatchItem;
+use reyes::gpu::graph::{InputPatch, PatchItem};
 use reyes::gpu::objects::ObjectData;
 use scheduler::Item;
 /// The members of WGSL struct `name` in `module`: names and byte offsets,
@@ -67,14 +67,19 @@ fn the_shared_structs_match_their_rust_definitions() {
     assert_item::<ObjectData>(&module);
     assert_item::<LightData>(&module);
     assert_item::<PatchItem>(&module);
+    assert_item::<InputPatch>(&module);
     // The names the shaders use.
     let names = [
         FrameUniform::WGSL_NAME,
         ObjectData::WGSL_NAME,
         LightData::WGSL_NAME,
         PatchItem::WGSL_NAME,
+        InputPatch::WGSL_NAME,
     ];
-    assert_eq!(names, ["Frame", "Object", "Light", "PatchItem"]);
+    assert_eq!(
+        names,
+        ["Frame", "Object", "Light", "PatchItem", "InputPatch"]
+    );
 }
 
 /// The resolve shader validates, and its uniform matches the Rust struct.

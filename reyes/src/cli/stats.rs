@@ -16,8 +16,16 @@ pub(crate) fn print_stats(
         scene.dicing,
         scene.shading_interpolation.name()
     );
-    let rows: [(&str, String); 19] = [
+    let rows: [(&str, String); 20] = [
         ("input patches", stats.input_patches.to_string()),
+        (
+            "patches stored",
+            format!(
+                "{} ({} KiB)",
+                scene.store.len,
+                crate::gpu::patch_store_bytes(scene).div_ceil(1024)
+            ),
+        ),
         ("splits", stats.splits.to_string()),
         ("culled patches", stats.culled_patches.to_string()),
         ("depth-guard drops", stats.depth_guard_drops.to_string()),

@@ -111,15 +111,16 @@ mod tests {
     use crate::gpu::options::DEFAULT_WORK_CAPACITY;
     use crate::gpu::render_error::RenderError;
 
-    /// Six queues of 240-byte slots, as the Reyes graph has (Bound, SplitU,
-    /// SplitV and three dice queues).
+    /// A model of six queues of 240-byte slots (Bound, SplitU, SplitV and
+    /// three dice queues; the Reyes graph's Bound slots are smaller, which
+    /// the planner takes from the compiled graph).
     fn six_queues(bound: u32, work: u32) -> u64 {
         240 * (u64::from(bound.next_power_of_two()) + 5 * u64::from(work.next_power_of_two()))
     }
 
     #[test]
     fn patches_beyond_the_queue_are_planned_in_batches() {
-        // About 540k patches on lavapipe's 128 MiB: 2^17 per run next to
+        // About 540k patches in 128 MiB: 2^17 per run next to
         // the full work queues (2^18 would need 141 MB), so five runs (D17).
         let plan = plan_batch(540_000, DEFAULT_WORK_CAPACITY, 1 << 27, six_queues).unwrap();
         assert_eq!(

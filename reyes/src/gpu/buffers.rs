@@ -213,8 +213,9 @@ impl FrameUniform {
 
 /// Where the scene's floats lie in the `height_texels` buffer: the height
 /// maps from float 0, then (when samples carry time and lens) the
-/// [`crate::uvt::UvtTables`], then the input patches' control points (48 floats each,
-/// which the dice procedures evaluate), their corner texture coordinates
+/// [`crate::uvt::UvtTables`], then the stored input patches' control points
+/// ([`crate::prepare::PatchStore`]: 48 floats each, which the dice
+/// procedures evaluate), their corner texture coordinates
 /// (8 floats each), the user shaders' parameter slots (4 floats each), and
 /// the textures' tables ([`crate::texture::TextureSet::gpu_tables`], by
 /// their bits: 8 words per texture, 2 per texel) and the shadow maps (a
@@ -255,8 +256,9 @@ impl FloatLayout {
             0
         };
         let patches = uvt + uvt_floats;
-        let st = patches + 48 * scene.patches.len() as u64;
-        let parameters = st + 8 * scene.patches.len() as u64;
+        let stored = u64::from(scene.store.len);
+        let st = patches + 48 * stored;
+        let parameters = st + 8 * stored;
         let textures = parameters + 4 * scene.shaders.parameters.len() as u64;
         let texels = textures + 8 * scene.textures.len() as u64;
         let shadow_maps = texels + 2 * texel_words(scene) as u64;
@@ -292,6 +294,41 @@ pub fn texel_buffer_bytes(scene: &PreparedScene) -> u64 {
     4 * FloatLayout::new(scene, &ObjectTables::new(scene))
         .total
         .max(1)
+}
+
+/// Bytes of the input patches the GPU stores for `scene` (control points
+/// and corner texture coordinates, 224 bytes per stored patch): each
+/// patch once, and once only for every object that shares a model
+/// ([`crate::prepare::PatchStore`]).
+pub fn patch_store_bytes(scene: &PreparedScene) -> u64 {
+    4 * (48 + 8) * u64::from(scene.store.len)
+}
+
+/// The stored patches' control points (48 floats each) and corner texture
+/// coordinates (8 each), by stored index: a shared patch in model space,
+/// any other in world space.
+fn stored_patch_floats(scene: &PreparedScene) -> (Vec<f32>, Vec<f32>) {
+    let stored = scene.store.len as usize;
+    let mut points = vec![0.0f32; 48 * stored];
+    let mut st = vec![0.0f32; 8 * stored];
+    let mut put = |index: u32, patch_points: &[glam::Vec3; 16], corners: &[glam::Vec2; 4]| {
+        let index = index as usize;
+        for (k, point) in patch_points.iter().enumerate() {
+            points[48 * index + 3 * k..48 * index + 3 * k + 3].copy_from_slice(&point.to_array());
+        }
+        for (k, corner) in corners.iter().enumerate() {
+            st[8 * index + 2 * k..8 * index + 2 * k + 2].copy_from_slice(&corner.to_array());
+        }
+    };
+    for patch in &scene.patches {
+        if scene.objects[patch.object as usize].placement.is_none() {
+            put(patch.stored, &patch.points, &patch.st);
+        }
+    }
+    for shared in &scene.store.shared {
+        put(shared.stored, &shared.points, &shared.st);
+    }
+    (points, st)
 }
 
 /// The buffers the megakernel binds (see the resources in
@@ -416,24 +453,13 @@ impl FrameBuffers {
         frame.st_floats = layout.st as u32;
         frame.texture_floats = layout.textures as u32;
         frame.texel_floats = layout.texels as u32;
-        let patches: Vec<f32> = scene
-            .patches
-            .iter()
-            .flat_map(|p| p.points.iter().flat_map(|point| point.to_array()))
-            .collect();
-        if !patches.is_empty() {
+        let (points, st) = stored_patch_floats(scene);
+        if !points.is_empty() {
             queue.write_buffer(
                 &self.height_texels,
                 4 * layout.patches,
-                bytemuck::cast_slice(&patches),
+                bytemuck::cast_slice(&points),
             );
-        }
-        let st: Vec<f32> = scene
-            .patches
-            .iter()
-            .flat_map(|p| p.st.iter().flat_map(|c| c.to_array()))
-            .collect();
-        if !st.is_empty() {
             queue.write_buffer(&self.height_texels, 4 * layout.st, bytemuck::cast_slice(&st));
         }
         // Uploaded once per texture set and place in the buffer: a large set

@@ -1,4 +1,4 @@
-//! The Reyes procedure graph: the work item, the four procedures, their
+//! The Reyes procedure graph: the work items, the four procedures, their
 //! connections, the shared WGSL library (with the displacement sources and
 //! the scene's user displacement function) and the extra resources.
 //!
@@ -34,7 +34,7 @@ use super::variant::KernelVariant;
 use crate::dicing::GridClass;
 
 pub use super::abi::{dicing, displace, non_finite, sampling, stat};
-pub use super::patch_item::PatchItem;
+pub use super::patch_item::{InputPatch, PatchItem};
 
 /// The shared library, in the order it is declared: helpers, patch access
 /// and projection; the bound test; evaluation and shading; packing,
@@ -197,7 +197,7 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     graph.resource(Resource::storage::<[Atomic<u32>]>("stats"));
     graph.resource(Resource::storage_read::<[f32]>("height_texels"));
     let bound = graph.procedure(
-        Procedure::of::<PatchItem>(BOUND)
+        Procedure::of::<InputPatch>(BOUND)
             .initial(true)
             .threads_per_item(16)
             .scratch_bytes(4 * BOUND_SCRATCH_WORDS)

@@ -53,6 +53,7 @@ mod shared_constants;
 mod tiles;
 mod variant;
 
+pub use buffers::patch_store_bytes;
 pub use loop_limit::{LoopLimitContext, LoopLimitError, LoopLimitHint};
 pub use pipeline_cache::{
     CACHE_DIR_ENV, PipelineInfo, default_pipeline_cache_dir, pipeline_cache_dir,

@@ -69,10 +69,13 @@ pub struct ObjectData {
     /// [`crate::displacement::ShaderDisplacement::orientation`] (1 for
     /// other sources).
     pub displace_orientation: f32,
-    /// Padding.
-    pub pad2: u32,
+    /// 1 when the object's patches are stored shared, in model space
+    /// ([`crate::prepare::PreparedObject::placement`]).
+    pub placed: u32,
     /// Padding.
     pub pad3: u32,
+    /// The model-to-world matrix of shared patches (identity otherwise).
+    pub placement: glam::Mat4,
 }
 
 impl ObjectData {
@@ -153,8 +156,9 @@ impl ObjectTables {
                     displace_shader: 0,
                     displace_parameters: 0,
                     displace_orientation: 1.0,
-                    pad2: 0,
+                    placed: u32::from(object.placement.is_some()),
                     pad3: 0,
+                    placement: object.placement.unwrap_or(glam::Mat4::IDENTITY),
                 };
                 if let Some(prepared) = &object.surface {
                     data.set_surface(prepared);

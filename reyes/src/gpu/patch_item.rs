@@ -1,11 +1,37 @@
-//! The work item every Reyes procedure runs on: one piece of a bicubic
-//! Bezier patch.
+//! The work items of the Reyes procedures: an input patch, named by its
+//! stored index (Bound's), and one piece of a bicubic Bezier patch with
+//! its control points (the others').
 
-use crate::dicing::pack_edges;
 use crate::prepare::WorldPatch;
 
-/// The work item of Bound, SplitU, SplitV and DiceShadeSample: one (piece
-/// of a) bicubic Bezier patch, WGSL struct `PatchItem`.
+/// The work item of Bound: one input patch, named by its stored index
+/// ([`WorldPatch::stored`]), WGSL struct `InputPatch`. Bound reads the
+/// control points from the patch store and places them with the object's
+/// placement when the object shares its model (`load_patch` in
+/// `shaders/reyes/dicing.wgsl`), so no input patch's points are uploaded
+/// twice, and a queue slot is 8 bytes instead of a [`PatchItem`]'s 240.
+#[scheduler::item]
+#[derive(Debug, PartialEq)]
+pub struct InputPatch {
+    /// Index into `objects`.
+    pub object: u32,
+    /// The stored patch.
+    pub input_patch: u32,
+}
+
+impl InputPatch {
+    /// The seed of `patch`.
+    pub fn of(patch: &WorldPatch) -> Self {
+        Self {
+            object: patch.object,
+            input_patch: patch.stored,
+        }
+    }
+}
+
+/// The work item of SplitU, SplitV and DiceShadeSample: one (piece of a)
+/// bicubic Bezier patch, WGSL struct `PatchItem`, made by Bound from an
+/// [`InputPatch`] and by the splits from their pieces.
 #[scheduler::item]
 #[derive(Debug, PartialEq)]
 pub struct PatchItem {
@@ -19,7 +45,9 @@ pub struct PatchItem {
     pub object: u32,
     /// Splits from the input patch to this piece (the depth guard's input).
     pub split_depth: u32,
-    /// Index of the input patch, whose control points rate dicing evaluates.
+    /// The stored index of the input patch ([`WorldPatch::stored`]),
+    /// whose control points rate dicing evaluates (placed by the object's
+    /// placement when the patch is shared).
     pub input_patch: u32,
     /// The spacings of the piece's four edges (dicing.wgsl,
     /// reyes::dicing::pack_edges), 8 bits each.
@@ -32,27 +60,4 @@ pub struct PatchItem {
     pub pad1: u32,
     /// Padding.
     pub pad2: u32,
-}
-
-impl PatchItem {
-    /// Input patch `index`: the whole parameter square at split depth 0
-    /// (Bound measures its edges and grid).
-    pub fn input(patch: &WorldPatch, index: u32) -> Self {
-        let mut p = [0.0; 48];
-        for (i, point) in patch.points.iter().enumerate() {
-            p[3 * i..3 * i + 3].copy_from_slice(&point.to_array());
-        }
-        Self {
-            p,
-            uv: glam::Vec4::new(0.0, 0.0, 1.0, 1.0),
-            object: patch.object,
-            split_depth: 0,
-            input_patch: index,
-            edges: pack_edges(&[Default::default(); 4]),
-            grid: 0,
-            pad0: 0,
-            pad1: 0,
-            pad2: 0,
-        }
-    }
 }

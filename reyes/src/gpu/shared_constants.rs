@@ -10,7 +10,9 @@ use super::abi::{
     stat, surface,
 };
 use crate::aov::Aov;
-use crate::dicing::{EDGE_U0, EDGE_U1, EDGE_V0, EDGE_V1, GridClass, GridSize, RATE_ROUNDING};
+use crate::dicing::{
+    EDGE_U0, EDGE_U1, EDGE_V0, EDGE_V1, EdgeSpacing, GridClass, GridSize, RATE_ROUNDING, pack_edges,
+};
 use crate::params::{
     ADAPTIVE_PLACE_COST, DEGENERATE_NORMAL_REL_EPS, DEGENERATE_PARAM_MAX, DEGENERATE_PARAM_MIN,
     DISPLACED_DICE_FRACTION, DISPLACEMENT_BOUND_TOLERANCE, HASH_MIX, HASH_MULTIPLIERS,
@@ -57,6 +59,10 @@ pub(super) fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, Consta
         ("EDGE_V1", index(EDGE_V1)),
         ("EDGE_U0", index(EDGE_U0)),
         ("EDGE_U1", index(EDGE_U1)),
+        (
+            "EDGES_UNFIXED",
+            ConstantValue::U32(pack_edges(&[EdgeSpacing::UNFIXED; 4])),
+        ),
         ("DICING_FIXED", ConstantValue::U32(dicing::FIXED)),
         ("DICING_RATE", ConstantValue::U32(dicing::RATE)),
         ("GRID_CLASS_SMALL", index(small)),

@@ -22,9 +22,11 @@ pub use crate::shading::{PreparedLight, PreparedShadow, PreparedSurface};
 use crate::shadow::ShadowMap;
 
 mod lights;
+mod patches;
 mod shadow_passes;
 
 pub use self::lights::PendingShadow;
+pub use self::patches::{PatchStore, SharedPatch};
 pub use self::shadow_passes::{
     DEPTH_PASS_SHADING_RATE_FACTOR, DepthPass, MAX_SPOT_MAP_FOV_DEGREES, PassStats, RenderedPass,
     depth_passes,
@@ -77,6 +79,11 @@ pub struct WorldPatch {
     /// (1,0), (0,1), (1,1)` ([`crate::model::Model::st`]; the unit square
     /// by default); inside the patch, their bilinear blend at `(u, v)`.
     pub st: [Vec2; 4],
+    /// The index of the patch the GPU stores for it
+    /// ([`PreparedScene::store`]): its own world-space points, or, when
+    /// its object shares its model with others, the model's patch in model
+    /// space, which [`PreparedObject::placement`] places.
+    pub stored: u32,
 }
 
 impl WorldPatch {
@@ -121,6 +128,10 @@ pub struct PreparedObject {
     /// `reverse_orientation`, and again for a mirroring transform); `None`
     /// for two-sided objects, which are never culled as back-facing.
     pub front: Option<f32>,
+    /// The model-to-world matrix of an object that shares its model's
+    /// patches with other objects ([`PatchStore::shared`]); `None` when its
+    /// patches are stored in world space.
+    pub placement: Option<glam::Mat4>,
 }
 
 impl PreparedObject {
@@ -137,6 +148,9 @@ pub struct PreparedScene {
     pub camera: Camera,
     /// All objects' patches, in object order.
     pub patches: Vec<WorldPatch>,
+    /// The patches the GPU stores, each once: [`WorldPatch::stored`]
+    /// indexes them.
+    pub store: PatchStore,
     /// Shading data per object.
     pub objects: Vec<PreparedObject>,
     /// The lights that illuminate (distant, point and spot lights).
@@ -222,56 +236,12 @@ impl PreparedScene {
                 models: models.len(),
             });
         }
-        let mut patches = Vec::with_capacity(models.iter().map(|m| m.patches.len()).sum());
-        let mut skipped_degenerate_patches = 0;
-        for (index, (object, model)) in scene.objects.iter().zip(models).enumerate() {
-            let matrix = object.transform.matrix();
-            // Where the object is at shutter close (without camera motion,
-            // which moves the view, not the world).
-            let close = object
-                .transform_close
-                .as_ref()
-                .map(|close| object.transform.interpolate(close, scene.shutter));
-            let overflow = |field| SceneError::TransformOverflow {
-                index,
-                field,
-                model: object.model.clone(),
-            };
-            if let Some(reason) = model.st_problem() {
-                return Err(SceneError::InvalidSt {
-                    index,
-                    model: object.model.clone(),
-                    reason,
-                });
-            }
-            for (patch_index, patch) in model.patches.iter().enumerate() {
-                let points = patch.points.map(|p| matrix.transform_point3(p));
-                if !points.iter().all(|p| p.is_finite()) {
-                    return Err(overflow("transform"));
-                }
-                if let Some(close) = close
-                    && !patch
-                        .points
-                        .iter()
-                        .all(|&p| close.transform_point3(p).is_finite())
-                {
-                    return Err(overflow("transform_close"));
-                }
-                if degenerate_patch(&points) {
-                    skipped_degenerate_patches += 1;
-                    continue;
-                }
-                if object.surface == Some(Surface::Null) {
-                    // Checked for a finite placement above, as every object.
-                    continue;
-                }
-                patches.push(WorldPatch {
-                    points,
-                    object: index as u32,
-                    st: model.st_of(patch_index),
-                });
-            }
-        }
+        let patches::Placed {
+            patches,
+            store,
+            placements,
+            skipped_degenerate: skipped_degenerate_patches,
+        } = patches::place_patches(scene, models)?;
         if skipped_degenerate_patches > 0 {
             log::warn!(
                 "skipped {skipped_degenerate_patches} degenerate patch(es) without area (all control points equal or on one line)"
@@ -405,6 +375,7 @@ impl PreparedScene {
                 displacement,
                 motion,
                 front,
+                placement: placements[index],
             });
         }
         let lens = PreparedLens::new(&camera, scene.lens.aperture, scene.lens.focus_distance);
@@ -414,6 +385,7 @@ impl PreparedScene {
             camera,
             camera_motion,
             patches,
+            store,
             objects: prepared_objects,
             lights: lights.lights,
             ambient: lights.ambient,

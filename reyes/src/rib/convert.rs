@@ -244,6 +244,7 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
     // model: the two never both hold the whole scene.
     // Displacement shaders without a bound, by request (one warning each).
     let mut unbounded: Vec<Warning> = Vec::new();
+    let mut last_placed = false;
     for prim in std::mem::take(&mut interp.prims) {
         if prim.patches.is_empty() {
             continue;
@@ -266,7 +267,12 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
                 ),
             });
         }
-        if keys.last() != Some(&key) {
+        // An instance is an object of its own, placed by its matrix, so
+        // that instances of one definition have equal models (which the GPU
+        // stores once) and nothing merges into them.
+        let placed = prim.placement.is_some() || last_placed;
+        last_placed = prim.placement.is_some();
+        if keys.last() != Some(&key) || placed {
             let transform_close = match prim.close {
                 None => None,
                 Some(m) => match decompose(m) {
@@ -277,17 +283,24 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
                     }
                 },
             };
+            // The baked points are in a mirrored frame (see `object_key`);
+            // a placement that mirrors turns the front again where the scene
+            // is prepared, so the orientation is turned back here.
+            let mirrored = prim.placement.is_some_and(|m| m.determinant() < 0.0);
             scene.objects.push(SceneObject {
                 model: format!("rib-object-{}", scene.objects.len()),
                 subdivision: None,
-                transform: Transform::default(),
+                transform: Transform {
+                    matrix: prim.placement,
+                    ..Transform::default()
+                },
                 color: key.0,
                 surface: Some(key.4.clone()),
                 shading_rate: key.5.map(|r| r as f32),
                 displacement: key.6.clone(),
                 transform_close,
                 sides: key.1,
-                reverse_orientation: key.2,
+                reverse_orientation: key.2 != mirrored,
             });
             models.push(Model::default());
             keys.push(key);
@@ -400,6 +413,7 @@ fn decompose(m: DMat4) -> Option<Transform> {
             z.to_degrees() as f32,
         ),
         scale: Scale::PerAxis(scale.as_vec3()),
+        matrix: None,
     })
 }
 

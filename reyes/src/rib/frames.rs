@@ -300,7 +300,8 @@ impl Interp {
         self.camera_overflow = None;
         self.world_done = false;
         self.motion = None;
-        self.object_depth = 0;
+        // A definition left open in the frame is closed with it.
+        self.defining = None;
         Ok(())
     }
 

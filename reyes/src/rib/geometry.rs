@@ -11,7 +11,8 @@ use super::parser::Value;
 use super::state;
 use super::texcoords::{self, CornerRef, Layout, UNIT_SQUARE};
 
-/// The geometric primitives, supported or not (`ObjectInstance` too).
+/// The geometric primitives, supported or not (`ObjectInstance` is
+/// `super::instances`').
 const GEOMETRY: [&str; 21] = [
     "Patch",
     "PatchMesh",
@@ -50,7 +51,7 @@ const TRANSFORMS: [&str; 8] = [
 
 /// Whether `name` is a geometry request ([`Interp::geometry_request`]).
 pub(super) fn is_geometry(name: &str) -> bool {
-    GEOMETRY.contains(&name) || name == "ObjectInstance"
+    GEOMETRY.contains(&name)
 }
 
 impl Interp {
@@ -494,8 +495,24 @@ impl Interp {
         debug_assert_eq!(patches.len(), st.len(), "one st per patch");
         let st = texcoords::to_f32(st)?;
         let camera = self.camera.unwrap_or(DMat4::IDENTITY);
-        let open = camera_to_world() * camera * self.xf.open;
-        let close = camera_to_world() * camera * self.xf.close;
+        let (open, close) = if self.defining_object() {
+            // An object definition keeps its own space; its instances
+            // place it (`super::instances`).
+            if self.xf.open != self.xf.close {
+                self.warn_once(
+                    "#definition-motion",
+                    file,
+                    line,
+                    "motion inside ObjectBegin is not supported: the definition keeps its shape at shutter open (move the instances instead)".into(),
+                );
+            }
+            (self.xf.open, self.xf.open)
+        } else {
+            (
+                camera_to_world() * camera * self.xf.open,
+                camera_to_world() * camera * self.xf.close,
+            )
+        };
         let mut out = Vec::with_capacity(patches.len());
         let mut out_st = Vec::with_capacity(patches.len());
         for (patch, st) in patches.iter().zip(st) {
@@ -521,8 +538,10 @@ impl Interp {
         }
         // The budget took them all before they were made.
         self.patches.give_back(skipped as u64);
-        self.lights_for_primitive();
-        let moving = (self.xf.open != self.xf.close).then(|| close * open.inverse());
+        if !self.defining_object() {
+            self.lights_for_primitive();
+        }
+        let moving = (open != close).then(|| close * open.inverse());
         self.prims.push(Prim {
             patches: out,
             st: out_st,
@@ -531,10 +550,12 @@ impl Interp {
             request: GEOMETRY
                 .iter()
                 .copied()
+                .chain(["ObjectInstance"])
                 .find(|g| *g == name)
                 .unwrap_or("primitive"),
             file: file.to_path_buf(),
             line,
+            placement: None,
         });
         Ok(())
     }

@@ -72,6 +72,10 @@ pub struct Prim {
     pub file: PathBuf,
     /// The line of its request.
     pub line: usize,
+    /// An instance's placement ([`super::instances`]): its patches are in
+    /// its definition's space, and this matrix places them in world space.
+    /// `None`: the patches are in world space.
+    pub placement: Option<glam::Mat4>,
 }
 
 #[derive(Debug)]
@@ -116,7 +120,10 @@ pub struct Interp {
     /// Every file read, in order: the scene, then its archives.
     pub sources: Vec<PathBuf>,
     pub(super) budget: u64,
-    pub(super) object_depth: usize,
+    /// The object definitions by name ([`super::instances`]).
+    pub(super) definitions: HashMap<String, super::instances::Definition>,
+    /// The definition being recorded, if any.
+    pub(super) defining: Option<super::instances::OpenDefinition>,
     /// Warnings beyond [`MAX_WARNINGS`], counted only.
     pub more_warnings: usize,
     /// Stop reading at `WorldBegin` (only the options are wanted).
@@ -184,7 +191,8 @@ impl Interp {
             includes: Vec::new(),
             sources: Vec::new(),
             budget,
-            object_depth: 0,
+            definitions: HashMap::new(),
+            defining: None,
             more_warnings: 0,
             made_textures: HashMap::new(),
             shader_files: HashMap::new(),
@@ -264,7 +272,7 @@ impl Interp {
             col: call.col,
             message: bounded(format!("{}: {message}", input::excerpt(&call.name))),
         };
-        if call.name == "ReadArchive" && self.object_depth == 0 && !self.world_done {
+        if call.name == "ReadArchive" && !self.world_done {
             let (args, _, _) = state::split_params(&call.values, 1, &self.declared).map_err(at)?;
             let name = state::arg_str(&args, 0, "the archive name").map_err(at)?;
             // The messages below quote the path: keep them short (no file
@@ -319,14 +327,6 @@ impl Interp {
         let name = call.name.as_str();
         // For messages: a request name from the input may be of any length.
         let shown = input::excerpt(name);
-        if self.object_depth > 0 {
-            match name {
-                "ObjectBegin" => self.object_depth += 1,
-                "ObjectEnd" => self.object_depth -= 1,
-                _ => {}
-            }
-            return Ok(());
-        }
         if self.world_done && !matches!(name, "FrameEnd" | "FrameBegin") {
             let message = if self.frame.is_some() {
                 "only the first world block of a frame is rendered; the requests after its WorldEnd up to FrameEnd are ignored"
@@ -473,10 +473,9 @@ impl Interp {
                 "SolidBegin is not supported (no CSG): the primitives inside are drawn as they are"
                     .into(),
             ),
-            "ObjectBegin" => {
-                self.warn(file, line, "ObjectBegin/ObjectInstance are not supported yet; the object definition is skipped".into());
-                self.object_depth = 1;
-            }
+            "ObjectBegin" => self.object_begin(v)?,
+            "ObjectEnd" => self.object_end()?,
+            "ObjectInstance" => self.object_instance(v, file, line)?,
             _ => {
                 self.warn_once(
                     name,

@@ -44,6 +44,7 @@ mod displacements;
 mod environments;
 mod frames;
 mod geometry;
+mod instances;
 mod options;
 mod polygons;
 mod requests;
@@ -268,8 +269,9 @@ impl RibScene {
     }
 
     /// Writes the scene as TOML to `toml` plus its models as `.bpt` files
-    /// beside it (`{toml stem}-{i}.bpt`), creating missing directories;
-    /// returns every file written, the TOML last.
+    /// beside it (`{toml stem}-{i}.bpt`, one per distinct model: the
+    /// instances of one RIB object share theirs), creating missing
+    /// directories; returns every file written, the TOML last.
     ///
     /// Every output goes through one [`OutputGuard`] before anything is
     /// written: `toml` must end in `.toml`, and no output may be one of
@@ -296,26 +298,40 @@ impl RibScene {
             .unwrap_or("scene")
             .to_owned();
         let mut scene = self.scene.clone();
-        let mut models = Vec::with_capacity(self.models.len());
+        let mut models: Vec<(usize, PathBuf, PathBuf)> = Vec::with_capacity(self.models.len());
+        // Objects with equal models (the instances of one RIB object) name
+        // one file: `models` holds each distinct model's first object, its
+        // path and its file.
         for (i, object) in scene.objects.iter_mut().enumerate() {
-            let name = format!("{stem}-{i}.bpt");
-            let path = dir.join(&name);
-            let file = guard.add_output(OutputKind::Bpt, "model", &path)?;
-            models.push((path, file));
+            let same = models.iter().find(|(j, _, _)| {
+                self.models[*j].patches.len() == self.models[i].patches.len()
+                    && self.models[*j] == self.models[i]
+            });
+            let name = match same {
+                Some((j, _, _)) => format!("{stem}-{j}.bpt"),
+                None => {
+                    let name = format!("{stem}-{i}.bpt");
+                    let path = dir.join(&name);
+                    let file = guard.add_output(OutputKind::Bpt, "model", &path)?;
+                    models.push((i, path, file));
+                    name
+                }
+            };
             object.model = name;
         }
         guard.prepare_dirs()?;
         let mut staged = StagedFiles::new();
         // Streamed: the set holds files, not their bytes (a model's text
         // is several times its patches).
-        for ((_, file), model) in models.iter().zip(&self.models) {
+        for (index, _, file) in &models {
+            let model = &self.models[*index];
             staged.write_with(file, |out| crate::load::bpt::write_to(model, out))?;
         }
         let header = "# Converted from RenderMan RIB by `reyes convert`.\n";
         let text = format!("{header}{}", scene.to_toml_string());
         staged.write(&toml_file, text.as_bytes())?;
         staged.commit()?;
-        let mut written: Vec<PathBuf> = models.into_iter().map(|(path, _)| path).collect();
+        let mut written: Vec<PathBuf> = models.into_iter().map(|(_, path, _)| path).collect();
         written.push(toml.to_path_buf());
         Ok(written)
     }

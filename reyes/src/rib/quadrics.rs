@@ -23,6 +23,10 @@ use super::state;
 pub const MAX_SEGMENTS: usize = 64;
 /// The error allowed at the render's resolution, in pixels.
 pub const MAX_ERROR_PX: f64 = 0.1;
+/// The error bound of a quadric inside an object definition, relative to
+/// its size: [`MAX_ERROR_PX`] for an instance 1,000 pixels across (up to
+/// [`MAX_SEGMENTS`]).
+const DEFINITION_RELATIVE_ERROR: f64 = 1e-4;
 /// The pieces per fewest segment (a quarter turn) whose bounding spheres
 /// bound the depth of a quadric's visible points: pieces of 22.5 degrees,
 /// whose bounding spheres stay within a third of their radius of the surface.
@@ -295,6 +299,15 @@ impl Interp {
                 return Ok(());
             }
         };
+        if self.defining_object() {
+            // Where its instances will be is not known yet: fine enough for
+            // an instance 1,000 pixels across, and shared by them all.
+            let (nu, nv, _) = quadric.segments(quadric.reach * DEFINITION_RELATIVE_ERROR);
+            self.take_patches(nu * nv, || format!("{nu} x {nv} segments"))?;
+            let patches = quadric.patches(nu, nv);
+            let st = super::texcoords::quadric(&vars, self.attrs.texture_coords, nu, patches.len())?;
+            return self.emit(name, patches, st, file, line);
+        }
         let to_camera = self.camera.unwrap_or(DMat4::IDENTITY) * self.xf.open;
         let (nu0, nv0) = quadric.min_segments();
         let Some(px) = self.world_per_pixel(to_camera, &quadric) else {

@@ -1,6 +1,7 @@
 //! The scene itself: [`Scene`], its image size, and the constructors that
 //! build one from a model and load its objects' models.
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
@@ -26,7 +27,8 @@ use super::defaults::{
 };
 use super::framing::box_corners;
 use super::{
-    CameraDesc, CameraPose, Lens, Light, ModelSource, SceneError, SceneObject, Specular, Transform,
+    CameraDesc, CameraPose, Lens, Light, ModelSource, SceneError, SceneObject, Specular,
+    Subdivision, Transform,
 };
 
 /// The model name that selects the embedded teapot instead of a file.
@@ -307,32 +309,59 @@ impl Scene {
     /// by many objects counts each time: each object holds its copy).
     pub fn load_models(&self) -> Result<Vec<Model>, SceneError> {
         let mut budget = PatchBudget::from_setting();
-        self.objects
-            .iter()
-            .enumerate()
-            .map(|(index, object)| {
-                let error = |source| SceneError::Model {
-                    index,
-                    model: object.model.clone(),
-                    source,
-                };
-                match self.model_source(object) {
+        // A model several objects use is read once and kept until its last
+        // object takes it; each object still takes its patches from the
+        // budget, as each holds them in world space once prepared.
+        let key = |object: &SceneObject| {
+            (
+                self.model_source(object),
+                object.subdivision.unwrap_or_default(),
+            )
+        };
+        let mut uses: HashMap<(ModelSource, Subdivision), usize> = HashMap::new();
+        for object in &self.objects {
+            *uses.entry(key(object)).or_default() += 1;
+        }
+        let mut loaded: HashMap<(ModelSource, Subdivision), Model> = HashMap::new();
+        let mut models = Vec::with_capacity(self.objects.len());
+        for (index, object) in self.objects.iter().enumerate() {
+            let error = |source| SceneError::Model {
+                index,
+                model: object.model.clone(),
+                source,
+            };
+            let key = key(object);
+            let model = match loaded.remove(&key) {
+                Some(model) => {
+                    budget
+                        .take(model.patches.len() as u64)
+                        .map_err(|source| error(LoadError::PatchBudget { line: 1, source }))?;
+                    model
+                }
+                None => match &key.0 {
                     ModelSource::Teapot => {
                         let teapot = Model::teapot();
                         budget
                             .take(teapot.patches.len() as u64)
                             .map_err(|source| error(LoadError::PatchBudget { line: 1, source }))?;
-                        Ok(teapot)
+                        teapot
                     }
                     ModelSource::File(path) => Model::load_subdivided_within(
-                        &path,
+                        path,
                         InputKind::Model.limit(),
                         &mut budget,
-                        object.subdivision.unwrap_or_default().scheme(),
+                        key.1.scheme(),
                     )
-                    .map_err(error),
-                }
-            })
-            .collect()
+                    .map_err(error)?,
+                },
+            };
+            let left = uses.get_mut(&key).expect("counted above");
+            *left -= 1;
+            if *left > 0 {
+                loaded.insert(key, model.clone());
+            }
+            models.push(model);
+        }
+        Ok(models)
     }
 }

@@ -42,7 +42,8 @@ impl Scale {
 }
 
 /// An object's placement (`transform`): scale, then rotate about x, y, z
-/// (in that order, degrees), then translate.
+/// (in that order, degrees), then translate, then the general `matrix` if
+/// there is one.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Transform {
@@ -52,6 +53,12 @@ pub struct Transform {
     pub rotate_degrees: Vec3,
     /// Scale (default 1).
     pub scale: Scale,
+    /// A general affine model-to-world matrix applied after the others
+    /// (default none): 16 numbers in RenderMan's `ConcatTransform` order,
+    /// which is glam's column-major order (the translation is numbers 13
+    /// to 15). RIB instances are placed with it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub matrix: Option<Mat4>,
 }
 
 impl Transform {
@@ -67,10 +74,21 @@ impl Transform {
     /// translation and scale interpolated linearly, rotation by slerp (the
     /// shorter way, so rotations of less than 180 degrees between the two).
     /// Interpolating the matrices instead would shrink a spinning object.
-    /// `t = 0` gives exactly [`Transform::matrix`].
+    /// `t = 0` gives exactly [`Transform::matrix`]. A placement with a
+    /// general `matrix` is interpolated through its scale, rotation and
+    /// translation (a shear is not interpolated).
     pub fn interpolate(&self, other: &Transform, t: f32) -> Mat4 {
         if t == 0.0 {
             return self.matrix();
+        }
+        if self.matrix.is_some() || other.matrix.is_some() {
+            let (scale_a, rotation_a, translate_a) = self.matrix().to_scale_rotation_translation();
+            let (scale_b, rotation_b, translate_b) = other.matrix().to_scale_rotation_translation();
+            return Mat4::from_scale_rotation_translation(
+                scale_a.lerp(scale_b, t),
+                rotation_a.slerp(rotation_b, t),
+                translate_a.lerp(translate_b, t),
+            );
         }
         let translate = self.translate.lerp(other.translate, t);
         let scale = self.scale.to_vec3().lerp(other.scale.to_vec3(), t);
@@ -78,14 +96,19 @@ impl Transform {
         Mat4::from_scale_rotation_translation(scale, rotation, translate)
     }
 
-    /// The model-to-world matrix `T * Rz * Ry * Rx * S`.
+    /// The model-to-world matrix `M * T * Rz * Ry * Rx * S`, where `M` is
+    /// the general `matrix` (identity without one).
     pub fn matrix(&self) -> Mat4 {
         let r = self.rotate_degrees;
-        Mat4::from_translation(self.translate)
+        let placed = Mat4::from_translation(self.translate)
             * Mat4::from_rotation_z(r.z.to_radians())
             * Mat4::from_rotation_y(r.y.to_radians())
             * Mat4::from_rotation_x(r.x.to_radians())
-            * Mat4::from_scale(self.scale.to_vec3())
+            * Mat4::from_scale(self.scale.to_vec3());
+        match self.matrix {
+            Some(matrix) => matrix * placed,
+            None => placed,
+        }
     }
 }
 
@@ -137,7 +160,7 @@ pub struct SceneObject {
 }
 
 /// The subdivision scheme of an object's mesh (`subdivision`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Subdivision {
     /// `"catmull-clark"`: the smooth limit surface ([`Scheme::CatmullClark`]).
@@ -167,7 +190,7 @@ pub fn is_obj_model(model: &str) -> bool {
 }
 
 /// Where an object's model comes from.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum ModelSource {
     /// The embedded teapot ([`Model::teapot`]).
     Teapot,

@@ -320,7 +320,7 @@ fn check_surface(i: usize, surface: &Surface) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// A placement's translation, rotation and scale are finite; `field` names
+/// A placement's translation, rotation, scale and matrix are finite; `field` names
 /// the placement (`objects[i].transform` or `objects[i].transform_close`).
 fn check_transform(field: &str, transform: &Transform) -> Result<(), SceneError> {
     finite(
@@ -334,7 +334,11 @@ fn check_transform(field: &str, transform: &Transform) -> Result<(), SceneError>
     finite(
         &format!("{field}.scale"),
         transform.scale.to_vec3().to_array(),
-    )
+    )?;
+    if let Some(matrix) = transform.matrix {
+        finite(&format!("{field}.matrix"), matrix.to_cols_array())?;
+    }
+    Ok(())
 }
 
 /// Light `i` (`lights[i]`): finite colour and intensity, a finite

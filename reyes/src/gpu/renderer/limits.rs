@@ -14,8 +14,9 @@ use crate::gpu::resolve::IMAGE_BYTES_PER_PIXEL;
 use crate::gpu::tiles::{TILE_ALIGN, Tile, plan_tiles_with_margin};
 use crate::prepare::PreparedScene;
 
-/// Bytes of one input patch in the height-map buffer (48 floats).
-const PATCH_BYTES: u64 = 4 * 48;
+/// Bytes of one stored input patch in the height-map buffer (48 floats of
+/// control points, 8 of corner texture coordinates).
+const PATCH_BYTES: u64 = 4 * (48 + 8);
 
 impl GpuRenderer<'_> {
     /// Largest buffer the device binds as storage.
@@ -57,11 +58,12 @@ impl GpuRenderer<'_> {
             // whatever the batches: say how many patches would fit.
             let without_patches = texel_buffer_bytes(&PreparedScene {
                 patches: Vec::new(),
+                store: Default::default(),
                 ..scene.clone()
             });
             if without_patches <= texel_limit {
                 return Err(RenderError::TooManyPatches {
-                    patches: scene.patches.len(),
+                    patches: scene.store.len as usize,
                     fit: (texel_limit - without_patches) / PATCH_BYTES,
                     needed,
                     limit: texel_limit,

@@ -13,7 +13,7 @@ use scheduler::{
 use super::GpuRenderer;
 use crate::gpu::batches::{TileRuns, batch_ranges};
 use crate::gpu::buffers::GpuCounters;
-use crate::gpu::graph::{BOUND, PatchItem};
+use crate::gpu::graph::{BOUND, InputPatch};
 use crate::gpu::options::GpuRendered;
 use crate::gpu::pipeline_cache::PipelineInfo;
 use crate::gpu::render_error::RenderError;
@@ -190,16 +190,15 @@ impl GpuRenderer<'_> {
         let count = ranges.len();
         let bound = self
             .compiled()
-            .procedure_id::<PatchItem>(BOUND)
-            .expect("the Reyes graph's Bound consumes PatchItems");
+            .procedure_id::<InputPatch>(BOUND)
+            .expect("the Reyes graph's Bound consumes InputPatches");
         let (strategy, timeout) = (self.options.strategy, self.options.timeout);
         for range in ranges {
-            // Seeds keep the scene's patch indices: every run reads its
+            // Seeds name their stored patches: every run reads its
             // patches from the same scene buffers.
-            let seeds: Vec<PatchItem> = scene.patches[range.clone()]
+            let seeds: Vec<InputPatch> = scene.patches[range.clone()]
                 .iter()
-                .zip(range.start..)
-                .map(|(patch, index)| PatchItem::input(patch, index as u32))
+                .map(InputPatch::of)
                 .collect();
             let run_start = Instant::now();
             // The executor borrows `self` mutably; take the buffers out meanwhile.
