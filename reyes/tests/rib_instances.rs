@@ -226,3 +226,41 @@ fn convert_writes_one_model_for_the_instances_and_renders_the_same() {
         reference::render(&before).image
     );
 }
+
+/// `reyes render --stats` shows the patches the GPU stores: the 32 of the
+/// teapot for three objects that name it.
+#[test]
+fn the_statistics_show_the_stored_patches() {
+    let dir = temp_dir("stats");
+    let scene = dir.join("teapots.toml");
+    std::fs::write(
+        &scene,
+        "[[objects]]\nmodel = \"teapot\"\n\
+         [[objects]]\nmodel = \"teapot\"\ntransform = { translate = [4, 0, 0] }\n\
+         [[objects]]\nmodel = \"teapot\"\ntransform = { translate = [8, 0, 0] }\n",
+    )
+    .unwrap();
+    let out = dir.join("teapots.png");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_reyes"))
+        .args(["render", scene.to_str().unwrap(), "--cpu", "--stats"])
+        .args(["--width", "64", "--height", "48", "--spp", "1"])
+        .args(["-o", out.to_str().unwrap()])
+        .output()
+        .expect("reyes starts");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let table = String::from_utf8_lossy(&output.stdout);
+    let row = table
+        .lines()
+        .find(|l| l.starts_with("patches stored"))
+        .unwrap_or_else(|| panic!("no `patches stored` in {table}"));
+    assert!(row.ends_with("32 (7 KiB)"), "{row}");
+    let input = table
+        .lines()
+        .find(|l| l.starts_with("input patches"))
+        .and_then(|l| l.split_whitespace().last());
+    assert_eq!(input, Some("96"), "{table}");
+}
