@@ -600,3 +600,134 @@ fn the_samples_of_a_frame_with_pending_shadows_are_shadowed() {
     println!("{changed} of {} samples differ", with.keys.len());
     assert!(changed > with.keys.len() / 100, "{changed} samples differ");
 }
+
+/// A caster moving during the shutter leaves a partial shadow along its
+/// path: the depth pass samples the shutter one time per texel, and the
+/// filtered lookup turns the dithered trail into the fraction of the
+/// shutter each ground point spends in the shadow. Here a sphere of radius
+/// 1 slides from x = -1 to x = 1 (1.5 above the plane) under a distant
+/// light at 45 degrees: a ground point is shadowed while the ray from it
+/// towards the light passes within 1 of the sphere's centre, for a
+/// fraction of the shutter computed here by sampling the path. With no
+/// ambient light, the shadowed frame over the unshadowed one is the rest.
+/// A depth pass at shutter open alone would put a hard ellipse about
+/// x = -1 instead.
+#[test]
+fn a_moving_caster_leaves_a_partial_shadow_along_its_path() {
+    let text = "Format 400 300 1\nPixelSamples 4 4\nShutter 0 1\nWorldBegin\nSurface \"matte\"\n\
+                AttributeBegin\nColor [0.9 0.9 0.9]\n\
+                MotionBegin [0 1]\nTranslate -1 1.5 0\nTranslate 1 1.5 0\nMotionEnd\n\
+                Sphere 1 -1 1 360\nAttributeEnd\n\
+                Polygon \"P\" [-4 0 -4  4 0 -4  4 0 4  -4 0 4]\nWorldEnd\n";
+    let rib = RibScene::from_text(text, "moving.rib").unwrap_or_else(|e| panic!("{e}"));
+    let mut scene = rib.scene;
+    assert_eq!(scene.objects.len(), 2, "the sphere and the plane");
+    scene.camera = Some(CameraDesc {
+        eye: Vec3::new(0.0, 8.0, 8.0),
+        target: Vec3::new(0.0, 0.0, 1.0),
+        up: Vec3::Y,
+        fov_y_degrees: 40.0,
+        near: 0.5,
+        far: 50.0,
+        projection: Default::default(),
+        ortho_height: None,
+    });
+    scene.ambient = 0.0;
+    let direction = DVec3::new(0.0, -1.0, 1.0).normalize();
+    scene.lights = vec![shadowed(
+        Light {
+            kind: LightKind::Distant,
+            direction: direction.as_vec3(),
+            ..Light::default()
+        },
+        1024,
+        ShadowFilter::default(),
+    )];
+    let prepared = PreparedScene::new(&scene, &rib.models).unwrap();
+    let (with, without) = render_with_and_without(&scene, &rib.models);
+    let centre_at = |t: f64| DVec3::new(-1.0 + 2.0 * t, SPHERE_Y, 0.0);
+    const STEPS: u32 = 200;
+    // Per tenth of the expected visibility: pixels and their rendered sum.
+    let mut bins = [(0u64, 0.0f64); 10];
+    let (mut partial, mut error_sum, mut clear, mut clear_dark) = (0u64, 0.0f64, 0u64, 0u64);
+    for y in 0..prepared.camera.height {
+        for x in 0..prepared.camera.width {
+            let (origin, direction_to_pixel) = pixel_ray(&prepared, x, y);
+            if direction_to_pixel.y >= 0.0 {
+                continue;
+            }
+            let ground = origin - direction_to_pixel * (origin.y / direction_to_pixel.y);
+            if ground.x.abs() > 3.8 || ground.z.abs() > 3.8 {
+                continue;
+            }
+            // Leave out the pixels that see the moving sphere at any time.
+            let seen = (0..=STEPS / 10).any(|k| {
+                passes_near(
+                    origin,
+                    direction_to_pixel,
+                    centre_at(f64::from(k) * 10.0 / f64::from(STEPS)),
+                    1.1,
+                )
+            });
+            let lit = luminance(&without.linear, x, y);
+            if seen || lit < 0.05 {
+                continue;
+            }
+            let visible = luminance(&with.linear, x, y) / lit;
+            let shadowed_steps = (0..STEPS)
+                .filter(|&k| {
+                    let t = (f64::from(k) + 0.5) / f64::from(STEPS);
+                    passes_near(ground, -direction, centre_at(t), 1.0)
+                })
+                .count();
+            let expected = 1.0 - shadowed_steps as f64 / f64::from(STEPS);
+            let bin = &mut bins[((expected * 10.0) as usize).min(9)];
+            bin.0 += 1;
+            bin.1 += visible;
+            if expected == 1.0 {
+                // Clear of the path, with a margin for the filter.
+                let near_path = (0..=STEPS / 10).any(|k| {
+                    passes_near(
+                        ground,
+                        -direction,
+                        centre_at(f64::from(k) * 10.0 / f64::from(STEPS)),
+                        1.15,
+                    )
+                });
+                if !near_path {
+                    clear += 1;
+                    clear_dark += u64::from(visible < 0.9);
+                }
+            } else if expected > 0.02 && expected < 0.98 {
+                partial += 1;
+                error_sum += (visible - expected).abs();
+            }
+        }
+    }
+    let mean_error = error_sum / partial.max(1) as f64;
+    for (i, (count, sum)) in bins.iter().enumerate() {
+        if *count > 0 {
+            println!(
+                "expected visibility {:.1}-{:.1}: {count} pixels, rendered mean {:.3}",
+                i as f64 / 10.0,
+                (i + 1) as f64 / 10.0,
+                sum / *count as f64
+            );
+        }
+    }
+    println!(
+        "moving caster: {partial} partly shadowed pixels, mean |visible - expected| {mean_error:.4}; \
+         {clear_dark} of {clear} clear pixels darker than 0.9"
+    );
+    assert!(partial > 3_000, "{partial} partly shadowed pixels");
+    assert!(mean_error < 0.12, "mean error {mean_error}");
+    // The rendered visibility follows the expected one, bin by bin.
+    for (i, (count, sum)) in bins.iter().enumerate() {
+        if *count > 200 {
+            let mean = sum / *count as f64;
+            let centre = (i as f64 + 0.5) / 10.0;
+            assert!((mean - centre).abs() < 0.05, "bin {i}: mean {mean}");
+        }
+    }
+    assert!(clear > 10_000 && clear_dark == 0, "{clear_dark} of {clear}");
+}
