@@ -264,3 +264,26 @@ fn the_statistics_show_the_stored_patches() {
         .and_then(|l| l.split_whitespace().last());
     assert_eq!(input, Some("96"), "{table}");
 }
+
+/// A definition may come before `WorldBegin` (its geometry keeps its own
+/// space); the transform in force at `ObjectBegin` does not apply to it.
+#[test]
+fn a_definition_may_come_before_the_world() {
+    let text = "Format 64 48 1\nTranslate 5 5 5\nObjectBegin \"ball\"\nSphere 1 -1 1 360\nObjectEnd\n\
+                Identity\nProjection \"perspective\" \"fov\" [45]\nTranslate 0 0 6\nWorldBegin\n\
+                ObjectInstance \"ball\"\nTranslate 2 0 0\nObjectInstance \"ball\"\nWorldEnd\n";
+    let scene = prepared(text);
+    assert_eq!(scene.objects.len(), 2);
+    assert_eq!(scene.store.len as usize * 2, scene.patches.len());
+    // The first ball is centred on the view axis, 6 in front of the eye.
+    let first: Vec<_> = scene.patches.iter().filter(|p| p.object == 0).collect();
+    let centre =
+        first.iter().flat_map(|p| p.points).sum::<glam::Vec3>() / (16 * first.len()) as f32;
+    assert!(centre.x.abs() < 1e-3 && centre.y.abs() < 1e-3, "{centre}");
+    // A definition's geometry before it, outside any definition, is still
+    // an error.
+    let error = RibScene::from_text("Sphere 1 -1 1 360\nWorldBegin\nWorldEnd\n", "early.rib")
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("geometry before WorldBegin"), "{error}");
+}

@@ -78,7 +78,9 @@ impl Interp {
             self.warn(file, line, format!("{name} is not supported yet; skipped"));
             return Ok(());
         }
-        if self.camera.is_none() {
+        // A definition's geometry stays in its own space, so it may come
+        // before WorldBegin; its instances may not.
+        if self.camera.is_none() && !self.defining_object() {
             return Err("geometry before WorldBegin".to_owned().into());
         }
         if super::quadrics::arity(name).is_some() {
