@@ -72,7 +72,7 @@ pub struct Prim {
     pub file: PathBuf,
     /// The line of its request.
     pub line: usize,
-    /// An instance's placement ([`super::instances`]): its patches are in
+    /// An instance's placement (`ObjectInstance`): its patches are in
     /// its definition's space, and this matrix places them in world space.
     /// `None`: the patches are in world space.
     pub placement: Option<glam::Mat4>,
