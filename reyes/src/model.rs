@@ -92,3 +92,48 @@ impl Model {
         points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)))
     }
 }
+
+/// For each of `models`, the index of the first model equal to it (its
+/// own index when none before it is). Candidates are found by a cheap
+/// fingerprint (patch count and the first and last control points) and
+/// then compared in full, so models that are all different cost one
+/// fingerprint each. Scenes share equal models' patches on the GPU
+/// (`crate::prepare::PatchStore`), and `reyes convert` writes each once.
+pub fn first_of_equal(models: &[Model]) -> Vec<usize> {
+    let mut candidates: std::collections::HashMap<Fingerprint, Vec<usize>> =
+        std::collections::HashMap::new();
+    models
+        .iter()
+        .enumerate()
+        .map(|(index, model)| {
+            let firsts = candidates.entry(Fingerprint::of(model)).or_default();
+            match firsts.iter().find(|&&first| models[first] == *model) {
+                Some(&first) => first,
+                None => {
+                    firsts.push(index);
+                    index
+                }
+            }
+        })
+        .collect()
+}
+
+/// A model's patch count and the bits of its first and last control
+/// points: equal models have equal fingerprints.
+#[derive(Debug, PartialEq, Eq, Hash)]
+struct Fingerprint {
+    patches: usize,
+    ends: [u32; 6],
+}
+
+impl Fingerprint {
+    fn of(model: &Model) -> Fingerprint {
+        let point = |p: Option<Vec3>| p.unwrap_or(Vec3::ZERO).to_array().map(f32::to_bits);
+        let [a, b, c] = point(model.patches.first().map(|p| p.points[0]));
+        let [d, e, f] = point(model.patches.last().map(|p| p.points[15]));
+        Fingerprint {
+            patches: model.patches.len(),
+            ends: [a, b, c, d, e, f],
+        }
+    }
+}

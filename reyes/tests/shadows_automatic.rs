@@ -54,6 +54,20 @@ fn shadowed(light: Light, map_size: u32, filter: ShadowFilter) -> Light {
     }
 }
 
+/// A distant light along `direction` with an automatic shadow of a
+/// `map_size` map and the default filter.
+fn shadowed_distant(direction: Vec3, map_size: u32) -> Light {
+    shadowed(
+        Light {
+            kind: LightKind::Distant,
+            direction,
+            ..Light::default()
+        },
+        map_size,
+        ShadowFilter::default(),
+    )
+}
+
 /// Renders the scene with its lights as they are and with their shadows
 /// removed.
 fn render_with_and_without(scene: &Scene, models: &[Model]) -> (Rendered, Rendered) {
@@ -128,15 +142,7 @@ fn shadow_iou(
 #[test]
 fn a_distant_light_s_shadow_is_the_sphere_projected_along_its_direction() {
     let direction = DVec3::new(0.5, -1.0, 0.3).normalize();
-    let light = shadowed(
-        Light {
-            kind: LightKind::Distant,
-            direction: direction.as_vec3(),
-            ..Light::default()
-        },
-        1024,
-        ShadowFilter::default(),
-    );
+    let light = shadowed_distant(direction.as_vec3(), 1024);
     let (scene, models) = sphere_over_plane(800, 600, vec![light]);
     let prepared = PreparedScene::new(&scene, &models).unwrap();
     let renders = render_with_and_without(&scene, &models);
@@ -259,15 +265,7 @@ fn a_point_light_s_six_maps_shadow_casters_on_every_side() {
 #[test]
 fn the_penumbra_widens_with_blur() {
     let direction = DVec3::new(0.0, -1.0, 0.0);
-    let light = shadowed(
-        Light {
-            kind: LightKind::Distant,
-            direction: direction.as_vec3(),
-            ..Light::default()
-        },
-        512,
-        ShadowFilter::default(),
-    );
+    let light = shadowed_distant(direction.as_vec3(), 512);
     let (scene, models) = sphere_over_plane(64, 48, vec![light]);
     let frame = with_maps(&PreparedScene::new(&scene, &models).unwrap());
     let shadow = frame.lights[0].shadow.unwrap();
@@ -411,15 +409,7 @@ fn the_teapot_under_a_low_distant_light_has_no_acne() {
     let across = DVec3::new(default.x, default.y, 0.0).normalize();
     let elevation = 30f64.to_radians();
     let direction = across * elevation.cos() - DVec3::Z * elevation.sin();
-    scene.lights = vec![shadowed(
-        Light {
-            kind: LightKind::Distant,
-            direction: direction.as_vec3(),
-            ..Light::default()
-        },
-        1024,
-        ShadowFilter::default(),
-    )];
+    scene.lights = vec![shadowed_distant(direction.as_vec3(), 1024)];
     let prepared = PreparedScene::load(&scene).unwrap();
     let with = reference::render(&prepared);
     let without = reference::render(&prepared.without_shadows());
@@ -552,15 +542,7 @@ fn the_teapot_under_a_low_distant_light_has_no_acne() {
 
 /// A distant light from above and to the side, shadowed by a `map_size` map.
 fn distant_from_above(map_size: u32) -> Light {
-    shadowed(
-        Light {
-            kind: LightKind::Distant,
-            direction: Vec3::new(0.5, -1.0, 0.3),
-            ..Light::default()
-        },
-        map_size,
-        ShadowFilter::default(),
-    )
+    shadowed_distant(Vec3::new(0.5, -1.0, 0.3), map_size)
 }
 
 #[test]
@@ -634,15 +616,7 @@ fn a_moving_caster_leaves_a_partial_shadow_along_its_path() {
     });
     scene.ambient = 0.0;
     let direction = DVec3::new(0.0, -1.0, 1.0).normalize();
-    scene.lights = vec![shadowed(
-        Light {
-            kind: LightKind::Distant,
-            direction: direction.as_vec3(),
-            ..Light::default()
-        },
-        1024,
-        ShadowFilter::default(),
-    )];
+    scene.lights = vec![shadowed_distant(direction.as_vec3(), 1024)];
     let prepared = PreparedScene::new(&scene, &rib.models).unwrap();
     let (with, without) = render_with_and_without(&scene, &rib.models);
     let centre_at = |t: f64| DVec3::new(-1.0 + 2.0 * t, SPHERE_Y, 0.0);

@@ -408,6 +408,35 @@ pub fn coverage_iou(covered_samples: &[u16], spp: u32, reference: &[bool]) -> f6
     }
 }
 
+/// The scene of a watertightness view: `model` at `width x height` and
+/// `spp`, seen from `eye` looking at `target` (z up) with the near plane at
+/// 0.01 (models may come close to the eye, and the reference does not clip
+/// at the near plane), lit over the camera's shoulder.
+pub fn view_scene(
+    model: &reyes::model::Model,
+    (width, height, spp): (u32, u32, u32),
+    eye: glam::Vec3,
+    target: glam::Vec3,
+) -> reyes::scene::Scene {
+    let mut scene = reyes::scene::Scene::for_model("watertight test model", model);
+    scene.resolution.width = width;
+    scene.resolution.height = height;
+    scene.spp = spp;
+    let camera = reyes::scene::CameraDesc {
+        eye,
+        target,
+        up: glam::Vec3::Z,
+        near: 0.01,
+        ..scene.camera.expect("for_model frames a camera")
+    };
+    scene.lights = vec![reyes::scene::Light {
+        direction: camera.shoulder_light_direction(),
+        ..reyes::scene::Light::default()
+    }];
+    scene.camera = Some(camera);
+    scene
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -19,9 +19,11 @@ use glam::Vec3;
 use reyes::model::Model;
 use reyes::prepare::PreparedScene;
 use reyes::reference;
-use reyes::scene::{CameraDesc, Light, Scene};
+use reyes::scene::Scene;
 use reyes::subdiv::{BoundaryInterpolation, Mesh};
-use tests::watertight::{coverage_iou, cracks, dense_coverage, smooth_front, visible_patches};
+use tests::watertight::{
+    coverage_iou, cracks, dense_coverage, smooth_front, view_scene, visible_patches,
+};
 
 const SPP: u32 = 16;
 const SHADING_RATES: [f32; 4] = [1.0, 4.0, 16.0, 64.0];
@@ -131,26 +133,10 @@ fn octagonal_pyramid() -> Mesh {
     mesh(positions, &faces)
 }
 
-/// `model` at `WIDTH x HEIGHT`, 16 spp, seen from `eye` looking at the
-/// origin.
+/// `model` at `WIDTH x HEIGHT`, 16 spp, seen from `eye` looking at
+/// `target`.
 fn scene_for(model: &Model, eye: Vec3, target: Vec3) -> Scene {
-    let mut scene = Scene::for_model("subdivision test model", model);
-    scene.resolution.width = WIDTH;
-    scene.resolution.height = HEIGHT;
-    scene.spp = SPP;
-    let camera = CameraDesc {
-        eye,
-        target,
-        up: Vec3::Z,
-        near: 0.01,
-        ..scene.camera.expect("for_model frames a camera")
-    };
-    scene.lights = vec![Light {
-        direction: camera.shoulder_light_direction(),
-        ..Light::default()
-    }];
-    scene.camera = Some(camera);
-    scene
+    view_scene(model, (WIDTH, HEIGHT, SPP), eye, target)
 }
 
 /// A view: the patches not clearly hidden, and where cracks are counted.

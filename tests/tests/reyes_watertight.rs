@@ -58,7 +58,7 @@ use reyes::model::Model;
 use reyes::params::{DEFAULT_DICE_THRESHOLD, NEAR_EPS};
 use reyes::prepare::PreparedScene;
 use reyes::reference;
-use reyes::scene::{CameraDesc, Dicing, Light, Scene};
+use reyes::scene::{Dicing, Scene};
 use tests::crack_scene::{CrackCount, CrackScene, CrackSettings};
 use tests::reyes_support::{self, gpu_turn};
 use tests::shapes::{bezier_sphere, bezier_sphere_with_poles, unmatched_edges};
@@ -103,28 +103,10 @@ fn killeroo_path() -> PathBuf {
 }
 
 /// `model` at `width x height`, 16 spp, seen from `eye` looking at
-/// `target` (z up), lit over the camera's shoulder.
+/// `target` (z up), lit over the camera's shoulder. The spheres come within
+/// 0.25 of the eye: `view_scene`'s near plane at 0.01 keeps them unclipped.
 fn scene_for(model: &Model, width: u32, height: u32, eye: Vec3, target: Vec3) -> Scene {
-    let mut scene = Scene::for_model("watertight test model", model);
-    scene.resolution.width = width;
-    scene.resolution.height = height;
-    scene.spp = SPP;
-    let camera = CameraDesc {
-        eye,
-        target,
-        up: Vec3::Z,
-        // The spheres come within 0.25 of the eye: keep the near plane well
-        // in front of them, so that no surface is clipped (the reference
-        // does not clip at the near plane).
-        near: 0.01,
-        ..scene.camera.expect("for_model frames a camera")
-    };
-    scene.lights = vec![Light {
-        direction: camera.shoulder_light_direction(),
-        ..Light::default()
-    }];
-    scene.camera = Some(camera);
-    scene
+    tests::watertight::view_scene(model, (width, height, SPP), eye, target)
 }
 
 /// `shot`'s scene with `dicing` at `rate`. The fixed dicer ignores the

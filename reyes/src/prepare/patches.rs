@@ -4,7 +4,8 @@
 //! of the model's patches in model space, each with its own placement
 //! matrix; every other patch is stored once, in world space.
 //!
-//! Sharing is found by comparing the models themselves, so it does not
+//! Sharing is found by comparing the models themselves
+//! ([`first_of_equal`]), so it does not
 //! depend on how the scene was written: two objects share whenever their
 //! models hold the same patches and texture coordinates.
 
@@ -13,7 +14,7 @@ use std::collections::HashMap;
 use glam::{Mat4, Vec2, Vec3};
 
 use super::{WorldPatch, degenerate_patch};
-use crate::model::Model;
+use crate::model::{Model, first_of_equal};
 use crate::scene::{Scene, SceneError, Surface};
 
 /// The patches the GPU stores for a frame (`height_texels`), each once.
@@ -55,7 +56,8 @@ pub(super) struct Placed {
 /// Places every object's model in world space (see [`super::PreparedScene::new`]
 /// for the checks) and decides which objects share their model's patches.
 pub(super) fn place_patches(scene: &Scene, models: &[Model]) -> Result<Placed, SceneError> {
-    let share = sharing_groups(scene, models);
+    let matrices: Vec<Mat4> = scene.objects.iter().map(|o| o.transform.matrix()).collect();
+    let share = sharing_groups(scene, models, &matrices);
     let mut patches = Vec::with_capacity(models.iter().map(|m| m.patches.len()).sum());
     let mut store = PatchStore::default();
     // Per sharing group: each model patch's stored index (`None`: the
@@ -64,7 +66,7 @@ pub(super) fn place_patches(scene: &Scene, models: &[Model]) -> Result<Placed, S
     let mut placements = Vec::with_capacity(scene.objects.len());
     let mut skipped_degenerate = 0;
     for (index, (object, model)) in scene.objects.iter().zip(models).enumerate() {
-        let matrix = object.transform.matrix();
+        let matrix = matrices[index];
         // Where the object is at shutter close (without camera motion,
         // which moves the view, not the world).
         let close = object
@@ -160,70 +162,34 @@ fn store_model(model: &Model, store: &mut PatchStore) -> Vec<Option<u32>> {
 }
 
 /// Per object, the group of objects it shares its model's patches with
-/// (the index of the group's first object), or `None` when it stores its
-/// own. Objects share when their models are equal, there are at least two
-/// of them, and each places its model with an invertible, finite matrix
-/// and draws it (a `null` surface draws nothing). Candidates are found by
-/// a cheap fingerprint (patch count and the first and last patches) and
-/// then compared in full, so a scene without repeated models pays one
-/// fingerprint per object.
-fn sharing_groups(scene: &Scene, models: &[Model]) -> Vec<Option<usize>> {
+/// (the index of the group's first object, [`first_of_equal`]), or `None`
+/// when it stores its own. Objects share when their models are equal,
+/// at least two of them can share, and each places its model with an
+/// invertible, finite matrix (`matrices`) and draws it (a `null` surface
+/// draws nothing).
+fn sharing_groups(scene: &Scene, models: &[Model], matrices: &[Mat4]) -> Vec<Option<usize>> {
     let can_share = |index: usize| {
-        let object = &scene.objects[index];
-        let matrix = object.transform.matrix();
-        let determinant = matrix.determinant();
-        object.surface != Some(Surface::Null)
+        let determinant = matrices[index].determinant();
+        scene.objects[index].surface != Some(Surface::Null)
             && !models[index].patches.is_empty()
-            && matrix.is_finite()
+            && matrices[index].is_finite()
             && determinant.is_finite()
             && determinant != 0.0
     };
-    let mut candidates: HashMap<Fingerprint, Vec<usize>> = HashMap::new();
-    let mut group: Vec<Option<usize>> = vec![None; models.len()];
+    let firsts = first_of_equal(models);
+    let sharing: Vec<bool> = (0..models.len()).map(can_share).collect();
     let mut members: HashMap<usize, usize> = HashMap::new();
-    for (index, model) in models.iter().enumerate() {
-        if !can_share(index) {
-            continue;
-        }
-        let firsts = candidates.entry(Fingerprint::of(model)).or_default();
-        match firsts.iter().find(|&&first| models[first] == *model) {
-            Some(&first) => {
-                group[index] = Some(first);
-                *members.entry(first).or_insert(1) += 1;
-            }
-            None => {
-                firsts.push(index);
-                group[index] = Some(index);
-            }
+    for (index, &first) in firsts.iter().enumerate() {
+        if sharing[index] {
+            *members.entry(first).or_default() += 1;
         }
     }
     // A model placed once is stored in world space, as before sharing.
-    for entry in &mut group {
-        if entry.is_some_and(|first| !members.contains_key(&first)) {
-            *entry = None;
-        }
-    }
-    group
-}
-
-/// A model's patch count and the bits of its first and last control
-/// points: equal models have equal fingerprints.
-#[derive(Debug, PartialEq, Eq, Hash)]
-struct Fingerprint {
-    patches: usize,
-    ends: [u32; 6],
-}
-
-impl Fingerprint {
-    fn of(model: &Model) -> Fingerprint {
-        let point = |p: Option<Vec3>| p.unwrap_or(Vec3::ZERO).to_array().map(f32::to_bits);
-        let [a, b, c] = point(model.patches.first().map(|p| p.points[0]));
-        let [d, e, f] = point(model.patches.last().map(|p| p.points[15]));
-        Fingerprint {
-            patches: model.patches.len(),
-            ends: [a, b, c, d, e, f],
-        }
-    }
+    firsts
+        .iter()
+        .enumerate()
+        .map(|(index, &first)| (sharing[index] && members[&first] >= 2).then_some(first))
+        .collect()
 }
 
 #[cfg(test)]

@@ -300,23 +300,16 @@ impl RibScene {
         let mut scene = self.scene.clone();
         let mut models: Vec<(usize, PathBuf, PathBuf)> = Vec::with_capacity(self.models.len());
         // Objects with equal models (the instances of one RIB object) name
-        // one file: `models` holds each distinct model's first object, its
-        // path and its file.
+        // one file, written once: `models` holds each distinct model's first
+        // object, its path and its file.
+        let firsts = crate::model::first_of_equal(&self.models);
         for (i, object) in scene.objects.iter_mut().enumerate() {
-            let same = models.iter().find(|(j, _, _)| {
-                self.models[*j].patches.len() == self.models[i].patches.len()
-                    && self.models[*j] == self.models[i]
-            });
-            let name = match same {
-                Some((j, _, _)) => format!("{stem}-{j}.bpt"),
-                None => {
-                    let name = format!("{stem}-{i}.bpt");
-                    let path = dir.join(&name);
-                    let file = guard.add_output(OutputKind::Bpt, "model", &path)?;
-                    models.push((i, path, file));
-                    name
-                }
-            };
+            let name = format!("{stem}-{}.bpt", firsts[i]);
+            if firsts[i] == i {
+                let path = dir.join(&name);
+                let file = guard.add_output(OutputKind::Bpt, "model", &path)?;
+                models.push((i, path, file));
+            }
             object.model = name;
         }
         guard.prepare_dirs()?;
