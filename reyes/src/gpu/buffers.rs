@@ -360,7 +360,7 @@ pub struct FrameBuffers {
     /// The sample count, Interleave tile side and permutations and float
     /// offset of the time/lens tables last uploaded to `height_texels`
     /// (they stay valid while all four do).
-    uvt: Option<(u32, u32, u32, u32)>,
+    uvt: Option<(u32, u32, u32, u32, u32)>,
     /// The texture set's revision and float offset last uploaded to
     /// `height_texels` (they stay valid while both do).
     textures: Option<(u64, u64)>,
@@ -497,10 +497,11 @@ impl FrameBuffers {
         if scene.samples_time_and_lens() {
             let base = layout.uvt as u32;
             // Built and uploaded once per sample count, tile side, number of
-            // permutations and place in the buffer; the buffer keeps them
-            // between frames (the image width is in the frame uniform).
+            // permutations, seed and place in the buffer; the buffer keeps
+            // them between frames (the image width is in the frame uniform).
             let key = (
                 scene.spp,
+                scene.sampling_seed,
                 scene.interleave_tile,
                 scene.interleave_permutations,
                 base,

@@ -167,6 +167,9 @@ pub struct PreparedScene {
     pub ambient: Vec3,
     /// Samples per pixel (a perfect square).
     pub spp: u32,
+    /// The seed of the time and lens samples ([`Scene::sampling_seed`]: a
+    /// sequence's frame number, else 0).
+    pub sampling_seed: u32,
     /// Sampling mode.
     pub sampling: Sampling,
     /// Side, in pixels, of Interleave UVT's tiles (2, 3 or 4).
@@ -392,6 +395,7 @@ impl PreparedScene {
             shadow_maps: lights.shadow_maps,
             pending_shadows: lights.pending_shadows,
             spp: scene.spp,
+            sampling_seed: scene.sampling_seed,
             sampling: scene.sampling,
             interleave_tile: scene.interleave_tile,
             interleave_permutations: scene.interleave_permutations,
@@ -456,7 +460,7 @@ impl PreparedScene {
     /// The time/lens tables of this frame's sample count and Interleave
     /// tiles.
     pub fn uvt_tables(&self) -> UvtTables {
-        UvtTables::new(self.spp, self.interleave_tiles())
+        UvtTables::seeded(self.spp, self.interleave_tiles(), self.sampling_seed)
     }
 
     /// Whether the sample framebuffer keeps each sample's second-nearest key

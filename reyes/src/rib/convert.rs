@@ -299,6 +299,7 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
                 shading_rate: key.5.map(|r| r as f32),
                 displacement: key.6.clone(),
                 transform_close,
+                keys: Vec::new(),
                 sides: key.1,
                 reverse_orientation: key.2 != mirrored,
             });

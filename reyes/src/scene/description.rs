@@ -27,7 +27,7 @@ use super::defaults::{
 };
 use super::framing::box_corners;
 use super::{
-    CameraDesc, CameraPose, Lens, Light, ModelSource, SceneError, SceneObject, Specular,
+    Animation, CameraDesc, CameraPose, Lens, Light, ModelSource, SceneError, SceneObject, Specular,
     Subdivision, Transform,
 };
 
@@ -153,6 +153,17 @@ pub struct Scene {
     /// The lights (default: one [`Light::default`]; write `lights = []` for none).
     #[serde(default = "default_lights")]
     pub lights: Vec<Light>,
+    /// The animation's frame rate, default interpolation and camera keys
+    /// (default none; objects carry their own keys). See
+    /// [`Scene::frame`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation: Option<Animation>,
+    /// The seed of the frame's time and lens samples: the frame number of
+    /// a frame of a sequence ([`Scene::frame`]), 0 for a still. Not part of
+    /// the TOML: a frame's samples follow from its number alone, so a
+    /// frame renders the same alone or in any range.
+    #[serde(skip)]
+    pub sampling_seed: u32,
     /// Directory against which relative model paths are resolved: the scene
     /// file's directory for [`Scene::load`], `None` (the current directory)
     /// otherwise. Not part of the TOML.
@@ -189,6 +200,8 @@ impl Default for Scene {
             specular: Specular::default(),
             objects: Vec::new(),
             lights: default_lights(),
+            animation: None,
+            sampling_seed: 0,
             base_dir: None,
         }
     }
@@ -242,6 +255,7 @@ impl Scene {
                 shading_rate: None,
                 displacement: None,
                 transform_close: None,
+                keys: Vec::new(),
                 sides: 2,
                 reverse_orientation: false,
             }],

@@ -121,11 +121,13 @@
 //! `defaults`), `error`, `validation`, automatic camera `framing`, and TOML
 //! `parse`-ing. Every public item is re-exported here.
 
+mod animation;
 mod camera_desc;
 mod defaults;
 mod description;
 mod error;
 mod framing;
+mod keyframes;
 mod light;
 mod object;
 mod parse;
@@ -133,15 +135,19 @@ mod surface;
 mod validation;
 
 #[cfg(test)]
+mod animation_tests;
+#[cfg(test)]
 mod tests;
 
 pub use crate::camera::Projection;
 pub use crate::modes::{Dicing, Sampling, ShadingInterpolation};
+pub use animation::{Animation, CameraKey, MAX_FPS, TransformKey};
 pub use camera_desc::{CameraDesc, CameraPose, Lens};
 pub use description::{Resolution, Scene, TEAPOT_MODEL};
 pub use error::{SceneError, format_point};
 pub(crate) use framing::framed_bounds;
 pub use framing::{FramingError, MIN_FRAMED_DEPTH};
+pub use keyframes::{Animatable, Interpolation, Key, evaluate};
 pub use light::{
     DEFAULT_BEAM_DISTRIBUTION, DEFAULT_CONE_ANGLE_DEGREES, DEFAULT_CONE_DELTA_DEGREES,
     DEFAULT_SHADOW_MAP_SIZE, Light, LightKind, LightShadow, MAX_SHADOW_MAP_SIZE, ShadowMaps,

@@ -12,8 +12,8 @@ use crate::model::Model;
 use crate::scene::Scene;
 use crate::subdiv::Scheme;
 
-use super::Surface;
 use super::defaults::{default_color, default_sides};
+use super::{Surface, TransformKey};
 
 /// A uniform or per-axis scale.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -146,6 +146,11 @@ pub struct SceneObject {
     /// translation, rotation (slerp) and scale.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform_close: Option<Transform>,
+    /// Keys of the placement (`[[objects.keys]]`, default none): the
+    /// object's translation, rotation and scale over time; the values no
+    /// key gives stay `transform`'s. See [`Scene::frame`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub keys: Vec<TransformKey>,
     /// RenderMan's `Sides`: 2 (default) draws both faces; 1 draws only the
     /// front, where `dP/du x dP/dv` points towards the eye (see
     /// `reverse_orientation`): conservatively back-facing input patches are

@@ -47,6 +47,7 @@ impl Scene {
         self.check_specular()?;
         self.check_camera()?;
         self.check_camera_close()?;
+        self.check_animation()?;
         for (i, object) in self.objects.iter().enumerate() {
             check_object(i, object)?;
         }

@@ -55,6 +55,17 @@ impl UvtTables {
     /// Interleave `tiles` (of a side in [`INTERLEAVE_TILES`], with 1 to
     /// [`MAX_INTERLEAVE_PERMUTATIONS`] permutations).
     pub fn new(spp: u32, tiles: InterleaveTiles) -> UvtTables {
+        UvtTables::seeded(spp, tiles, 0)
+    }
+
+    /// The tables of [`UvtTables::new`] with the per-pixel table's times
+    /// and lens positions drawn for `seed` (a frame's number): seed 0 gives
+    /// the tables of `new`, another seed other pseudo-random orders and
+    /// jitter, equally stratified, so that successive frames of a sequence
+    /// do not repeat one noise pattern. The table's pixel `(px, py)` takes
+    /// the hashes of the pixel `(px + seed * TABLE_SIDE, py)` of a wider
+    /// table. The Simple and Interleave tuples are the same for every seed.
+    pub fn seeded(spp: u32, tiles: InterleaveTiles, seed: u32) -> UvtTables {
         let InterleaveTiles {
             tile, permutations, ..
         } = tiles;
@@ -103,13 +114,14 @@ impl UvtTables {
         let mut sample_in_stratum = Vec::with_capacity(pixel.capacity());
         for py in 0..TABLE_SIDE {
             for px in 0..TABLE_SIDE {
-                let times = permutation(spp, [px, py, 2]);
+                let hx = px.wrapping_add(seed.wrapping_mul(TABLE_SIDE));
+                let times = permutation(spp, [hx, py, 2]);
                 let mut inverse_times = vec![0; spp as usize];
                 for s in 0..spp {
                     let stratum = times[s as usize];
                     inverse_times[stratum as usize] = s;
                     let lens = pairing[stratum as usize];
-                    let jitter = |c| unit(hash(px, py, s, c));
+                    let jitter = |c| unit(hash(hx, py, s, c));
                     pixel.push(TimeLens {
                         t: (stratum as f32 + jitter(2)) / spp as f32,
                         lens: concentric_disk(

@@ -319,3 +319,35 @@ fn every_interleave_pixel_keeps_its_time_and_lens_stratified() {
         }
     }
 }
+
+#[test]
+fn a_seed_draws_other_stratified_times_and_seed_zero_is_unseeded() {
+    let tiles = InterleaveTiles::new(2, DEFAULT_INTERLEAVE_PERMUTATIONS, 640);
+    let unseeded = UvtTables::new(16, tiles);
+    assert_eq!(UvtTables::seeded(16, tiles, 0).pixel, unseeded.pixel);
+    let seven = UvtTables::seeded(16, tiles, 7);
+    assert_eq!(seven, UvtTables::seeded(16, tiles, 7), "a seed's tables repeat");
+    let differing = seven
+        .pixel
+        .iter()
+        .zip(&unseeded.pixel)
+        .filter(|(a, b)| a.t != b.t)
+        .count();
+    assert!(
+        differing > seven.pixel.len() * 9 / 10,
+        "{differing} of {} times differ",
+        seven.pixel.len()
+    );
+    // Still one sample per time stratum in every pixel, each noted where
+    // INTERVAL looks for it.
+    for (x, y) in [(0, 0), (5, 63), (63, 17)] {
+        let mut seen = [false; 16];
+        for s in 0..16 {
+            let stratum = (seven.pixel[seven.pixel_index(x, y, s)].t * 16.0) as usize;
+            assert!(!seen[stratum], "pixel ({x}, {y}): stratum {stratum} twice");
+            seen[stratum] = true;
+            let noted = seven.sample_in_stratum[seven.pixel_index(x, y, stratum as u32)];
+            assert_eq!(noted, s, "pixel ({x}, {y}), stratum {stratum}");
+        }
+    }
+}
