@@ -1,4 +1,4 @@
-//! Which frames of a RIB file a command draws (`--frame`), and the output
+//! Which frames a command draws (`--frame`, `--frames`), and the output
 //! paths of each (`-o out.####.png`).
 
 use std::ops::RangeInclusive;
@@ -6,38 +6,80 @@ use std::path::{Path, PathBuf};
 
 use crate::rib::RibFrames;
 
-/// The frames `--frame` selects: numbers and inclusive ranges, `2`,
-/// `1..3`, `1,4..6`.
+/// The most frames one selection may name: a typo such as `1-2400000`
+/// must not start a run of millions of frames (or plan them in memory).
+pub(crate) const MAX_SELECTED_FRAMES: u64 = 100_000;
+
+/// The frames `--frame` (`--frames`) selects: numbers and inclusive
+/// ranges with an optional step, `2`, `1-240`, `1-240x2`, `1..3`,
+/// `1,4-6`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct FrameSelection {
-    ranges: Vec<RangeInclusive<u32>>,
+    /// Each part: its inclusive range and its step (1 for every frame).
+    ranges: Vec<(RangeInclusive<u32>, u32)>,
     /// As given, for messages.
     text: String,
 }
 
-/// Parses `--frame`: comma-separated frame numbers or inclusive ranges `N..M`.
+/// Parses `--frame`/`--frames`: comma-separated frame numbers or inclusive
+/// ranges `A-B` (or `A..B`), each range with an optional step `xS`
+/// (`1-240x2`: 1, 3, ..., 239). An empty range (`5-1`), a range without
+/// its end (`1-`), a step of 0 or on a single frame (`0x0`), and a
+/// selection of more than [`MAX_SELECTED_FRAMES`] frames are refused.
 pub(crate) fn parse_frames(text: &str) -> Result<FrameSelection, String> {
-    let number = |part: &str| {
-        part.trim().parse::<u32>().map_err(|_| {
-            format!("{text:?}: {part:?} is not a frame number (a whole number >= 0); give N, N..M or a list N,M..K")
+    const FORMS: &str = "give N, A-B, A-BxS (every S-th frame) or a list such as 1,5-9,20-40x2";
+    let number = |part: &str, what: &str| {
+        let part = part.trim();
+        if part.is_empty() {
+            return Err(format!("{text:?}: {what} is missing; {FORMS}"));
+        }
+        part.parse::<u32>().map_err(|_| {
+            format!("{text:?}: {part:?} is not a frame number (a whole number >= 0); {FORMS}")
         })
     };
     let mut ranges = Vec::new();
+    let mut count: u64 = 0;
     for part in text.split(',') {
-        let range = match part.split_once("..") {
+        let (span, step) = match part.split_once('x') {
+            Some((span, step)) => (span, Some(step)),
+            None => (part, None),
+        };
+        let bounds = span.split_once("..").or_else(|| span.split_once('-'));
+        let range = match bounds {
             Some((first, last)) => {
-                let (first, last) = (number(first)?, number(last)?);
+                let first = number(first, "the range's first frame")?;
+                let last = number(last, "the range's last frame")?;
                 if first > last {
-                    return Err(format!("{text:?}: the range {first}..{last} is empty"));
+                    return Err(format!(
+                        "{text:?}: the range {first}-{last} is empty (its first frame is after its last); write {last}-{first}"
+                    ));
                 }
                 first..=last
             }
             None => {
-                let n = number(part)?;
+                if step.is_some() {
+                    return Err(format!(
+                        "{text:?}: a step (x) needs a range, as in 1-240x2; {FORMS}"
+                    ));
+                }
+                let n = number(span, "a frame number")?;
                 n..=n
             }
         };
-        ranges.push(range);
+        let step = match step {
+            Some(step) => number(step, "the step after x")?,
+            None => 1,
+        };
+        if step == 0 {
+            return Err(format!("{text:?}: the step must be at least 1"));
+        }
+        count += u64::from((range.end() - range.start()) / step) + 1;
+        if count > MAX_SELECTED_FRAMES {
+            return Err(format!(
+                "{text:?}: selects more than {MAX_SELECTED_FRAMES} frames; render a long sequence in parts (reyes farm splits one into chunks)"
+            ));
+        }
+        ranges.push((range, step));
     }
     Ok(FrameSelection {
         ranges,
@@ -53,7 +95,56 @@ impl std::fmt::Display for FrameSelection {
 
 impl FrameSelection {
     fn contains(&self, n: u32) -> bool {
-        self.ranges.iter().any(|r| r.contains(&n))
+        self.ranges
+            .iter()
+            .any(|(r, step)| r.contains(&n) && (n - r.start()) % step == 0)
+    }
+
+    /// The frame numbers selected, in the order given, each once.
+    pub(crate) fn numbers(&self) -> Vec<u32> {
+        let mut seen = std::collections::HashSet::new();
+        self.ranges
+            .iter()
+            .flat_map(|(r, step)| r.clone().step_by(*step as usize))
+            .filter(|n| seen.insert(*n))
+            .collect()
+    }
+
+    /// The selection of `numbers` written compactly (`1-9,12,20-40x2`):
+    /// runs of three or more evenly spaced numbers become ranges.
+    pub(crate) fn of_numbers(numbers: &[u32]) -> FrameSelection {
+        let mut parts = Vec::new();
+        let mut ranges = Vec::new();
+        let mut i = 0;
+        while i < numbers.len() {
+            let first = numbers[i];
+            let mut j = i;
+            let step = numbers.get(i + 1).and_then(|n| n.checked_sub(first));
+            if let Some(step) = step.filter(|&s| s > 0) {
+                while j + 1 < numbers.len() && numbers[j + 1].checked_sub(numbers[j]) == Some(step)
+                {
+                    j += 1;
+                }
+                if j - i >= 2 {
+                    let last = numbers[j];
+                    parts.push(if step == 1 {
+                        format!("{first}-{last}")
+                    } else {
+                        format!("{first}-{last}x{step}")
+                    });
+                    ranges.push((first..=last, step));
+                    i = j + 1;
+                    continue;
+                }
+            }
+            parts.push(first.to_string());
+            ranges.push((first..=first, 1));
+            i += 1;
+        }
+        FrameSelection {
+            ranges,
+            text: parts.join(","),
+        }
     }
 }
 
@@ -80,12 +171,16 @@ pub(crate) fn select(
     let missing: Vec<String> = selection
         .ranges
         .iter()
-        .filter(|r| !numbers.iter().any(|n| r.contains(n)))
-        .map(|r| {
+        .filter(|(r, step)| {
+            !numbers
+                .iter()
+                .any(|n| r.contains(n) && (n - r.start()) % step == 0)
+        })
+        .map(|(r, _)| {
             if r.start() == r.end() {
                 r.start().to_string()
             } else {
-                format!("{}..{}", r.start(), r.end())
+                format!("{}-{}", r.start(), r.end())
             }
         })
         .collect();
@@ -192,13 +287,59 @@ mod tests {
         assert!(s.contains(1) && s.contains(4) && s.contains(6));
         assert!(!s.contains(2) && !s.contains(7));
         assert!(parse_frames("3..2").unwrap_err().contains("empty"));
+        assert!(parse_frames("5-1").unwrap_err().contains("empty"));
+        assert!(parse_frames("x").unwrap_err().contains("needs a range"));
         assert!(
-            parse_frames("x")
+            parse_frames("y")
                 .unwrap_err()
                 .contains("not a frame number")
         );
         assert!(parse_frames("-1").is_err());
         assert!(parse_frames("1,").is_err());
+    }
+
+    #[test]
+    fn dashed_ranges_take_steps() {
+        assert_eq!(parse_frames("1-5").unwrap().numbers(), [1, 2, 3, 4, 5]);
+        assert_eq!(parse_frames("1-9x4").unwrap().numbers(), [1, 5, 9]);
+        assert_eq!(parse_frames("1-10x4").unwrap().numbers(), [1, 5, 9]);
+        assert_eq!(parse_frames("0..2x2").unwrap().numbers(), [0, 2]);
+        // In the order given, each once.
+        assert_eq!(parse_frames("7,1-3,2").unwrap().numbers(), [7, 1, 2, 3]);
+        let s = parse_frames("10-20x5").unwrap();
+        assert!(s.contains(15) && !s.contains(16) && !s.contains(25));
+    }
+
+    #[test]
+    fn malformed_selections_say_what_is_wrong() {
+        let error = |text| parse_frames(text).unwrap_err();
+        assert!(
+            error("1-").contains("last frame is missing"),
+            "{}",
+            error("1-")
+        );
+        assert!(error("-3").contains("first frame is missing"));
+        assert!(error("0x0").contains("needs a range"), "{}", error("0x0"));
+        assert!(error("1-5x0").contains("at least 1"));
+        assert!(error("1-5x").contains("step after x is missing"));
+        assert!(error("1-4000000000").contains("more than 100000 frames"));
+        // The bound counts every part.
+        assert!(error("1-60000,100000-160000").contains("more than"));
+        assert!(parse_frames("1-100000").is_ok());
+        assert!(error("1-100001").contains("more than"));
+    }
+
+    #[test]
+    fn numbers_write_back_compactly() {
+        let text = |n: &[u32]| FrameSelection::of_numbers(n).to_string();
+        assert_eq!(text(&[1, 2, 3, 4]), "1-4");
+        assert_eq!(text(&[1, 2, 7, 9, 11, 13, 20]), "1,2,7-13x2,20");
+        assert_eq!(text(&[5]), "5");
+        assert_eq!(text(&[]), "");
+        for numbers in [vec![3, 4, 5, 9, 10], vec![1, 3, 5, 6, 7, 8], vec![2, 1, 0]] {
+            let again = parse_frames(&text(&numbers)).unwrap().numbers();
+            assert_eq!(again, numbers);
+        }
     }
 
     #[test]

@@ -36,6 +36,10 @@ pub(crate) struct BaseScene {
     /// Of a RIB frame: where each light was declared (`scene.rib:12`), for
     /// messages; empty otherwise.
     pub(crate) light_origins: Vec<String>,
+    /// Of a frame of an animated TOML scene: its shutter is the command
+    /// line's already, and its poses at close were made with it, so
+    /// `--shutter` must not apply again.
+    pub(crate) shutter_applied: bool,
 }
 
 /// The scene named on the command line, before overrides; `lenient` reads
@@ -61,6 +65,7 @@ pub(crate) fn base_scene(
             read: Vec::new(),
             world_from_file: None,
             light_origins: Vec::new(),
+            shutter_applied: false,
         });
     };
     let scene_file = || vec![("scene", path.to_path_buf())];
@@ -80,6 +85,10 @@ pub(crate) fn base_scene(
     match extension.as_deref() {
         Some("toml") => {
             let scene = Scene::load(path)?;
+            // An animated scene is seen at its first frame (`reyes render`
+            // makes its frames itself, see `super::sequence`).
+            let animated = scene.is_animated();
+            let scene = if animated { scene.frame(1)? } else { scene };
             if scene.objects.is_empty() {
                 errln!(
                     "warning: {}: {}",
@@ -93,6 +102,7 @@ pub(crate) fn base_scene(
                 read: scene_file(),
                 world_from_file: None,
                 light_origins: Vec::new(),
+                shutter_applied: animated,
             })
         }
         Some("rib") => {
@@ -136,6 +146,7 @@ pub(crate) fn base_scene(
                 read: vec![("model", path.to_path_buf())],
                 world_from_file: None,
                 light_origins: Vec::new(),
+                shutter_applied: false,
             })
         }
         _ => Err(format!(
@@ -180,6 +191,7 @@ pub(crate) fn rib_base(
             .iter()
             .map(|(file, line)| format!("{}:{line}", file.display()))
             .collect(),
+        shutter_applied: false,
     })
 }
 

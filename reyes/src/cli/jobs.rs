@@ -24,15 +24,18 @@ use std::path::{Path, PathBuf};
 
 use super::BoxError;
 use super::args::RenderArgs;
-use super::frames::{frame_path, select};
-use super::input::{ReadFile, base_scene, rib_base};
+use super::frames::{FrameSelection, frame_path, select};
+use super::input::{BaseScene, ReadFile, base_scene, rib_base};
 use super::prepare::{Prepared, prepare_base};
 use super::render::Backend;
+use super::sequence::{SequenceArgs, SequenceReport, SequenceSource, plan_toml};
 use crate::aov::Aov;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
-use crate::output::console::errln;
+use crate::output::console::{errln, outln};
 use crate::output::{OutputGuard, OutputKind, OutputPlan};
 use crate::rib::{FrameRequest, FrameStream, RibError, RibFrames, RibOptions, RibScene};
+use crate::scene::Scene;
+use crate::stats::RenderStats;
 
 /// One frame to render and where it goes.
 pub(crate) struct Job {
@@ -50,6 +53,9 @@ pub(crate) struct Job {
     outputs: Option<Outputs>,
     /// The RIB requests to run before the frame is prepared.
     requests_before: Vec<FrameRequest>,
+    /// A frame of a TOML sequence: its still scene ([`Scene::frame`]),
+    /// rendered with the models of [`Plan::sequence`].
+    still: Option<Box<Scene>>,
 }
 
 /// What one `reyes render` does: its frames, the files read to find them
@@ -58,10 +64,24 @@ pub(crate) struct Plan {
     jobs: Vec<Job>,
     sources: Vec<ReadFile>,
     requests_after: Vec<FrameRequest>,
+    /// Of a TOML sequence: the scene file and its models, read once.
+    sequence: Option<SequenceSource>,
+}
+
+impl Plan {
+    /// The plan of a TOML sequence's `jobs`, which share `source`.
+    pub(crate) fn of_sequence(jobs: Vec<Job>, source: SequenceSource) -> Plan {
+        Plan {
+            jobs,
+            sources: vec![("scene", source.path.clone())],
+            requests_after: Vec::new(),
+            sequence: Some(source),
+        }
+    }
 }
 
 /// The files one frame writes.
-struct Outputs {
+pub(crate) struct Outputs {
     image: PathBuf,
     /// The frame writes the depth output (`--aov z`, or a RIB `Display`
     /// of mode `z`).
@@ -71,6 +91,18 @@ struct Outputs {
 }
 
 impl Job {
+    /// Frame `label` of a TOML sequence, whose scene is `still`.
+    pub(crate) fn of_sequence(label: String, outputs: Outputs, still: Scene) -> Job {
+        Job {
+            label: Some(label),
+            scene: None,
+            reread: None,
+            outputs: Some(outputs),
+            requests_before: Vec::new(),
+            still: Some(Box::new(still)),
+        }
+    }
+
     /// Records the frame's outputs in `guard`; the plan of its image and
     /// statistics.
     fn add_outputs(&self, guard: &mut OutputGuard) -> Result<Option<OutputPlan>, BoxError> {
@@ -92,17 +124,28 @@ impl Job {
     }
 }
 
-/// The frames `args` asks for, with their outputs and requests, and the
-/// files read to find them (a RIB file and its archives).
-pub(crate) fn plan(args: &RenderArgs) -> Result<Plan, BoxError> {
-    let rib = args
-        .scene
-        .as_deref()
-        .filter(|s| s.extension().is_some_and(|e| e.eq_ignore_ascii_case("rib")));
-    let Some(path) = rib else {
-        if let Some(selection) = &args.frame {
+/// The frames `args` asks for (those of `selection`, `--frame` or
+/// `--frames`), with their outputs and requests, and the files read to
+/// find them (a RIB file and its archives).
+pub(crate) fn plan(
+    args: &RenderArgs,
+    selection: Option<&FrameSelection>,
+) -> Result<Plan, BoxError> {
+    let has_extension = |extension: &str| {
+        args.scene.as_deref().filter(|s| {
+            s.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case(extension))
+        })
+    };
+    if let Some(path) = has_extension("toml")
+        && let Some(plan) = plan_toml(args, path, selection)?
+    {
+        return Ok(plan);
+    }
+    let Some(path) = has_extension("rib") else {
+        if let Some(selection) = selection {
             return Err(format!(
-                "--frame {selection}: selects frames of a RIB file; {} has none",
+                "--frame {selection}: selects frames of a RIB file or a TOML scene; {} is neither",
                 args.scene
                     .as_deref()
                     .map_or("the teapot".to_owned(), |s| s.display().to_string())
@@ -117,16 +160,18 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<Plan, BoxError> {
             reread: None,
             outputs: Some(outputs),
             requests_before: Vec::new(),
+            still: None,
         };
         return Ok(Plan {
             jobs: vec![job],
             sources: Vec::new(),
             requests_after: Vec::new(),
+            sequence: None,
         });
     };
     let frames = plan_rib(path, args.lenient)?;
     let reread = frames.frames.len() > 1;
-    let selected = select(path, &frames, args.frame.as_ref())?;
+    let selected = select(path, &frames, selection)?;
     let several = selected.len() > 1;
     let sources = frames
         .sources
@@ -169,12 +214,14 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<Plan, BoxError> {
             scene: Some(frame.scene),
             outputs,
             requests_before: frame.requests_before,
+            still: None,
         });
     }
     Ok(Plan {
         jobs,
         sources,
         requests_after,
+        sequence: None,
     })
 }
 
@@ -259,7 +306,7 @@ impl Reread {
 /// The outputs of the frame numbered `number` whose `Display` file is
 /// `display`: `-o` (a pattern takes the number), else the `Display` file,
 /// else `reyes.png` (`reyes.exr` for a depth frame); the statistics and the trace as their flags say.
-fn outputs(
+pub(crate) fn outputs(
     args: &RenderArgs,
     display: Option<&str>,
     number: Option<u32>,
@@ -309,12 +356,15 @@ fn command_line_inputs(args: &RenderArgs) -> Vec<ReadFile> {
 /// then runs the requests after the last. A frame or request that fails is
 /// reported and stops what follows, unless `--keep-going`; then the run
 /// fails with the list of what failed. A run of one frame and no request
-/// returns its error as it is.
-pub(crate) fn run(args: &RenderArgs, plan: Plan) -> Result<(), BoxError> {
+/// returns its error as it is. Of a TOML sequence, `--skip-existing` skips
+/// the frames whose image exists, a line on stderr announces each frame
+/// (unless `--quiet`), and a table on stdout sums the run up.
+pub(crate) fn run(args: &RenderArgs, sequence: &SequenceArgs, plan: Plan) -> Result<(), BoxError> {
     let Plan {
         mut jobs,
         sources,
         requests_after,
+        sequence: source,
     } = plan;
     // Every output, checked before any work: a render must not run for
     // minutes towards an output it cannot write, or overwrite its inputs.
@@ -327,6 +377,11 @@ pub(crate) fn run(args: &RenderArgs, plan: Plan) -> Result<(), BoxError> {
     }
     let requests = jobs.iter().flat_map(|j| &j.requests_before);
     super::requests::add_outputs(&mut guard, requests.chain(&requests_after))?;
+    if source.is_some() {
+        // A sequence's files are all known: an output directory that takes
+        // no files fails the run before its first frame, not at it.
+        guard.prepare_dirs()?;
+    }
     let gpu = OnceCell::new();
     let mut backend = Backend::new(args, &gpu);
     let mut reread = jobs
@@ -341,13 +396,16 @@ pub(crate) fn run(args: &RenderArgs, plan: Plan) -> Result<(), BoxError> {
     };
     let no_requests =
         requests_after.is_empty() && jobs.iter().all(|j| j.requests_before.is_empty());
-    if jobs.len() == 1 && no_requests {
+    if jobs.len() == 1 && no_requests && source.is_none() {
         let label = jobs[0].label.clone();
         return scene_of(&mut jobs[0])
-            .and_then(|scene| render_job(args, &mut backend, scene, &jobs, &mut reads))
+            .and_then(|scene| {
+                render_job(args, &mut backend, scene, &jobs, &mut reads, None).map(|_| ())
+            })
             .map_err(|e| labelled(label.as_deref(), e));
     }
     let mut failures = super::failures::Failures::default();
+    let mut report = source.as_ref().map(|_| SequenceReport::new(jobs.len()));
     for k in 0..jobs.len() {
         let label = jobs[k].label.clone().unwrap_or_else(|| "the scene".into());
         for request in std::mem::take(&mut jobs[k].requests_before) {
@@ -357,15 +415,58 @@ pub(crate) fn run(args: &RenderArgs, plan: Plan) -> Result<(), BoxError> {
             failures.not_rendered.push(label);
             continue;
         }
-        let rendered = scene_of(&mut jobs[k])
-            .and_then(|scene| render_job(args, &mut backend, scene, &jobs[k..], &mut reads));
-        if let Err(error) = rendered {
-            super::print_error(labelled(Some(&label), error).as_ref());
-            failures.frames.push(label);
+        if let Some(report) = report.as_mut() {
+            let image = jobs[k].outputs.as_ref().map(|o| o.image.as_path());
+            if let Some(image) = image.filter(|i| sequence.skip_existing && i.is_file()) {
+                outln!(
+                    "{label}: {} exists: skipped (--skip-existing)",
+                    image.display()
+                )?;
+                report.skipped(&label);
+                continue;
+            }
+            if !args.quiet {
+                errln!("{}", report.start_line(&label))?;
+            }
+        }
+        // Of a sequence, the first frame's outputs are checked against
+        // every later frame's; the later frames read the same files.
+        let end = match &source {
+            Some(_) if k > 0 => k + 1,
+            _ => jobs.len(),
+        };
+        let started = std::time::Instant::now();
+        let rendered = scene_of(&mut jobs[k]).and_then(|scene| {
+            let checked = &jobs[k..end];
+            render_job(
+                args,
+                &mut backend,
+                scene,
+                checked,
+                &mut reads,
+                source.as_ref(),
+            )
+        });
+        match rendered {
+            Ok(stats) => {
+                if let Some(report) = report.as_mut() {
+                    report.rendered(&label, started.elapsed(), stats.micropolygons);
+                }
+            }
+            Err(error) => {
+                super::print_error(labelled(Some(&label), error).as_ref());
+                if let Some(report) = report.as_mut() {
+                    report.failed(&label, started.elapsed());
+                }
+                failures.frames.push(label);
+            }
         }
     }
     for request in &requests_after {
         failures.run_request(args, request, &reads);
+    }
+    if let Some(report) = &report {
+        report.print()?;
     }
     failures.into_result(jobs.len())
 }
@@ -379,12 +480,23 @@ fn render_job(
     scene: Option<Result<RibScene, RibError>>,
     jobs: &[Job],
     reads: &mut Vec<ReadFile>,
-) -> Result<(), BoxError> {
+    sequence: Option<&SequenceSource>,
+) -> Result<RenderStats, BoxError> {
     let job = &jobs[0];
     let label = job.label.as_deref();
-    let base = match scene {
-        None => base_scene(args.scene.as_deref(), args.lenient, None)?,
-        Some(rib) => {
+    let base = match (scene, &job.still, sequence) {
+        (_, Some(still), Some(source)) => BaseScene {
+            scene: Scene::clone(still),
+            models: Some(source.models.clone()),
+            read: std::iter::once(("scene", source.path.clone()))
+                .chain(source.model_files.iter().map(|p| ("model", p.clone())))
+                .collect(),
+            world_from_file: None,
+            light_origins: Vec::new(),
+            shutter_applied: source.animated,
+        },
+        (None, _, _) => base_scene(args.scene.as_deref(), args.lenient, None)?,
+        (Some(rib), _, _) => {
             let rib = rib?;
             let sources = rib.sources.clone();
             rib_base(rib, label, &sources)?
@@ -395,7 +507,12 @@ fn render_job(
         read,
         world_from_file,
     } = prepare_base(args, base)?;
-    reads.extend(read);
+    for file in read {
+        // A sequence's frames read the same files: each is recorded once.
+        if !reads.contains(&file) {
+            reads.push(file);
+        }
+    }
     let mut guard = OutputGuard::new();
     guard.add_inputs(reads.iter().map(|(l, p)| (*l, p)))?;
     let plan = job
@@ -420,7 +537,7 @@ struct FrameError {
 }
 
 /// `error`, prefixed with the frame's `label` if it has one.
-fn labelled(label: Option<&str>, error: BoxError) -> BoxError {
+pub(crate) fn labelled(label: Option<&str>, error: BoxError) -> BoxError {
     match label {
         Some(label) => Box::new(FrameError {
             label: label.to_owned(),

@@ -16,6 +16,7 @@
 //!              [--sides 1|2] [--reverse-orientation]
 //!              [--max-input-bytes BYTES] [--max-patches N] [--no-pipeline-cache] [--lenient]
 //!              [--frame N|N..M|LIST] [--keep-going]
+//!              [--frames N|A-B|A-BxS|LIST] [--skip-existing]
 //! reyes cache info|clear
 //! reyes view [SCENE] [the options of render] [--frames N --screenshot IMAGE] [--hide-overlay]
 //! ```
@@ -35,6 +36,7 @@ mod prepare;
 mod progress;
 mod render;
 mod requests;
+mod sequence;
 mod stats;
 #[cfg(feature = "viewer")]
 mod view;
@@ -71,7 +73,7 @@ enum Command {
     /// without SCENE, the teapot. A RIB file's frames (`FrameBegin n` …
     /// `FrameEnd`) are rendered in order, each to its own image (`--frame`,
     /// `-o out.####.png`).
-    Render(args::RenderArgs),
+    Render(render::RenderCommand),
     /// Convert a RenderMan RIB scene to a TOML scene plus `.bpt` models
     /// (written beside the TOML as `<stem>-<i>.bpt`); of a RIB file of
     /// several frames, the one `--frame N` names.

@@ -39,6 +39,7 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
         mut read,
         world_from_file,
         light_origins,
+        shutter_applied,
     } = base;
     let prepared = |scene: &Scene| match &in_memory {
         Some(models) => PreparedScene::new(scene, models),
@@ -54,7 +55,7 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
     }
     override_frame(&mut scene, args);
     override_objects(&mut scene, args);
-    override_lens(&mut scene, args);
+    override_lens(&mut scene, args, shutter_applied);
     reframe_model(&mut scene, args, in_memory.as_deref())?;
     if camera_overridden(args) || camera_moves(args) {
         // A camera framed automatically (a bare model, the teapot, a scene
@@ -186,9 +187,10 @@ fn override_objects(scene: &mut Scene, args: &RenderArgs) {
     }
 }
 
-/// The shutter and the thin lens.
-fn override_lens(scene: &mut Scene, args: &RenderArgs) {
-    if let Some(shutter) = args.shutter {
+/// The shutter (unless `shutter_applied`: an animated frame made with it)
+/// and the thin lens.
+fn override_lens(scene: &mut Scene, args: &RenderArgs, shutter_applied: bool) {
+    if let Some(shutter) = args.shutter.filter(|_| !shutter_applied) {
         scene.shutter = shutter;
     }
     if let Some(aperture) = args.aperture {

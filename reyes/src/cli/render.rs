@@ -9,6 +9,7 @@ use scheduler::Gpu;
 use super::BoxError;
 use super::args::RenderArgs;
 use super::progress::{Ticker, print_software_notice};
+use super::sequence::SequenceArgs;
 use super::stats::print_stats;
 use crate::gpu::{GpuOptions, GpuRenderer};
 use crate::input::Limits;
@@ -18,17 +19,29 @@ use crate::progress::AdapterSummary;
 use crate::shadow::ShadowMap;
 use crate::stats::RenderStats;
 
+/// The arguments of `reyes render`: those `reyes view` shares, and those
+/// of sequences.
+#[derive(Debug, clap::Args)]
+pub(crate) struct RenderCommand {
+    #[command(flatten)]
+    pub(crate) args: RenderArgs,
+    #[command(flatten)]
+    pub(crate) sequence: SequenceArgs,
+}
+
 /// `reyes render`: prepares the scene, renders it on the GPU or with the CPU
-/// reference, and writes the image (and the statistics); for a RIB file,
-/// each selected frame in turn ([`super::jobs`]).
-pub(crate) fn render(args: &RenderArgs) -> Result<(), BoxError> {
+/// reference, and writes the image (and the statistics); for a RIB file or
+/// a TOML sequence, each selected frame in turn ([`super::jobs`]).
+pub(crate) fn render(command: &RenderCommand) -> Result<(), BoxError> {
+    let RenderCommand { args, sequence } = command;
     args.check_backend()?;
     super::args::set_patch_budget(args.max_patches);
     if let Some(bytes) = args.max_input_bytes {
         crate::input::set_limits(Limits::all(bytes));
     }
-    let plan = super::jobs::plan(args)?;
-    super::jobs::run(args, plan)
+    let selection = args.frame.as_ref().or(sequence.frames.as_ref());
+    let plan = super::jobs::plan(args, selection)?;
+    super::jobs::run(args, sequence, plan)
 }
 
 /// The renderer of a run: the CPU reference, or one GPU renderer that every
@@ -65,7 +78,7 @@ impl<'g> Backend<'g> {
         paths: (&Path, Option<&Path>),
         label: Option<&str>,
         world_from_file: Option<glam::Mat4>,
-    ) -> Result<(), BoxError> {
+    ) -> Result<RenderStats, BoxError> {
         let (output, trace) = paths;
         let depth = scene.aov == crate::Aov::Z;
         if depth {
@@ -114,7 +127,7 @@ impl<'g> Backend<'g> {
         for warning in warnings {
             errln!("warning: {prefix}{warning}")?;
         }
-        Ok(())
+        Ok(stats)
     }
 
     /// The GPU renderer, created (with the GPU) at the first frame. Unless
