@@ -506,7 +506,7 @@ mod tests;
 /// A fresh, empty directory under the system temp directory for the tests
 /// of this module's files, named after the file (`tag`) and the test.
 #[cfg(test)]
-fn scratch_dir(tag: &str, name: &str) -> std::path::PathBuf {
+pub(crate) fn scratch_dir(tag: &str, name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("reyes-{tag}-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();

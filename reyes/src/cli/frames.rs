@@ -111,7 +111,8 @@ impl FrameSelection {
     }
 
     /// The selection of `numbers` written compactly (`1-9,12,20-40x2`):
-    /// runs of three or more evenly spaced numbers become ranges.
+    /// runs of consecutive numbers and of three or more evenly spaced
+    /// ones become ranges.
     pub(crate) fn of_numbers(numbers: &[u32]) -> FrameSelection {
         let mut parts = Vec::new();
         let mut ranges = Vec::new();
@@ -125,7 +126,9 @@ impl FrameSelection {
                 {
                     j += 1;
                 }
-                if j - i >= 2 {
+                // Two neighbours read best as a range too (`3-4`); two
+                // frames further apart as a list (`3,5`).
+                if j - i >= 2 || (j > i && step == 1) {
                     let last = numbers[j];
                     parts.push(if step == 1 {
                         format!("{first}-{last}")
@@ -333,7 +336,8 @@ mod tests {
     fn numbers_write_back_compactly() {
         let text = |n: &[u32]| FrameSelection::of_numbers(n).to_string();
         assert_eq!(text(&[1, 2, 3, 4]), "1-4");
-        assert_eq!(text(&[1, 2, 7, 9, 11, 13, 20]), "1,2,7-13x2,20");
+        assert_eq!(text(&[1, 2, 7, 9, 11, 13, 20]), "1-2,7-13x2,20");
+        assert_eq!(text(&[3, 5]), "3,5");
         assert_eq!(text(&[5]), "5");
         assert_eq!(text(&[]), "");
         for numbers in [vec![3, 4, 5, 9, 10], vec![1, 3, 5, 6, 7, 8], vec![2, 1, 0]] {

@@ -17,6 +17,10 @@
 //!              [--max-input-bytes BYTES] [--max-patches N] [--no-pipeline-cache] [--lenient]
 //!              [--frame N|N..M|LIST] [--keep-going]
 //!              [--frames N|A-B|A-BxS|LIST] [--skip-existing]
+//! reyes farm frames SCENE --frames LIST -o PATTERN [--chunk N] [--format text|json]
+//! reyes farm slurm SCENE --frames LIST -o PATTERN [--chunk N] [--gpus-per-task N]
+//!                  [--partition P] [--time LIMIT] [--logs DIR] [--script FILE] [--submit]
+//! reyes farm status SCENE --frames LIST -o PATTERN [--chunk N]
 //! reyes cache info|clear
 //! reyes view [SCENE] [the options of render] [--frames N --screenshot IMAGE] [--hide-overlay]
 //! ```
@@ -28,6 +32,7 @@ mod args;
 mod cache;
 mod convert;
 mod failures;
+mod farm;
 mod frames;
 mod input;
 mod jobs;
@@ -78,6 +83,10 @@ enum Command {
     /// (written beside the TOML as `<stem>-<i>.bpt`); of a RIB file of
     /// several frames, the one `--frame N` names.
     Convert(convert::ConvertArgs),
+    /// Hand a sequence's frames to a render farm or a cluster: print its
+    /// chunks with their commands (`frames`), write a Slurm job array
+    /// (`slurm`), or list the missing frames (`status`).
+    Farm(farm::FarmArgs),
     /// Show (`info`) or empty (`clear`) the directory of compiled pipelines
     /// (`$REYES_CACHE_DIR`, else the platform's cache directory). Only its
     /// pipeline files are touched, never the driver's shader cache.
@@ -97,6 +106,7 @@ pub fn run(cli: &Cli) -> Result<(), BoxError> {
     match &cli.command {
         Command::Render(args) => render::render(args),
         Command::Convert(args) => convert::convert(args),
+        Command::Farm(args) => farm::farm(args),
         Command::Cache(args) => cache::cache(args),
         #[cfg(feature = "viewer")]
         Command::View(args) => view::view(args),
