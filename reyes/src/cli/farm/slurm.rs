@@ -163,7 +163,7 @@ pub(crate) fn slurm(args: &SlurmArgs) -> Result<(), BoxError> {
         .map_err(|e| format!("cannot write {}: {e}", script_path.display()))?;
     let tasks = sequence.numbers.len().div_ceil(sequence.chunk as usize);
     outln!(
-        "wrote {}: {} frames in {tasks} array tasks of up to {} frames; logs in {}",
+        "wrote {}: {} frames in {tasks} array task(s) of up to {} frames; logs in {}",
         script_path.display(),
         sequence.numbers.len(),
         sequence.chunk,
@@ -191,8 +191,9 @@ pub(crate) fn slurm(args: &SlurmArgs) -> Result<(), BoxError> {
     // `--parsable` prints `id` or `id;cluster`.
     let stdout = String::from_utf8_lossy(&output.stdout);
     let job = stdout.trim().split(';').next().unwrap_or_default();
+    let plural = if tasks == 1 { "" } else { "s" };
     outln!(
-        "submitted batch job {job}: {tasks} array tasks; logs {}/{}-{job}_<task>.log",
+        "submitted batch job {job}: {tasks} array task{plural}; logs {}/{}-{job}_<task>.log",
         options.logs.display(),
         options.job_name
     )?;
