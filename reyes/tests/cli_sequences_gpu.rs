@@ -335,3 +335,26 @@ scale = 1.0
     }
     assert!(!dir.join("go.3.png").exists());
 }
+
+#[gpu_test]
+fn a_rib_frame_renders_the_same_alone_and_with_the_files_others() {
+    let dir = scratch("rib");
+    let frame = |n: u32| {
+        format!(
+            "FrameBegin {n}\nWorldBegin\nTranslate 0 0 5\nMotionBegin [0 1]\nTranslate 0 0 0\n\
+             Translate 0.{n} 0 0\nMotionEnd\nSphere 1 -1 1 360\nWorldEnd\nFrameEnd\n"
+        )
+    };
+    let rib = format!(
+        "Format 32 24 1\nPixelSamples 2 2\nShutter 0 1\nProjection \"perspective\" \"fov\" 40\n{}{}{}",
+        frame(1),
+        frame(2),
+        frame(3)
+    );
+    std::fs::write(dir.join("three.rib"), rib).unwrap();
+    let all = render(&dir, &["three.rib", "--frames", "1-3", "-o", "all.#.png"]);
+    assert!(all.status.success(), "{}", text(&all));
+    let alone = render(&dir, &["three.rib", "--frame", "3", "-o", "alone.#.png"]);
+    assert!(alone.status.success(), "{}", text(&alone));
+    assert_eq!(read(dir.join("all.3.png")), read(dir.join("alone.3.png")));
+}

@@ -218,6 +218,7 @@ fn card_scene(cards: &[(Vec3, f32, Vec3)], sampling: Sampling) -> (Scene, Vec<Mo
                 translate: motion,
                 ..Transform::default()
             }),
+            keys: Vec::new(),
             sides: 2,
             reverse_orientation: false,
         });

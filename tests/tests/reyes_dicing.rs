@@ -244,6 +244,7 @@ fn card_scene() -> (Scene, Vec<Model>) {
         shading_rate: None,
         displacement: None,
         transform_close: None,
+        keys: Vec::new(),
         sides: 2,
         reverse_orientation: false,
     });

@@ -185,6 +185,7 @@ fn wall_scene(bound: f32) -> PreparedScene {
         shading_rate: None,
         displacement: Some(displacement(&map.to_string_lossy(), 1.0, 1.0)),
         transform_close: None,
+        keys: Vec::new(),
         sides: 2,
         reverse_orientation: false,
     });

@@ -56,6 +56,7 @@ fn sphere(i: usize, displacement: DisplacementDesc) -> SceneObject {
         shading_rate: None,
         displacement: Some(displacement),
         transform_close: None,
+        keys: Vec::new(),
         sides: 2,
         reverse_orientation: false,
     }

@@ -119,6 +119,7 @@ fn mirror_scene(sky: &Path) -> (Scene, Vec<Model>) {
         shading_rate: None,
         displacement: None,
         transform_close: None,
+        keys: Vec::new(),
         sides: 2,
         reverse_orientation: false,
     });

@@ -46,6 +46,7 @@ fn spheres(width: u32, height: u32) -> (Scene, Vec<Model>) {
             shading_rate: None,
             displacement: None,
             transform_close: None,
+            keys: Vec::new(),
             sides: 2,
             reverse_orientation: false,
         });
@@ -226,6 +227,7 @@ fn defocused_card(dicing: Dicing, dice_threshold: f32) -> PreparedScene {
         shading_rate: None,
         displacement: None,
         transform_close: None,
+        keys: Vec::new(),
         sides: 2,
         reverse_orientation: false,
     });
@@ -365,6 +367,7 @@ fn a_frame_wider_than_one_dispatch_dimension_resolves_every_column() {
         shading_rate: None,
         displacement: None,
         transform_close: None,
+        keys: Vec::new(),
         sides: 2,
         reverse_orientation: false,
     });

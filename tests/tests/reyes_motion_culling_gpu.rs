@@ -50,6 +50,7 @@ fn scene(open: f32, close: f32) -> PreparedScene {
         shading_rate: None,
         displacement: None,
         transform_close: Some(placed(close)),
+        keys: Vec::new(),
         sides: 1,
         reverse_orientation: false,
     });

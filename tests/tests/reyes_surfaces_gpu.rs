@@ -61,6 +61,7 @@ fn scene(spp: u32) -> (Scene, Vec<Model>) {
             shading_rate: Some([0.25, 1.0, 4.0, 0.5, 8.0, 1.0][i]),
             displacement: None,
             transform_close: None,
+            keys: Vec::new(),
             sides: 2,
             reverse_orientation: false,
         });

@@ -97,6 +97,7 @@ fn scene(spp: u32, displaced: bool) -> (Scene, Vec<Model>) {
             shading_rate: None,
             displacement: None,
             transform_close: None,
+            keys: Vec::new(),
             sides: 2,
             reverse_orientation: false,
         };
@@ -302,6 +303,7 @@ fn a_texture_at_one_texel_per_pixel_comes_back() {
         shading_rate: Some(0.25),
         displacement: None,
         transform_close: None,
+        keys: Vec::new(),
         sides: 2,
         reverse_orientation: false,
     });

@@ -97,7 +97,7 @@ impl FrameSelection {
     fn contains(&self, n: u32) -> bool {
         self.ranges
             .iter()
-            .any(|(r, step)| r.contains(&n) && (n - r.start()) % step == 0)
+            .any(|(r, step)| r.contains(&n) && (n - r.start()).is_multiple_of(*step))
     }
 
     /// The frame numbers selected, in the order given, each once.
@@ -177,13 +177,15 @@ pub(crate) fn select(
         .filter(|(r, step)| {
             !numbers
                 .iter()
-                .any(|n| r.contains(n) && (n - r.start()) % step == 0)
+                .any(|n| r.contains(n) && (n - r.start()).is_multiple_of(*step))
         })
-        .map(|(r, _)| {
+        .map(|(r, step)| {
             if r.start() == r.end() {
                 r.start().to_string()
+            } else if *step == 1 {
+                format!("{}..{}", r.start(), r.end())
             } else {
-                format!("{}-{}", r.start(), r.end())
+                format!("{}..{}x{step}", r.start(), r.end())
             }
         })
         .collect();

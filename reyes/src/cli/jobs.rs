@@ -56,6 +56,9 @@ pub(crate) struct Job {
     /// A frame of a TOML sequence: its still scene ([`Scene::frame`]),
     /// rendered with the models of [`Plan::sequence`].
     still: Option<Box<Scene>>,
+    /// The frame's number (a RIB's `FrameBegin n`), which seeds its
+    /// samples ([`Scene::sampling_seed`]).
+    number: Option<u32>,
 }
 
 /// What one `reyes render` does: its frames, the files read to find them
@@ -99,6 +102,7 @@ impl Job {
             reread: None,
             outputs: Some(outputs),
             requests_before: Vec::new(),
+            number: Some(still.sampling_seed),
             still: Some(Box::new(still)),
         }
     }
@@ -161,6 +165,7 @@ pub(crate) fn plan(
             outputs: Some(outputs),
             requests_before: Vec::new(),
             still: None,
+            number: None,
         };
         return Ok(Plan {
             jobs: vec![job],
@@ -215,6 +220,7 @@ pub(crate) fn plan(
             outputs,
             requests_before: frame.requests_before,
             still: None,
+            number: frame.number,
         });
     }
     Ok(Plan {
@@ -499,7 +505,10 @@ fn render_job(
         (Some(rib), _, _) => {
             let rib = rib?;
             let sources = rib.sources.clone();
-            rib_base(rib, label, &sources)?
+            let mut base = rib_base(rib, label, &sources)?;
+            // A frame renders the same alone or with the file's others.
+            base.scene.sampling_seed = job.number.unwrap_or(0);
+            base
         }
     };
     let Prepared {
