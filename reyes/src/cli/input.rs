@@ -106,7 +106,7 @@ pub(crate) fn base_scene(
             })
         }
         Some("rib") => {
-            let frames = super::jobs::plan_rib(path, lenient)?;
+            let frames = super::rib_plan::plan_rib(path, lenient)?;
             for warning in frames.requests_not_run() {
                 errln!("warning: {warning}")?;
             }
@@ -125,7 +125,7 @@ pub(crate) fn base_scene(
             // The plan kept the models of a file's only frame; of several,
             // the selected one is read again, alone.
             let scene = if several {
-                super::jobs::Reread::new(path, lenient).frame(selected[0], frame.number)??
+                super::rib_plan::Reread::new(path, lenient).frame(selected[0], frame.number)??
             } else {
                 frame.scene?
             };

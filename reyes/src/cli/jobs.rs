@@ -1,5 +1,6 @@
 //! The frames one `reyes render` draws: the scene named on the command
-//! line, or each selected frame of a RIB file, with their outputs.
+//! line, each selected frame of a RIB file ([`super::rib_plan`]), or each
+//! frame of a TOML sequence ([`super::sequence`]), with their outputs.
 //!
 //! Every output of every frame is checked before any work (against the
 //! scene and the RIB archives, and against each other). The files a frame
@@ -17,7 +18,10 @@
 //! A RIB file of several frames is read twice: once to plan (each frame's
 //! geometry is dropped as soon as its outputs are known), and again, one
 //! frame at a time, to render ([`crate::rib::FrameStream`]), so that memory
-//! holds one frame's geometry, not the whole file's.
+//! holds one frame's geometry, not the whole file's. A TOML sequence's
+//! frames share the models, read once; the outputs of its first frame are
+//! checked against every later frame's, and each later frame's against
+//! the files read, which are the same for every frame.
 
 use std::cell::OnceCell;
 use std::path::{Path, PathBuf};
@@ -28,12 +32,13 @@ use super::frames::{FrameSelection, frame_path, select};
 use super::input::{BaseScene, ReadFile, base_scene, rib_base};
 use super::prepare::{Prepared, prepare_base};
 use super::render::Backend;
+use super::rib_plan::{Reread, plan_rib};
 use super::sequence::{SequenceArgs, SequenceReport, SequenceSource, plan_toml};
 use crate::aov::Aov;
 use crate::displacement::desc::{SOURCE_BUMPS, SOURCE_SINES, SOURCE_WGSL};
 use crate::output::console::{errln, outln};
 use crate::output::{OutputGuard, OutputKind, OutputPlan};
-use crate::rib::{FrameRequest, FrameStream, RibError, RibFrames, RibOptions, RibScene};
+use crate::rib::{FrameRequest, RibError, RibScene};
 use crate::scene::Scene;
 use crate::stats::RenderStats;
 
@@ -229,84 +234,6 @@ pub(crate) fn plan(
         requests_after,
         sequence: None,
     })
-}
-
-/// The frames of the RIB file at `path`, read one at a time and each but
-/// a single frame's models dropped (they are read again to render); the
-/// file's warnings are printed.
-pub(crate) fn plan_rib(path: &Path, lenient: bool) -> Result<RibFrames, BoxError> {
-    let mut stream = RibFrames::stream(path, RibOptions { lenient });
-    let mut frames = Vec::new();
-    for frame in stream.by_ref() {
-        // The frame before this one is not the only one: drop its models.
-        if let Some(Ok(previous)) = frames
-            .last_mut()
-            .map(|f: &mut crate::rib::RibFrame| &mut f.scene)
-        {
-            previous.models = Vec::new();
-        }
-        frames.push(frame);
-    }
-    let end = stream.finish()?;
-    if frames.len() > 1
-        && let Some(Ok(last)) = frames.last_mut().map(|f| &mut f.scene)
-    {
-        last.models = Vec::new();
-    }
-    for warning in &end.warnings {
-        errln!("warning: {warning}")?;
-    }
-    Ok(RibFrames {
-        frames,
-        warnings: end.warnings,
-        sources: end.sources,
-        requests_after: end.requests_after,
-    })
-}
-
-/// A RIB file's frames read again in order, each when its turn to render
-/// comes.
-pub(crate) struct Reread {
-    path: PathBuf,
-    stream: FrameStream,
-    /// The place in the file of the frame the stream gives next.
-    next: usize,
-}
-
-impl Reread {
-    /// The frames of `path` from its start.
-    pub(crate) fn new(path: &Path, lenient: bool) -> Reread {
-        Reread {
-            stream: RibFrames::stream(path, RibOptions { lenient }),
-            path: path.to_path_buf(),
-            next: 0,
-        }
-    }
-
-    /// Frame `index` of the file, which the plan found numbered `number`
-    /// (the frames before it, not selected, are read and dropped).
-    pub(crate) fn frame(
-        &mut self,
-        index: usize,
-        number: Option<u32>,
-    ) -> Result<Result<RibScene, RibError>, BoxError> {
-        while let Some(frame) = self.stream.next_frame() {
-            let at = self.next;
-            self.next += 1;
-            if at == index && frame.number == number {
-                return Ok(frame.scene);
-            }
-            if at >= index {
-                break;
-            }
-        }
-        let which = number.map_or("its scene".to_owned(), |n| format!("its frame {n}"));
-        Err(format!(
-            "{} changed while its frames were rendered: {which} is not where it was",
-            self.path.display(),
-        )
-        .into())
-    }
 }
 
 /// The outputs of the frame numbered `number` whose `Display` file is

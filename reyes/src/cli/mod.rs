@@ -41,6 +41,7 @@ mod prepare;
 mod progress;
 mod render;
 mod requests;
+mod rib_plan;
 mod sequence;
 mod stats;
 #[cfg(feature = "viewer")]

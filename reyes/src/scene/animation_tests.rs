@@ -214,3 +214,18 @@ fn keys_that_make_a_frames_camera_unusable_fail_that_frame() {
         Err(SceneError::InvalidCamera { .. })
     ));
 }
+
+#[test]
+fn the_documented_animation_parses_and_makes_frames() {
+    let doc = include_str!("../../../docs/reyes-scene.md");
+    let section = &doc[doc.find("### Animation").expect("the section")..];
+    let start = section.find("```toml\n").expect("its example") + "```toml\n".len();
+    let example = &section[start..start + section[start..].find("```").unwrap()];
+    let scene = Scene::from_toml_str(example).unwrap();
+    assert!(scene.is_animated());
+    // Frame 24 is half way through the turn between the keys at frames 1
+    // and 48 (linear): 360 * 23 / 47 degrees.
+    let frame = scene.frame(24).unwrap();
+    let z = frame.objects[0].transform.rotate_degrees.z;
+    assert!((z - 360.0 * 23.0 / 47.0).abs() < 1e-3, "{z}");
+}
