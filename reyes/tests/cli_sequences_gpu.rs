@@ -358,3 +358,25 @@ fn a_rib_frame_renders_the_same_alone_and_with_the_files_others() {
     assert!(alone.status.success(), "{}", text(&alone));
     assert_eq!(read(dir.join("all.3.png")), read(dir.join("alone.3.png")));
 }
+
+#[gpu_test]
+fn skip_existing_skips_a_rib_files_finished_frames_too() {
+    let dir = scratch("rib_skip");
+    let frame = |n: u32| {
+        format!(
+            "FrameBegin {n}\nWorldBegin\nTranslate 0 0 5\nSphere 1 -1 1 360\nWorldEnd\nFrameEnd\n"
+        )
+    };
+    let rib = format!("Format 16 12 1\nPixelSamples 1 1\n{}{}", frame(1), frame(2));
+    std::fs::write(dir.join("two.rib"), rib).unwrap();
+    std::fs::write(dir.join("f.1.png"), "kept").unwrap();
+    let run = render(&dir, &["two.rib", "--skip-existing", "-o", "f.#.png"]);
+    let log = text(&run);
+    assert!(run.status.success(), "{log}");
+    assert!(
+        log.contains("frame 1: f.1.png exists: skipped (--skip-existing)"),
+        "{log}"
+    );
+    assert!(log.contains("wrote f.2.png"), "{log}");
+    assert_eq!(read(dir.join("f.1.png")), b"kept");
+}

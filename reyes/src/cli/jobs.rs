@@ -289,8 +289,8 @@ fn command_line_inputs(args: &RenderArgs) -> Vec<ReadFile> {
 /// then runs the requests after the last. A frame or request that fails is
 /// reported and stops what follows, unless `--keep-going`; then the run
 /// fails with the list of what failed. A run of one frame and no request
-/// returns its error as it is. Of a TOML sequence, `--skip-existing` skips
-/// the frames whose image exists, a line on stderr announces each frame
+/// returns its error as it is. `--skip-existing` skips the frames whose
+/// image exists; of a TOML sequence, a line on stderr announces each frame
 /// (unless `--quiet`), and a table on stdout sums the run up.
 pub(crate) fn run(args: &RenderArgs, sequence: &SequenceArgs, plan: Plan) -> Result<(), BoxError> {
     let Plan {
@@ -329,7 +329,7 @@ pub(crate) fn run(args: &RenderArgs, sequence: &SequenceArgs, plan: Plan) -> Res
     };
     let no_requests =
         requests_after.is_empty() && jobs.iter().all(|j| j.requests_before.is_empty());
-    if jobs.len() == 1 && no_requests && source.is_none() {
+    if jobs.len() == 1 && no_requests && source.is_none() && !sequence.skip_existing {
         let label = jobs[0].label.clone();
         return scene_of(&mut jobs[0])
             .and_then(|scene| {
@@ -348,19 +348,23 @@ pub(crate) fn run(args: &RenderArgs, sequence: &SequenceArgs, plan: Plan) -> Res
             failures.not_rendered.push(label);
             continue;
         }
-        if let Some(report) = report.as_mut() {
-            let image = jobs[k].outputs.as_ref().map(|o| o.image.as_path());
-            if let Some(image) = image.filter(|i| sequence.skip_existing && i.is_file()) {
-                outln!(
-                    "{label}: {} exists: skipped (--skip-existing)",
-                    image.display()
-                )?;
+        // An image is written whole or not at all: one that exists is a
+        // finished frame.
+        let image = jobs[k].outputs.as_ref().map(|o| o.image.as_path());
+        if let Some(image) = image.filter(|i| sequence.skip_existing && i.is_file()) {
+            outln!(
+                "{label}: {} exists: skipped (--skip-existing)",
+                image.display()
+            )?;
+            if let Some(report) = report.as_mut() {
                 report.skipped(&label);
-                continue;
             }
-            if !args.quiet {
-                errln!("{}", report.start_line(&label))?;
-            }
+            continue;
+        }
+        if let Some(report) = report.as_ref()
+            && !args.quiet
+        {
+            errln!("{}", report.start_line(&label))?;
         }
         // Of a sequence, the first frame's outputs are checked against
         // every later frame's; the later frames read the same files.

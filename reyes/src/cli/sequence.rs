@@ -32,9 +32,10 @@ pub(crate) struct SequenceArgs {
     /// animated scene, else the still scene.
     #[arg(long, value_name = "LIST", value_parser = parse_frames, conflicts_with = "frame")]
     pub(crate) frames: Option<FrameSelection>,
-    /// Skip each frame whose image exists already (images are written
-    /// whole, through a temporary file renamed into place, so an existing
-    /// one is complete): resume an interrupted sequence.
+    /// Skip each frame (of a TOML sequence or a RIB file) whose image
+    /// exists already (images are written whole, through a temporary file
+    /// renamed into place, so an existing one is complete): resume an
+    /// interrupted sequence.
     #[arg(long)]
     pub(crate) skip_existing: bool,
 }

@@ -2,7 +2,8 @@
 //! scheduler. A frame's image is a deterministic function of its scene and
 //! number, so the renderer needs no distribution system of its own: each
 //! of these commands only splits the frames into chunks and says how to
-//! render each with `reyes render --frames ... --skip-existing`.
+//! render each with `reyes render --frames ... --skip-existing
+//! --keep-going`.
 //!
 //! * `reyes farm frames` prints the chunks and their exact commands, as
 //!   text or JSON, for any farm manager;
@@ -174,7 +175,9 @@ impl Sequence {
     }
 
     /// The words of `reyes render` for the frames `frames`, which skips
-    /// the frames rendered already (a chunk run again resumes).
+    /// the frames rendered already (a chunk run again resumes) and
+    /// renders the rest of its frames past one that fails (the command
+    /// still fails, naming it).
     pub(crate) fn render_argv(&self, frames: &str) -> Result<Vec<String>, BoxError> {
         let mut argv = vec![
             text(&self.reyes)?,
@@ -185,6 +188,7 @@ impl Sequence {
             "-o".to_owned(),
             text(&self.output)?,
             "--skip-existing".to_owned(),
+            "--keep-going".to_owned(),
         ];
         argv.extend(self.render_options.iter().cloned());
         Ok(argv)

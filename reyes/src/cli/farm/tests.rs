@@ -56,7 +56,7 @@ fn each_chunk_has_its_exact_render_command() {
     let chunks = sequence.chunks().unwrap();
     assert_eq!(
         chunks[1].command,
-        "/opt/reyes/bin/reyes render /farm/shot.toml --frames 3-4 -o '/farm/my shots/shot.####.png' --skip-existing --spp 16"
+        "/opt/reyes/bin/reyes render /farm/shot.toml --frames 3-4 -o '/farm/my shots/shot.####.png' --skip-existing --keep-going --spp 16"
     );
     assert_eq!(chunks[1].argv[6], "/farm/my shots/shot.####.png");
     let json: serde_json::Value =
@@ -129,7 +129,7 @@ fn status_lists_the_missing_frames_and_how_to_render_them() {
         "{text}"
     );
     let render = format!(
-        "  /opt/reyes/bin/reyes render /farm/shot.toml --frames '3,5' -o '{}' --skip-existing\n",
+        "  /opt/reyes/bin/reyes render /farm/shot.toml --frames '3,5' -o '{}' --skip-existing --keep-going\n",
         dir.join("f.##.png").display()
     );
     assert!(text.contains(&render), "{text}");
