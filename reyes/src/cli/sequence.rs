@@ -63,7 +63,13 @@ pub(crate) fn plan_toml(
     selection: Option<&FrameSelection>,
 ) -> Result<Option<Plan>, BoxError> {
     let in_file = |error: BoxError| labelled(Some(&path.display().to_string()), error);
-    let mut scene = Scene::load(path).map_err(|e| in_file(e.into()))?;
+    let mut scene = match Scene::load(path) {
+        Ok(scene) => scene,
+        // Without --frames, the scene renders (and fails) as a still scene
+        // always has, with the same messages.
+        Err(_) if selection.is_none() => return Ok(None),
+        Err(error) => return Err(in_file(error.into())),
+    };
     if selection.is_none() && !scene.is_animated() {
         return Ok(None);
     }
