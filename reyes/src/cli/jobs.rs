@@ -390,11 +390,7 @@ fn render_job(
             rib_base(rib, label, &sources)?
         }
     };
-    let Prepared {
-        scene,
-        read,
-        world_from_file,
-    } = prepare_base(args, base)?;
+    let Prepared { scene, read } = prepare_base(args, base)?;
     reads.extend(read);
     let mut guard = OutputGuard::new();
     guard.add_inputs(reads.iter().map(|(l, p)| (*l, p)))?;
@@ -407,7 +403,7 @@ fn render_job(
     guard.prepare_dirs()?;
     let outputs = job.outputs.as_ref().expect("checked above");
     let paths = (outputs.image.as_path(), outputs.trace.as_deref());
-    backend.render_and_write(args, &scene, &plan, paths, label, world_from_file)
+    backend.render_and_write(args, &scene, &plan, paths, label)
 }
 
 /// A frame's error, named by the frame.
