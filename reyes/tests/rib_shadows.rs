@@ -278,7 +278,7 @@ fn a_missing_shadow_map_names_the_light_and_path_and_is_unshadowed_with_lenient(
 }
 
 #[test]
-fn make_shadow_after_the_last_frame_runs_and_convert_says_it_is_not_converted() {
+fn make_shadow_after_the_last_frame_runs_and_convert_keeps_the_maps_space() {
     let dir = scene_dir("rib-shadows-after");
     let rib = std::fs::read_to_string(dir.path("shadows.rib")).unwrap();
     // Only the first depth frame, its MakeShadow after it, the last request.
@@ -295,19 +295,55 @@ fn make_shadow_after_the_last_frame_runs_and_convert_says_it_is_not_converted() 
         stderr.contains("MakeShadow is not run (not converted)"),
         "{stderr}"
     );
-    // The beauty frame's shadowed lights keep their maps, with a warning
-    // that the maps are in another space than the TOML scene.
+    // The beauty frame's shadowed lights keep their maps, and the TOML
+    // scene the space they were rendered in (the RIB's world; the scene is
+    // in the frame's camera space): it renders the RIB's picture.
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "shadows.rib"]);
+    assert!(ok, "{stderr}");
     let (ok, _, stderr) = reyes(
         &dir,
         &["convert", "shadows.rib", "--frame", "3", "-o", "b.toml"],
     );
     assert!(ok, "{stderr}");
-    assert!(
-        stderr.contains("shadow maps in the RIB's world space"),
-        "{stderr}"
-    );
+    assert!(!stderr.contains("world space"), "{stderr}");
     let toml = std::fs::read_to_string(dir.path("b.toml")).unwrap();
     assert!(toml.contains("shadow_map = \"spot1.shad\""), "{toml}");
+    assert!(toml.contains("shadow_map_space = ["), "{toml}");
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "b.toml", "-o", "b.png"]);
+    assert!(ok, "{stderr}");
+    let (rib, converted) = (rgb(&dir.path("shadows.png")), rgb(&dir.path("b.png")));
+    let differing = |a: &RgbImage, b: &RgbImage| {
+        let mut count = 0;
+        for y in 0..a.height() {
+            for x in 0..a.width() {
+                count += u32::from(diff(a, b, (x, y)).abs() > 2);
+            }
+        }
+        count
+    };
+    let pixels = rib.width() * rib.height();
+    let apart = differing(&rib, &converted);
+    assert!(
+        apart * 100 <= pixels,
+        "{apart} of {pixels} pixels differ by more than 2/255"
+    );
+    // Without the maps' space the shadows fall elsewhere.
+    let lost: String = toml
+        .lines()
+        .filter(|l| !l.starts_with("shadow_map_space"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(dir.path("lost.toml"), lost).unwrap();
+    let (ok, _, stderr) = reyes(&dir, &["render", "--cpu", "lost.toml", "-o", "lost.png"]);
+    assert!(ok, "{stderr}");
+    let misplaced = differing(&rib, &rgb(&dir.path("lost.png")));
+    eprintln!(
+        "converted: {apart} of {pixels} pixels differ by more than 2/255; without the space {misplaced}"
+    );
+    assert!(
+        misplaced * 20 > pixels,
+        "only {misplaced} of {pixels} pixels move without the space"
+    );
 }
 
 /// The one frame of RIB `world` (requests inside `WorldBegin`), read from
@@ -455,7 +491,10 @@ fn a_frame_maps_the_files_world_into_its_own() {
     // mirrored into the renderer's world.
     let text = "Format 16 16 1\nTranslate -1 0 5\nWorldBegin\nSphere 1 -1 1 360\nWorldEnd\n";
     let rib = reyes::rib::RibScene::from_text(text, "w.rib").unwrap();
-    let to_world = rib.world_from_file;
+    let to_world = rib
+        .scene
+        .shadow_map_space
+        .expect("a RIB frame's maps' space");
     assert_eq!(
         to_world.transform_point3(Vec3::new(1.0, 0.0, 0.0)),
         Vec3::new(0.0, 0.0, 5.0)

@@ -108,18 +108,18 @@ fn shadow_compare_bilinear(map: ShadowMapEntry, texel: vec2<f32>, depth: f32) ->
     return top * (1.0 - fy) + bottom * fy;
 }
 
-// reyes::shadow::ShadowMap::occlusion_at, with the light's filter: the
-// grid's side (ShadowFilter::grid_side, computed on the host, narrowed to
-// the region), width, blur and bias.
-fn shadow_occlusion_at(map: ShadowMapEntry, at: ShadowMapPoint, light: Light) -> f32 {
-    let region = light.shadow_width + light.shadow_blur * f32(max(map.width, map.height));
+// reyes::shadow::ShadowMap::occlusion_at with a filter of `grid_side`
+// lookups per side (ShadowFilter::grid_side, computed on the host, here
+// narrowed to the region) over `region` texels (the filter's width plus
+// its blur times the map's larger side), less `bias`.
+fn shadow_occlusion_at(map: ShadowMapEntry, at: ShadowMapPoint, grid_side: u32, region: f32, bias: f32) -> f32 {
     // reyes::shadow::region_grid_side: one lookup per side more than the
     // texels the region spans, at most the samples' grid.
-    let side = min(light.shadow_side, u32(min(ceil(region) + 1.0, 16.0)));
+    let side = min(grid_side, u32(min(ceil(region) + 1.0, 16.0)));
     // A depth past f32's range compares as the reference's infinities do:
     // +inf as the largest depth (beyond every surface but the empty
     // texels'), -inf and NaN as one no texel lies nearer than.
-    var depth = at.depth - light.shadow_bias;
+    var depth = at.depth - bias;
     if (!is_finite_f32(depth)) {
         let positive = !is_nan_f32(depth) && (bitcast<u32>(depth) & 0x80000000u) == 0u;
         depth = select(-SHADOW_NO_DEPTH, SHADOW_NO_DEPTH, positive);
@@ -143,7 +143,8 @@ fn light_visibility(light: Light, p: vec3<f32>) -> f32 {
         let map = shadow_map_entry(light.shadow_table + k * SHADOW_MAP_FLOATS);
         let at = shadow_locate(map, p);
         if (at.inside) {
-            return 1.0 - shadow_occlusion_at(map, at, light);
+            let region = light.shadow_width + light.shadow_blur * f32(max(map.width, map.height));
+            return 1.0 - shadow_occlusion_at(map, at, light.shadow_side, region, light.shadow_bias);
         }
     }
     return 1.0;

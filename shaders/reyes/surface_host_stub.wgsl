@@ -20,3 +20,7 @@ fn host_texture(index: u32, st: vec2<f32>, axis_a: vec2<f32>, axis_b: vec2<f32>)
 fn host_environment(index: u32, R: vec3<f32>, dRdu: vec3<f32>, dRdv: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(0.0);
 }
+
+fn host_shadow(id: ShadowId, position: vec3<f32>) -> f32 {
+    return 0.0;
+}

@@ -71,15 +71,6 @@ pub(crate) fn convert(args: &ConvertArgs) -> Result<(), BoxError> {
     for warning in &rib.warnings {
         errln!("warning: {warning}")?;
     }
-    // The TOML scene's world is the frame's camera space; the maps are in
-    // the RIB's world space.
-    let shadowed = rib.scene.lights.iter().any(|l| l.shadow.is_some());
-    if shadowed && !rib.world_from_file.abs_diff_eq(glam::Mat4::IDENTITY, 1e-6) {
-        errln!(
-            "warning: {}: the TOML scene is in the frame's camera space (x mirrored) and its lights' shadow maps in the RIB's world space: its shadows fall where the maps put them in the RIB's world, not where the RIB renders them",
-            args.input.display()
-        )?;
-    }
     if let Some(label) = label {
         outln!("converting {label} of {}", args.input.display())?;
     }

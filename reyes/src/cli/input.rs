@@ -30,9 +30,6 @@ pub(crate) struct BaseScene {
     /// models a scene names by path are read later, see
     /// [`Scene::model_files`].)
     pub(crate) read: Vec<ReadFile>,
-    /// Of a RIB frame: the transform from the file's world space, where its
-    /// shadow maps are, to the scene's ([`crate::rib::RibScene::world_from_file`]).
-    pub(crate) world_from_file: Option<glam::Mat4>,
     /// Of a RIB frame: where each light was declared (`scene.rib:12`), for
     /// messages; empty otherwise.
     pub(crate) light_origins: Vec<String>,
@@ -63,7 +60,6 @@ pub(crate) fn base_scene(
             scene: Scene::default_teapot(),
             models: None,
             read: Vec::new(),
-            world_from_file: None,
             light_origins: Vec::new(),
             shutter_applied: false,
         });
@@ -100,7 +96,6 @@ pub(crate) fn base_scene(
                 scene,
                 models: None,
                 read: scene_file(),
-                world_from_file: None,
                 light_origins: Vec::new(),
                 shutter_applied: animated,
             })
@@ -144,7 +139,6 @@ pub(crate) fn base_scene(
                 scene: Scene::for_model(path.to_string_lossy(), &model),
                 models: Some(vec![model]),
                 read: vec![("model", path.to_path_buf())],
-                world_from_file: None,
                 light_origins: Vec::new(),
                 shutter_applied: false,
             })
@@ -185,7 +179,6 @@ pub(crate) fn rib_base(
         scene: rib.scene,
         models: Some(rib.models),
         read,
-        world_from_file: Some(rib.world_from_file),
         light_origins: rib
             .light_origins
             .iter()

@@ -428,7 +428,6 @@ fn render_job(
             read: std::iter::once(("scene", source.path.clone()))
                 .chain(source.model_files.iter().map(|p| ("model", p.clone())))
                 .collect(),
-            world_from_file: None,
             light_origins: Vec::new(),
             shutter_applied: source.animated,
         },
@@ -442,11 +441,7 @@ fn render_job(
             base
         }
     };
-    let Prepared {
-        scene,
-        read,
-        world_from_file,
-    } = prepare_base(args, base)?;
+    let Prepared { scene, read } = prepare_base(args, base)?;
     for file in read {
         // A sequence's frames read the same files: each is recorded once.
         if !reads.contains(&file) {
@@ -464,7 +459,7 @@ fn render_job(
     guard.prepare_dirs()?;
     let outputs = job.outputs.as_ref().expect("checked above");
     let paths = (outputs.image.as_path(), outputs.trace.as_deref());
-    backend.render_and_write(args, &scene, &plan, paths, label, world_from_file)
+    backend.render_and_write(args, &scene, &plan, paths, label)
 }
 
 /// A frame's error, named by the frame.

@@ -19,9 +19,6 @@ pub(crate) struct Prepared {
     /// The scene file, RIB archives, models, height maps and user WGSL
     /// read, for the command's [`crate::output::OutputGuard`].
     pub(crate) read: Vec<ReadFile>,
-    /// Of a RIB frame: the transform from the file's world space to the
-    /// scene's; a depth frame's camera is written relative to the former.
-    pub(crate) world_from_file: Option<glam::Mat4>,
 }
 
 /// Loads the scene (of a RIB file, the first frame `--frame` selects),
@@ -37,7 +34,6 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
         mut scene,
         models: in_memory,
         mut read,
-        world_from_file,
         light_origins,
         shutter_applied,
     } = base;
@@ -75,21 +71,12 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
             }
         }
     }
-    let mut prepared = if args.lenient {
+    let prepared = if args.lenient {
         prepare_without_missing_files(&mut scene, &light_origins, prepared)
     } else {
         prepared(&scene).map_err(BoxError::from)
     }
     .map_err(|e| name_light(e, &light_origins))?;
-    // A RIB frame's maps are in the file's world space: look them up from
-    // the frame's.
-    if let Some(world_from_file) = world_from_file {
-        let file_from_world = world_from_file.inverse();
-        for map in &mut prepared.shadow_maps {
-            map.world_to_camera *= file_from_world;
-            map.world_to_clip *= file_from_world;
-        }
-    }
     // What preparing read: models by path (a RIB's are in memory) and
     // height maps.
     if in_memory.is_none() {
@@ -117,6 +104,13 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
             .map(|s| ("surface shader", s.path.clone())),
     );
     read.extend(
+        prepared
+            .shaders
+            .shadow_files
+            .iter()
+            .map(|(path, _)| (super::requests::SHADOW_MAP_READ, path.clone())),
+    );
+    read.extend(
         (0..prepared.textures.len() as u32)
             .filter_map(|i| prepared.textures.path(crate::texture::TextureId(i)))
             .map(|p| ("texture", p.to_path_buf())),
@@ -124,7 +118,6 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
     Ok(Prepared {
         scene: prepared,
         read,
-        world_from_file,
     })
 }
 

@@ -77,7 +77,6 @@ impl<'g> Backend<'g> {
         outputs: &crate::output::OutputPlan,
         paths: (&Path, Option<&Path>),
         label: Option<&str>,
-        world_from_file: Option<glam::Mat4>,
     ) -> Result<RenderStats, BoxError> {
         let (output, trace) = paths;
         let depth = scene.aov == crate::Aov::Z;
@@ -97,12 +96,12 @@ impl<'g> Backend<'g> {
         // The image and the statistics are renamed into place together, or
         // neither is.
         if depth {
-            // A RIB frame's camera is written relative to the file's world,
-            // which the file's other frames share.
+            // Relative to the maps' space (a RIB frame's: the file's world,
+            // which the file's other frames share).
             let mut map = ShadowMap::from_camera(&scene.camera, crate::depth::depths(&linear));
-            if let Some(world_from_file) = world_from_file {
-                map.world_to_camera *= world_from_file;
-                map.world_to_clip *= world_from_file;
+            if let Some(space) = scene.shadow_map_space {
+                map.world_to_camera *= space;
+                map.world_to_clip *= space;
             }
             outputs.write_depth_map(&map, &stats)?;
         } else {

@@ -9,7 +9,7 @@ pub use super::counters::GpuCounters;
 use super::objects::{ObjectData, ObjectTables};
 use super::lights::light_data;
 pub use super::lights::LightData;
-use super::shadow_maps::{shadow_floats, shadow_map_floats};
+use super::shadow_maps::{shadow_floats, shadow_map_floats, shadow_table_entry};
 use crate::prepare::PreparedScene;
 use crate::sampling::grid_size;
 use crate::uvt::{PixelTuples, UvtLayout};
@@ -484,14 +484,19 @@ impl FrameBuffers {
                 bytemuck::cast_slice(&shadow_map_floats(&scene.shadow_maps, layout.shadow_maps)),
             );
         }
-        let parameters = &scene.shaders.parameters;
+        // A ShadowId finds its map where the maps are placed.
+        let parameters = scene
+            .shaders
+            .gpu_parameters(scene.shadow_maps.len(), |map| {
+                shadow_table_entry(layout.shadow_maps, map)
+            });
         if !parameters.is_empty() {
             // Integer parameters are stored by their bits, which the loads
             // (bitcast from f32) keep: storage loads do not canonicalize.
             queue.write_buffer(
                 &self.height_texels,
                 4 * layout.parameters,
-                bytemuck::cast_slice(parameters),
+                bytemuck::cast_slice(&parameters),
             );
         }
         if scene.samples_time_and_lens() {

@@ -28,7 +28,7 @@ use std::sync::Arc;
 use crate::surface_shader::{SurfaceShader, megakernel_wgsl};
 use super::buffers::{FrameUniform, LightData};
 use super::objects::ObjectData;
-use super::shadow_maps::shadow_wgsl;
+use super::shadow_maps::{shadow_host_wgsl, shadow_wgsl};
 use super::shared_constants::{grid_colors_wgsl, shared_constants};
 use super::variant::KernelVariant;
 use crate::dicing::GridClass;
@@ -61,6 +61,17 @@ const QUAD_WGSL: &str = include_str!("../../../shaders/reyes/quad.wgsl");
 const RASTER5D_WGSL: &str = include_str!("../../../shaders/reyes/raster5d.wgsl");
 /// The textures' host side (`host_texture` and the table accessors).
 const TEXTURE_HOST_WGSL: &str = include_str!("../../../shaders/reyes/library_texture_host.wgsl");
+
+/// `shadow()` of the surface shader interface (`ShadowId` and the
+/// function), compiled in with user shaders only.
+const SURFACE_API_SHADOW_WGSL: &str = include_str!("../../../shaders/reyes/surface_api_shadow.wgsl");
+
+/// `host_shadow` of frames with user shaders but no shadow maps.
+const NO_SHADOW_MAPS_HOST_WGSL: &str = "// No shadow maps: shadow() finds nothing in the way.
+fn host_shadow(id: ShadowId, p: vec3<f32>) -> f32 {
+    return 0.0;
+}
+";
 
 /// `host_texture` and `host_environment` of frames without user shaders,
 /// which alone sample textures.
@@ -178,6 +189,12 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
         graph.library(crate::texture::TEXTURE_WGSL);
         graph.library(TEXTURE_HOST_WGSL);
         graph.library(&crate::noise::noise_wgsl());
+        graph.library(SURFACE_API_SHADOW_WGSL);
+        if variant.shadowed {
+            graph.library(&shadow_host_wgsl());
+        } else {
+            graph.library(NO_SHADOW_MAPS_HOST_WGSL);
+        }
     }
     graph.library(&megakernel_wgsl(user.surfaces));
     // Declaration order = binding order in group 1 (see `buffers.rs`).

@@ -21,6 +21,9 @@ pub const SHADOW_NO_DEPTH: f32 = f32::MAX;
 /// The shadow lookup (its constants are prepended by [`shadow_wgsl`]).
 const SHADOW_WGSL: &str = include_str!("../../../shaders/reyes/library_shadow.wgsl");
 
+/// `host_shadow`: the user shaders' `shadow()` on the same lookup.
+const SHADOW_HOST_WGSL: &str = include_str!("../../../shaders/reyes/library_shadow_host.wgsl");
+
 /// `light_visibility` of frames without shadows.
 const NO_SHADOWS_WGSL: &str = "// No light has a shadow: every light reaches every point.
 fn light_visibility(light: Light, p: vec3<f32>) -> f32 {
@@ -38,6 +41,15 @@ pub fn shadow_wgsl(shadowed: bool) -> String {
     } else {
         NO_SHADOWS_WGSL.to_owned()
     }
+}
+
+/// The user shaders' `host_shadow` on the frame's maps (after
+/// [`shadow_wgsl`]`(true)`), with the `NO_SHADOW` it tests for.
+pub fn shadow_host_wgsl() -> String {
+    format!(
+        "// reyes::surface_shader::NO_SHADOW.\nconst NO_SHADOW: u32 = {}u;\n{SHADOW_HOST_WGSL}",
+        crate::surface_shader::NO_SHADOW
+    )
 }
 
 /// Floats of `scene`'s shadow maps: the table and the depths.

@@ -16,10 +16,10 @@
 //!   second atomic per sample that every other frame must not pay for; it
 //!   is no constant but a choice of the depth test's file and of the
 //!   framebuffer's type (`reyes::gpu::graph::reyes_graph_with`);
-//! - shadow maps, which only frames with a shadowed light look up: no
-//!   constant either but a choice of library, the lookup
-//!   (`shaders/reyes/library_shadow.wgsl`) or a stub that lets all light
-//!   through.
+//! - shadow maps, which only frames with a shadowed light or a user
+//!   shader's `ShadowId` look up: no constant either but a choice of
+//!   library, the lookup (`shaders/reyes/library_shadow.wgsl`, and the
+//!   user shaders' `host_shadow`) or stubs that let all light through.
 //!
 //! The sampling mode, the dicer and the AOV stay run-time switches in the
 //! frame uniform: their code is small, and a frame's mode can change (as in
@@ -47,7 +47,10 @@ pub struct KernelVariant {
     /// ([`PreparedScene::keeps_second_depth`]).
     pub second_depth: bool,
     /// Some light has shadow maps
-    /// ([`crate::shading::PreparedLight::shadow`]): the shadow lookup.
+    /// ([`crate::shading::PreparedLight::shadow`]), or a user shader's
+    /// `ShadowId` parameter names one
+    /// ([`crate::surface_shader::ShaderTable::looks_up_shadow_maps`]): the
+    /// shadow lookup.
     pub shadowed: bool,
 }
 
@@ -90,7 +93,7 @@ impl KernelVariant {
             shadowed: scene.lights.iter().any(|l| {
                 l.shadow
                     .is_some_and(|s| !s.maps(&scene.shadow_maps).is_empty())
-            }),
+            }) || scene.shaders.looks_up_shadow_maps(&scene.shadow_maps),
         }
     }
 

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::{Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
 use crate::aov::Aov;
 use crate::camera::Camera;
@@ -155,8 +155,13 @@ pub struct PreparedScene {
     pub objects: Vec<PreparedObject>,
     /// The lights that illuminate (distant, point and spot lights).
     pub lights: Vec<PreparedLight>,
-    /// The shadow maps the lights look up ([`PreparedLight::shadow`]).
+    /// The shadow maps the lights look up ([`PreparedLight::shadow`]) and
+    /// the user shaders' `ShadowId`s name, in the scene's world.
     pub shadow_maps: Vec<ShadowMap>,
+    /// The space the scene's map files were rendered in
+    /// ([`Scene::shadow_map_space`]): a depth frame's map is written
+    /// relative to it.
+    pub shadow_map_space: Option<Mat4>,
     /// The shadows still to render from their lights before the frame
     /// (`shadows = true`); their lights have no
     /// [`PreparedLight::shadow`] until then.
@@ -291,6 +296,8 @@ impl PreparedScene {
                 interpolate_view(camera.view, at_close.view, scene.shutter),
             )
         });
+        // The lights first: user shaders' shadow maps follow the lights'.
+        let mut lights = lights::prepare_lights(scene)?;
         let mut prepared_objects = Vec::with_capacity(scene.objects.len());
         let mut shaders = ShaderTable::default();
         let mut textures = TextureSet::default();
@@ -309,6 +316,7 @@ impl PreparedScene {
                                 ShaderKind::Displacement,
                                 values,
                                 &mut textures,
+                                &mut lights.shadow_maps,
                                 scene.base_dir.as_deref(),
                             )
                             .map_err(|source| DisplacementError::Shader {
@@ -358,6 +366,7 @@ impl PreparedScene {
                         ShaderKind::Surface,
                         values,
                         &mut textures,
+                        &mut lights.shadow_maps,
                         scene.base_dir.as_deref(),
                     )
                     .map_err(|source| SceneError::SurfaceShader {
@@ -381,8 +390,15 @@ impl PreparedScene {
                 placement: placements[index],
             });
         }
+        // The maps read from files are in the space they were rendered in.
+        if let Some(space) = scene.shadow_map_space {
+            let into_scene = space.inverse();
+            for map in &mut lights.shadow_maps {
+                map.world_to_camera *= into_scene;
+                map.world_to_clip *= into_scene;
+            }
+        }
         let lens = PreparedLens::new(&camera, scene.lens.aperture, scene.lens.focus_distance);
-        let lights = lights::prepare_lights(scene)?;
         Ok(PreparedScene {
             lens,
             camera,
@@ -393,6 +409,7 @@ impl PreparedScene {
             lights: lights.lights,
             ambient: lights.ambient,
             shadow_maps: lights.shadow_maps,
+            shadow_map_space: scene.shadow_map_space,
             pending_shadows: lights.pending_shadows,
             spp: scene.spp,
             sampling_seed: scene.sampling_seed,

@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3, Vec4};
 use crate::camera::{HomogeneousEye, towards_eye};
 use crate::prepare::{PreparedLight, PreparedObject, PreparedScene, PreparedSurface};
 use crate::shading::{pow_nonneg, specular_exponent};
-use crate::surface_shader::{ShadingContext, ShadingHost};
+use crate::surface_shader::{ShadingContext, ShadingHost, ShadowSlot};
 use crate::shadow::{LightShadowMaps, ShadowMap};
 use crate::texture::{TextureId, TextureSet};
 
@@ -108,6 +108,10 @@ impl ShadingHost for Lighting<'_> {
         self.textures.map_or(Vec4::ZERO, |set| {
             set.environment(TextureId(index), r, dr_du, dr_dv)
         })
+    }
+
+    fn shadow(&self, id: [f32; 4], p: Vec3) -> f32 {
+        ShadowSlot::from_slot(id).occlusion(self.shadow_maps, p)
     }
 
     fn light_count(&self) -> u32 {

@@ -331,18 +331,18 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
             ),
         });
     }
+    // Shadow maps are kept in the file's world space, which every frame
+    // shares; the scene is in this frame's camera space, x mirrored.
+    scene.shadow_map_space = Some(
+        (super::interp::camera_to_world() * interp.camera.unwrap_or(DMat4::IDENTITY)).as_mat4(),
+    );
     scene.validate().map_err(|source| RibError::Scene {
         file: file.to_path_buf(),
         source: Box::new(source),
     })?;
-    // The file's world space to the scene's (this frame's camera space,
-    // x mirrored), for shadow maps, which are kept in the former.
-    let world_from_file =
-        (super::interp::camera_to_world() * interp.camera.unwrap_or(DMat4::IDENTITY)).as_mat4();
     Ok(RibScene {
         scene,
         models,
-        world_from_file,
         light_origins: lights.iter().map(|l| (l.file.clone(), l.line)).collect(),
         display: interp.opts.display.clone(),
         warnings,

@@ -173,13 +173,6 @@ pub struct RibScene {
     pub display: Option<String>,
     /// What was ignored or approximated.
     pub warnings: Vec<Warning>,
-    /// The transform from the file's world space (RenderMan's world space,
-    /// as the requests after `WorldBegin` place things in it) to the
-    /// scene's world space (the frame's camera space, x mirrored). Shadow
-    /// maps are kept in the file's world space, which every frame shares:
-    /// `reyes render` writes a depth frame's camera relative to it, and
-    /// moves the maps a frame reads from it into the scene's world.
-    pub world_from_file: glam::Mat4,
     /// Where each of the scene's lights was declared (`scene.lights[i]`'s
     /// `LightSource` file and line), for messages.
     pub light_origins: Vec<(PathBuf, usize)>,
@@ -311,6 +304,10 @@ impl RibScene {
                 models.push((i, path, file));
             }
             object.model = name;
+        }
+        // The maps' space matters only to a scene that reads or writes maps.
+        if !scene.may_use_shadow_map_files() {
+            scene.shadow_map_space = None;
         }
         guard.prepare_dirs()?;
         let mut staged = StagedFiles::new();

@@ -153,6 +153,16 @@ pub struct Scene {
     /// The lights (default: one [`Light::default`]; write `lights = []` for none).
     #[serde(default = "default_lights")]
     pub lights: Vec<Light>,
+    /// The space the scene's shadow map files were rendered in: the matrix
+    /// from it to this scene's world (default: the scene's world itself).
+    /// 16 numbers in RenderMan's `ConcatTransform` order (glam's
+    /// column-major). A RIB frame's maps are in the file's world space, its
+    /// scene in the frame's camera space: [`crate::rib`] sets the matrix
+    /// between them, and `reyes convert` writes it. The maps the lights
+    /// and shaders read are moved by it into the scene's world, and a depth
+    /// frame's map is written relative to it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shadow_map_space: Option<glam::Mat4>,
     /// The animation's frame rate, default interpolation and camera keys
     /// (default none; objects carry their own keys). See
     /// [`Scene::frame`].
@@ -200,6 +210,7 @@ impl Default for Scene {
             specular: Specular::default(),
             objects: Vec::new(),
             lights: default_lights(),
+            shadow_map_space: None,
             animation: None,
             sampling_seed: 0,
             base_dir: None,
@@ -208,6 +219,22 @@ impl Default for Scene {
 }
 
 impl Scene {
+    /// Whether the scene may read or write shadow map files, so that
+    /// [`Scene::shadow_map_space`] matters: a light reads maps, the frame
+    /// writes depth (`aov = "z"`), or a WGSL shader may take a `ShadowId`.
+    pub fn may_use_shadow_map_files(&self) -> bool {
+        self.aov == Aov::Z
+            || self.lights.iter().any(|l| {
+                l.shadow
+                    .as_ref()
+                    .is_some_and(|s| matches!(s.maps, super::ShadowMaps::Files(_)))
+            })
+            || self.objects.iter().any(|o| {
+                matches!(o.surface, Some(super::Surface::Wgsl { .. }))
+                    || o.displacement.as_ref().is_some_and(|d| d.file.is_some())
+            })
+    }
+
     /// The default scene: the embedded teapot, 800 x 600, spp 4, framed from
     /// the front, a little to the right of the spout and above.
     pub fn default_teapot() -> Scene {

@@ -111,3 +111,44 @@ fn a_moved_camera_pans_about_its_up_axis() {
         );
     }
 }
+
+/// `shadow_map_space` is 16 numbers in `ConcatTransform` order, survives a
+/// round trip through TOML, and must be finite and invertible.
+#[test]
+fn the_shadow_maps_space_reads_round_trips_and_is_checked() {
+    let scene = Scene::from_toml_str(
+        "lights = []\nshadow_map_space = [-1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  2, 3, 4, 1]",
+    )
+    .unwrap();
+    let space = scene.shadow_map_space.expect("given");
+    assert_eq!(
+        space.transform_point3(Vec3::new(1.0, 0.0, 0.0)),
+        Vec3::new(1.0, 3.0, 4.0),
+        "x mirrored, then moved by the last column"
+    );
+    let again = Scene::from_toml_str(&scene.to_toml_string()).unwrap();
+    assert_eq!(again.shadow_map_space, Some(space));
+    assert!(
+        !Scene::default()
+            .to_toml_string()
+            .contains("shadow_map_space")
+    );
+    for (numbers, expected) in [
+        (
+            "nan, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 0, 1",
+            "finite",
+        ),
+        (
+            "1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 0, 0,  0, 0, 0, 1",
+            "invertible",
+        ),
+    ] {
+        let error = Scene::from_toml_str(&format!("lights = []\nshadow_map_space = [{numbers}]"))
+            .expect_err("refused");
+        let message = error.to_string();
+        assert!(
+            message.contains("shadow_map_space") && message.contains(expected),
+            "{message}"
+        );
+    }
+}

@@ -55,6 +55,24 @@ impl Scene {
         for (i, light) in self.lights.iter().enumerate() {
             check_light(i, light)?;
         }
+        self.check_shadow_map_space()?;
+        Ok(())
+    }
+
+    /// `shadow_map_space`: finite and invertible, as moving the maps needs
+    /// its inverse.
+    fn check_shadow_map_space(&self) -> Result<(), SceneError> {
+        let Some(space) = self.shadow_map_space else {
+            return Ok(());
+        };
+        finite("shadow_map_space", space.to_cols_array())?;
+        let inverse = space.inverse();
+        if space.determinant() == 0.0 || !inverse.is_finite() {
+            return Err(invalid(
+                "shadow_map_space",
+                "must be invertible (the maps' space is moved into the scene's by its inverse)",
+            ));
+        }
         Ok(())
     }
 

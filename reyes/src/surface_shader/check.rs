@@ -5,7 +5,7 @@
 
 use naga::{Expression, Handle, Literal, Module, Scalar, ScalarKind, TypeInner, VectorSize};
 
-use super::{ParameterKind, ShaderKind, ShaderParameter, SurfaceShaderError};
+use super::{ParameterKind, ShaderKind, ShaderParameter, ShadowSlot, SurfaceShaderError};
 use crate::params::MAX_SPECULAR_EXPONENT;
 use crate::user_wgsl::{self, UserWgslError};
 
@@ -25,10 +25,11 @@ pub const NO_TEXTURE: u32 = u32::MAX;
 /// a user shader may use besides WGSL's built-ins.
 pub fn interface_wgsl() -> String {
     format!(
-        "\n// ---- the surface shader interface\nconst MAX_SPECULAR_EXPONENT: f32 = {MAX_SPECULAR_EXPONENT:?};\n{}{}{}{}",
+        "\n// ---- the surface shader interface\nconst MAX_SPECULAR_EXPONENT: f32 = {MAX_SPECULAR_EXPONENT:?};\n{}{}{}{}{}",
         include_str!("../../../shaders/reyes/library_math.wgsl"),
         crate::noise::noise_wgsl(),
         include_str!("../../../shaders/reyes/surface_api.wgsl"),
+        include_str!("../../../shaders/reyes/surface_api_shadow.wgsl"),
         include_str!("../../../shaders/reyes/surface_host_stub.wgsl"),
     )
 }
@@ -145,9 +146,10 @@ fn reflect(
             })?;
         // A texture the scene does not give reads nothing: an id past
         // every texture reads (0, 0, 0, 0), where id 0 would be another
-        // parameter's texture.
+        // parameter's texture. Likewise a shadow map: no map, no shadow.
         let default = match kind {
             ParameterKind::Texture => [f32::from_bits(NO_TEXTURE), 0.0, 0.0, 0.0],
+            ParameterKind::Shadow => ShadowSlot::NONE.to_slot(),
             _ => [0.0; 4],
         };
         out.push(ShaderParameter {
@@ -171,7 +173,11 @@ fn reflect(
         };
         for (parameter, &component) in out.iter_mut().zip(components) {
             let value = slot_value(module, component).ok_or_else(not_literal)?;
-            if parameter.kind != ParameterKind::Texture {
+            // A file comes from the scene alone.
+            if !matches!(
+                parameter.kind,
+                ParameterKind::Texture | ParameterKind::Shadow
+            ) {
                 parameter.default = value;
             }
         }
@@ -198,6 +204,9 @@ fn parameter_kind(module: &Module, ty: Handle<naga::Type>) -> Option<ParameterKi
         }) => Some(ParameterKind::Bool),
         TypeInner::Struct { .. } if module.types[ty].name.as_deref() == Some("TextureId") => {
             Some(ParameterKind::Texture)
+        }
+        TypeInner::Struct { .. } if module.types[ty].name.as_deref() == Some("ShadowId") => {
+            Some(ParameterKind::Shadow)
         }
         TypeInner::Vector { size, scalar } if scalar == float => Some(match size {
             VectorSize::Bi => ParameterKind::Vec2,

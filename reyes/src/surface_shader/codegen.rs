@@ -29,6 +29,9 @@ fn load_expression(kind: ParameterKind, slot: usize) -> String {
         ParameterKind::Vec3 => format!("{word}.xyz"),
         ParameterKind::Vec4 => word,
         ParameterKind::Texture => format!("TextureId(bitcast<u32>({word}.x))"),
+        ParameterKind::Shadow => {
+            format!("ShadowId(bitcast<u32>({word}.x), bitcast<u32>({word}.y), {word}.z, {word}.w)")
+        }
     }
 }
 

@@ -98,6 +98,12 @@ pub trait ShadingHost {
         self.environment_footprint(index, r, Vec3::ZERO, Vec3::ZERO)
     }
 
+    /// `shadow(id, P)`: the occluded fraction of the filter region around
+    /// `p` in the shadow map of the `ShadowId` parameter whose slot is
+    /// `id` (as the twin is given it), 0 lit, 1 in shadow
+    /// ([`super::ShadowSlot::occlusion`]).
+    fn shadow(&self, id: [f32; 4], p: Vec3) -> f32;
+
     /// `illuminance(i, P, axis, angle)`: light `i`'s `(L, Cl)`, with `Cl`
     /// zero unless `L` lies within `angle` radians of `axis`.
     fn illuminance(&self, i: u32, p: Vec3, axis: Vec3, angle: f32) -> (Vec3, Vec3) {

@@ -23,6 +23,7 @@ mod check;
 mod codegen;
 mod cpu;
 mod rename;
+mod shadow_param;
 mod table;
 mod values;
 
@@ -36,6 +37,7 @@ pub use cpu::{
     CpuDisplacement, CpuDisplacementFn, CpuSurface, CpuSurfaceFn, ShadingContext, ShadingHost,
     SurfaceOutput,
 };
+pub use shadow_param::{NO_SHADOW, ShadowDesc, ShadowSlot};
 pub use table::{ShaderRef, ShaderTable};
 pub use values::{ParameterWarning, pack_parameters};
 
@@ -88,6 +90,8 @@ pub enum ParameterKind {
     Vec4,
     /// `TextureId`: the scene gives the texture's file.
     Texture,
+    /// `ShadowId`: the scene gives a shadow map's file and its filter.
+    Shadow,
 }
 
 impl ParameterKind {
@@ -102,6 +106,7 @@ impl ParameterKind {
             ParameterKind::Vec3 => "vec3<f32>",
             ParameterKind::Vec4 => "vec4<f32>",
             ParameterKind::Texture => "TextureId",
+            ParameterKind::Shadow => "ShadowId",
         }
     }
 }
@@ -238,7 +243,7 @@ pub enum SurfaceShaderError {
     },
     /// A parameter of a type parameters cannot have.
     #[error(
-        "line {line}: parameter `{name}` must be f32, i32, u32, bool, vec2<f32>, vec3<f32>, vec4<f32> or TextureId"
+        "line {line}: parameter `{name}` must be f32, i32, u32, bool, vec2<f32>, vec3<f32>, vec4<f32>, TextureId or ShadowId"
     )]
     ParameterType {
         /// The field.
@@ -263,6 +268,25 @@ pub enum SurfaceShaderError {
         #[source]
         source: crate::texture::TextureError,
     },
+    /// A shadow map parameter's file cannot be used.
+    #[error("parameter `{name}`: shadow map {}: {source}", path.display())]
+    Shadow {
+        /// The parameter.
+        name: String,
+        /// The map's file.
+        path: PathBuf,
+        /// Why (boxed: the error is large, and rare).
+        #[source]
+        source: Box<crate::shadow::ShadowFileError>,
+    },
+    /// A shadow map parameter's filter cannot be used.
+    #[error("parameter `{name}`: {problem}")]
+    ShadowFilter {
+        /// The parameter.
+        name: String,
+        /// What is wrong with it.
+        problem: String,
+    },
     /// A scene value that does not fit its parameter.
     #[error("parameter `{name}` is {expected}, but the scene gives {given}")]
     Value {
@@ -277,9 +301,10 @@ pub enum SurfaceShaderError {
 
 /// A value for a user shader's parameter: a boolean, a number (`f32`,
 /// `i32`, `u32`), an array of 2 to 4 numbers (`vecN<f32>`), a string (a
-/// `TextureId`'s file), or a texture table for a `TextureId`
-/// (`{ path = "wood.png", color_space = "linear", wrap_s = "clamp",
-/// wrap_t = "clamp" }`).
+/// `TextureId`'s or a `ShadowId`'s file), a texture table for a
+/// `TextureId` (`{ path = "wood.png", color_space = "linear", wrap_s =
+/// "clamp", wrap_t = "clamp" }`), or a shadow table for a `ShadowId`
+/// (`{ path = "key.shad", blur = 0.01, bias = 0.05 }`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum ShaderValue {
@@ -291,8 +316,11 @@ pub enum ShaderValue {
     Numbers(Vec<f64>),
     /// A string.
     Text(String),
-    /// A texture with its colour space and wrap modes.
+    /// A texture with its colour space and wrap modes (also a shadow map
+    /// given as `{ path = ... }` alone).
     Texture(crate::texture::TextureDesc),
+    /// A shadow map with its filter.
+    Shadow(ShadowDesc),
 }
 
 #[cfg(test)]

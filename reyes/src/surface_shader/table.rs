@@ -1,12 +1,14 @@
 //! The user shaders of a frame and their objects' parameter blocks.
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::{
-    ParameterWarning, ShaderKind, ShaderValue, SurfaceShader, SurfaceShaderError, pack_parameters,
+    ParameterKind, ParameterWarning, ShaderKind, ShaderValue, ShadowSlot, SurfaceShader,
+    SurfaceShaderError, pack_parameters,
 };
+use crate::shadow::{ShadowMap, read_shadow_map};
 use crate::texture::{TextureDesc, TextureSet};
 
 /// The distinct user shaders of a frame, surface and displacement (shader
@@ -20,6 +22,13 @@ pub struct ShaderTable {
     pub shaders: Vec<Arc<SurfaceShader>>,
     /// The parameter blocks.
     pub parameters: Vec<[f32; 4]>,
+    /// The slots (in [`ShaderTable::parameters`]) of the `ShadowId`
+    /// parameters ([`ShadowSlot`]), whose map the GPU finds where the
+    /// renderer places the frame's maps.
+    pub shadow_slots: Vec<u32>,
+    /// The shadow map files the parameters name, each read once, with the
+    /// map's index in the frame's shadow maps.
+    pub shadow_files: Vec<(PathBuf, u32)>,
 }
 
 /// Where an object's shader and parameters are in a [`ShaderTable`].
@@ -37,13 +46,15 @@ impl ShaderTable {
     /// object uses it. Names the shader does not declare come back as
     /// warnings.
     /// Texture parameters' files (relative to `base_dir`, if given) are
-    /// added to `textures`.
+    /// added to `textures`; shadow map parameters' files are read (once
+    /// each) into `shadow_maps`, the frame's maps.
     pub fn add(
         &mut self,
         path: &Path,
         kind: ShaderKind,
         values: &BTreeMap<String, ShaderValue>,
         textures: &mut TextureSet,
+        shadow_maps: &mut Vec<ShadowMap>,
         base_dir: Option<&Path>,
     ) -> Result<(ShaderRef, Vec<ParameterWarning>), SurfaceShaderError> {
         let index = match self.shaders.iter().position(|s| s.path == path) {
@@ -64,28 +75,90 @@ impl ShaderTable {
                 found,
             });
         }
-        let (slots, warnings) = pack_parameters(&self.shaders[index], values, |name, desc| {
-            let path = match base_dir {
-                Some(dir) if desc.path.is_relative() => dir.join(&desc.path),
-                _ => desc.path.clone(),
-            };
-            textures
-                .add(&TextureDesc {
-                    path,
-                    ..desc.clone()
-                })
-                .map(|id| id.0)
-                .map_err(|source| SurfaceShaderError::Texture {
-                    name: name.to_owned(),
-                    source,
-                })
-        })?;
+        let in_scene = |file: &Path| match base_dir {
+            Some(dir) if file.is_relative() => dir.join(file),
+            _ => file.to_path_buf(),
+        };
+        let shadow_files = &mut self.shadow_files;
+        let (slots, warnings) = pack_parameters(
+            &self.shaders[index],
+            values,
+            |name, desc| {
+                textures
+                    .add(&TextureDesc {
+                        path: in_scene(&desc.path),
+                        ..desc.clone()
+                    })
+                    .map(|id| id.0)
+                    .map_err(|source| SurfaceShaderError::Texture {
+                        name: name.to_owned(),
+                        source,
+                    })
+            },
+            |name, desc| {
+                let path = in_scene(&desc.path);
+                let map = match shadow_files.iter().find(|(file, _)| *file == path) {
+                    Some(&(_, map)) => map,
+                    None => {
+                        let read = read_shadow_map(&path).map_err(|source| {
+                            SurfaceShaderError::Shadow {
+                                name: name.to_owned(),
+                                path: path.clone(),
+                                source: Box::new(source),
+                            }
+                        })?;
+                        shadow_maps.push(read);
+                        let map = shadow_maps.len() as u32 - 1;
+                        shadow_files.push((path, map));
+                        map
+                    }
+                };
+                Ok(ShadowSlot::new(map, &shadow_maps[map as usize], &desc.filter()).to_slot())
+            },
+        )?;
         let reference = ShaderRef {
             shader: index as u32,
             parameters: self.parameters.len() as u32,
         };
+        let first = self.parameters.len() as u32;
+        self.shadow_slots.extend(
+            self.shaders[index]
+                .parameters
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.kind == ParameterKind::Shadow)
+                .map(|(slot, _)| first + slot as u32),
+        );
         self.parameters.extend(slots);
         Ok((reference, warnings))
+    }
+
+    /// Whether some `ShadowId` parameter names one of `maps` (the frame's
+    /// shadow maps): the frame then compiles the lookup in.
+    pub fn looks_up_shadow_maps(&self, maps: &[ShadowMap]) -> bool {
+        self.shadow_slots.iter().any(|&slot| {
+            let map = ShadowSlot::from_slot(self.parameters[slot as usize]).map;
+            (map as usize) < maps.len()
+        })
+    }
+
+    /// [`ShaderTable::parameters`] as the GPU reads them: each `ShadowId`'s
+    /// map index `k` replaced by `entry(k)`, where the GPU finds the map's
+    /// table entry, for the `map_count` maps of the frame (and by
+    /// [`super::NO_SHADOW`] past them: `shadow()` then returns 0, as on the
+    /// CPU).
+    pub fn gpu_parameters(&self, map_count: usize, entry: impl Fn(u32) -> u32) -> Vec<[f32; 4]> {
+        let mut parameters = self.parameters.clone();
+        for &slot in &self.shadow_slots {
+            let mut shadow = ShadowSlot::from_slot(parameters[slot as usize]);
+            shadow.map = if (shadow.map as usize) < map_count {
+                entry(shadow.map)
+            } else {
+                super::NO_SHADOW
+            };
+            parameters[slot as usize] = shadow.to_slot();
+        }
+        parameters
     }
 
     /// The parameter slots of `shader` in the block that starts at slot

@@ -64,13 +64,17 @@ fn the_entry_function_says_what_a_shader_is() {
 #[test]
 fn a_texture_parameter_left_out_reads_nothing() {
     let swell = shader(SWELL).unwrap();
-    let (slots, _) = pack_parameters(&swell, &BTreeMap::new(), no_textures).unwrap();
+    let (slots, _) = pack_parameters(&swell, &BTreeMap::new(), no_textures, no_shadows).unwrap();
     assert_eq!(slots[1][0].to_bits(), NO_TEXTURE);
     assert_eq!(slots[0][0], 0.1);
 }
 
 fn no_textures(_: &str, _: &crate::texture::TextureDesc) -> Result<u32, SurfaceShaderError> {
     panic!("no texture parameter here")
+}
+
+fn no_shadows(_: &str, _: &ShadowDesc) -> Result<[f32; 4], SurfaceShaderError> {
+    panic!("no shadow map parameter here")
 }
 
 fn shader(source: &str) -> Result<SurfaceShader, SurfaceShaderError> {
@@ -111,7 +115,7 @@ fn scene_values_replace_defaults_and_unknown_names_warn() {
         ("octaves".to_owned(), ShaderValue::Number(7.0)),
         ("veinz".to_owned(), ShaderValue::Number(1.0)),
     ]);
-    let (slots, warnings) = pack_parameters(&shader, &given, no_textures).unwrap();
+    let (slots, warnings) = pack_parameters(&shader, &given, no_textures, no_shadows).unwrap();
     assert_eq!(slots[0][0], 0.25);
     assert_eq!(slots[1], [0.2, 0.1, 0.05, 0.0], "the default stays");
     assert_eq!(slots[2][0].to_bits(), 7);
@@ -130,8 +134,8 @@ fn scene_values_replace_defaults_and_unknown_names_warn() {
         ("Kd", ShaderValue::Number(1e300)),
     ] {
         let given = BTreeMap::from([(name.to_owned(), value.clone())]);
-        let error =
-            pack_parameters(&shader, &given, no_textures).expect_err("a value that does not fit");
+        let error = pack_parameters(&shader, &given, no_textures, no_shadows)
+            .expect_err("a value that does not fit");
         assert!(
             error.to_string().contains(name),
             "{name} {value:?}: {error}"
@@ -234,7 +238,7 @@ fn several_shaders_live_side_by_side_in_one_module() {
         include_str!("../../../shaders/reyes/library_math.wgsl"),
         include_str!("../../../shaders/reyes/surface_api.wgsl"),
         include_str!("../../../shaders/reyes/surface_host_stub.wgsl"),
-        "",
+        include_str!("../../../shaders/reyes/surface_api_shadow.wgsl"),
     );
     let parsed = naga::front::wgsl::parse_str(&module)
         .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&module)));
@@ -264,10 +268,15 @@ fn a_texture_parameter_takes_a_file_or_a_table() {
     )
     .expect("the table parses");
     let mut seen = Vec::new();
-    let (slots, _) = pack_parameters(&shader, &given, |_, desc: &TextureDesc| {
-        seen.push(desc.clone());
-        Ok(7)
-    })
+    let (slots, _) = pack_parameters(
+        &shader,
+        &given,
+        |_, desc: &TextureDesc| {
+            seen.push(desc.clone());
+            Ok(7)
+        },
+        no_shadows,
+    )
     .unwrap();
     assert_eq!(slots[0][0].to_bits(), 7, "the texture's index");
     assert_eq!(
@@ -281,14 +290,20 @@ fn a_texture_parameter_takes_a_file_or_a_table() {
     );
     let plain: BTreeMap<String, ShaderValue> = toml::from_str("map = \"wood.png\"").unwrap();
     seen.clear();
-    pack_parameters(&shader, &plain, |_, desc: &TextureDesc| {
-        seen.push(desc.clone());
-        Ok(0)
-    })
+    pack_parameters(
+        &shader,
+        &plain,
+        |_, desc: &TextureDesc| {
+            seen.push(desc.clone());
+            Ok(0)
+        },
+        no_shadows,
+    )
     .unwrap();
     assert_eq!(seen, [TextureDesc::new("wood.png")]);
     let wrong: BTreeMap<String, ShaderValue> = toml::from_str("map = 3.0").unwrap();
-    let error = pack_parameters(&shader, &wrong, |_, _: &TextureDesc| Ok(0)).expect_err("a number");
+    let error = pack_parameters(&shader, &wrong, |_, _: &TextureDesc| Ok(0), no_shadows)
+        .expect_err("a number");
     assert!(error.to_string().contains("map"), "{error}");
 }
 
@@ -312,4 +327,196 @@ fn a_surface_shader_past_the_memory_limit_is_refused() {
         other => panic!("{other:?}"),
     }
     shader("").expect("a plain shader passes: the interface is not counted");
+}
+
+const SHADOWED: &str = "struct Parameters { key: ShadowId, fill: ShadowId, Kd: f32 }
+fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput {
+    let lit = (1.0 - shadow(params.key, ctx.P)) * (1.0 - 0.5 * shadow(params.fill, ctx.P));
+    return SurfaceOutput(ctx.Cs * lit * params.Kd, ctx.Os);
+}";
+
+/// A 4 x 2 map looking down -z from the origin, every texel at depth 2.
+fn small_map() -> crate::shadow::ShadowMap {
+    crate::shadow::ShadowMap {
+        width: 4,
+        height: 2,
+        depths: vec![2.0; 8],
+        world_to_camera: glam::Mat4::IDENTITY,
+        world_to_clip: glam::Mat4::orthographic_rh(-1.0, 1.0, -1.0, 1.0, 0.1, 10.0),
+    }
+}
+
+fn write_map(dir: &Path, name: &str) -> std::path::PathBuf {
+    let path = dir.join(name);
+    let bytes = crate::shadow::file::encode(&small_map(), "shadow").unwrap();
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// A `ShadowId` parameter takes a file or a shadow table; its slot holds
+/// the map, the lookup grid's side, the region (width plus blur times the
+/// map's larger side) and the bias. One left out names no map.
+#[test]
+fn a_shadow_parameter_packs_its_map_and_filter() {
+    let shader = shader(SHADOWED).unwrap();
+    let kinds: Vec<_> = shader.parameters.iter().map(|p| p.kind).collect();
+    assert_eq!(
+        kinds,
+        [
+            ParameterKind::Shadow,
+            ParameterKind::Shadow,
+            ParameterKind::Float
+        ]
+    );
+    assert_eq!(
+        ShadowSlot::from_slot(shader.parameters[0].default),
+        ShadowSlot::NONE
+    );
+    let given: BTreeMap<String, ShaderValue> = toml::from_str(
+        "key = { path = \"key.shad\", samples = 9, filter_width = 2, blur = 0.25, bias = 0.5 }\nKd = 1",
+    )
+    .expect("the table parses");
+    let mut seen = Vec::new();
+    let map = small_map();
+    let (slots, _) = pack_parameters(&shader, &given, no_textures, |name, desc| {
+        seen.push((name.to_owned(), desc.clone()));
+        Ok(ShadowSlot::new(3, &map, &desc.filter()).to_slot())
+    })
+    .unwrap();
+    assert_eq!(seen.len(), 1);
+    assert_eq!(seen[0].0, "key");
+    let key = ShadowSlot::from_slot(slots[0]);
+    assert_eq!(
+        key,
+        ShadowSlot {
+            map: 3,
+            side: 3,
+            region: 2.0 + 0.25 * 4.0,
+            bias: 0.5
+        }
+    );
+    assert_eq!(
+        ShadowSlot::from_slot(slots[1]).map,
+        NO_SHADOW,
+        "fill is left out"
+    );
+    // A bare file, and a table of the file alone, take the defaults.
+    for text in ["key = \"key.shad\"", "key = { path = \"key.shad\" }"] {
+        let given: BTreeMap<String, ShaderValue> = toml::from_str(text).unwrap();
+        let mut filter = None;
+        pack_parameters(&shader, &given, no_textures, |_, desc| {
+            assert_eq!(desc.path, Path::new("key.shad"));
+            filter = Some(desc.filter());
+            Ok(ShadowSlot::NONE.to_slot())
+        })
+        .unwrap();
+        assert_eq!(
+            filter,
+            Some(crate::shadow::ShadowFilter::default()),
+            "{text}"
+        );
+    }
+}
+
+/// Values that are no shadow map, and filters that cannot be used, are
+/// named errors.
+#[test]
+fn a_shadow_parameter_refuses_what_is_no_map() {
+    let shader = shader(SHADOWED).unwrap();
+    for (text, expected) in [
+        ("key = 3.0", "ShadowId"),
+        (
+            "key = { path = \"key.shad\", color_space = \"linear\" }",
+            "ShadowId",
+        ),
+        ("key = { path = \"key.shad\", blur = -0.1 }", "blur"),
+        ("key = { path = \"key.shad\", bias = nan }", "bias"),
+    ] {
+        let given: BTreeMap<String, ShaderValue> = toml::from_str(text).unwrap();
+        let error = pack_parameters(&shader, &given, no_textures, no_shadows)
+            .expect_err("not a usable map");
+        let message = error.to_string();
+        assert!(
+            message.contains("key") && message.contains(expected),
+            "{text}: {message}"
+        );
+    }
+}
+
+/// The table reads each map file once, relative to the scene, records the
+/// `ShadowId` slots, and hands the GPU the maps' table entries; a missing
+/// file names the parameter and the path.
+#[test]
+fn the_shader_table_reads_each_map_once_and_the_gpu_finds_it() {
+    let dir = std::env::temp_dir().join(format!("reyes-shadow-param-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let shader_file = dir.join("shadowed.wgsl");
+    std::fs::write(&shader_file, SHADOWED).unwrap();
+    write_map(&dir, "key.shad");
+    write_map(&dir, "fill.shad");
+    let mut table = ShaderTable::default();
+    let mut textures = crate::texture::TextureSet::default();
+    // A light's map is there first.
+    let mut maps = vec![small_map()];
+    let both: BTreeMap<String, ShaderValue> =
+        toml::from_str("key = \"key.shad\"\nfill = \"fill.shad\"").unwrap();
+    let key_only: BTreeMap<String, ShaderValue> = toml::from_str("key = \"key.shad\"").unwrap();
+    for values in [&both, &key_only] {
+        table
+            .add(
+                &shader_file,
+                ShaderKind::Surface,
+                values,
+                &mut textures,
+                &mut maps,
+                Some(&dir),
+            )
+            .unwrap();
+    }
+    assert_eq!(maps.len(), 3, "each file read once");
+    assert_eq!(table.shadow_files.len(), 2);
+    assert_eq!(table.shadow_slots, [0, 1, 3, 4]);
+    let map_of = |slot: usize| ShadowSlot::from_slot(table.parameters[slot]).map;
+    // The values are read in name order: fill, then key.
+    assert_eq!(
+        [map_of(0), map_of(1), map_of(3), map_of(4)],
+        [2, 1, 2, NO_SHADOW]
+    );
+    assert!(table.looks_up_shadow_maps(&maps));
+    assert!(
+        !table.looks_up_shadow_maps(&[]),
+        "the viewer's maps dropped"
+    );
+    let gpu = table.gpu_parameters(maps.len(), |map| 1000 + 24 * map);
+    let gpu_map = |slot: usize| ShadowSlot::from_slot(gpu[slot]).map;
+    assert_eq!(
+        [gpu_map(0), gpu_map(1), gpu_map(3), gpu_map(4)],
+        [1048, 1024, 1048, NO_SHADOW]
+    );
+    assert_eq!(gpu[2], table.parameters[2], "other slots are left alone");
+    // Without the maps (the viewer's shadows off), no slot names one.
+    let none = table.gpu_parameters(0, |map| map);
+    assert!(
+        table
+            .shadow_slots
+            .iter()
+            .all(|&s| ShadowSlot::from_slot(none[s as usize]).map == NO_SHADOW)
+    );
+    let missing: BTreeMap<String, ShaderValue> = toml::from_str("fill = \"gone.shad\"").unwrap();
+    let error = table
+        .add(
+            &shader_file,
+            ShaderKind::Surface,
+            &missing,
+            &mut textures,
+            &mut maps,
+            Some(&dir),
+        )
+        .expect_err("no such map");
+    let message = error.to_string();
+    assert!(
+        message.contains("fill") && message.contains("gone.shad"),
+        "{message}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -3,8 +3,8 @@
 
 use std::collections::BTreeMap;
 
-use super::{ParameterKind, ShaderValue, SurfaceShader, SurfaceShaderError};
-use crate::texture::TextureDesc;
+use super::{ParameterKind, ShaderValue, ShadowDesc, SurfaceShader, SurfaceShaderError};
+use crate::texture::{ColorSpace, TextureDesc, Wrap};
 
 /// A value the scene gives that the shader has no parameter for.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -17,11 +17,14 @@ pub struct ParameterWarning {
 /// order): `given`'s values where it has them, the shader's defaults
 /// elsewhere. Names the shader does not declare come back as warnings.
 /// A texture parameter's file is handed to `texture` (with the
-/// parameter's name), which gives the texture's index.
+/// parameter's name), which gives the texture's index; a shadow map
+/// parameter's to `shadow`, which gives its slot
+/// ([`super::ShadowSlot::to_slot`]).
 pub fn pack_parameters(
     shader: &SurfaceShader,
     given: &BTreeMap<String, ShaderValue>,
     mut texture: impl FnMut(&str, &TextureDesc) -> Result<u32, SurfaceShaderError>,
+    mut shadow: impl FnMut(&str, &ShadowDesc) -> Result<[f32; 4], SurfaceShaderError>,
 ) -> Result<(Vec<[f32; 4]>, Vec<ParameterWarning>), SurfaceShaderError> {
     let mut slots: Vec<[f32; 4]> = shader.parameters.iter().map(|p| p.default).collect();
     let mut warnings = Vec::new();
@@ -41,6 +44,20 @@ pub fn pack_parameters(
                 };
                 slots[slot] = [f32::from_bits(texture(name, &desc)?), 0.0, 0.0, 0.0];
             }
+            Some((slot, parameter)) if parameter.kind == ParameterKind::Shadow => {
+                let desc = shadow_desc(value).ok_or_else(|| SurfaceShaderError::Value {
+                    name: name.clone(),
+                    expected: "ShadowId (the shadow map's file, or a shadow table)",
+                    given: describe(value),
+                })?;
+                if let Some(problem) = desc.filter().problem() {
+                    return Err(SurfaceShaderError::ShadowFilter {
+                        name: name.clone(),
+                        problem,
+                    });
+                }
+                slots[slot] = shadow(name, &desc)?;
+            }
             Some((slot, parameter)) => {
                 slots[slot] =
                     slot_of(parameter.kind, value).ok_or_else(|| SurfaceShaderError::Value {
@@ -53,6 +70,22 @@ pub fn pack_parameters(
         }
     }
     Ok((slots, warnings))
+}
+
+/// `value` as a shadow map: a file, a shadow table, or a table of the
+/// file alone (which reads as a texture table with the defaults).
+fn shadow_desc(value: &ShaderValue) -> Option<ShadowDesc> {
+    match value {
+        ShaderValue::Text(file) => Some(ShadowDesc::new(file)),
+        ShaderValue::Shadow(desc) => Some(desc.clone()),
+        ShaderValue::Texture(TextureDesc {
+            path,
+            color_space: ColorSpace::Auto,
+            wrap_s: Wrap::Periodic,
+            wrap_t: Wrap::Periodic,
+        }) => Some(ShadowDesc::new(path)),
+        _ => None,
+    }
 }
 
 /// `value` as a slot of `kind`, if it fits.
@@ -110,5 +143,6 @@ fn describe(value: &ShaderValue) -> String {
         ShaderValue::Numbers(xs) => format!("{} numbers", xs.len()),
         ShaderValue::Text(text) => format!("the string {text:?}"),
         ShaderValue::Texture(desc) => format!("the texture {}", desc.path.display()),
+        ShaderValue::Shadow(desc) => format!("the shadow map {}", desc.path.display()),
     }
 }
