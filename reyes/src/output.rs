@@ -14,6 +14,7 @@
 
 pub mod console;
 mod depth;
+mod environment;
 mod guard;
 mod paths;
 mod staged;
@@ -27,6 +28,7 @@ pub use self::depth::{
     DEPTH_CHANNEL, DepthImage, MakeShadowError, ReadDepthError, make_shadow, read_depth,
     write_depth, write_shadow_map,
 };
+pub use self::environment::{MakeEnvironmentError, make_cube_face_environment};
 pub use self::guard::{OutputGuard, OutputKind};
 use self::staged::Staged;
 pub use self::staged::{StagedFiles, ignore_file_size_signal};
@@ -450,6 +452,12 @@ fn single_output(kind: OutputKind, label: &str, path: &Path) -> Result<PathBuf, 
     let file = guard.add_output(kind, label, path)?;
     guard.prepare_dirs()?;
     Ok(file)
+}
+
+/// `linear` staged as a float RGBA EXR at `path`.
+fn stage_linear_exr(linear: &Rgba32FImage, path: &Path) -> Result<Staged, OutputError> {
+    // The 8-bit image is not read for an EXR with its floats.
+    stage_image(&RgbaImage::new(0, 0), Some(linear), path, ImageFormat::Exr)
 }
 
 /// Writes an 8-bit image in the format its extension names (see

@@ -459,10 +459,7 @@ fn make_shadow_is_handed_over_with_the_frame_after_it() {
     let names = |requests: &[FrameRequest]| -> Vec<(String, usize)> {
         requests
             .iter()
-            .map(|r| {
-                let FrameRequest::MakeShadow { shadow, line, .. } = r;
-                (shadow.display().to_string(), *line)
-            })
+            .map(|r| (r.output().display().to_string(), r.origin().1))
             .collect()
     };
     assert_eq!(

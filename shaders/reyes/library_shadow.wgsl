@@ -125,11 +125,17 @@ fn shadow_occlusion_at(map: ShadowMapEntry, at: ShadowMapPoint, grid_side: u32, 
         depth = select(-SHADOW_NO_DEPTH, SHADOW_NO_DEPTH, positive);
     }
     let step = region / f32(side);
-    let start = at.texel - 0.5 * region + 0.5 * step;
+    // reyes::shadow::grid_rotation: the grid turned by atan(1 / side).
+    let norm = 1.0 / sqrt(f32(side * side + 1u));
+    let grid_cos = f32(side) * norm;
+    let grid_sin = norm;
+    let half = 0.5 * f32(side - 1u);
     var sum = 0.0;
     for (var j = 0u; j < side; j += 1u) {
         for (var i = 0u; i < side; i += 1u) {
-            let texel = start + step * vec2<f32>(f32(i), f32(j));
+            let u = step * (f32(i) - half);
+            let v = step * (f32(j) - half);
+            let texel = vec2<f32>(at.texel.x + (grid_cos * u - grid_sin * v), at.texel.y + (grid_sin * u + grid_cos * v));
             sum += shadow_compare_bilinear(map, texel, depth);
         }
     }

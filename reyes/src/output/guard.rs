@@ -33,6 +33,11 @@ pub enum OutputKind {
     /// `.shad`: any extension but `.png` and the other formats'
     /// the renderer reads or writes).
     Depth,
+    /// An environment map (`MakeCubeFaceEnvironment`'s), a float RGBA
+    /// EXR: `.exr` or a name of RenderMan's texture files (`.env`, `.tex`:
+    /// any extension but `.png` and the other formats' the renderer reads
+    /// or writes).
+    Environment,
     /// A TOML scene: `.toml`.
     Toml,
     /// A `.bpt` patch model.
@@ -69,6 +74,13 @@ impl OutputKind {
                     .is_some_and(|e| e != "exr" && FOREIGN_TO_JSON.contains(&e)) =>
             {
                 wrong("a depth image (single-channel float EXR)", ".exr")
+            }
+            OutputKind::Environment
+                if extension.as_deref().is_some_and(|e| {
+                    e != "exr" && (e == "png" || FOREIGN_TO_JSON.contains(&e))
+                }) =>
+            {
+                wrong("an environment map (float RGBA EXR)", ".exr")
             }
             OutputKind::Toml if extension.as_deref() != Some("toml") => {
                 wrong("a TOML scene", ".toml")

@@ -2,21 +2,23 @@
 //! `MakeLatLongEnvironment` and `MakeCubeFaceEnvironment`: environment map
 //! names for `shinymetal`'s `texturename`.
 //!
-//! Nothing is written: the name stands for its
-//! picture, which the renderer mipmaps itself, and the filter and its
-//! widths are not followed (every lookup is the anisotropic trilinear filter
-//! of `crate::texture`). A latitude-longitude
-//! picture is read by `environment()` in RenderMan's convention
-//! (`crate::texture::environment`). Cube-face maps are not supported: the
-//! request warns at its line, and a `shinymetal` naming one is `metal`.
+//! For `MakeTexture` and `MakeLatLongEnvironment` nothing is written: the
+//! name stands for its picture, which the renderer mipmaps itself, and the
+//! filter and its widths are not followed (every lookup is the anisotropic
+//! trilinear filter of `crate::texture`). A latitude-longitude picture is
+//! read by `environment()` in RenderMan's convention
+//! (`crate::texture::environment`). `MakeCubeFaceEnvironment` runs between
+//! frames, as `MakeShadow` does: it writes the latitude-longitude map of
+//! its six faces (`crate::texture::cube_faces`) under its name.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::{DMat4, DVec3};
 
 use super::interp::Interp;
 use super::parser::Value;
 use super::state;
+use crate::texture::cube_faces::FACE_NAMES;
 
 impl Interp {
     /// `MakeTexture picturename texturename swrap twrap filter swidth
@@ -42,7 +44,6 @@ impl Interp {
             };
         }
         let path = file.parent().unwrap_or(Path::new("")).join(picture);
-        self.cube_environments.remove(texture);
         let desc = crate::texture::TextureDesc {
             wrap_s: wraps[0],
             wrap_t: wraps[1],
@@ -63,15 +64,19 @@ impl Interp {
         let picture = state::arg_str(&args, 0, "the picture")?;
         let texture = state::arg_str(&args, 1, "the texture name")?;
         let path = file.parent().unwrap_or(Path::new("")).join(picture);
-        self.cube_environments.remove(texture);
         self.made_textures
             .insert(texture.to_owned(), crate::texture::TextureDesc::new(path));
         Ok(())
     }
 
     /// `MakeCubeFaceEnvironment px nx py ny pz nz texturename fov filter
-    /// swidth twidth ...`: not supported; warned, and its texture name is
-    /// remembered so that a `shinymetal` naming it is `metal`.
+    /// swidth twidth ...`: handed over to run before the next frame
+    /// ([`super::FrameRequest::MakeCubeFaceEnvironment`]), which writes
+    /// `texturename` as the latitude-longitude map of the six faces; the
+    /// name then stands for that map. Names are relative to the current
+    /// directory, as `MakeShadow`'s: the faces are often what earlier
+    /// frames' `Display`s wrote. The filter and its widths are not used
+    /// (the faces are resampled bilinearly).
     pub(super) fn make_cube_face_environment(
         &mut self,
         v: &[Value],
@@ -79,17 +84,51 @@ impl Interp {
         line: usize,
     ) -> Result<(), String> {
         let (args, _, _) = state::split_params(v, 11, &self.declared)?;
+        let mut faces: [PathBuf; 6] = Default::default();
+        for (k, (face, name)) in faces.iter_mut().zip(FACE_NAMES).enumerate() {
+            let picture = state::arg_str(&args, k, &format!("the {name} picture"))?;
+            if picture.is_empty() {
+                return Err(format!("the {name} picture is empty"));
+            }
+            *face = PathBuf::from(picture);
+        }
         let texture = state::arg_str(&args, 6, "the texture name")?;
-        self.warn(
+        if texture.is_empty() {
+            return Err("the texture name is empty".into());
+        }
+        let fov = state::arg_f(&args, 7, "the field of view")?;
+        if !(90.0..180.0).contains(&fov) {
+            return Err(format!(
+                "the field of view must be at least 90 degrees (the faces meet at 90) and less than 180, not {fov}"
+            ));
+        }
+        self.warn_once(
+            "MakeCubeFaceEnvironment filter",
             file,
             line,
-            format!(
-                "MakeCubeFaceEnvironment is not supported (only latitude-longitude maps: MakeLatLongEnvironment); a \"shinymetal\" naming {:?} is shaded as \"metal\"",
-                crate::input::excerpt(texture)
-            ),
+            "MakeCubeFaceEnvironment's filter and widths are not used: the faces are resampled bilinearly, and environment() filters the map itself".into(),
         );
-        self.made_textures.remove(texture);
-        self.cube_environments.insert(texture.to_owned());
+        let environment = PathBuf::from(texture);
+        // Where the request writes it, whatever directory the scene is
+        // read from later.
+        let written = std::env::current_dir()
+            .map(|dir| dir.join(&environment))
+            .unwrap_or_else(|_| environment.clone());
+        self.made_textures.insert(
+            texture.to_owned(),
+            crate::texture::TextureDesc {
+                color_space: crate::texture::ColorSpace::Linear,
+                ..crate::texture::TextureDesc::new(written)
+            },
+        );
+        self.requests
+            .push(super::FrameRequest::MakeCubeFaceEnvironment {
+                faces,
+                environment,
+                fov: fov as f32,
+                file: file.to_path_buf(),
+                line,
+            });
         Ok(())
     }
 }

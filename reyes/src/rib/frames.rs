@@ -161,11 +161,14 @@ impl RibFrames {
             .flat_map(|f| &f.requests_before)
             .chain(&self.requests_after)
             .map(|request| {
-                let FrameRequest::MakeShadow { file, line, .. } = request;
+                let (file, line) = request.origin();
                 Warning {
-                    file: file.clone(),
-                    line: *line,
-                    message: "MakeShadow is not run (not converted) when the file is read as one scene; `reyes render` runs it between the frames".into(),
+                    file: file.to_path_buf(),
+                    line,
+                    message: format!(
+                        "{} is not run (not converted) when the file is read as one scene; `reyes render` runs it between the frames",
+                        request.name()
+                    ),
                 }
             })
             .collect()

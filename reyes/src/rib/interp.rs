@@ -142,9 +142,6 @@ pub struct Interp {
     /// kind and parameter names, or why the file cannot be used
     /// ([`super::shader_files`]).
     pub(super) shader_files: HashMap<PathBuf, super::shader_files::ShaderFile>,
-    /// `MakeCubeFaceEnvironment`'s texture names, which are not supported
-    /// ([`super::environments`]).
-    pub(super) cube_environments: HashSet<String>,
     /// The frame being read, from its `FrameBegin` ([`super::frames`]).
     pub(super) frame: Option<super::frames::OpenFrame>,
     /// Where finished frames go ([`super::frames::FrameSink`]).
@@ -196,7 +193,6 @@ impl Interp {
             more_warnings: 0,
             made_textures: HashMap::new(),
             shader_files: HashMap::new(),
-            cube_environments: HashSet::new(),
             options_only: false,
             blocks: Vec::new(),
             lenient: false,

@@ -1,4 +1,5 @@
-//! Requests that act on files between frames: `MakeShadow`.
+//! Requests that act on files between frames: `MakeShadow` and
+//! `MakeCubeFaceEnvironment`.
 //!
 //! The interpreter reads ahead of the renderer ([`super::stream`]), so it
 //! cannot run a request that reads what an earlier frame writes. It hands
@@ -19,7 +20,8 @@ use super::parser::Value;
 use super::state;
 
 /// A request to run between frames, where it stands in the file.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum FrameRequest {
     /// `MakeShadow picturename texturename`: make the shadow map `shadow`
     /// from the depth image `picture` ([`crate::output::make_shadow`]).
@@ -29,6 +31,21 @@ pub enum FrameRequest {
         /// The shadow map to write.
         shadow: PathBuf,
         /// The RIB file of the request (an archive, for one inside it).
+        file: PathBuf,
+        /// Its line.
+        line: usize,
+    },
+    /// `MakeCubeFaceEnvironment px nx py ny pz nz texturename fov ...`:
+    /// make the latitude-longitude map `environment` from six face
+    /// pictures ([`crate::output::make_cube_face_environment`]).
+    MakeCubeFaceEnvironment {
+        /// The face pictures, `px nx py ny pz nz`.
+        faces: [PathBuf; 6],
+        /// The map to write.
+        environment: PathBuf,
+        /// The faces' full horizontal field of view, in degrees.
+        fov: f32,
+        /// The RIB file of the request.
         file: PathBuf,
         /// Its line.
         line: usize,
@@ -50,6 +67,40 @@ impl FrameRequest {
                 picture.display().to_string(),
                 shadow.display().to_string()
             ),
+            FrameRequest::MakeCubeFaceEnvironment {
+                environment,
+                file,
+                line,
+                ..
+            } => format!(
+                "{}:{line}: MakeCubeFaceEnvironment ... {:?}",
+                file.display(),
+                environment.display().to_string()
+            ),
+        }
+    }
+
+    /// The request's name (`MakeShadow`, ...).
+    pub fn name(&self) -> &'static str {
+        match self {
+            FrameRequest::MakeShadow { .. } => "MakeShadow",
+            FrameRequest::MakeCubeFaceEnvironment { .. } => "MakeCubeFaceEnvironment",
+        }
+    }
+
+    /// The RIB file and line of the request.
+    pub fn origin(&self) -> (&Path, usize) {
+        match self {
+            FrameRequest::MakeShadow { file, line, .. }
+            | FrameRequest::MakeCubeFaceEnvironment { file, line, .. } => (file, *line),
+        }
+    }
+
+    /// The file the request writes.
+    pub fn output(&self) -> &Path {
+        match self {
+            FrameRequest::MakeShadow { shadow, .. } => shadow,
+            FrameRequest::MakeCubeFaceEnvironment { environment, .. } => environment,
         }
     }
 }

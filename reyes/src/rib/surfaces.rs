@@ -7,8 +7,7 @@
 //! defines them. `paintedplastic` and `shinymetal` with a `texturename`
 //! run the built-in WGSL `paintedplastic` and `shinymetal`
 //! (`crate::surface_shader::builtin`); without one they are `plastic` and
-//! `metal`, which they then equal (so is a `shinymetal` whose map was made
-//! by the unsupported `MakeCubeFaceEnvironment`, warned). Any other name is a user's WGSL
+//! `metal`, which they then equal. Any other name is a user's WGSL
 //! surface shader when `name.wgsl` lies beside the RIB file (its parameters
 //! go to the shader's `Parameters`); otherwise it warns and renders as
 //! `defaultsurface`. `docs/rib.md` lists what cannot be followed.
@@ -125,10 +124,7 @@ impl Interp {
                 ka: self.weight(params, "Ka", 0.2, &shown, file, line)?,
                 kd: self.weight(params, "Kd", 0.8, &shown, file, line)?,
             },
-            "shinymetal"
-                if texture_name(params)
-                    .is_some_and(|name| !self.cube_environments.contains(name)) =>
-            {
+            "shinymetal" if texture_name(params).is_some() => {
                 let name = texture_name(params).unwrap_or_default();
                 let picture = self.texture(name, file);
                 let world = self.world_axes(file, line);
@@ -165,23 +161,11 @@ impl Interp {
             }
             // shinymetal without an environment map is metal exactly (its
             // environment() of "" is black).
-            "metal" | "shinymetal" => {
-                if let Some(name) = texture_name(params) {
-                    self.warn(
-                        file,
-                        line,
-                        format!(
-                            "Surface \"shinymetal\": {:?} is a cube-face environment map, which is not supported; shaded as \"metal\" (its Kr term is left out)",
-                            crate::input::excerpt(name)
-                        ),
-                    );
-                }
-                Surface::Metal {
-                    ka: self.weight(params, "Ka", 1.0, &shown, file, line)?,
-                    ks: self.weight(params, "Ks", 1.0, &shown, file, line)?,
-                    roughness: self.roughness(params, &shown, file, line)?,
-                }
-            }
+            "metal" | "shinymetal" => Surface::Metal {
+                ka: self.weight(params, "Ka", 1.0, &shown, file, line)?,
+                ks: self.weight(params, "Ks", 1.0, &shown, file, line)?,
+                roughness: self.roughness(params, &shown, file, line)?,
+            },
             "paintedplastic" if texture_name(params).is_some() => {
                 let name = texture_name(params).unwrap_or_default();
                 let picture = self.texture(name, file);

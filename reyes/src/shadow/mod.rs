@@ -230,16 +230,35 @@ impl ShadowMap {
         let side = filter.grid_side().min(region_grid_side(region));
         let depth = at.depth - filter.bias;
         let step = region / side as f32;
-        let start = at.texel - 0.5 * region + 0.5 * step;
+        let (cos, sin) = grid_rotation(side);
+        let half = 0.5 * (side - 1) as f32;
         let mut sum = 0.0;
         for j in 0..side {
             for i in 0..side {
-                let texel = start + step * glam::Vec2::new(i as f32, j as f32);
+                // The grid's offset from the point, turned by the grid's
+                // angle (the WGSL repeats these operations in this order).
+                let u = step * (i as f32 - half);
+                let v = step * (j as f32 - half);
+                let texel = glam::Vec2::new(
+                    at.texel.x + (cos * u - sin * v),
+                    at.texel.y + (sin * u + cos * v),
+                );
                 sum += self.compare_bilinear(texel, depth);
             }
         }
         sum / (side * side) as f32
     }
+}
+
+/// The cosine and sine of the angle the lookups' `side x side` grid is
+/// turned by, `atan(1 / side)`: turned so, the `side^2` lookups lie at
+/// `side^2` different distances from any edge that runs along the map's
+/// rows or columns, so a soft edge there falls in `side^2` steps instead of
+/// `side` (a rotated grid, as in rotated-grid supersampling). The WGSL
+/// computes the same in f32.
+fn grid_rotation(side: u32) -> (f32, f32) {
+    let norm = 1.0 / ((side * side + 1) as f32).sqrt();
+    (side as f32 * norm, norm)
 }
 
 /// The most lookups per side a region `region` texels wide needs: one more

@@ -158,6 +158,40 @@ fn the_penumbra_is_a_box_over_the_bilinear_ramp_and_widens_with_blur() {
     assert!(widths.windows(2).all(|w| w[1] > w[0]), "{widths:?}");
 }
 
+/// A soft edge along the map's columns fades without steps: the lookups'
+/// grid is turned, so its 64 lookups meet the edge one after another
+/// (about a texel apart here) instead of in 8 rows of 8 (8 texels apart,
+/// with flat steps between, which an unturned grid shows).
+#[test]
+fn a_soft_edge_along_the_maps_texels_fades_without_steps() {
+    let map = half_covered_map(256, 8, 128);
+    let filter = ShadowFilter {
+        samples: 64,
+        blur: 0.25,
+        ..ShadowFilter::default()
+    };
+    // A region of 65 texels, 8 x 8 lookups about 8 texels apart.
+    let scan: Vec<f32> = (0..160 * 16)
+        .map(|i| map.occlusion(ground_at_texel(&map, 48.0 + i as f32 / 16.0), &filter))
+        .collect();
+    let mut longest = 0;
+    let mut run = 0;
+    for pair in scan.windows(2) {
+        let inside = pair[0] > 0.02 && pair[0] < 0.98;
+        run = if inside && (pair[1] - pair[0]).abs() < 1e-6 {
+            run + 1
+        } else {
+            0
+        };
+        longest = longest.max(run);
+    }
+    let longest = longest as f32 / 16.0;
+    assert!(
+        longest < 1.5,
+        "a flat step {longest} texels long in the penumbra"
+    );
+}
+
 #[test]
 fn one_sample_and_no_width_is_the_plain_depth_test() {
     let map = half_covered_map(16, 16, 8);

@@ -16,6 +16,7 @@
 //! "Textures" in `docs/reyes.md` describes the formats, colour spaces, wrap
 //! modes, filtering and the memory budget.
 
+pub mod cube_faces;
 pub mod environment;
 mod error;
 pub mod gpu;
