@@ -8,7 +8,7 @@ mod files;
 use std::fs;
 
 use files::{TempDir, run_cli};
-use reyes::displacement::{CpuHeight, DisplacementDesc, HeightSource};
+use reyes::displacement::{CpuHeight, DisplacementDesc};
 use reyes::prepare::PreparedScene;
 use reyes::reference;
 use reyes::scene::{Resolution, Scene};
@@ -137,13 +137,7 @@ fn user_displaced(height: fn(f32, f32) -> f32) -> RenderStats {
         parameters: Default::default(),
     });
     let mut prepared = PreparedScene::load(&scene).expect("scene prepares");
-    if let Some(HeightSource::User(user)) = prepared.objects[0]
-        .displacement
-        .as_mut()
-        .map(|d| &mut d.source)
-    {
-        user.cpu = Some(CpuHeight::new(height));
-    }
+    assert!(prepared.set_height_twin(0, CpuHeight::new(height)));
     reference::try_render(&prepared).expect("CPU render").stats
 }
 

@@ -1,9 +1,8 @@
-// Displacement: the height sources (grey height map, built-in sines, the
-// user's WGSL function), displacement shaders (user_displacement) and the
-// normals displacement needs. Every function
+// Displacement: the height sources (grey height map, built-in sines),
+// displacement shaders (user_displacement, which also runs users' WGSL
+// height functions) and the normals displacement needs. Every function
 // mirrors reyes::displacement and reyes::reference::displace operation for
-// operation. DISPLACE_*, TAU and SINES_* are generated from the Rust side;
-// `displacement_user` is the user's function (or a stub returning 0).
+// operation. DISPLACE_*, TAU and SINES_* are generated from the Rust side.
 
 // i modulo n, in 0..n also for negative i (reyes::displacement::height_map::wrap).
 fn wrap_index(i: i32, n: u32) -> u32 {
@@ -57,9 +56,6 @@ fn displacement_height(o: Object, u: f32, v: f32) -> f32 {
         }
         case DISPLACE_SINES: {
             return height_sines(tu, tv);
-        }
-        case DISPLACE_USER: {
-            return displacement_user(tu, tv);
         }
         default: {
             return 0.0;

@@ -8,14 +8,13 @@ use std::path::PathBuf;
 use glam::Vec3;
 use gpu_test::gpu_test;
 use reyes::dicing::DicingRule;
-use reyes::displacement::{CpuHeight, DisplacementDesc, DisplacementError, HeightSource};
-use reyes::gpu::{GpuRendered, GpuRenderer, RenderError};
+use reyes::displacement::{CpuHeight, DisplacementDesc, DisplacementError};
+use reyes::gpu::{GpuRendered, GpuRenderer};
 use reyes::model::{Model, Patch};
 use reyes::params::DEFAULT_DICE_THRESHOLD;
 use reyes::prepare::PreparedScene;
 use reyes::reference::{self, ReferenceError, Rendered};
 use reyes::scene::{Dicing, Sampling, Scene, SceneError};
-use reyes::user_wgsl::UserWgslError;
 use tests::reyes_support::{
     self, Agreement, agreement, assert_counts_close, camera_down_z, framed_teapot, gpu_turn,
 };
@@ -250,22 +249,43 @@ fn displacement_bound_keeps_surface_displaced_into_view() {
     );
 }
 
+/// Round bumps, one per tiled cell, and their Rust twin.
+const BUMPS_WGSL: &str = "fn displacement_user(u: f32, v: f32) -> f32 {
+        let du = u - floor(u) - 0.5;
+        let dv = v - floor(v) - 0.5;
+        return max(0.0, 0.2 - (du * du + dv * dv));
+    }";
+
+fn bumps(u: f32, v: f32) -> f32 {
+    let du = u - u.floor() - 0.5;
+    let dv = v - v.floor() - 0.5;
+    (0.2 - (du * du + dv * dv)).max(0.0)
+}
+
+/// Ridges along u (a helper function of its own), and their Rust twin.
+const RIDGES_WGSL: &str = "fn ridge(x: f32) -> f32 {
+        return abs(x - floor(x) - 0.5);
+    }
+    fn displacement_user(u: f32, v: f32) -> f32 {
+        return 0.4 * ridge(3.0 * u) - 0.1 * v;
+    }";
+
+fn ridges(u: f32, v: f32) -> f32 {
+    let ridge = |x: f32| (x - x.floor() - 0.5).abs();
+    0.4 * ridge(3.0 * u) - 0.1 * v
+}
+
 /// A user WGSL function with a Rust twin renders like the twin on the CPU;
-/// a broken function is a typed error, and so is asking the CPU reference
-/// to run one without a twin.
+/// a broken function is a typed error naming its line, and so is asking
+/// the CPU reference to run one without a twin.
 #[gpu_test]
 fn user_wgsl_displacement() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
     let mut renderer = reyes_support::patient_renderer(gpu);
-    let wgsl = "fn displacement_user(u: f32, v: f32) -> f32 {
-        let du = u - floor(u) - 0.5;
-        let dv = v - floor(v) - 0.5;
-        return max(0.0, 0.2 - (du * du + dv * dv));
-    }";
     let desc = DisplacementDesc {
         bound: Some(0.2 * 0.3),
-        wgsl: Some(wgsl.into()),
+        wgsl: Some(BUMPS_WGSL.into()),
         ..displacement("wgsl", 0.3, 4.0)
     };
     let scene = displaced(teapot(128, 96), &desc);
@@ -274,38 +294,65 @@ fn user_wgsl_displacement() {
         reference::try_render(&prepared),
         Err(ReferenceError::UserDisplacement { object: 0 })
     ));
-    if let Some(HeightSource::User(user)) = prepared.objects[0]
-        .displacement
-        .as_mut()
-        .map(|d| &mut d.source)
-    {
-        user.cpu = Some(CpuHeight::new(|u, v| {
-            let du = u - u.floor() - 0.5;
-            let dv = v - v.floor() - 0.5;
-            (0.2 - (du * du + dv * dv)).max(0.0)
-        }));
-    }
+    assert!(prepared.set_height_twin(0, CpuHeight::new(bumps)));
     let (g, c, a) = compare(&mut renderer, &prepared);
     a.assert_at_least("render", 0.995, 0.99);
     assert_counts_close("grids diced", g.stats.grids_diced, c.stats.grids_diced);
     assert_eq!(g.stats.displacement_bound_exceeded, 0);
 
-    let mut broken = prepared.clone();
-    if let Some(HeightSource::User(user)) = broken.objects[0]
-        .displacement
-        .as_mut()
-        .map(|d| &mut d.source)
-    {
-        user.wgsl = "fn displacement_user(u: f32, v: f32) -> f32 { return u + ; }".into();
+    // Refused on its own source, at its own line, before anything renders.
+    let broken = DisplacementDesc {
+        wgsl: Some("fn displacement_user(u: f32, v: f32) -> f32 { return u + ; }".into()),
+        ..desc
+    };
+    match PreparedScene::load(&displaced(teapot(128, 96), &broken)) {
+        Err(error) => assert!(error.to_string().contains("line 1"), "{error}"),
+        Ok(_) => panic!("a broken function prepared"),
     }
-    // Refused on its own source, at its own line, before the megakernel
-    // is compiled.
-    match renderer.render(&broken) {
-        Err(RenderError::UserFunction(UserWgslError::Invalid { line: 1, .. })) => {}
-        other => panic!("expected RenderError::UserFunction at line 1, got {other:?}"),
-    }
-    // The renderer recovers with a valid function.
-    assert!(renderer.render(&prepared).is_ok());
+}
+
+/// Each object runs its own WGSL height function, in one frame: a teapot
+/// with bumps and a smaller, mirrored one in front of it with ridges (a
+/// helper function of its own, and the mirror's turned normal). The GPU
+/// matches the CPU twins; with the second object's twin swapped for the
+/// first's, the CPU frame differs, so the comparison sees which function
+/// each object ran.
+#[gpu_test]
+fn each_object_runs_its_own_height_function() {
+    let gpu = tests::gpu();
+    let _turn = gpu_turn();
+    let mut renderer = reyes_support::patient_renderer(gpu);
+    let mut scene = teapot(128, 96);
+    let mut front = scene.objects[0].clone();
+    front.transform.scale = reyes::scene::Scale::PerAxis(Vec3::new(-0.5, 0.5, 0.5));
+    front.transform.translate += Vec3::new(0.8, -0.6, 1.2);
+    scene.objects.push(front);
+    scene.objects[0].displacement = Some(DisplacementDesc {
+        bound: Some(0.2 * 0.3),
+        wgsl: Some(BUMPS_WGSL.into()),
+        ..displacement("wgsl", 0.3, 4.0)
+    });
+    scene.objects[1].displacement = Some(DisplacementDesc {
+        bound: Some(0.2 * 0.5),
+        wgsl: Some(RIDGES_WGSL.into()),
+        ..displacement("wgsl", 0.5, 2.0)
+    });
+    let mut prepared = PreparedScene::load(&scene).expect("scene prepares");
+    assert_eq!(prepared.shaders.shaders.len(), 2, "one shader per function");
+    assert!(prepared.set_height_twin(0, CpuHeight::new(bumps)));
+    assert!(prepared.set_height_twin(1, CpuHeight::new(ridges)));
+    let (g, _, a) = compare(&mut renderer, &prepared);
+    a.assert_at_least("two functions", 0.995, 0.99);
+    assert_eq!(g.stats.displacement_bound_exceeded, 0);
+
+    let mut swapped = prepared.clone();
+    assert!(swapped.set_height_twin(1, CpuHeight::new(bumps)));
+    let wrong = agreement(&g, &reference::try_render(&swapped).expect("CPU render"));
+    eprintln!("with the second object's twin swapped: {wrong:?}");
+    assert!(
+        wrong.iou < 0.99 || wrong.within_2 < 0.95,
+        "the comparison cannot tell the functions apart: {wrong:?}"
+    );
 }
 
 /// The largest-micropolygon statistic is present and grows with the
@@ -431,16 +478,6 @@ fn scene_errors_for_displacement_fields() {
         let error = Scene::from_toml_str(&scene_with(table)).unwrap_err();
         assert_eq!(field_of(&error), Some(field), "{table:?}: {error}");
     }
-    // Two different user functions in one scene.
-    let two = "[[objects]]\nmodel = \"teapot\"\n[objects.displacement]\nsource = \"wgsl\"\nscale = 1.0\nbound = 1.0\nwgsl = \"fn displacement_user(u: f32, v: f32) -> f32 { return u; }\"\n\
-               [[objects]]\nmodel = \"teapot\"\n[objects.displacement]\nsource = \"wgsl\"\nscale = 1.0\nbound = 1.0\nwgsl = \"fn displacement_user(u: f32, v: f32) -> f32 { return v; }\"\n";
-    let error = Scene::from_toml_str(two).unwrap_err();
-    assert_eq!(
-        field_of(&error),
-        Some("objects[1].displacement.wgsl"),
-        "{error}"
-    );
-
     // Syntax: a missing source, an unknown field, a wrong type (with the
     // line). A missing scale is 1 (docs/reyes-scene.md).
     assert_eq!(

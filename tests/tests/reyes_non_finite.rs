@@ -3,7 +3,7 @@
 //! reference does, on one scene per source. Renders are 64 x 48 at 1 spp.
 
 use gpu_test::gpu_test;
-use reyes::displacement::{CpuHeight, DisplacementDesc, HeightSource};
+use reyes::displacement::{CpuHeight, DisplacementDesc};
 use reyes::gpu::GpuRenderer;
 use reyes::prepare::PreparedScene;
 use reyes::reference;
@@ -87,13 +87,7 @@ fn a_user_function_returning_nan_or_infinity_counts_as_displacement() {
         parameters: Default::default(),
     });
     let mut prepared = PreparedScene::load(&scene).expect("scene prepares");
-    if let Some(HeightSource::User(user)) = prepared.objects[0]
-        .displacement
-        .as_mut()
-        .map(|d| &mut d.source)
-    {
-        user.cpu = Some(CpuHeight::new(nan_or_infinity));
-    }
+    assert!(prepared.set_height_twin(0, CpuHeight::new(nan_or_infinity)));
     assert_counted(&mut renderer, &prepared, 0);
 }
 

@@ -7,7 +7,7 @@ use reyes::gpu::graph::{UserCode, compile_variant, reyes_graph_with};
 use scheduler::CompileOptions;
 use scheduler::wgpu::Features;
 
-/// A user displacement function, as a scene would give it.
+/// A user displacement (height) function, as a scene would give it.
 const USER: &str =
     "fn displacement_user(u: f32, v: f32) -> f32 {\n    return 0.1 * sin(6.0 * u) * v;\n}\n";
 
@@ -37,10 +37,16 @@ fn declares(wgsl: &str, function: &str) -> bool {
 fn every_variant_holds_what_it_runs_and_nothing_it_does_not() {
     for variant in KernelVariant::ALL {
         for user in [None, Some(USER)] {
-            let code = UserCode {
-                displacement: user,
-                surfaces: &[],
-            };
+            let shaders: Vec<_> = user
+                .map(|wgsl| {
+                    std::sync::Arc::new(
+                        reyes::displacement::height_shader::shader(wgsl, 0)
+                            .expect("the function checks"),
+                    )
+                })
+                .into_iter()
+                .collect();
+            let code = UserCode { surfaces: &shaders };
             let compiled = compile_variant(Features::empty(), variant, &code)
                 .unwrap_or_else(|e| panic!("{variant} compiles: {e}"));
             let wgsl = compiled.wgsl();
@@ -71,10 +77,11 @@ fn every_variant_holds_what_it_runs_and_nothing_it_does_not() {
                 variant.shadowed,
                 "{variant}: the shadow lookup"
             );
-            // The user's function is compiled in only where displacement is.
+            // The user's function (as displacement shader 0) is compiled
+            // in only where displacement is.
             assert_eq!(
-                declares(wgsl, "displacement_user"),
-                variant.displaced,
+                declares(wgsl, "displacement0_displacement_user"),
+                variant.displaced && user.is_some(),
                 "{variant} with user function {}",
                 user.is_some()
             );
@@ -174,10 +181,7 @@ fn only_frames_that_read_an_environment_map_compile_its_lookup() {
         (&painted[..], true, false),
         (&shiny[..], true, true),
     ] {
-        let code = UserCode {
-            displacement: None,
-            surfaces,
-        };
+        let code = UserCode { surfaces };
         let compiled = compile_variant(Features::empty(), KernelVariant::default(), &code)
             .unwrap_or_else(|e| panic!("compiles: {e}"));
         let wgsl = compiled.wgsl();

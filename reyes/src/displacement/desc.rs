@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use super::error::DisplacementError;
 use super::height_map::HeightMap;
 use super::sines::SINES_MAX_HEIGHT;
-use super::{HeightSource, PreparedDisplacement, UserFunction};
+use super::{HeightSource, PreparedDisplacement};
 use crate::params::MAX_DISPLACEMENT_TILING;
 
 /// `source` value of the embedded height map.
@@ -83,6 +83,28 @@ fn default_tiling() -> f32 {
 
 fn default_scale() -> f32 {
     1.0
+}
+
+/// The shader an object's displacement runs, as
+/// [`DisplacementDesc::prepare`] hands it to the scene's shader table.
+#[derive(Debug, Clone, Copy)]
+pub enum ShaderSource<'a> {
+    /// A displacement shader's file as the scene names it, with the
+    /// object's parameters.
+    File {
+        /// The file (or `builtin:` name).
+        file: &'a Path,
+        /// The parameters by name.
+        parameters: &'a BTreeMap<String, crate::surface_shader::ShaderValue>,
+    },
+    /// A WGSL height function, run as a displacement shader
+    /// ([`super::height_shader`]).
+    Height {
+        /// WGSL defining `fn displacement_user(u: f32, v: f32) -> f32`.
+        wgsl: &'a str,
+        /// Its repetitions across each input patch.
+        tiling: f32,
+    },
 }
 
 /// The kind of `source`, parsed.
@@ -247,19 +269,18 @@ impl DisplacementDesc {
     /// default bound and checks a declared one against the source's largest
     /// height. `mirrored` is whether the object's transform has a negative
     /// determinant (the scale is then negated, see
-    /// [`PreparedDisplacement::scale`]). A shader source is added to the
-    /// scene's shaders by `add_shader` (given the file as the scene names
-    /// it and the parameters), which also gives the bound a built-in shader
-    /// knows for itself (per unit of scale) and sets the shader's
-    /// orientation. Call
+    /// [`PreparedDisplacement::scale`]). A shader source, and a WGSL height
+    /// function (which runs as a displacement shader,
+    /// [`super::height_shader`]), are added to the scene's shaders by
+    /// `add_shader`, which also gives the bound a built-in shader knows for
+    /// itself (per unit of scale) and sets the shader's orientation. Call
     /// [`DisplacementDesc::validate`] first.
     pub fn prepare(
         &self,
         base_dir: Option<&Path>,
         mirrored: bool,
         add_shader: impl FnOnce(
-            &Path,
-            &BTreeMap<String, crate::surface_shader::ShaderValue>,
+            ShaderSource<'_>,
         ) -> Result<(super::ShaderDisplacement, Option<f32>), DisplacementError>,
     ) -> Result<PreparedDisplacement, DisplacementError> {
         let (source, max_height) = match self.kind() {
@@ -269,16 +290,27 @@ impl DisplacementDesc {
                 (HeightSource::Image(map), Some(max))
             }
             SourceKind::Sines => (HeightSource::Sines, Some(SINES_MAX_HEIGHT)),
-            SourceKind::Wgsl => (
-                HeightSource::User(UserFunction {
-                    wgsl: self.wgsl.clone().unwrap_or_default(),
-                    cpu: None,
-                }),
-                None,
-            ),
+            SourceKind::Wgsl => {
+                let (shader, _) = add_shader(ShaderSource::Height {
+                    wgsl: self.wgsl.as_deref().unwrap_or_default(),
+                    tiling: self.tiling,
+                })?;
+                // The shader's N is the model's own normal, turned by a
+                // mirroring transform as the scale of the other height
+                // sources is, so the scale stays as written.
+                return Ok(PreparedDisplacement {
+                    source: HeightSource::Shader(shader),
+                    scale: self.scale,
+                    bound: self.bound_for(None)?,
+                    tiling: 1.0,
+                });
+            }
             SourceKind::Shader => {
                 let file = self.file.as_deref().unwrap_or(Path::new(""));
-                let (shader, own_bound) = add_shader(file, &self.parameters)?;
+                let (shader, own_bound) = add_shader(ShaderSource::File {
+                    file,
+                    parameters: &self.parameters,
+                })?;
                 return Ok(PreparedDisplacement {
                     source: HeightSource::Shader(shader),
                     scale: self.scale,

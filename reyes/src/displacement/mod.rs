@@ -7,6 +7,8 @@
 //! * `height_map`: grey PNG height maps and their bilinear wrap-around lookup;
 //! * `sines`: the built-in procedural source;
 //! * `error`: why a source cannot be prepared ([`DisplacementError`]);
+//! * [`height_shader`]: a user's WGSL height function run as a displacement
+//!   shader.
 //!
 //! The checks on a user WGSL function are `crate::user_wgsl`'s.
 //!
@@ -23,16 +25,19 @@ internal_modules! {
     height_map;
     sines;
 }
+pub mod height_shader;
 
 use std::fmt;
 use std::sync::Arc;
 
-pub use self::desc::DisplacementDesc;
+pub use self::desc::{DisplacementDesc, ShaderSource};
 pub use self::error::DisplacementError;
 pub use self::height_map::HeightMap;
 
 /// A Rust function of `(u, v)` that reproduces a user WGSL height function on
-/// the CPU (so the reference renderer can check it). Compared by identity.
+/// the CPU, so that the reference renderer can run it
+/// ([`crate::prepare::PreparedScene::set_height_twin`]). Compared by
+/// identity.
 #[derive(Clone)]
 pub struct CpuHeight(pub Arc<dyn Fn(f32, f32) -> f32 + Send + Sync>);
 
@@ -53,18 +58,6 @@ impl PartialEq for CpuHeight {
     fn eq(&self, other: &Self) -> bool {
         Arc::ptr_eq(&self.0, &other.0)
     }
-}
-
-/// A height function written by the user in WGSL.
-#[derive(Debug, Clone, PartialEq)]
-pub struct UserFunction {
-    /// WGSL source defining `fn displacement_user(u: f32, v: f32) -> f32`
-    /// (it may define helpers too). It becomes part of the megakernel.
-    pub wgsl: String,
-    /// An optional Rust twin for the CPU reference. Scene files cannot give
-    /// one: without it the reference cannot render this object
-    /// ([`crate::reference::try_render`] reports it).
-    pub cpu: Option<CpuHeight>,
 }
 
 /// A displacement shader as an object runs it (docs/shaders.md): the
@@ -91,9 +84,8 @@ pub enum HeightSource {
     Image(Arc<HeightMap>),
     /// The built-in `sines::sines`, heights in `[-1, 1]`.
     Sines,
-    /// A user WGSL function.
-    User(UserFunction),
-    /// A displacement shader: not a height, a displaced point.
+    /// A displacement shader: not a height, a displaced point (a user's
+    /// WGSL height function runs as one, [`height_shader`]).
     Shader(ShaderDisplacement),
 }
 
@@ -116,14 +108,13 @@ pub struct PreparedDisplacement {
 
 impl PreparedDisplacement {
     /// The height at patch parameters `(u, v)` (before the tiling is
-    /// applied), or `None` for a user WGSL function without a CPU twin and
-    /// for a shader (which gives a point, not a height).
+    /// applied), or `None` for a shader (which gives a point, not a
+    /// height).
     pub fn height(&self, u: f32, v: f32) -> Option<f32> {
         let (u, v) = (u * self.tiling, v * self.tiling);
         match &self.source {
             HeightSource::Image(map) => Some(map.sample(u, v)),
             HeightSource::Sines => Some(sines::sines(u, v)),
-            HeightSource::User(user) => user.cpu.as_ref().map(|f| (f.0)(u, v)),
             HeightSource::Shader(_) => None,
         }
     }
@@ -140,20 +131,11 @@ impl PreparedDisplacement {
     /// shader (if it runs one) is in `shaders`.
     pub fn cpu_evaluable(&self, shaders: &crate::surface_shader::ShaderTable) -> bool {
         match &self.source {
-            HeightSource::User(UserFunction { cpu, .. }) => cpu.is_some(),
             HeightSource::Shader(shader) => shaders
                 .shaders
                 .get(shader.reference.shader as usize)
                 .is_some_and(|s| s.cpu_displacement.is_some()),
             HeightSource::Image(_) | HeightSource::Sines => true,
-        }
-    }
-
-    /// The user WGSL function, if this displacement uses one.
-    pub fn user_wgsl(&self) -> Option<&str> {
-        match &self.source {
-            HeightSource::User(user) => Some(&user.wgsl),
-            _ => None,
         }
     }
 

@@ -70,10 +70,9 @@ pub mod displace {
     pub const IMAGE: u32 = 1;
     /// The built-in sines.
     pub const SINES: u32 = 2;
-    /// The user's WGSL `displacement_user`.
-    pub const USER: u32 = 3;
-    /// A displacement shader (`user_displacement`).
-    pub const SHADER: u32 = 4;
+    /// A displacement shader (`user_displacement`), also a user's WGSL
+    /// height function ([`crate::displacement::height_shader`]).
+    pub const SHADER: u32 = 3;
 }
 
 /// Surface shaders, as [`super::objects::ObjectData::surface`] encodes

@@ -1,6 +1,6 @@
 //! The Reyes procedure graph: the work items, the four procedures, their
-//! connections, the shared WGSL library (with the displacement sources and
-//! the scene's user displacement function) and the extra resources.
+//! connections, the shared WGSL library (with the displacement sources),
+//! the frame's user shaders and the extra resources.
 //!
 //! ```text
 //!   Bound (16 threads, initial) --+--> SplitU (4 threads) --+
@@ -84,17 +84,12 @@ fn host_environment(index: u32, R: vec3<f32>, dRdu: vec3<f32>, dRdv: vec3<f32>) 
 }
 ";
 
-/// The `displacement_user` of scenes without a user function (returns 0).
-pub const DEFAULT_USER_DISPLACEMENT_WGSL: &str =
-    include_str!("../../../shaders/reyes/displacement_user_default.wgsl");
-
-/// The user's WGSL a megakernel compiles in: the scene's displacement
-/// function (`None`: the default, zero) and its surface and displacement
-/// shaders, in the order objects index them.
+/// The user's WGSL a megakernel compiles in: the frame's surface and
+/// displacement shaders (users' WGSL height functions among them,
+/// [`crate::displacement::height_shader`]), in the order objects index
+/// them.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UserCode<'a> {
-    /// WGSL defining `fn displacement_user(u: f32, v: f32) -> f32`.
-    pub displacement: Option<&'a str>,
     /// The surface and displacement shaders
     /// ([`crate::surface_shader::ShaderTable::shaders`]).
     pub surfaces: &'a [Arc<SurfaceShader>],
@@ -102,10 +97,7 @@ pub struct UserCode<'a> {
 
 impl UserCode<'_> {
     /// No user code.
-    pub const NONE: UserCode<'static> = UserCode {
-        displacement: None,
-        surfaces: &[],
-    };
+    pub const NONE: UserCode<'static> = UserCode { surfaces: &[] };
 }
 
 /// Procedure names (also the names of their queues in a [`scheduler::RunReport`]).
@@ -146,9 +138,7 @@ pub fn reyes_graph() -> Graph {
 
 /// The Reyes procedure graph of `variant` (its switches are graph
 /// constants, so that specialization keeps only the code it runs) with the
-/// scene's user displacement function (WGSL defining `fn
-/// displacement_user(u: f32, v: f32) -> f32`), or the default one for
-/// `None`.
+/// frame's user shaders.
 ///
 /// Priorities make the scheduler work depth-first (leaves first), which
 /// keeps the split queues short: DiceShadeSample > SplitU = SplitV > Bound.
@@ -180,7 +170,6 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     graph.library(QUAD_WGSL);
     graph.library(RASTER5D_WGSL);
     graph.library(DISPLACEMENT_WGSL);
-    graph.library(user.displacement.unwrap_or(DEFAULT_USER_DISPLACEMENT_WGSL));
     if user.surfaces.is_empty() {
         graph.library(NO_TEXTURES_WGSL);
     } else {
@@ -279,7 +268,7 @@ pub fn compile(recommended: wgpu::Features) -> Result<CompiledGraph, CompileErro
     compile_variant(recommended, KernelVariant::default(), &UserCode::NONE)
 }
 
-/// Compiles the Reyes graph of `variant` with a user displacement function
+/// Compiles the Reyes graph of `variant` with the frame's user shaders
 /// (see [`reyes_graph_with`]).
 pub fn compile_variant(
     recommended: wgpu::Features,

@@ -51,8 +51,9 @@ impl LoopLimitContext {
         let user_displacement = scene.objects.iter().any(|o| {
             o.displacement
                 .as_ref()
-                .and_then(|d| d.user_wgsl())
-                .is_some()
+                .and_then(|d| d.shader())
+                .and_then(|s| scene.shaders.shaders.get(s.reference.shader as usize))
+                .is_some_and(|s| !crate::surface_shader::builtin::is_builtin(&s.path))
         });
         Self {
             spp: scene.spp,
@@ -72,9 +73,10 @@ impl LoopLimitContext {
 /// A likely cause of the cut loops and what to change, most likely first.
 #[derive(Clone, Debug, PartialEq)]
 pub enum LoopLimitHint {
-    /// A user displacement function is compiled in: it runs for every grid
-    /// point against the same per-invocation budget, and an endless or long
-    /// loop in it is cut there.
+    /// A user's displacement code (a WGSL height function or displacement
+    /// shader) is compiled in: it runs for every grid point against the
+    /// same per-invocation budget, and an endless or long loop in it is cut
+    /// there.
     UserDisplacement,
     /// The split-depth guard dropped pieces: patches kept splitting (a model
     /// far too large or too close for the camera, or a displacement bound
@@ -188,7 +190,7 @@ impl fmt::Display for LoopLimitHint {
         match self {
             Self::UserDisplacement => write!(
                 f,
-                "the scene's user displacement function (`displacement_user`) runs for every grid point within the same budget: an endless or long loop in it is a likely cause; check its loops terminate quickly"
+                "the scene's user displacement function or shader runs for every grid point (and its neighbours) within the same budget: an endless or long loop in it is a likely cause; check its loops terminate quickly"
             ),
             Self::DepthGuard {
                 max_split_depth,

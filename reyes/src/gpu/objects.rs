@@ -18,7 +18,7 @@ pub struct ObjectData {
     pub color: glam::Vec4,
     /// `plastic`'s `specularcolor` (w unused).
     pub specular_color: glam::Vec4,
-    /// DISPLACE_NONE, DISPLACE_IMAGE, DISPLACE_SINES, DISPLACE_USER or
+    /// DISPLACE_NONE, DISPLACE_IMAGE, DISPLACE_SINES or
     /// DISPLACE_SHADER ([`displace`]).
     pub displace_kind: u32,
     /// First texel of the object's height map in the texel buffer.
@@ -190,7 +190,6 @@ impl ObjectTables {
                         displace::IMAGE
                     }
                     HeightSource::Sines => displace::SINES,
-                    HeightSource::User(_) => displace::USER,
                     HeightSource::Shader(shader) => {
                         data.displace_shader = shader.reference.shader;
                         data.displace_parameters = shader.reference.parameters;

@@ -85,28 +85,6 @@ pub enum RenderError {
     /// The megakernel did not compile (a bug in the renderer's WGSL).
     #[error("the Reyes megakernel did not compile: {0}")]
     Compile(#[from] CompileError),
-    /// The megakernel did not compile with the scene's user displacement
-    /// function (most likely an error in that function).
-    #[error(
-        "the user displacement function (WGSL defining `fn displacement_user(u: f32, v: f32) -> f32`) does not compile into the megakernel: {0}"
-    )]
-    UserDisplacement(#[source] CompileError),
-    /// The scene's user displacement function fails the checks made on its
-    /// own source (syntax, a name of the renderer's, module variables,
-    /// barriers), at its own line.
-    #[error("the user displacement function is refused: {0}")]
-    UserFunction(#[from] crate::user_wgsl::UserWgslError),
-    /// Objects use different user displacement functions; the megakernel
-    /// holds one.
-    #[error(
-        "objects {first} and {other} use different user displacement functions; a scene may use one (it is compiled into the megakernel)"
-    )]
-    ConflictingUserDisplacement {
-        /// The first object with a user function.
-        first: usize,
-        /// An object whose function differs.
-        other: usize,
-    },
     /// The scheduler could not run the megakernel (after its retries, up to
     /// `super::renderer::RENDER_ATTEMPTS` attempts, when a queue
     /// overflowed).

@@ -61,8 +61,7 @@ const MAX_PARKED_PROGRAMS: usize = 3;
 #[derive(Debug, PartialEq)]
 struct ProgramKey {
     variant: KernelVariant,
-    user: Option<String>,
-    /// The scene's surface shaders (compared by content).
+    /// The frame's surface and displacement shaders (compared by content).
     surfaces: Vec<Arc<SurfaceShader>>,
     chunks: u32,
 }
@@ -83,8 +82,8 @@ pub struct GpuRenderer<'a> {
     gpu: &'a Gpu,
     options: GpuOptions,
     compiled: CompiledGraph,
-    /// What `compiled` was compiled for: its variant, the user
-    /// displacement function, the chunks per batch.
+    /// What `compiled` was compiled for: its variant, the user shaders,
+    /// the chunks per batch.
     compiled_key: ProgramKey,
     resolver: Resolver,
     executor: Option<(Capacities, Option<u32>, Executor)>,
@@ -131,7 +130,6 @@ impl<'a> GpuRenderer<'a> {
             compiled,
             compiled_key: ProgramKey {
                 variant: KernelVariant::default(),
-                user: None,
                 surfaces: Vec::new(),
                 chunks,
             },
@@ -144,7 +142,7 @@ impl<'a> GpuRenderer<'a> {
     }
 
     /// The compiled megakernel (of the last scene's variant and user
-    /// displacement function, if it had one).
+    /// shaders).
     pub fn compiled(&self) -> &CompiledGraph {
         &self.compiled
     }
@@ -162,30 +160,16 @@ impl<'a> GpuRenderer<'a> {
     }
 
     /// Compiles the megakernel again when `scene` needs a different variant
-    /// ([`KernelVariant::of`]), user displacement function, or chunks per
+    /// ([`KernelVariant::of`]), user shaders, or chunks per
     /// batch than the one compiled in. The current program is parked, and
     /// one parked before is taken back when it fits (up to
     /// `MAX_PARKED_PROGRAMS`, least recently used first out), so that
     /// alternating frames compile each module and create each pipeline
     /// once.
     fn prepare_megakernel(&mut self, scene: &PreparedScene) -> Result<(), RenderError> {
-        let mut users = scene.objects.iter().enumerate().filter_map(|(i, o)| {
-            o.displacement
-                .as_ref()
-                .and_then(|d| d.user_wgsl())
-                .map(|w| (i, w))
-        });
-        let user = users.next();
-        if let Some((first, wgsl)) = user
-            && let Some((other, _)) = users.find(|(_, w)| *w != wgsl)
-        {
-            return Err(RenderError::ConflictingUserDisplacement { first, other });
-        }
-        let user = user.map(|(_, w)| w);
         let chunks = chunks_per_batch(self.gpu, &self.options, scene.samples_time_and_lens());
         let key = ProgramKey {
             variant: KernelVariant::of(scene),
-            user: user.map(str::to_owned),
             surfaces: scene.shaders.shaders.clone(),
             chunks,
         };
@@ -213,19 +197,11 @@ impl<'a> GpuRenderer<'a> {
     fn compile_program(&self, key: ProgramKey) -> Result<ParkedProgram, RenderError> {
         let ProgramKey {
             variant,
-            ref user,
             ref surfaces,
             chunks,
         } = key;
-        let user = user.as_deref();
-        if let Some(wgsl) = user {
-            crate::user_wgsl::check(wgsl)?;
-        }
         let features = scheduler::recommended_features(&self.gpu.device);
-        let code = UserCode {
-            displacement: user,
-            surfaces,
-        };
+        let code = UserCode { surfaces };
         let compiled = graph::compile_traced(
             features,
             variant,
@@ -233,17 +209,10 @@ impl<'a> GpuRenderer<'a> {
             (self.options.policy, chunks),
             self.options.trace,
         )
-        .map_err(|e| match user {
-                Some(_) => RenderError::UserDisplacement(e),
-                None => RenderError::Compile(e),
-            })?;
+        .map_err(RenderError::Compile)?;
         log::info!(
-            "new megakernel for {variant} ({chunks} chunk(s) per batch{}): the driver compiles it when the executor is created, which takes minutes on lavapipe when its shader cache lacks it",
-            if user.is_some() {
-                ", with the scene's displacement function"
-            } else {
-                ""
-            }
+            "new megakernel for {variant} ({chunks} chunk(s) per batch, {} user shader(s)): the driver compiles it when the executor is created, which takes minutes on lavapipe when its shader cache lacks it",
+            surfaces.len()
         );
         Ok(ParkedProgram {
             key,

@@ -200,7 +200,6 @@ pub(super) fn shared_constants(workgroup_size: u32) -> Vec<(&'static str, Consta
         ("DISPLACE_NONE", ConstantValue::U32(displace::NONE)),
         ("DISPLACE_IMAGE", ConstantValue::U32(displace::IMAGE)),
         ("DISPLACE_SINES", ConstantValue::U32(displace::SINES)),
-        ("DISPLACE_USER", ConstantValue::U32(displace::USER)),
         ("DISPLACE_SHADER", ConstantValue::U32(displace::SHADER)),
         (
             "DISPLACED_DICE_FRACTION",

@@ -3,13 +3,17 @@
 //! framed automatically), lights normalized.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
 
 use crate::aov::Aov;
 use crate::camera::Camera;
 use crate::dicing::DicingRule;
-use crate::displacement::{DisplacementError, PreparedDisplacement, ShaderDisplacement};
+use crate::displacement::{
+    CpuHeight, DisplacementError, PreparedDisplacement, ShaderDisplacement, ShaderSource,
+    height_shader,
+};
 use crate::filter::PixelFilter;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
@@ -308,18 +312,36 @@ impl PreparedScene {
                 .displacement
                 .as_ref()
                 .map(|desc| {
-                    desc.prepare(scene.base_dir.as_deref(), mirrored, |file, values| {
-                        let path = shader_path(scene.base_dir.as_deref(), file);
-                        let (reference, warnings) = shaders
-                            .add(
-                                &path,
-                                ShaderKind::Displacement,
-                                values,
-                                &mut textures,
-                                &mut lights.shadow_maps,
-                                scene.base_dir.as_deref(),
-                            )
-                            .map_err(|source| DisplacementError::Shader {
+                    desc.prepare(scene.base_dir.as_deref(), mirrored, |source| {
+                        let (path, added) = match source {
+                            ShaderSource::File { file, parameters } => {
+                                let path = shader_path(scene.base_dir.as_deref(), file);
+                                let added = shaders.add(
+                                    &path,
+                                    ShaderKind::Displacement,
+                                    parameters,
+                                    &mut textures,
+                                    &mut lights.shadow_maps,
+                                    scene.base_dir.as_deref(),
+                                );
+                                (path, added)
+                            }
+                            ShaderSource::Height { wgsl, tiling } => {
+                                let path = height_shader::shader_name(index);
+                                let added = height_shader::shader(wgsl, index).and_then(|shader| {
+                                    shaders.add_made(
+                                        shader,
+                                        ShaderKind::Displacement,
+                                        &height_shader::parameters(tiling),
+                                        &mut textures,
+                                        &mut lights.shadow_maps,
+                                    )
+                                });
+                                (path, added)
+                            }
+                        };
+                        let (reference, warnings) =
+                            added.map_err(|source| DisplacementError::Shader {
                                 file: path.clone(),
                                 source: Box::new(source),
                             })?;
@@ -332,8 +354,14 @@ impl PreparedScene {
                         );
                         // N is the front's normal, as RenderMan's
                         // Orientation makes it: the model's dP/du x dP/dv
-                        // unless mirrored or reversed (once).
-                        let flipped = object.reverse_orientation != mirrored;
+                        // unless mirrored or reversed (once). A height
+                        // function keeps the model's own side, as the
+                        // built-in height sources do: only a mirroring
+                        // turns it.
+                        let flipped = match source {
+                            ShaderSource::File { .. } => object.reverse_orientation != mirrored,
+                            ShaderSource::Height { .. } => mirrored,
+                        };
                         let prepared = ShaderDisplacement {
                             reference,
                             orientation: if flipped { -1.0 } else { 1.0 },
@@ -497,12 +525,32 @@ impl PreparedScene {
         }
     }
 
-    /// The one user WGSL displacement function of the scene, if any object
-    /// uses one (the GPU renderer compiles it into the megakernel).
-    pub fn user_displacement_wgsl(&self) -> Option<&str> {
-        self.objects
-            .iter()
-            .find_map(|o| o.displacement.as_ref().and_then(|d| d.user_wgsl()))
+    /// Gives the WGSL height function of object `object`'s displacement
+    /// (`source = "wgsl"`, [`crate::displacement::height_shader`]) its Rust
+    /// twin, so that the CPU reference can render it. Every object running
+    /// the same function gets it. False when the object has no such
+    /// function.
+    pub fn set_height_twin(&mut self, object: usize, twin: CpuHeight) -> bool {
+        let Some(shader) = self
+            .objects
+            .get(object)
+            .and_then(|o| o.displacement.as_ref())
+            .and_then(|d| d.shader())
+        else {
+            return false;
+        };
+        let Some(entry) = self
+            .shaders
+            .shaders
+            .get_mut(shader.reference.shader as usize)
+        else {
+            return false;
+        };
+        if !height_shader::is_height_shader(&entry.path) {
+            return false;
+        }
+        Arc::make_mut(entry).cpu_displacement = Some(height_shader::twin(twin));
+        true
     }
 
     /// Loads the scene's models ([`Scene::load_models`]) and prepares it.

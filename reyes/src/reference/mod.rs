@@ -73,10 +73,11 @@ pub struct Rendered {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum ReferenceError {
-    /// An object is displaced by a user WGSL function without a Rust twin
-    /// ([`crate::displacement::UserFunction::cpu`]): only the GPU can run it.
+    /// An object is displaced by a user WGSL height function without a
+    /// Rust twin ([`crate::prepare::PreparedScene::set_height_twin`]): only
+    /// the GPU can run it.
     #[error(
-        "object {object} is displaced by a user WGSL function, which the CPU reference cannot run; render it on the GPU, or give a Rust twin through the API (UserFunction::cpu)"
+        "object {object} is displaced by a user WGSL function, which the CPU reference cannot run; render it on the GPU, or give a Rust twin through the API (PreparedScene::set_height_twin)"
     )]
     UserDisplacement {
         /// Index of the object.
@@ -245,11 +246,13 @@ pub fn try_render_with(
             .and_then(|d| d.shader())
             .and_then(|s| scene.shaders.shaders.get(s.reference.shader as usize));
         return Err(match shader {
-            Some(shader) => ReferenceError::UserDisplacementShader {
-                object,
-                file: shader.path.clone(),
-            },
-            None => ReferenceError::UserDisplacement { object },
+            Some(shader) if !crate::displacement::height_shader::is_height_shader(&shader.path) => {
+                ReferenceError::UserDisplacementShader {
+                    object,
+                    file: shader.path.clone(),
+                }
+            }
+            _ => ReferenceError::UserDisplacement { object },
         });
     }
     for (object, prepared) in scene.objects.iter().enumerate() {

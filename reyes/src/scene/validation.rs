@@ -10,7 +10,6 @@ use crate::camera::Camera;
 use crate::camera::{Projection, pose_problem};
 #[cfg(doc)]
 use crate::displacement::DisplacementDesc;
-use crate::displacement::desc::SourceKind;
 use crate::params::{MAX_SHADING_RATE, MAX_SPLIT_DEPTH_LIMIT, VALID_SPP};
 
 use super::error::{finite, invalid};
@@ -51,7 +50,6 @@ impl Scene {
         for (i, object) in self.objects.iter().enumerate() {
             check_object(i, object)?;
         }
-        self.check_one_user_wgsl()?;
         for (i, light) in self.lights.iter().enumerate() {
             check_light(i, light)?;
         }
@@ -244,27 +242,6 @@ impl Scene {
         finite("camera_close.up", up.to_array())?;
         if let Some(problem) = pose_problem(close.eye, close.target, up) {
             return Err(invalid("camera_close", &problem.reason("camera_close")));
-        }
-        Ok(())
-    }
-
-    /// At most one distinct user WGSL displacement function: it is compiled
-    /// into the one megakernel.
-    fn check_one_user_wgsl(&self) -> Result<(), SceneError> {
-        let mut user_wgsl = self
-            .objects
-            .iter()
-            .enumerate()
-            .filter_map(|(i, o)| o.displacement.as_ref().map(|d| (i, d)))
-            .filter(|(_, d)| d.kind() == SourceKind::Wgsl)
-            .filter_map(|(i, d)| d.wgsl.as_deref().map(|w| (i, w)));
-        if let Some((_, first)) = user_wgsl.next()
-            && let Some((i, _)) = user_wgsl.find(|(_, w)| *w != first)
-        {
-            return Err(invalid(
-                &format!("objects[{i}].displacement.wgsl"),
-                "differs from an earlier object's: a scene may use one user WGSL function (it is compiled into the megakernel)",
-            ));
         }
         Ok(())
     }

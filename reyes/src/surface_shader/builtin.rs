@@ -60,6 +60,11 @@ pub fn shader(path: &Path) -> Option<Result<SurfaceShader, super::SurfaceShaderE
     )
 }
 
+/// Whether `path` names a built-in shader.
+pub fn is_builtin(path: &Path) -> bool {
+    path.to_str().is_some_and(|p| p.starts_with(PREFIX))
+}
+
 /// Whether the built-in displacement shader `path` knows its own bound
 /// ([`displacement_bound`]), so that a scene need not give one.
 pub fn bounds_itself(path: &Path) -> bool {

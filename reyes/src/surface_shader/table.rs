@@ -57,17 +57,64 @@ impl ShaderTable {
         shadow_maps: &mut Vec<ShadowMap>,
         base_dir: Option<&Path>,
     ) -> Result<(ShaderRef, Vec<ParameterWarning>), SurfaceShaderError> {
-        let index = match self.shaders.iter().position(|s| s.path == path) {
+        let index = self.index_of(path, || match super::builtin::shader(path) {
+            Some(builtin) => builtin,
+            None => SurfaceShader::load(path),
+        })?;
+        self.add_object(index, kind, values, textures, shadow_maps, base_dir)
+    }
+
+    /// Adds an object running `shader`, a shader the host made rather
+    /// than read from a file ([`crate::displacement::height_shader`]), as
+    /// [`ShaderTable::add`] does; made shaders of the same kind and text
+    /// are one, under the first one's name.
+    pub fn add_made(
+        &mut self,
+        shader: SurfaceShader,
+        kind: ShaderKind,
+        values: &BTreeMap<String, ShaderValue>,
+        textures: &mut TextureSet,
+        shadow_maps: &mut Vec<ShadowMap>,
+    ) -> Result<(ShaderRef, Vec<ParameterWarning>), SurfaceShaderError> {
+        let index = match self
+            .shaders
+            .iter()
+            .position(|s| s.kind == shader.kind && s.source == shader.source)
+        {
             Some(index) => index,
             None => {
-                let shader = match super::builtin::shader(path) {
-                    Some(builtin) => builtin?,
-                    None => SurfaceShader::load(path)?,
-                };
                 self.shaders.push(Arc::new(shader));
                 self.shaders.len() - 1
             }
         };
+        self.add_object(index, kind, values, textures, shadow_maps, None)
+    }
+
+    /// The index of the shader `path`, made by `make` unless an earlier
+    /// object uses it.
+    fn index_of(
+        &mut self,
+        path: &Path,
+        make: impl FnOnce() -> Result<SurfaceShader, SurfaceShaderError>,
+    ) -> Result<usize, SurfaceShaderError> {
+        if let Some(index) = self.shaders.iter().position(|s| s.path == path) {
+            return Ok(index);
+        }
+        self.shaders.push(Arc::new(make()?));
+        Ok(self.shaders.len() - 1)
+    }
+
+    /// Adds an object running shader `index` with `values`
+    /// ([`ShaderTable::add`]).
+    fn add_object(
+        &mut self,
+        index: usize,
+        kind: ShaderKind,
+        values: &BTreeMap<String, ShaderValue>,
+        textures: &mut TextureSet,
+        shadow_maps: &mut Vec<ShadowMap>,
+        base_dir: Option<&Path>,
+    ) -> Result<(ShaderRef, Vec<ParameterWarning>), SurfaceShaderError> {
         let found = self.shaders[index].kind;
         if found != kind {
             return Err(SurfaceShaderError::WrongKind {

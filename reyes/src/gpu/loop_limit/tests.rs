@@ -81,7 +81,7 @@ fn a_small_dice_threshold_asks_for_a_larger_one() {
     assert!(text.contains("LARGER dice threshold"), "{text}");
     assert!(!text.contains("smaller dice threshold"), "{text}");
     assert!(!text.contains("samples per pixel"), "{text}");
-    assert!(!text.contains("displacement_user"), "{text}");
+    assert!(!text.contains("displacement function"), "{text}");
 }
 
 #[test]
