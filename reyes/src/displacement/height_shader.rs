@@ -79,7 +79,7 @@ pub fn twin(height: CpuHeight) -> CpuDisplacement {
 
 #[cfg(test)]
 mod tests {
-    use glam::Vec3;
+    use glam::{Vec2, Vec3, Vec4};
 
     use super::*;
     use crate::surface_shader::ShaderKind;
@@ -119,6 +119,37 @@ mod tests {
         ));
     }
 
+    /// A host with no lights, textures or maps: a height function uses
+    /// none of them.
+    struct Dark;
+
+    impl crate::surface_shader::ShadingHost for Dark {
+        fn ambient(&self) -> Vec3 {
+            Vec3::ZERO
+        }
+        fn diffuse(&self, _: &ShadingContext, _: Vec3) -> Vec3 {
+            Vec3::ZERO
+        }
+        fn specular(&self, _: &ShadingContext, _: Vec3, _: Vec3, _: f32) -> Vec3 {
+            Vec3::ZERO
+        }
+        fn light_count(&self) -> u32 {
+            0
+        }
+        fn light(&self, _: u32, _: Vec3) -> (Vec3, Vec3) {
+            (Vec3::ZERO, Vec3::ZERO)
+        }
+        fn texture_footprint(&self, _: u32, _: Vec2, _: Vec2, _: Vec2) -> Vec4 {
+            Vec4::ZERO
+        }
+        fn environment_footprint(&self, _: u32, _: Vec3, _: Vec3, _: Vec3) -> Vec4 {
+            Vec4::ZERO
+        }
+        fn shadow(&self, _: [f32; 4], _: Vec3) -> f32 {
+            0.0
+        }
+    }
+
     #[test]
     fn the_twin_moves_p_along_n_by_the_tiled_height() {
         let height = CpuHeight::new(|u, v| u - 2.0 * v);
@@ -130,14 +161,7 @@ mod tests {
             v: 0.5,
             ..ShadingContext::default()
         };
-        let host = crate::reference::shade::Lighting {
-            eye: Vec3::Z.extend(1.0),
-            lights: &[],
-            ambient: Vec3::ZERO,
-            textures: None,
-            shadow_maps: &[],
-        };
-        let moved = (twin.0)(&ctx, &host, &[[3.0, 0.0, 0.0, 0.0]]);
+        let moved = (twin.0)(&ctx, &Dark, &[[3.0, 0.0, 0.0, 0.0]]);
         // h(3 * 0.25, 3 * 0.5) = 0.75 - 3 = -2.25.
         let expected = Vec3::new(1.0, 2.0 - 0.6 * 2.25, 3.0 - 0.8 * 2.25);
         assert!(

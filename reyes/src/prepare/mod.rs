@@ -3,17 +3,13 @@
 //! framed automatically), lights normalized.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
 
 use crate::aov::Aov;
 use crate::camera::Camera;
 use crate::dicing::DicingRule;
-use crate::displacement::{
-    CpuHeight, DisplacementError, PreparedDisplacement, ShaderDisplacement, ShaderSource,
-    height_shader,
-};
+use crate::displacement::PreparedDisplacement;
 use crate::filter::PixelFilter;
 use crate::model::Model;
 use crate::motion::{ObjectMotion, PreparedLens, camera_motion, interpolate_view};
@@ -25,10 +21,12 @@ use crate::scene::{
 pub use crate::shading::{PreparedLight, PreparedShadow, PreparedSurface};
 use crate::shadow::ShadowMap;
 
+mod displacement;
 mod lights;
 mod patches;
 mod shadow_passes;
 
+use self::displacement::ShaderTables;
 pub use self::lights::PendingShadow;
 pub use self::patches::{PatchStore, SharedPatch};
 pub use self::shadow_passes::{
@@ -312,67 +310,13 @@ impl PreparedScene {
                 .displacement
                 .as_ref()
                 .map(|desc| {
-                    desc.prepare(scene.base_dir.as_deref(), mirrored, |source| {
-                        let (path, added) = match source {
-                            ShaderSource::File { file, parameters } => {
-                                let path = shader_path(scene.base_dir.as_deref(), file);
-                                let added = shaders.add(
-                                    &path,
-                                    ShaderKind::Displacement,
-                                    parameters,
-                                    &mut textures,
-                                    &mut lights.shadow_maps,
-                                    scene.base_dir.as_deref(),
-                                );
-                                (path, added)
-                            }
-                            ShaderSource::Height { wgsl, tiling } => {
-                                let path = height_shader::shader_name(index);
-                                let added = height_shader::shader(wgsl, index).and_then(|shader| {
-                                    shaders.add_made(
-                                        shader,
-                                        ShaderKind::Displacement,
-                                        &height_shader::parameters(tiling),
-                                        &mut textures,
-                                        &mut lights.shadow_maps,
-                                    )
-                                });
-                                (path, added)
-                            }
-                        };
-                        let (reference, warnings) =
-                            added.map_err(|source| DisplacementError::Shader {
-                                file: path.clone(),
-                                source: Box::new(source),
-                            })?;
-                        warn_unknown_parameters(index, "displacement", &path, &warnings);
-                        let shader = &shaders.shaders[reference.shader as usize];
-                        let own_bound = crate::surface_shader::builtin::displacement_bound(
-                            &path,
-                            shaders.slots(reference.parameters, shader),
-                            &textures,
-                        );
-                        // N is the front's normal, as RenderMan's
-                        // Orientation makes it: the model's dP/du x dP/dv
-                        // unless mirrored or reversed (once). A height
-                        // function keeps the model's own side, as the
-                        // built-in height sources do: only a mirroring
-                        // turns it.
-                        let flipped = match source {
-                            ShaderSource::File { .. } => object.reverse_orientation != mirrored,
-                            ShaderSource::Height { .. } => mirrored,
-                        };
-                        let prepared = ShaderDisplacement {
-                            reference,
-                            orientation: if flipped { -1.0 } else { 1.0 },
-                        };
-                        Ok((prepared, own_bound))
-                    })
-                    .map_err(|source| SceneError::Displacement {
-                        index,
-                        displacement: desc.source.clone(),
-                        source,
-                    })
+                    let tables = ShaderTables {
+                        shaders: &mut shaders,
+                        textures: &mut textures,
+                        shadow_maps: &mut lights.shadow_maps,
+                        base_dir: scene.base_dir.as_deref(),
+                    };
+                    displacement::prepare(desc, index, object, mirrored, tables)
                 })
                 .transpose()?;
             let close = object.transform_close.as_ref().map_or(open, |close| {
@@ -523,34 +467,6 @@ impl PreparedScene {
             Sampling::Bbox => self.has_motion() || self.lens.aperture > 0.0,
             _ => true,
         }
-    }
-
-    /// Gives the WGSL height function of object `object`'s displacement
-    /// (`source = "wgsl"`, [`crate::displacement::height_shader`]) its Rust
-    /// twin, so that the CPU reference can render it. Every object running
-    /// the same function gets it. False when the object has no such
-    /// function.
-    pub fn set_height_twin(&mut self, object: usize, twin: CpuHeight) -> bool {
-        let Some(shader) = self
-            .objects
-            .get(object)
-            .and_then(|o| o.displacement.as_ref())
-            .and_then(|d| d.shader())
-        else {
-            return false;
-        };
-        let Some(entry) = self
-            .shaders
-            .shaders
-            .get_mut(shader.reference.shader as usize)
-        else {
-            return false;
-        };
-        if !height_shader::is_height_shader(&entry.path) {
-            return false;
-        }
-        Arc::make_mut(entry).cpu_displacement = Some(height_shader::twin(twin));
-        true
     }
 
     /// Loads the scene's models ([`Scene::load_models`]) and prepares it.

@@ -57,10 +57,13 @@ impl ShaderTable {
         shadow_maps: &mut Vec<ShadowMap>,
         base_dir: Option<&Path>,
     ) -> Result<(ShaderRef, Vec<ParameterWarning>), SurfaceShaderError> {
-        let index = self.index_of(path, || match super::builtin::shader(path) {
-            Some(builtin) => builtin,
-            None => SurfaceShader::load(path),
-        })?;
+        let index = self.index_of(
+            |s| s.path == path,
+            || match super::builtin::shader(path) {
+                Some(builtin) => builtin,
+                None => SurfaceShader::load(path),
+            },
+        )?;
         self.add_object(index, kind, values, textures, shadow_maps, base_dir)
     }
 
@@ -76,28 +79,19 @@ impl ShaderTable {
         textures: &mut TextureSet,
         shadow_maps: &mut Vec<ShadowMap>,
     ) -> Result<(ShaderRef, Vec<ParameterWarning>), SurfaceShaderError> {
-        let index = match self
-            .shaders
-            .iter()
-            .position(|s| s.kind == shader.kind && s.source == shader.source)
-        {
-            Some(index) => index,
-            None => {
-                self.shaders.push(Arc::new(shader));
-                self.shaders.len() - 1
-            }
-        };
+        let (made_kind, source) = (shader.kind, shader.source.clone());
+        let index = self.index_of(|s| s.kind == made_kind && s.source == source, || Ok(shader))?;
         self.add_object(index, kind, values, textures, shadow_maps, None)
     }
 
-    /// The index of the shader `path`, made by `make` unless an earlier
-    /// object uses it.
+    /// The index of the first shader that is `same` as the one wanted, or
+    /// of the one `make` makes when none is.
     fn index_of(
         &mut self,
-        path: &Path,
+        same: impl Fn(&SurfaceShader) -> bool,
         make: impl FnOnce() -> Result<SurfaceShader, SurfaceShaderError>,
     ) -> Result<usize, SurfaceShaderError> {
-        if let Some(index) = self.shaders.iter().position(|s| s.path == path) {
+        if let Some(index) = self.shaders.iter().position(|s| same(s)) {
             return Ok(index);
         }
         self.shaders.push(Arc::new(make()?));
