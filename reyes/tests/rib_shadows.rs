@@ -485,9 +485,14 @@ fn make_shadow_is_handed_over_with_the_frame_after_it() {
 fn a_frame_maps_the_files_world_into_its_own() {
     // The camera 5 in front of the world's origin and 1 to its right:
     // RenderMan's world point (1, 0, 0) is at the camera's origin, x
-    // mirrored into the renderer's world.
-    let text = "Format 16 16 1\nTranslate -1 0 5\nWorldBegin\nSphere 1 -1 1 360\nWorldEnd\n";
-    let rib = reyes::rib::RibScene::from_text(text, "w.rib").unwrap();
+    // mirrored into the renderer's world. A depth frame writes a map, so
+    // it keeps the space; the same frame in colour keeps none (it reads and
+    // writes no map).
+    let frame = "Format 16 16 1\nTranslate -1 0 5\nWorldBegin\nSphere 1 -1 1 360\nWorldEnd\n";
+    let colour = reyes::rib::RibScene::from_text(frame, "w.rib").unwrap();
+    assert_eq!(colour.scene.shadow_map_space, None);
+    let text = format!("Display \"w.z\" \"zfile\" \"z\"\n{frame}");
+    let rib = reyes::rib::RibScene::from_text(&text, "w.rib").unwrap();
     let to_world = rib
         .scene
         .shadow_map_space

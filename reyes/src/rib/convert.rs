@@ -332,10 +332,14 @@ pub(super) fn build(interp: &mut Interp, file: &Path) -> Result<RibScene, RibErr
         });
     }
     // Shadow maps are kept in the file's world space, which every frame
-    // shares; the scene is in this frame's camera space, x mirrored.
-    scene.shadow_map_space = Some(
-        (super::interp::camera_to_world() * interp.camera.unwrap_or(DMat4::IDENTITY)).as_mat4(),
-    );
+    // shares; the scene is in this frame's camera space, x mirrored. Only a
+    // scene that reads or writes maps keeps that space (a camera beyond
+    // f32 is no error for the others).
+    if scene.may_use_shadow_map_files() {
+        scene.shadow_map_space = Some(
+            (super::interp::camera_to_world() * interp.camera.unwrap_or(DMat4::IDENTITY)).as_mat4(),
+        );
+    }
     scene.validate().map_err(|source| RibError::Scene {
         file: file.to_path_buf(),
         source: Box::new(source),
