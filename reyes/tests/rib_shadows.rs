@@ -589,3 +589,24 @@ fn a_map_remade_between_frames_is_no_conflict() {
     );
     assert!(dir.path("beauty.png").exists());
 }
+
+#[test]
+fn a_map_made_by_the_file_is_found_when_rendering_from_another_directory() {
+    // The RIB lies in scenes/, the render runs in its parent: Display and
+    // MakeShadow write there (the current directory), and the light's
+    // shadowname, relative to the current directory too, reads the map
+    // MakeShadow wrote, not scenes/m.shad.
+    let dir = TempDir::new("rib-shadows-other-directory");
+    std::fs::create_dir_all(dir.path("scenes")).unwrap();
+    let rib = depth_frame("d.z") + &beauty("MakeShadow \"d.z\" \"m.shad\"\n", "m.shad");
+    std::fs::write(dir.path("scenes/scene.rib"), &rib).unwrap();
+    let (ok, stdout, stderr) = reyes(&dir, &["render", "--cpu", "scenes/scene.rib"]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("wrote shadow map m.shad"), "{stdout}");
+    assert!(dir.path("m.shad").exists() && dir.path("beauty.png").exists());
+    assert!(!dir.path("scenes/m.shad").exists());
+    assert!(
+        !stderr.contains("shadow map"),
+        "no map is missing: {stderr}"
+    );
+}
