@@ -236,17 +236,9 @@ fn card_scene() -> (Scene, Vec<Model>) {
     scene.resolution.height = 64;
     scene.camera = Some(camera_down_z());
     scene.objects.push(SceneObject {
-        model: "card".into(),
-        subdivision: None,
         transform: Default::default(),
         color: Vec3::splat(0.8),
-        surface: None,
-        shading_rate: None,
-        displacement: None,
-        transform_close: None,
-        keys: Vec::new(),
-        sides: 2,
-        reverse_orientation: false,
+        ..SceneObject::new("card")
     });
     (scene, vec![Model::new(vec![Patch { points }])])
 }

@@ -176,17 +176,9 @@ fn wall_scene(bound: f32) -> PreparedScene {
     scene.camera = Some(camera_down_z());
     scene.lights[0].direction = Vec3::new(-1.0, -0.2, -0.5);
     scene.objects.push(reyes::scene::SceneObject {
-        model: "wall".into(),
-        subdivision: None,
-        transform: Default::default(),
         color: Vec3::splat(0.8),
-        surface: None,
-        shading_rate: None,
         displacement: Some(displacement(&map.to_string_lossy(), 1.0, 1.0)),
-        transform_close: None,
-        keys: Vec::new(),
-        sides: 2,
-        reverse_orientation: false,
+        ..reyes::scene::SceneObject::new("wall")
     });
     let mut prepared = PreparedScene::new(&scene, &[wall(-3.6)]).expect("scene prepares");
     std::fs::remove_dir_all(&dir).ok();

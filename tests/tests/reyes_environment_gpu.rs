@@ -18,7 +18,7 @@ use reyes::gpu::GpuOptions;
 use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
 use reyes::reference;
-use reyes::scene::{CameraDesc, Projection, Scene, SceneObject, ShaderValue, Surface, Transform};
+use reyes::scene::{CameraDesc, Projection, Scene, SceneObject, ShaderValue, Surface};
 use tests::reyes_support::{agreement, gpu_turn, renderer};
 
 /// The environment's linear colour in the direction of longitude `lon` and
@@ -100,9 +100,6 @@ fn mirror_scene(sky: &Path) -> (Scene, Vec<Model>) {
     }
     let number = ShaderValue::Number;
     scene.objects.push(SceneObject {
-        model: "mirror".to_owned(),
-        subdivision: None,
-        transform: Transform::default(),
         color: Vec3::ONE,
         surface: Some(Surface::Wgsl {
             file: PathBuf::from("builtin:shinymetal"),
@@ -116,12 +113,7 @@ fn mirror_scene(sky: &Path) -> (Scene, Vec<Model>) {
                 ),
             ]),
         }),
-        shading_rate: None,
-        displacement: None,
-        transform_close: None,
-        keys: Vec::new(),
-        sides: 2,
-        reverse_orientation: false,
+        ..SceneObject::new("mirror")
     });
     (scene, vec![Model::new(vec![square])])
 }

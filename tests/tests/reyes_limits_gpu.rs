@@ -219,17 +219,8 @@ fn defocused_card(dicing: Dicing, dice_threshold: f32) -> PreparedScene {
     scene.lens.aperture = 1.0;
     scene.lens.focus_distance = Some(1.0);
     scene.objects.push(SceneObject {
-        model: "card".into(),
-        subdivision: None,
-        transform: Transform::default(),
         color: Vec3::ONE,
-        surface: None,
-        shading_rate: None,
-        displacement: None,
-        transform_close: None,
-        keys: Vec::new(),
-        sides: 2,
-        reverse_orientation: false,
+        ..SceneObject::new("card")
     });
     let (centre, half) = (Vec3::new(0.0, 0.0, -5.0), 0.5);
     let points = std::array::from_fn(|k| {

@@ -42,17 +42,12 @@ fn scene(open: f32, close: f32) -> PreparedScene {
         ..Transform::default()
     };
     scene.objects.push(SceneObject {
-        model: "square".to_owned(),
-        subdivision: None,
         transform: placed(open),
         color: Vec3::ONE,
         surface: Some(Surface::Constant),
-        shading_rate: None,
-        displacement: None,
         transform_close: Some(placed(close)),
-        keys: Vec::new(),
         sides: 1,
-        reverse_orientation: false,
+        ..SceneObject::new("square")
     });
     PreparedScene::new(&scene, &[square()]).expect("scene prepares")
 }

@@ -18,7 +18,7 @@ use reyes::gpu::GpuOptions;
 use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
 use reyes::reference;
-use reyes::scene::{CameraDesc, Projection, Scene, SceneObject, ShaderValue, Surface, Transform};
+use reyes::scene::{CameraDesc, Projection, Scene, SceneObject, ShaderValue, Surface};
 use reyes::shadow::ShadowMap;
 use reyes::surface_shader::{CpuSurface, ShadingContext, ShadingHost, ShadowDesc, SurfaceOutput};
 use tests::reyes_support::{agreement, gpu_turn, renderer};
@@ -175,20 +175,12 @@ fn prepared(key: ShadowDesc) -> PreparedScene {
         ortho_height: Some(VIEW_HEIGHT),
     });
     scene.objects.push(SceneObject {
-        model: "ground".to_owned(),
-        subdivision: None,
-        transform: Transform::default(),
         color: Vec3::ONE,
         surface: Some(Surface::Wgsl {
             file: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("shaders/shadowed.wgsl"),
             parameters: BTreeMap::from([("key".to_owned(), ShaderValue::Shadow(key))]),
         }),
-        shading_rate: None,
-        displacement: None,
-        transform_close: None,
-        keys: Vec::new(),
-        sides: 2,
-        reverse_orientation: false,
+        ..SceneObject::new("ground")
     });
     let mut prepared = PreparedScene::new(&scene, &[ground()]).expect("scene prepares");
     assert_eq!(prepared.shadow_maps.len(), 1, "the map is read");

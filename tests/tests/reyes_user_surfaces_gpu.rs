@@ -289,9 +289,6 @@ fn a_texture_at_one_texel_per_pixel_comes_back() {
         *point = Vec3::new(aspect * (2.0 * i / 3.0 - 1.0), 2.0 * j / 3.0 - 1.0, -5.0);
     }
     scene.objects.push(SceneObject {
-        model: "square".to_owned(),
-        subdivision: None,
-        transform: Transform::default(),
         color: Vec3::ONE,
         surface: Some(Surface::Wgsl {
             file: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("shaders/texture_only.wgsl"),
@@ -301,11 +298,7 @@ fn a_texture_at_one_texel_per_pixel_comes_back() {
             )]),
         }),
         shading_rate: Some(0.25),
-        displacement: None,
-        transform_close: None,
-        keys: Vec::new(),
-        sides: 2,
-        reverse_orientation: false,
+        ..SceneObject::new("square")
     });
     let models = vec![Model::new(vec![square])];
     let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");

@@ -21,14 +21,14 @@ use crate::params::{DEFAULT_DICE_THRESHOLD, DEFAULT_MAX_SPLIT_DEPTH, DEFAULT_SHA
 use crate::quantize::{Exposure, Quantize};
 
 use super::defaults::{
-    default_ambient, default_background, default_color, default_dice_threshold,
-    default_interleave_permutations, default_interleave_tile, default_lights,
-    default_max_split_depth, default_one, default_shading_rate, default_spp,
+    default_ambient, default_background, default_dice_threshold, default_interleave_permutations,
+    default_interleave_tile, default_lights, default_max_split_depth, default_one,
+    default_shading_rate, default_spp,
 };
 use super::framing::box_corners;
 use super::{
     Animation, CameraDesc, CameraPose, Lens, Light, ModelSource, SceneError, SceneObject, Specular,
-    Subdivision, Transform,
+    Subdivision,
 };
 
 /// The model name that selects the embedded teapot instead of a file.
@@ -273,19 +273,7 @@ impl Scene {
         Scene {
             resolution,
             camera,
-            objects: vec![SceneObject {
-                model: model_name.into(),
-                subdivision: None,
-                transform: Transform::default(),
-                color: default_color(),
-                surface: None,
-                shading_rate: None,
-                displacement: None,
-                transform_close: None,
-                keys: Vec::new(),
-                sides: 2,
-                reverse_orientation: false,
-            }],
+            objects: vec![SceneObject::new(model_name)],
             lights: vec![light],
             ..Scene::default()
         }

@@ -164,6 +164,26 @@ pub struct SceneObject {
     pub reverse_orientation: bool,
 }
 
+impl SceneObject {
+    /// The object `model` with every other key at its scene-file default,
+    /// as `[[objects]]` with only `model` reads.
+    pub fn new(model: impl Into<String>) -> SceneObject {
+        SceneObject {
+            model: model.into(),
+            subdivision: None,
+            transform: Transform::default(),
+            color: default_color(),
+            surface: None,
+            shading_rate: None,
+            displacement: None,
+            transform_close: None,
+            keys: Vec::new(),
+            sides: default_sides(),
+            reverse_orientation: false,
+        }
+    }
+}
+
 /// The subdivision scheme of an object's mesh (`subdivision`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
