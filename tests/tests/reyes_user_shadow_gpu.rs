@@ -164,6 +164,11 @@ fn prepared(key: ShadowDesc) -> PreparedScene {
     scene.resolution.width = WIDTH;
     scene.resolution.height = HEIGHT;
     scene.spp = 16;
+    // The shader runs at the grid's vertices and the pixels see it
+    // interpolated, so a sharp shadow's area is counted in shading points:
+    // at rate 1 (a point per pixel) a shadow of 250 pixels comes out up to
+    // 5% off its projection by where the lattice falls, at 0.25 within 1%.
+    scene.shading_rate = 0.25;
     scene.camera = Some(CameraDesc {
         eye: Vec3::new(0.0, 10.0, 0.0),
         target: Vec3::ZERO,
@@ -231,8 +236,7 @@ fn write_map(dir: &Path, map: &ShadowMap) -> PathBuf {
 fn a_shader_shadow_lookup_casts_the_projected_sphere() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
-    let seed: u64 = rand::rng().random();
-    eprintln!("seed {seed}");
+    let seed = tests::seed("a_shader_shadow_lookup_casts_the_projected_sphere");
     let caster = Caster::random(&mut StdRng::seed_from_u64(seed));
     eprintln!("{caster:?}");
     let dir = std::env::temp_dir().join(format!("reyes-user-shadow-{}", std::process::id()));
@@ -270,9 +274,9 @@ fn a_shader_shadow_lookup_casts_the_projected_sphere() {
         // centre stay the sharp one's.
         let area_error = (area - expected_area).abs() / expected_area;
         let (most_area_error, most_off, least_iou) = if blur == 0.0 {
-            (0.03, 0.25, 0.9)
+            (0.02, 0.15, 0.92)
         } else {
-            (0.06, 0.5, 0.85)
+            (0.03, 0.25, 0.9)
         };
         assert!(
             area_error <= most_area_error && off_centre <= most_off && overlap >= least_iou,
