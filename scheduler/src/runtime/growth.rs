@@ -15,6 +15,17 @@ pub(crate) const MAX_CAPACITY: u32 = 1 << 31;
 /// "Overflow and retry").
 const ESTIMATED_GENERATIONS: usize = 3;
 
+/// What a retry grows the queues to.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Growth {
+    /// The capacities to retry with, one per queue.
+    pub capacities: Vec<u32>,
+    /// Whether a queue that feeds itself was held at twice its measured need
+    /// below what the estimate of its refused items' children asked for: the
+    /// memory bound, which leaves that queue to be measured again.
+    pub held: bool,
+}
+
 /// The capacities to retry with after the overflowing run `report`, or
 /// [`RunError::QueueExceedsDevice`] when a queue's measured need does not fit
 /// the device.
@@ -40,7 +51,7 @@ pub(crate) fn grown_capacities(
     plan: &Plan,
     limits: &wgpu::Limits,
     report: &RunReport,
-) -> Result<Vec<u32>, RunError> {
+) -> Result<Growth, RunError> {
     let stats = &report.procedures;
     let n = plan.queues.len();
     // Items each queue received from enqueues (accepted or refused), per item
@@ -108,6 +119,7 @@ pub(crate) fn grown_capacities(
     }
     // Then the estimated room for the refused items' children, as far as
     // the device allows.
+    let mut held = false;
     for q in 0..n {
         if headroom[q] < 1.0 {
             continue;
@@ -121,12 +133,14 @@ pub(crate) fn grown_capacities(
         // the cap would hold it to a fraction of its need, one more
         // attempt at a time.
         if producers[q].contains(&q) {
-            wanted = wanted.min(power_of_two_at_most(base.max(1).saturating_mul(2)));
+            let bound = power_of_two_at_most(base.max(1).saturating_mul(2));
+            held |= wanted > bound;
+            wanted = wanted.min(bound);
         }
         let max = max_capacity(plan, limits, &capacities, q);
         capacities[q] = capacities[q].max(wanted.min(max));
     }
-    Ok(capacities)
+    Ok(Growth { capacities, held })
 }
 
 /// What a queue was measured to need in one run: `needed` if it overflowed,
@@ -268,6 +282,8 @@ mod tests {
             ..RunReport::default()
         };
         let grown = grown_capacities(&plan, &wgpu::Limits::default(), &report).unwrap();
+        assert!(grown.held, "Split's estimate is held at twice its need");
+        let grown = grown.capacities;
         // Split: need 64 (16 + 48), plus 192 + 768 + 3072 estimated over
         // three generations, capped at twice the need as it feeds itself:
         // 128; Leaf, fed by Split only: high-water 64 (short by Split's
@@ -289,7 +305,9 @@ mod tests {
                 ..RunReport::default()
             };
             let need = u64::from(capacity) + dropped;
-            let grown = grown_capacities(&plan, &wgpu::Limits::default(), &report).unwrap();
+            let grown = grown_capacities(&plan, &wgpu::Limits::default(), &report)
+                .unwrap()
+                .capacities;
             assert!(
                 u64::from(grown[0]) >= need,
                 "{grown:?} for a need of {need}"
@@ -338,7 +356,7 @@ mod tests {
             max_storage_buffer_binding_size: 4096,
             ..wgpu::Limits::default()
         };
-        let grown = grown_capacities(&plan, &tight, &report).unwrap();
+        let grown = grown_capacities(&plan, &tight, &report).unwrap().capacities;
         assert!(grown.iter().all(|c| c.is_power_of_two()));
         assert!(grown[0] >= 64 && grown[0] < 1024, "{grown:?}");
     }

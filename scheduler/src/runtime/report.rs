@@ -114,6 +114,14 @@ pub struct JoinPoolStats {
 pub struct RetryCauses {
     /// Retries after a queue overflow, with the queues grown.
     pub overflow: u32,
+    /// Of the `overflow` retries, those that held a queue feeding itself at
+    /// twice its measured need, below the estimate of what its refused
+    /// items' children would need: the bound on memory (docs/scheduler.md,
+    /// "Overflow and retry"). Such a retry can measure only about one more
+    /// level of that queue, so a deep tree started from small queues takes
+    /// one of them per level that outgrows twice the last.
+    #[serde(default)]
+    pub overflow_held: u32,
     /// Retries after too many seeds, with the seeded queue grown.
     pub seeds: u32,
     /// Retries after a join pool overflow, with the pool grown.
@@ -252,6 +260,13 @@ impl fmt::Display for RunReport {
         }
         if self.attempts > 1 {
             write!(f, ", {} attempts", self.attempts)?;
+            if self.retries.overflow_held > 0 {
+                write!(
+                    f,
+                    " ({} grew a self-feeding queue to only twice its need)",
+                    self.retries.overflow_held
+                )?;
+            }
         }
         write!(f, ", wall {:.3} ms", self.wall_time.as_secs_f64() * 1e3)?;
         if let Some(gpu) = self.gpu_time {

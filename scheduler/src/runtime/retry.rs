@@ -146,8 +146,9 @@ impl Executor {
                     return Ok(report);
                 }
                 Err(RunError::QueueOverflow { report, .. }) if attempt < retry.max_attempts => {
-                    let capacities =
+                    let growth =
                         grown_capacities(&self.compiled.plan, &self.device.limits(), &report)?;
+                    let capacities = growth.capacities;
                     log::info!(
                         "attempt {attempt} overflowed; retrying with capacities {capacities:?}"
                     );
@@ -159,6 +160,7 @@ impl Executor {
                     self.rebuild_state(capacities, self.tuning)?;
                     (retry.reset)(&ResetContext::new(self));
                     causes.overflow += 1;
+                    causes.overflow_held += u32::from(growth.held);
                     attempt += 1;
                 }
                 Err(RunError::JoinPoolOverflow { needed, .. }) if attempt < retry.max_attempts => {
