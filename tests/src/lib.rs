@@ -41,6 +41,7 @@ pub fn seed(test: &str) -> u64 {
 }
 
 pub mod crack_scene;
+pub mod generated_modules;
 pub mod graphs;
 pub mod random_graph;
 pub mod reyes_support;

@@ -1,53 +1,9 @@
 //! The generated megakernel as a product: deterministic, headed, valid under
 //! naga for several feature sets, and snapshotted.
 
-use scheduler::{CompileOptions, Graph, Policy, TraceOptions, wgpu};
-use tests::graphs::{binary_tree, ping_pong, scratch_sum};
-
-fn graphs() -> Vec<(&'static str, Graph)> {
-    vec![
-        ("binary_tree", binary_tree(6).graph),
-        ("scratch_sum", scratch_sum().graph),
-        ("ping_pong", ping_pong(5).graph),
-        // Joins: generated only for a graph that declares them.
-        ("tree_sum_joins", workloads::tree_sum::graph(None).graph),
-    ]
-}
-
-fn option_sets() -> Vec<(&'static str, CompileOptions)> {
-    vec![
-        ("atomic payload", CompileOptions::default()),
-        (
-            "coherent payload",
-            CompileOptions::with_features(wgpu::Features::MEMORY_DECORATION_COHERENT),
-        ),
-        (
-            "round robin",
-            CompileOptions {
-                policy: Policy::RoundRobin,
-                ..CompileOptions::default()
-            },
-        ),
-        (
-            "workgroup 64",
-            CompileOptions {
-                workgroup_size: 64,
-                ..CompileOptions::default()
-            },
-        ),
-        (
-            "4 chunks per batch",
-            CompileOptions {
-                chunks_per_batch: 4,
-                ..CompileOptions::with_features(wgpu::Features::MEMORY_DECORATION_COHERENT)
-            },
-        ),
-        (
-            "traced",
-            CompileOptions::default().traced(TraceOptions { capacity: 1024 }),
-        ),
-    ]
-}
+use scheduler::{CompileOptions, TraceOptions, wgpu};
+use tests::generated_modules::{capabilities, option_sets, test_graphs as graphs};
+use tests::graphs::{binary_tree, ping_pong};
 
 #[test]
 fn same_graph_same_bytes() {
@@ -89,21 +45,17 @@ fn every_generated_module_validates_with_naga() {
                     e.emit_to_string(compiled.wgsl())
                 )
             });
-            let mut capabilities = naga::valid::Capabilities::default();
-            if options
-                .features
-                .contains(wgpu::Features::MEMORY_DECORATION_COHERENT)
-            {
-                capabilities |= naga::valid::Capabilities::MEMORY_DECORATION_COHERENT;
-            }
-            naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
-                .validate(&module)
-                .unwrap_or_else(|e| {
-                    panic!(
-                        "{name} / {options_name}: {}",
-                        e.emit_to_string(compiled.wgsl())
-                    )
-                });
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                capabilities(options.features),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| {
+                panic!(
+                    "{name} / {options_name}: {}",
+                    e.emit_to_string(compiled.wgsl())
+                )
+            });
         }
     }
 }

@@ -8,8 +8,7 @@ use scheduler::CompileOptions;
 use scheduler::wgpu::Features;
 
 /// A user displacement (height) function, as a scene would give it.
-const USER: &str =
-    "fn displacement_user(u: f32, v: f32) -> f32 {\n    return 0.1 * sin(6.0 * u) * v;\n}\n";
+use tests::generated_modules::USER_HEIGHT as USER;
 
 /// Functions that only the 5D rasterizers and the motion and lens paths use.
 const BLURRED_ONLY: [&str; 6] = [
