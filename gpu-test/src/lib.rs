@@ -14,6 +14,11 @@
 //!   "..."))]` (a [`FailureCase`]). On an adapter a case covers, the test
 //!   must panic with the declared message; a pass there, or a panic with
 //!   another message, fails it. Elsewhere it runs as a plain test.
+//! - **On GL the tests take turns**: wgpu's GL backend makes every call
+//!   under one lock on the adapter's context and panics when a thread waits
+//!   for it over a second, so on a GL adapter each `#[gpu_test]` holds a
+//!   process-wide lock while it runs (`WGPU_BACKEND=gl` runs the tests on
+//!   GL; docs/scheduler.md, "Portability").
 //! - **Where a driver chooses between two valid outcomes**, the test asks
 //!   [`expect`] which one to check (`expect(gpu).loops_capped()`) instead of
 //!   deciding from adapter names itself.

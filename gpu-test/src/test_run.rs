@@ -1,10 +1,14 @@
 //! Running one GPU test against its declared failures.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::{Mutex, PoisonError};
 
 use scheduler::Gpu;
 
 use crate::FailureCase;
+
+/// Held by the GPU test that runs, when the adapter is GL.
+static GL_TURN: Mutex<()> = Mutex::new(());
 
 /// One GPU test and the failures declared for it; `#[gpu_test]` builds it.
 #[derive(Debug)]
@@ -47,6 +51,13 @@ impl GpuTest {
     pub fn run(self, test: impl FnOnce(&'static Gpu)) {
         let gpu = crate::gpu();
         let info = gpu.adapter.get_info();
+        // wgpu's GL backend makes every GL call under one lock on the
+        // adapter's context, and panics ("Could not lock adapter context")
+        // when a thread waits for it over a second, as tests on other
+        // threads holding it for a long dispatch or compile make it: on GL
+        // the tests take turns.
+        let _turn = (info.backend == scheduler::wgpu::Backend::Gl)
+            .then(|| GL_TURN.lock().unwrap_or_else(PoisonError::into_inner));
         let expected: Vec<FailureCase> = self
             .failures
             .iter()
