@@ -139,6 +139,20 @@ pub fn examples() -> Vec<GeneratedModule> {
         .collect()
 }
 
+/// The shader table of a frame whose object 0 has the height function
+/// `user` as its displacement shader (empty without one).
+pub fn user_height_shaders(
+    user: Option<&str>,
+) -> Vec<std::sync::Arc<reyes::surface_shader::SurfaceShader>> {
+    user.map(|wgsl| {
+        std::sync::Arc::new(
+            reyes::displacement::height_shader::shader(wgsl, 0).expect("the function checks"),
+        )
+    })
+    .into_iter()
+    .collect()
+}
+
 /// The Reyes megakernel in every [`reyes::gpu::KernelVariant`], without and
 /// with a user's height function (as displacement shader 0).
 pub fn reyes_variants() -> Vec<GeneratedModule> {
@@ -147,15 +161,7 @@ pub fn reyes_variants() -> Vec<GeneratedModule> {
     let mut modules = Vec::new();
     for variant in KernelVariant::ALL {
         for user in [None, Some(USER_HEIGHT)] {
-            let shaders: Vec<_> = user
-                .map(|wgsl| {
-                    std::sync::Arc::new(
-                        reyes::displacement::height_shader::shader(wgsl, 0)
-                            .expect("the function checks"),
-                    )
-                })
-                .into_iter()
-                .collect();
+            let shaders = user_height_shaders(user);
             let code = UserCode { surfaces: &shaders };
             let compiled = compile_variant(wgpu::Features::empty(), variant, &code)
                 .unwrap_or_else(|e| panic!("{variant} compiles: {e}"));

@@ -36,15 +36,7 @@ fn declares(wgsl: &str, function: &str) -> bool {
 fn every_variant_holds_what_it_runs_and_nothing_it_does_not() {
     for variant in KernelVariant::ALL {
         for user in [None, Some(USER)] {
-            let shaders: Vec<_> = user
-                .map(|wgsl| {
-                    std::sync::Arc::new(
-                        reyes::displacement::height_shader::shader(wgsl, 0)
-                            .expect("the function checks"),
-                    )
-                })
-                .into_iter()
-                .collect();
+            let shaders = tests::generated_modules::user_height_shaders(user);
             let code = UserCode { surfaces: &shaders };
             let compiled = compile_variant(Features::empty(), variant, &code)
                 .unwrap_or_else(|e| panic!("{variant} compiles: {e}"));
