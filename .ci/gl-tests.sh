@@ -4,8 +4,9 @@
 # writer instead of its SPIR-V one (docs/scheduler.md, "Portability").
 # Differences are declared per backend in the tests
 # (`#[gpu_test(expect_fail(backend = "gl", ...))]`), never skipped. The
-# Reyes tests need 64-bit atomics, which GL does not offer, so they run on
-# Vulkan only.
+# Reyes renderer needs 64-bit atomics, which GL does not offer: one Reyes
+# test runs here to show that it refuses GL with its typed error; the rest
+# run on Vulkan only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -13,7 +14,7 @@ tests=(
     scheduler_gpu strategies_gpu examples_gpu random_graphs_gpu failures_gpu
     joins_gpu checked_gpu fan_out_gpu item_helpers_gpu typed_resources_gpu
     trace_gpu round_kernels_gpu scheduler_defaults_gpu retry_growth_gpu
-    pipeline_cache_gpu harness_gpu
+    pipeline_cache_gpu harness_gpu reyes_surfaces_gpu
 )
 args=()
 for test in "${tests[@]}"; do
