@@ -58,6 +58,9 @@ impl GpuTest {
         // the tests take turns.
         let _turn = (info.backend == scheduler::wgpu::Backend::Gl)
             .then(|| GL_TURN.lock().unwrap_or_else(PoisonError::into_inner));
+        // Each test's own output names the adapter and backend, so that a
+        // failure says where it happened whichever test made the device.
+        eprintln!("{} on {}", self.name, gpu.describe());
         let expected: Vec<FailureCase> = self
             .failures
             .iter()
