@@ -134,6 +134,7 @@ mod runtime;
 mod uncaptured;
 
 pub use adapter::{DeviceRequest, Gpu};
+pub use compile::diagnostics::validation_capabilities;
 pub use compile::{CompiledGraph, Specialization};
 pub use constant::ConstantValue;
 pub use error::{CompileError, DeviceError, SourceOrigin};

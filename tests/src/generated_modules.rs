@@ -67,16 +67,11 @@ pub fn option_sets() -> Vec<(&'static str, CompileOptions)> {
     ]
 }
 
-/// What naga's validator allows a module compiled for `features`, as the
-/// scheduler's compile and wgpu decide it.
-pub fn capabilities(features: wgpu::Features) -> naga::valid::Capabilities {
-    wgpu_naga_bridge::features_to_naga_capabilities(features, wgpu::DownlevelFlags::all())
-}
-
 impl GeneratedModule {
-    /// What naga's validator must allow for it.
+    /// What naga's validator must allow for it (as the scheduler's compile
+    /// decides it, [`scheduler::validation_capabilities`]).
     pub fn capabilities(&self) -> naga::valid::Capabilities {
-        capabilities(self.features)
+        scheduler::validation_capabilities(self.features)
     }
 }
 

@@ -2,7 +2,7 @@
 //! naga for several feature sets, and snapshotted.
 
 use scheduler::{CompileOptions, TraceOptions, wgpu};
-use tests::generated_modules::{capabilities, option_sets, test_graphs as graphs};
+use tests::generated_modules::{option_sets, test_graphs as graphs};
 use tests::graphs::{binary_tree, ping_pong};
 
 #[test]
@@ -47,7 +47,7 @@ fn every_generated_module_validates_with_naga() {
             });
             naga::valid::Validator::new(
                 naga::valid::ValidationFlags::all(),
-                capabilities(options.features),
+                scheduler::validation_capabilities(options.features),
             )
             .validate(&module)
             .unwrap_or_else(|e| {

@@ -8,6 +8,14 @@ use naga::valid::{ModuleInfo, ValidationFlags, Validator};
 use crate::CompileError;
 use crate::codegen::module::Rendered;
 
+/// What naga's validator allows a module compiled for a device with
+/// `features`: the capabilities wgpu gives such a device. Every generated
+/// module is validated with them, here and in the workspace's own checks
+/// of the generated code.
+pub fn validation_capabilities(features: wgpu::Features) -> naga::valid::Capabilities {
+    wgpu_naga_bridge::features_to_naga_capabilities(features, wgpu::DownlevelFlags::all())
+}
+
 /// Parses and validates `rendered` for `features`.
 pub(crate) fn parse_and_validate(
     rendered: &Rendered,
@@ -23,9 +31,7 @@ pub(crate) fn parse_and_validate(
         }
         locate(rendered, error.location(source), message)
     })?;
-    let capabilities =
-        wgpu_naga_bridge::features_to_naga_capabilities(features, wgpu::DownlevelFlags::all());
-    let info = Validator::new(ValidationFlags::all(), capabilities)
+    let info = Validator::new(ValidationFlags::all(), validation_capabilities(features))
         .validate(&module)
         .map_err(|error| {
             let mut message = error.as_inner().to_string();
