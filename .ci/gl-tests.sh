@@ -3,10 +3,10 @@
 # Mesa's llvmpipe (OpenGL 4.5 through EGL, headless), with naga's GLSL
 # writer instead of its SPIR-V one (docs/scheduler.md, "Portability").
 # Differences are declared per backend in the tests
-# (`#[gpu_test(expect_fail(backend = "gl", ...))]`), never skipped. The
-# Reyes renderer needs 64-bit atomics, which GL does not offer: one Reyes
-# test runs here to show that it refuses GL with its typed error; the rest
-# run on Vulkan only.
+# (`#[gpu_test(expect_fail(backend = "gl", ...))]`), never skipped. GL
+# offers no 64-bit atomics, so the Reyes renderer takes its two-pass 32-bit
+# depth test there: one Reyes test (every standard surface and light against
+# the CPU reference) runs here.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -170,7 +170,7 @@ pub fn reyes_variants() -> Vec<GeneratedModule> {
                     }
                 ),
                 wgsl: compiled.wgsl().to_owned(),
-                features: reyes::gpu::graph::REQUIRED_FEATURES,
+                features: variant.features(),
             });
         }
     }

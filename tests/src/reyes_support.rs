@@ -132,9 +132,9 @@ pub fn camera_down_z() -> CameraDesc {
     }
 }
 
-/// A Reyes renderer on the shared test device. The device must have the
-/// int64 features: like `tests::gpu()`, a machine that cannot run the test
-/// fails loudly instead of passing by skipping.
+/// A Reyes renderer on the shared test device: like `tests::gpu()`, a
+/// machine that cannot run the test fails loudly instead of passing by
+/// skipping.
 pub fn renderer(gpu: &scheduler::Gpu, options: GpuOptions) -> GpuRenderer<'_> {
     GpuRenderer::new(gpu, options).unwrap_or_else(|e| {
         panic!(

@@ -56,7 +56,11 @@ fn midpoint_depth_matches_the_reference_and_the_arithmetic() {
             reyes::gpu::KernelVariant::of(scene),
             "{what}"
         );
-        assert!(renderer.variant().second_depth, "{what}");
+        assert_eq!(
+            renderer.variant().depth_test,
+            reyes::gpu::DepthTest::SecondDepth,
+            "{what}"
+        );
         let d = depths(&gpu.linear);
         assert_same_depths(&format!("{what}, midpoint"), &d, &cpu);
         let centre = d[24 * 64 + 32];

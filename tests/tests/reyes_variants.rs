@@ -2,8 +2,8 @@
 //! variant compiles, validates and is deterministic, and each one holds the
 //! code its frames run and nothing of the switched-off features.
 
-use reyes::gpu::KernelVariant;
 use reyes::gpu::graph::{UserCode, compile_variant, reyes_graph_with};
+use reyes::gpu::{DepthTest, KernelVariant};
 use scheduler::CompileOptions;
 use scheduler::wgpu::Features;
 
@@ -55,12 +55,23 @@ fn every_variant_holds_what_it_runs_and_nothing_it_does_not() {
                     "{variant}: {function}"
                 );
             }
-            // The second-nearest key's atomic only where the midpoint depth
-            // filter reads it.
+            // The second-nearest depth's atomic only where the midpoint
+            // depth filter reads it, the pass uniform only in the two-pass
+            // test, and 64-bit integers only in the 64-bit one.
             assert_eq!(
-                wgsl.contains("atomicMin(&framebuffer[2u * index]"),
-                variant.second_depth,
-                "{variant}: the second-nearest key"
+                wgsl.contains("max(old, bits)"),
+                variant.depth_test == DepthTest::SecondDepth,
+                "{variant}: the second-nearest depth"
+            );
+            assert_eq!(
+                wgsl.contains("var<uniform> depth_test_pass: u32;"),
+                variant.depth_test == DepthTest::TwoPass32,
+                "{variant}: the pass of the two-pass test"
+            );
+            assert_eq!(
+                wgsl.contains("u64"),
+                variant.depth_test == DepthTest::Key64,
+                "{variant}: 64-bit integers"
             );
             // The shadow lookup only where some light has shadow maps.
             assert_eq!(
@@ -119,7 +130,7 @@ fn blurred_displaced_megakernel_wgsl_snapshot() {
     let variant = KernelVariant {
         blurred: true,
         displaced: true,
-        second_depth: false,
+        depth_test: DepthTest::Key64,
         shadowed: false,
     };
     let compiled = compile_variant(Features::empty(), variant, &UserCode::NONE)

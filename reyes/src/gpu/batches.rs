@@ -88,6 +88,20 @@ impl TileRuns {
         (self.batches.max(1), count.max(1))
     }
 
+    /// These runs followed by `second`, a second pass over the same
+    /// batches ([`crate::gpu::DepthTest::TwoPass32`]): times and retries
+    /// add up, the report is the last run's, the batches are the same.
+    pub(super) fn then(self, second: TileRuns) -> TileRuns {
+        TileRuns {
+            report: second.report.or(self.report),
+            gpu_time: self.gpu_time.zip(second.gpu_time).map(|(a, b)| a + b),
+            wall: self.wall + second.wall,
+            batches: self.batches.max(second.batches),
+            overflow_retries: self.overflow_retries + second.overflow_retries,
+            loop_retries: self.loop_retries + second.loop_retries,
+        }
+    }
+
     /// Adds the retries `report` counts.
     pub(super) fn add_retries(&mut self, report: &RunReport) {
         self.overflow_retries += report.retries.overflow + report.retries.seeds;

@@ -30,7 +30,7 @@ use super::buffers::{FrameUniform, LightData};
 use super::objects::ObjectData;
 use super::shadow_maps::{shadow_host_wgsl, shadow_wgsl};
 use super::shared_constants::{grid_colors_wgsl, shared_constants};
-use super::variant::KernelVariant;
+use super::variant::{DepthTest, KernelVariant};
 use crate::dicing::GridClass;
 
 pub use super::abi::{dicing, displace, non_finite, sampling, stat};
@@ -48,9 +48,11 @@ const LIBRARY_WGSL: [&str; 7] = [
     include_str!("../../../shaders/reyes/surfaces_standard.wgsl"),
     include_str!("../../../shaders/reyes/library_raster.wgsl"),
 ];
-/// The depth test ([`KernelVariant::second_depth`] chooses): the nearest
-/// key per sample, or the nearest and second-nearest depths.
+/// The depth test ([`KernelVariant::depth_test`] chooses): the nearest
+/// key per sample as one 64-bit word or as two 32-bit words over two
+/// passes, or the nearest and second-nearest depths.
 const OFFER_WGSL: &str = include_str!("../../../shaders/reyes/offer.wgsl");
+const OFFER_TWO_PASS_WGSL: &str = include_str!("../../../shaders/reyes/offer_two_pass.wgsl");
 const OFFER_SECOND_DEPTH_WGSL: &str = include_str!("../../../shaders/reyes/offer_second_depth.wgsl");
 const BOUND_WGSL: &str = include_str!("../../../shaders/reyes/bound.wgsl");
 const SPLIT_WGSL: &str = include_str!("../../../shaders/reyes/split.wgsl");
@@ -118,10 +120,22 @@ pub fn dice_procedure(class: GridClass) -> &'static str {
     DICE[class.index()]
 }
 
-/// Features the Reyes megakernel needs: 64-bit integers for the sample keys
-/// and 64-bit `atomicMin` for the depth test.
-pub const REQUIRED_FEATURES: wgpu::Features =
+/// Features of the 64-bit depth test ([`DepthTest::Key64`]): 64-bit
+/// integers for the sample keys and 64-bit `atomicMin`. Devices without
+/// them render with [`DepthTest::TwoPass32`]
+/// ([`KernelVariant::with_32_bit_atomics`]).
+pub const WIDE_ATOMICS: wgpu::Features =
     wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+
+/// The uniform that tells a [`DepthTest::TwoPass32`] megakernel which pass
+/// it runs: [`DEPTH_PASS`] or [`COLOUR_PASS`].
+pub const PASS_RESOURCE: &str = "depth_test_pass";
+/// The pass of a [`DepthTest::TwoPass32`] frame that keeps each sample's
+/// nearest depth.
+pub const DEPTH_PASS: u32 = 0;
+/// The pass of a [`DepthTest::TwoPass32`] frame that keeps, per sample,
+/// the least colour at the nearest depth.
+pub const COLOUR_PASS: u32 = 1;
 
 /// Scratch words per item of each procedure (see the bodies' headers). The
 /// split's 60 words times its 64 items per workgroup (15,360 bytes) are the
@@ -161,11 +175,16 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     }
     // Only frames with shadow maps compile the lookup in.
     graph.library(&shadow_wgsl(variant.shadowed));
-    graph.library(if variant.second_depth {
-        OFFER_SECOND_DEPTH_WGSL
-    } else {
-        OFFER_WGSL
-    });
+    match variant.depth_test {
+        DepthTest::Key64 => graph.library(OFFER_WGSL),
+        DepthTest::TwoPass32 => {
+            for (name, value) in [("DEPTH_PASS", DEPTH_PASS), ("COLOUR_PASS", COLOUR_PASS)] {
+                graph.constant(name, value);
+            }
+            graph.library(OFFER_TWO_PASS_WGSL)
+        }
+        DepthTest::SecondDepth => graph.library(OFFER_SECOND_DEPTH_WGSL),
+    };
     graph.library(DICING_WGSL);
     graph.library(QUAD_WGSL);
     graph.library(RASTER5D_WGSL);
@@ -190,11 +209,11 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     graph.resource(Resource::uniform::<FrameUniform>("frame"));
     graph.resource(Resource::storage_read::<[ObjectData]>("objects"));
     graph.resource(Resource::storage_read::<[LightData]>("lights"));
-    // A frame of the midpoint depth filter keeps two depths per sample in
-    // 32-bit words instead of the key (offer_second_depth.wgsl).
+    // Without the 64-bit key, two 32-bit words per sample (the key's low and
+    // high word, or the midpoint filter's two depths).
     graph.resource(Resource::storage_wgsl(
         "framebuffer",
-        if variant.second_depth {
+        if variant.depth_test.uses_32_bit_words() {
             "array<atomic<u32>>"
         } else {
             "array<atomic<u64>>"
@@ -202,6 +221,10 @@ pub fn reyes_graph_with(variant: KernelVariant, user: &UserCode<'_>) -> Graph {
     ));
     graph.resource(Resource::storage::<[Atomic<u32>]>("stats"));
     graph.resource(Resource::storage_read::<[f32]>("height_texels"));
+    if variant.depth_test == DepthTest::TwoPass32 {
+        // Last, so that the other resources keep their bindings.
+        graph.resource(Resource::uniform::<u32>(PASS_RESOURCE));
+    }
     let bound = graph.procedure(
         Procedure::of::<InputPatch>(BOUND)
             .initial(true)
@@ -256,11 +279,19 @@ fn split_body(along_u: bool) -> String {
     format!("let along_u = {along_u};\n{SPLIT_WGSL}")
 }
 
-/// Compile options for a device with `features`: the scheduler's recommended
-/// features plus [`REQUIRED_FEATURES`]. Pass `wgpu::Features::empty()` for
-/// the machine-independent module (as the snapshot test does).
+/// Compile options of the default variant for a device with `features`:
+/// the scheduler's recommended features plus [`WIDE_ATOMICS`]. Pass
+/// `wgpu::Features::empty()` for the machine-independent module (as the
+/// snapshot test does).
 pub fn compile_options(recommended: wgpu::Features) -> CompileOptions {
-    CompileOptions::with_features(recommended | REQUIRED_FEATURES)
+    compile_options_for(recommended, KernelVariant::default())
+}
+
+/// Compile options of `variant` for a device with `features`: the
+/// scheduler's recommended features plus what the variant's depth test
+/// needs ([`KernelVariant::features`]).
+pub fn compile_options_for(recommended: wgpu::Features, variant: KernelVariant) -> CompileOptions {
+    CompileOptions::with_features(recommended | variant.features())
 }
 
 /// Compiles the Reyes graph of the default variant with [`compile_options`].
@@ -311,7 +342,7 @@ pub fn compile_traced(
         policy,
         chunks_per_batch,
         trace,
-        ..compile_options(recommended)
+        ..compile_options_for(recommended, variant)
     };
     reyes_graph_with(variant, user).compile(&options)
 }

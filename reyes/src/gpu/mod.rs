@@ -59,14 +59,14 @@ pub use pipeline_cache::{
     CACHE_DIR_ENV, PipelineInfo, default_pipeline_cache_dir, pipeline_cache_dir,
 };
 pub use renderer::{DEFAULT_RENDER_TIMEOUT, GpuOptions, GpuRendered, GpuRenderer, RenderError};
-pub use variant::KernelVariant;
+pub use variant::{DepthTest, KernelVariant};
 
-/// Creates a device with the features the renderer needs
-/// (`graph::REQUIRED_FEATURES`); fails with a clear message when the
-/// adapter lacks them.
+/// Creates a device for the renderer, with 64-bit atomics where the
+/// adapter has them (`graph::WIDE_ATOMICS`: the depth test then takes one
+/// pass instead of two, [`DepthTest`]).
 pub fn create_gpu() -> Result<scheduler::Gpu, RenderError> {
     scheduler::Gpu::new(&scheduler::DeviceRequest {
-        required_features: graph::REQUIRED_FEATURES,
+        optional_features: graph::WIDE_ATOMICS,
         ..Default::default()
     })
     .map_err(RenderError::Device)

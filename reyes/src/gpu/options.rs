@@ -71,6 +71,12 @@ pub struct GpuOptions {
     /// [`GpuRendered::report`] then holds the trace of the frame's last run
     /// (`None`, the default: untraced, nothing recorded).
     pub trace: Option<scheduler::TraceOptions>,
+    /// Keep each sample's nearest surface with 32-bit atomics over two runs
+    /// of the megakernel ([`DepthTest::TwoPass32`](crate::gpu::DepthTest::TwoPass32))
+    /// even where the device has 64-bit ones (`false`, the default: only
+    /// devices without them do). The two tests give the same framebuffer;
+    /// this compares them.
+    pub two_pass_depth_test: bool,
 }
 
 pub use crate::params::DEFAULT_RENDER_TIMEOUT;
@@ -90,6 +96,7 @@ impl Default for GpuOptions {
             progress: Progress::none(),
             pipeline_cache_dir: None,
             trace: None,
+            two_pass_depth_test: false,
         }
     }
 }

@@ -8,19 +8,9 @@ use super::loop_limit::LoopLimitError;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum RenderError {
-    /// No device with the features the renderer needs could be created.
-    #[error(
-        "could not create a GPU device with 64-bit integer atomics (SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX, needed for the depth test): {0}"
-    )]
+    /// No GPU device could be created.
+    #[error("could not create a GPU device: {0}")]
     Device(#[source] DeviceError),
-    /// The device lacks features the renderer needs.
-    #[error(
-        "the GPU device lacks {missing:?}; the Reyes renderer needs 64-bit integers and 64-bit atomicMin for its depth test (create the device with reyes::gpu::create_gpu)"
-    )]
-    MissingFeatures {
-        /// The features that are missing.
-        missing: wgpu::Features,
-    },
     /// More chunks per batch than llvmpipe compiles in reasonable time
     /// ([`scheduler::Quirks::max_chunks_per_batch`]).
     #[error(

@@ -20,7 +20,7 @@ use scheduler::{Capacities, CompiledGraph, Executor, Gpu, Quirks, RunError};
 
 use super::batches::TileRuns;
 use super::buffers::{FrameBuffers, GpuCounters};
-use super::graph::{self, REQUIRED_FEATURES, UserCode};
+use super::graph::{self, UserCode, WIDE_ATOMICS};
 use super::loop_limit::{LoopLimitContext, LoopLimitError};
 use super::render_error::ShadingRateTooSmall;
 use super::resolve::{ResolveTarget, Resolver};
@@ -51,6 +51,17 @@ fn chunks_per_batch(gpu: &Gpu, options: &GpuOptions, blurred: bool) -> u32 {
     } else {
         Quirks::of_device(&gpu.device).chunks_per_batch()
     })
+}
+
+/// `variant` as the renderer runs it on `gpu`: with the 32-bit depth test
+/// where the device lacks 64-bit atomics or `options` ask for it
+/// ([`GpuOptions::two_pass_depth_test`]).
+fn on_device(gpu: &Gpu, options: &GpuOptions, variant: KernelVariant) -> KernelVariant {
+    if options.two_pass_depth_test || !gpu.device.features().contains(WIDE_ATOMICS) {
+        variant.with_32_bit_atomics()
+    } else {
+        variant
+    }
 }
 
 /// Programs of other variants a renderer keeps (with their executors,
@@ -97,13 +108,12 @@ pub struct GpuRenderer<'a> {
 }
 
 impl<'a> GpuRenderer<'a> {
-    /// Compiles the megakernel for `gpu`'s device, which must have
-    /// `REQUIRED_FEATURES` (see [`super::create_gpu`]).
+    /// Compiles the megakernel for `gpu`'s device. A device with 64-bit
+    /// atomics ([`WIDE_ATOMICS`], which [`super::create_gpu`] asks for)
+    /// keeps each sample's nearest surface in one pass; any other in two
+    /// ([`DepthTest::TwoPass32`](super::DepthTest::TwoPass32)).
     pub fn new(gpu: &'a Gpu, options: GpuOptions) -> Result<Self, RenderError> {
-        let missing = REQUIRED_FEATURES - gpu.device.features();
-        if !missing.is_empty() {
-            return Err(RenderError::MissingFeatures { missing });
-        }
+        let variant = on_device(gpu, &options, KernelVariant::default());
         let chunks = chunks_per_batch(gpu, &options, false);
         if let Some(max) = Quirks::of_device(&gpu.device).max_chunks_per_batch()
             && chunks > max
@@ -112,7 +122,7 @@ impl<'a> GpuRenderer<'a> {
         }
         let compiled = graph::compile_traced(
             scheduler::recommended_features(&gpu.device),
-            KernelVariant::default(),
+            variant,
             &UserCode::NONE,
             (options.policy, chunks),
             options.trace,
@@ -129,7 +139,7 @@ impl<'a> GpuRenderer<'a> {
             options,
             compiled,
             compiled_key: ProgramKey {
-                variant: KernelVariant::default(),
+                variant,
                 surfaces: Vec::new(),
                 chunks,
             },
@@ -160,7 +170,7 @@ impl<'a> GpuRenderer<'a> {
     }
 
     /// Compiles the megakernel again when `scene` needs a different variant
-    /// ([`KernelVariant::of`]), user shaders, or chunks per
+    /// ([`KernelVariant::of`], on this device), user shaders, or chunks per
     /// batch than the one compiled in. The current program is parked, and
     /// one parked before is taken back when it fits (up to
     /// `MAX_PARKED_PROGRAMS`, least recently used first out), so that
@@ -169,7 +179,7 @@ impl<'a> GpuRenderer<'a> {
     fn prepare_megakernel(&mut self, scene: &PreparedScene) -> Result<(), RenderError> {
         let chunks = chunks_per_batch(self.gpu, &self.options, scene.samples_time_and_lens());
         let key = ProgramKey {
-            variant: KernelVariant::of(scene),
+            variant: on_device(self.gpu, &self.options, KernelVariant::of(scene)),
             surfaces: scene.shaders.shaders.clone(),
             chunks,
         };
@@ -310,7 +320,7 @@ impl<'a> GpuRenderer<'a> {
             let (capacities, batch) =
                 self.capacities(scene.patches.len(), self.options.work_capacity)?;
             let budget = self.iteration_budget();
-            match self.run_batches(scene, &capacities, budget, batch) {
+            match self.run_passes(scene, &capacities, budget, batch) {
                 (Ok(counters), runs) => (counters, runs),
                 (Err(RenderError::Run(error @ RunError::LoopLimit { .. })), runs) => {
                     // The scheduler's retries with smaller budgets are

@@ -11,11 +11,13 @@
 //!   dice procedures;
 //! - displacement: the height sources, the displaced normals and the
 //!   displaced border chords;
-//! - the second-nearest depth per sample, which only the midpoint depth
-//!   filter reads ([`crate::depth::DepthFilter::Midpoint`]): small, but a
-//!   second atomic per sample that every other frame must not pay for; it
-//!   is no constant but a choice of the depth test's file and of the
-//!   framebuffer's type (`reyes::gpu::graph::reyes_graph_with`);
+//! - the depth test ([`DepthTest`]): the nearest key as one 64-bit atomic,
+//!   the same in two 32-bit words over two passes on devices without
+//!   64-bit atomics, or the nearest and second-nearest depths, which only
+//!   the midpoint depth filter reads
+//!   ([`crate::depth::DepthFilter::Midpoint`]); each is no constant but a
+//!   choice of the depth test's file, of the framebuffer's type and of the
+//!   resources (`reyes::gpu::graph::reyes_graph_with`);
 //! - shadow maps, which only frames with a shadowed light or a user
 //!   shader's `ShadowId` look up: no constant either but a choice of
 //!   library, the lookup (`shaders/reyes/library_shadow.wgsl`, and the
@@ -33,6 +35,35 @@ use scheduler::ConstantValue;
 
 use crate::prepare::PreparedScene;
 
+/// How the megakernel keeps the nearest surface of each sample.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DepthTest {
+    /// One 64-bit key per sample, `depth bits << 32 | colour`, kept by
+    /// `atomicMin` (`shaders/reyes/offer.wgsl`). Needs
+    /// [`super::graph::WIDE_ATOMICS`].
+    #[default]
+    Key64,
+    /// The same key as two 32-bit words, for devices without 64-bit
+    /// atomics (wgpu's GL backend, among others), kept over two runs of the
+    /// megakernel (`shaders/reyes/offer_two_pass.wgsl`): the first keeps the
+    /// nearest depth, the second the least colour at that depth. The
+    /// framebuffer ends as the 64-bit test leaves it, at twice the work;
+    /// a frame of the depth output runs the first pass only.
+    TwoPass32,
+    /// The nearest and the second-nearest depth per sample, in two 32-bit
+    /// words and no colour ([`PreparedScene::keeps_second_depth`]): a frame
+    /// of the midpoint depth filter, on any device.
+    SecondDepth,
+}
+
+impl DepthTest {
+    /// Whether the framebuffer holds 32-bit words (two per sample) instead
+    /// of 64-bit keys.
+    pub fn uses_32_bit_words(self) -> bool {
+        self != DepthTest::Key64
+    }
+}
+
 /// The switches of a frame that select code in the megakernel. Two frames
 /// with the same variant (and the same user displacement function) run the
 /// same module.
@@ -43,9 +74,8 @@ pub struct KernelVariant {
     pub blurred: bool,
     /// Some object is displaced.
     pub displaced: bool,
-    /// Every sample keeps its second-nearest key too
-    /// ([`PreparedScene::keeps_second_depth`]).
-    pub second_depth: bool,
+    /// How each sample keeps its nearest surface.
+    pub depth_test: DepthTest,
     /// Some light has shadow maps
     /// ([`crate::shading::PreparedLight::shadow`]), or a user shader's
     /// `ShadowId` parameter names one
@@ -55,31 +85,32 @@ pub struct KernelVariant {
 }
 
 impl KernelVariant {
-    /// Every variant, in a fixed order.
-    pub const ALL: [Self; 16] = [
-        Self::new(false, false, false, false),
-        Self::new(false, true, false, false),
-        Self::new(true, false, false, false),
-        Self::new(true, true, false, false),
-        Self::new(false, false, true, false),
-        Self::new(false, true, true, false),
-        Self::new(true, false, true, false),
-        Self::new(true, true, true, false),
-        Self::new(false, false, false, true),
-        Self::new(false, true, false, true),
-        Self::new(true, false, false, true),
-        Self::new(true, true, false, true),
-        Self::new(false, false, true, true),
-        Self::new(false, true, true, true),
-        Self::new(true, false, true, true),
-        Self::new(true, true, true, true),
-    ];
+    /// Every variant, in a fixed order: the frame's switches, then the
+    /// depth test, then shadow maps.
+    pub const ALL: [Self; 24] = {
+        const TESTS: [DepthTest; 3] = [
+            DepthTest::Key64,
+            DepthTest::SecondDepth,
+            DepthTest::TwoPass32,
+        ];
+        let mut all = [Self::new(false, false, DepthTest::Key64, false); 24];
+        let mut index = 0;
+        while index < 24 {
+            let blurred = index & 2 != 0;
+            let displaced = index & 1 != 0;
+            let depth_test = TESTS[(index / 4) % 3];
+            let shadowed = index >= 12;
+            all[index] = Self::new(blurred, displaced, depth_test, shadowed);
+            index += 1;
+        }
+        all
+    };
 
-    const fn new(blurred: bool, displaced: bool, second_depth: bool, shadowed: bool) -> Self {
+    const fn new(blurred: bool, displaced: bool, depth_test: DepthTest, shadowed: bool) -> Self {
         Self {
             blurred,
             displaced,
-            second_depth,
+            depth_test,
             shadowed,
         }
     }
@@ -89,7 +120,11 @@ impl KernelVariant {
         Self {
             blurred: scene.samples_time_and_lens(),
             displaced: scene.objects.iter().any(|o| o.displacement.is_some()),
-            second_depth: scene.keeps_second_depth(),
+            depth_test: if scene.keeps_second_depth() {
+                DepthTest::SecondDepth
+            } else {
+                DepthTest::Key64
+            },
             shadowed: scene.lights.iter().any(|l| {
                 l.shadow
                     .is_some_and(|s| !s.maps(&scene.shadow_maps).is_empty())
@@ -97,10 +132,34 @@ impl KernelVariant {
         }
     }
 
+    /// This variant on a device without 64-bit atomics (or where the
+    /// renderer is asked for the 32-bit test,
+    /// [`super::GpuOptions::two_pass_depth_test`]): the 64-bit key becomes
+    /// [`DepthTest::TwoPass32`]; the other tests need no 64-bit atomics.
+    pub fn with_32_bit_atomics(self) -> Self {
+        Self {
+            depth_test: match self.depth_test {
+                DepthTest::Key64 => DepthTest::TwoPass32,
+                other => other,
+            },
+            ..self
+        }
+    }
+
+    /// The device features the variant's module needs:
+    /// [`super::graph::WIDE_ATOMICS`] for [`DepthTest::Key64`], none
+    /// otherwise.
+    pub fn features(self) -> wgpu::Features {
+        match self.depth_test {
+            DepthTest::Key64 => super::graph::WIDE_ATOMICS,
+            DepthTest::TwoPass32 | DepthTest::SecondDepth => wgpu::Features::empty(),
+        }
+    }
+
     /// The WGSL constants that state this variant, declared as graph
     /// constants.
-    /// (`second_depth` and `shadowed` are no constants: they choose
-    /// files of the module and the framebuffer's type,
+    /// (`depth_test` and `shadowed` are no constants: they choose
+    /// files of the module, its resources and the framebuffer's type,
     /// `reyes::gpu::graph::reyes_graph_with`.)
     pub fn constants(self) -> [(&'static str, ConstantValue); 2] {
         [
@@ -119,14 +178,17 @@ impl KernelVariant {
 impl fmt::Display for KernelVariant {
     /// A short name: `still`, `blurred`, `still-displaced` or
     /// `blurred-displaced`, followed by `-second-depth` where it keeps the
-    /// second-nearest keys, then `-shadowed` where it looks up shadow maps.
+    /// second-nearest depths or `-two-pass` where it keeps the nearest key in
+    /// two 32-bit words, then `-shadowed` where it looks up shadow maps.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(if self.blurred { "blurred" } else { "still" })?;
         if self.displaced {
             f.write_str("-displaced")?;
         }
-        if self.second_depth {
-            f.write_str("-second-depth")?;
+        match self.depth_test {
+            DepthTest::Key64 => {}
+            DepthTest::SecondDepth => f.write_str("-second-depth")?,
+            DepthTest::TwoPass32 => f.write_str("-two-pass")?,
         }
         if self.shadowed {
             f.write_str("-shadowed")?;
@@ -153,6 +215,10 @@ mod tests {
                 "still-displaced-second-depth",
                 "blurred-second-depth",
                 "blurred-displaced-second-depth",
+                "still-two-pass",
+                "still-displaced-two-pass",
+                "blurred-two-pass",
+                "blurred-displaced-two-pass",
                 "still-shadowed",
                 "still-displaced-shadowed",
                 "blurred-shadowed",
@@ -160,7 +226,11 @@ mod tests {
                 "still-second-depth-shadowed",
                 "still-displaced-second-depth-shadowed",
                 "blurred-second-depth-shadowed",
-                "blurred-displaced-second-depth-shadowed"
+                "blurred-displaced-second-depth-shadowed",
+                "still-two-pass-shadowed",
+                "still-displaced-two-pass-shadowed",
+                "blurred-two-pass-shadowed",
+                "blurred-displaced-two-pass-shadowed"
             ]
         );
         // FNV-1a of "still", computed independently, fixed here so that a

@@ -145,19 +145,15 @@ fn open_gpu(
         ..Default::default()
     }))
     .map_err(|_| ViewError::SurfaceUnsupported)?;
-    let required = crate::gpu::graph::REQUIRED_FEATURES;
     let available = adapter.features();
-    if !available.contains(required) {
-        return Err(ViewError::Device(format!(
-            "adapter `{}` lacks required features {:?}",
-            adapter.get_info().name,
-            required - available
-        )));
-    }
-    let optional = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::MEMORY_DECORATION_COHERENT;
+    // 64-bit atomics where the adapter has them: the depth test then takes
+    // one pass instead of two (crate::gpu::DepthTest).
+    let optional = wgpu::Features::TIMESTAMP_QUERY
+        | wgpu::Features::MEMORY_DECORATION_COHERENT
+        | crate::gpu::graph::WIDE_ATOMICS;
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("reyes view device"),
-        required_features: required | (optional & available),
+        required_features: optional & available,
         required_limits: adapter.limits(),
         ..Default::default()
     }))

@@ -13,7 +13,8 @@ use scheduler::{
 use super::GpuRenderer;
 use crate::gpu::batches::{TileRuns, batch_ranges};
 use crate::gpu::buffers::GpuCounters;
-use crate::gpu::graph::{BOUND, InputPatch};
+use crate::gpu::graph::{BOUND, COLOUR_PASS, DEPTH_PASS, InputPatch, PASS_RESOURCE};
+use crate::gpu::variant::DepthTest;
 use crate::gpu::options::GpuRendered;
 use crate::gpu::pipeline_cache::PipelineInfo;
 use crate::gpu::render_error::RenderError;
@@ -166,8 +167,44 @@ impl GpuRenderer<'_> {
         Ok(rendered)
     }
 
+    /// Runs the megakernel over every batch of `batch` input patches of
+    /// `scene` into the cleared frame ([`Self::run_batches`]): once, or, with
+    /// the 32-bit depth test ([`DepthTest::TwoPass32`]), twice, first the
+    /// depth pass over every batch, then the colour pass (not for a frame of
+    /// the depth output, which reads no colour). The colour pass counts what
+    /// the depth pass counted again, so its statistics start from zero and
+    /// are the frame's; its times and retries add to the depth pass's.
+    pub(super) fn run_passes(
+        &mut self,
+        scene: &PreparedScene,
+        capacities: &Capacities,
+        budget: Option<u32>,
+        batch: u32,
+    ) -> (Result<GpuCounters, RenderError>, TileRuns) {
+        if self.compiled_key.variant.depth_test != DepthTest::TwoPass32 {
+            return self.run_batches(scene, capacities, budget, batch, None);
+        }
+        let (depths, runs) = self.run_batches(scene, capacities, budget, batch, Some(DEPTH_PASS));
+        if depths.is_err() || scene.aov == crate::Aov::Z {
+            return (depths, runs);
+        }
+        self.frame
+            .as_ref()
+            .expect("prepared above")
+            .0
+            .reset_stats(&self.gpu.queue);
+        let (colours, colour_runs) =
+            self.run_batches(scene, capacities, budget, batch, Some(COLOUR_PASS));
+        match colours {
+            // The error names the colour pass's batch.
+            Err(error) => (Err(error), colour_runs),
+            Ok(counters) => (Ok(counters), runs.then(colour_runs)),
+        }
+    }
+
     /// Runs the megakernel once per batch of `batch` input patches of
-    /// `scene` into the cleared frame, each batch through
+    /// `scene` into the cleared frame (in `pass` of a
+    /// [`DepthTest::TwoPass32`] frame), each batch through
     /// [`Executor::run_with_retry`]: an overflow grows the queues, a loop
     /// limit (the scheduler's waits, or the rasterization loops counted in
     /// `STAT_LOOPS_CUT`) lowers the iteration budget, and before each retry
@@ -181,6 +218,7 @@ impl GpuRenderer<'_> {
         capacities: &Capacities,
         budget: Option<u32>,
         batch: u32,
+        pass: Option<u32>,
     ) -> (Result<GpuCounters, RenderError>, TileRuns) {
         let mut runs = TileRuns {
             gpu_time: Some(Duration::ZERO),
@@ -215,6 +253,9 @@ impl GpuRenderer<'_> {
                 Ok(GpuCounters::from_bytes(&bytes).loops_cut())
             });
             let result = self.executor(capacities, budget).and_then(|executor| {
+                if let Some(pass) = pass {
+                    executor.write(PASS_RESOURCE, &[pass])?;
+                }
                 executor
                     .run_with_retry(
                         strategy,
