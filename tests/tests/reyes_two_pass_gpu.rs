@@ -13,7 +13,7 @@ use gpu_test::gpu_test;
 use reyes::displacement::DisplacementDesc;
 use reyes::gpu::{DepthTest, GpuOptions, GpuRendered};
 use reyes::prepare::PreparedScene;
-use reyes::scene::{Light, LightShadow, Scene, ShadowMaps};
+use reyes::scene::{LightShadow, Scene, ShadowMaps};
 use tests::reyes_support::{COLD_COMPILE_TIMEOUT, framed_teapot, gpu_turn, renderer};
 
 /// Asserts that `two_pass` is `wide`'s frame: the same floats, coverage and
@@ -90,12 +90,7 @@ fn shadowed_teapot() -> Scene {
         }
     }
     assert!(
-        scene
-            .lights
-            .iter()
-            .filter(|l: &&Light| l.shadow.is_some())
-            .count()
-            == 2,
+        scene.lights.iter().filter(|l| l.shadow.is_some()).count() == 2,
         "both lights cast shadows"
     );
     scene

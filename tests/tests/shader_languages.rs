@@ -39,8 +39,9 @@ struct Translations {
 /// per-backend difference, declared rather than skipped. wgpu's GL backend
 /// offers no 64-bit integers (`SHADER_INT64`), and naga's GLSL writer has no
 /// 64-bit scalars, so the Reyes variants whose depth test is a 64-bit
-/// `atomicMin` cannot run on GL; those that keep the second-nearest depth
-/// (two 32-bit atomics per sample) can (docs/scheduler.md, "Portability").
+/// `atomicMin` cannot run on GL; those whose test uses 32-bit atomics (the
+/// two-pass test the renderer takes on GL, and the second-nearest depth)
+/// can (docs/scheduler.md, "Portability").
 fn expected_glsl_refusal(parsed: &naga::Module) -> Option<&'static str> {
     let wide = |scalar: &naga::Scalar| scalar.width == 8;
     let uses_64_bits = parsed.types.iter().any(|(_, ty)| match &ty.inner {

@@ -147,12 +147,13 @@ impl KernelVariant {
     }
 
     /// The device features the variant's module needs:
-    /// [`super::graph::WIDE_ATOMICS`] for [`DepthTest::Key64`], none
-    /// otherwise.
+    /// [`super::graph::WIDE_ATOMICS`] where its framebuffer holds 64-bit
+    /// keys ([`DepthTest::Key64`]), none otherwise.
     pub fn features(self) -> wgpu::Features {
-        match self.depth_test {
-            DepthTest::Key64 => super::graph::WIDE_ATOMICS,
-            DepthTest::TwoPass32 | DepthTest::SecondDepth => wgpu::Features::empty(),
+        if self.depth_test.uses_32_bit_words() {
+            wgpu::Features::empty()
+        } else {
+            super::graph::WIDE_ATOMICS
         }
     }
 
