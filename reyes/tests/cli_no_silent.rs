@@ -222,3 +222,79 @@ fn a_missing_texture_names_the_object_and_the_path_unless_lenient() {
         );
     }
 }
+
+/// A RIB scene has no ambient term and here no light: an object whose
+/// texture is missing renders under `--lenient` with RenderMan's
+/// `defaultsurface`, which needs no light, in its own colour
+/// (`Cs * (Ka + Kd * d^2)` with Ka = 0.2, Kd = 0.8 and `d` the cosine
+/// between the view ray and the normal, about 1 at the sphere's middle).
+#[test]
+fn lenient_renders_a_shader_with_a_missing_texture_in_its_colour() {
+    use reyes::color::linear_to_srgb8;
+    let dir = TempDir::new("cli-missing-texture-rib");
+    std::fs::write(
+        dir.path("painted.rib"),
+        "Format 16 12 1\nPixelFilter \"box\" 1 1\nQuantize \"rgba\" 255 0 255 0\n\
+         Projection \"perspective\" \"fov\" [30]\nWorldBegin\n\
+         Color [1 0.5 0.25]\nSurface \"paintedplastic\" \"texturename\" \"gone.png\"\n\
+         Translate 0 0 5\nSphere 1 -1 1 360\nWorldEnd\n",
+    )
+    .unwrap();
+    let (ok, stderr, written) = render(&dir, "painted.rib", &[]);
+    assert!(!ok && !written, "{stderr}");
+    assert!(stderr.contains("gone.png"), "{stderr}");
+    let (ok, stderr, written) = render(&dir, "painted.rib", &["--lenient"]);
+    assert!(ok && written, "--lenient: {stderr}");
+    assert!(stderr.contains("defaultsurface"), "{stderr}");
+    let image = image::open(dir.path("out.png")).unwrap().to_rgba8();
+    // The pixel beside the image's centre: its one sample lies within 3.6
+    // degrees of the view axis (a pixel is 2.5 degrees), where the sphere's
+    // normal is within 18 degrees of the axis too: d^2 is between 0.85 and 1.
+    let pixel = image.get_pixel(8, 6);
+    for (channel, cs) in [1.0_f32, 0.5, 0.25].into_iter().enumerate() {
+        let lowest = linear_to_srgb8(cs * (0.2 + 0.8 * 0.85));
+        let highest = linear_to_srgb8(cs);
+        let got = pixel[channel];
+        assert!(
+            (lowest.saturating_sub(1)..=highest.saturating_add(1)).contains(&got),
+            "channel {channel}: {got}, expected {lowest}..={highest} (defaultsurface)"
+        );
+    }
+}
+
+/// A value given to a shader that declares no such parameter is warned
+/// about once per shader and name, with the line that gives it, in TOML
+/// and in RIB alike.
+#[test]
+fn an_unknown_shader_parameter_warns_once_with_its_line() {
+    let dir = TempDir::new("cli-unknown-parameter");
+    let surface = "surface = { shader = \"wgsl\", file = \"builtin:paintedplastic\", parameters";
+    std::fs::write(
+        dir.path("scene.toml"),
+        format!(
+            "[[objects]]\nmodel = \"teapot\"\n{surface} = {{ Kd = 0.5, shine = 2.0 }} }}\n\n\
+             [[objects]]\nmodel = \"teapot\"\n{surface} = {{ shine = 3.0 }} }}\n"
+        ),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path("scene.rib"),
+        "Format 16 12 1\nWorldBegin\nLightSource \"ambientlight\" 1\n\
+         AttributeBegin\nSurface \"plastic\" \"shine\" 2\nTranslate 0 0 5\nSphere 1 -1 1 360\nAttributeEnd\n\
+         AttributeBegin\nSurface \"plastic\" \"shine\" 3\nTranslate 1 0 5\nSphere 1 -1 1 360\nAttributeEnd\n\
+         WorldEnd\n",
+    )
+    .unwrap();
+    for (scene, line) in [("scene.toml", 3), ("scene.rib", 5)] {
+        let (ok, stderr, written) = render(&dir, scene, &[]);
+        assert!(ok && written, "{scene}: {stderr}");
+        let warnings: Vec<&str> = stderr.lines().filter(|l| l.contains("shine")).collect();
+        assert_eq!(warnings.len(), 1, "{scene}: {stderr}");
+        let at = format!("{}:{line}:", path_str(&dir.path(scene)));
+        assert!(
+            warnings[0].contains(&at),
+            "{scene}: expected {at} in {}",
+            warnings[0]
+        );
+    }
+}

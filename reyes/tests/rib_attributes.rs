@@ -68,3 +68,37 @@ fn opacity_and_other_attributes_warn_once() {
     assert!(parse("Opacity [1 1]\n").unwrap_err().contains("a.rib:4"));
     assert_eq!(rib.scene.objects.len(), 1);
 }
+
+/// Primitive variables the renderer does not read (per-vertex colours and
+/// opacities, normals, user variables) are warned about once per name,
+/// with the first line; positions and texture coordinates are read
+/// without a word.
+#[test]
+fn unread_primitive_variables_warn_once() {
+    let rib = parse(
+        "Polygon \"P\" [0 0 5 1 0 5 0 1 5] \"st\" [0 0 1 0 0 1]\n\
+         Sphere 1 -1 1 360 \"s\" [0 1 0 1] \"t\" [0 0 1 1]\n",
+    )
+    .unwrap();
+    assert_eq!(warnings(&rib), "");
+    let rib = parse(
+        "Polygon \"P\" [0 0 5 1 0 5 0 1 5] \"Os\" [0.5 0.5 0.5 0.5 0.5 0.5 0.5 0.5 0.5]\n\
+         Polygon \"P\" [0 0 5 1 0 5 0 1 5] \"Os\" [1 1 1 1 1 1 1 1 1] \"Cs\" [1 0 0 1 0 0 1 0 0]\n\
+         Sphere 1 -1 1 360 \"N\" [0 0 1 0 0 1 0 0 1 0 0 1]\n",
+    )
+    .unwrap();
+    let all = warnings(&rib);
+    for (line, variable) in [(4, "Os"), (5, "Cs")] {
+        assert!(
+            all.contains(&format!(
+                "a.rib:{line}: Polygon: primitive variable \"{variable}\" is not supported"
+            )),
+            "{all}"
+        );
+        assert_eq!(all.matches(&format!("\"{variable}\"")).count(), 1, "{all}");
+    }
+    assert!(
+        all.contains("a.rib:6: Sphere: primitive variable \"N\" is not supported"),
+        "{all}"
+    );
+}

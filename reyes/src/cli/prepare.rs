@@ -10,7 +10,7 @@ use crate::model::Model;
 use crate::modes::ShadingInterpolation;
 use crate::output::console::errln;
 use crate::prepare::{PreparedScene, far_plane_covering_motion};
-use crate::scene::{CameraDesc, Scene, framed_bounds};
+use crate::scene::{CameraDesc, Scene, Surface, framed_bounds};
 
 /// The scene a command draws, and every file read to make it.
 pub(crate) struct Prepared {
@@ -357,10 +357,13 @@ fn prepare_without_missing_files(
                 source,
             }) if missing(&source) => {
                 errln!(
-                    "warning: object {index}: surface shader {}: {source}; --lenient renders the object in its colour with the default surface",
+                    "warning: object {index}: surface shader {}: {source}; --lenient renders the object in its colour with RenderMan's defaultsurface",
                     file.display()
                 )?;
-                scene.objects[index].surface = None;
+                // The headlight shading needs no light, so the object shows
+                // in its colour whatever the scene's lights and ambient
+                // term (a RIB scene's is 0).
+                scene.objects[index].surface = Some(Surface::DEFAULT_SURFACE);
             }
             Err(SceneError::Displacement {
                 index,

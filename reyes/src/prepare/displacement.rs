@@ -5,7 +5,8 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::{PreparedScene, SceneError, shader_path, warn_unknown_parameters};
+use super::unknown_parameters::UnknownParameters;
+use super::{PreparedScene, SceneError, shader_path};
 use crate::displacement::{
     CpuHeight, DisplacementDesc, DisplacementError, PreparedDisplacement, ShaderDisplacement,
     ShaderSource, height_shader,
@@ -23,6 +24,7 @@ pub(super) struct ShaderTables<'a> {
     pub(super) textures: &'a mut TextureSet,
     pub(super) shadow_maps: &'a mut Vec<ShadowMap>,
     pub(super) base_dir: Option<&'a Path>,
+    pub(super) unknown_parameters: &'a mut UnknownParameters,
 }
 
 /// Object `index`'s displacement `desc` (`object` is the object, `mirrored`
@@ -39,6 +41,7 @@ pub(super) fn prepare(
         textures,
         shadow_maps,
         base_dir,
+        unknown_parameters,
     } = tables;
     desc.prepare(base_dir, mirrored, |source| {
         let (path, added) = match source {
@@ -72,7 +75,7 @@ pub(super) fn prepare(
             file: path.clone(),
             source: Box::new(source),
         })?;
-        warn_unknown_parameters(index, "displacement", &path, &warnings);
+        unknown_parameters.warn(index, "displacement", &path, &warnings);
         let shader = &shaders.shaders[reference.shader as usize];
         let own_bound = crate::surface_shader::builtin::displacement_bound(
             &path,

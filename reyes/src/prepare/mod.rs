@@ -25,6 +25,7 @@ mod displacement;
 mod lights;
 mod patches;
 mod shadow_passes;
+mod unknown_parameters;
 
 use self::displacement::ShaderTables;
 pub use self::lights::PendingShadow;
@@ -33,7 +34,8 @@ pub use self::shadow_passes::{
     DEPTH_PASS_SHADING_RATE_FACTOR, DepthPass, MAX_SPOT_MAP_FOV_DEGREES, PassStats, RenderedPass,
     depth_passes,
 };
-use crate::surface_shader::{ParameterWarning, ShaderKind, ShaderTable};
+use self::unknown_parameters::UnknownParameters;
+use crate::surface_shader::{ShaderKind, ShaderTable};
 use crate::texture::TextureSet;
 use crate::uvt::{InterleaveTiles, UvtTables};
 
@@ -303,6 +305,7 @@ impl PreparedScene {
         let mut prepared_objects = Vec::with_capacity(scene.objects.len());
         let mut shaders = ShaderTable::default();
         let mut textures = TextureSet::default();
+        let mut unknown_parameters = UnknownParameters::new(scene.lines.clone());
         for (index, object) in scene.objects.iter().enumerate() {
             let open = object.transform.matrix();
             let mirrored = open.determinant() < 0.0;
@@ -315,6 +318,7 @@ impl PreparedScene {
                         textures: &mut textures,
                         shadow_maps: &mut lights.shadow_maps,
                         base_dir: scene.base_dir.as_deref(),
+                        unknown_parameters: &mut unknown_parameters,
                     };
                     displacement::prepare(desc, index, object, mirrored, tables)
                 })
@@ -346,7 +350,7 @@ impl PreparedScene {
                         file: path.clone(),
                         source,
                     })?;
-                warn_unknown_parameters(index, "surface", &path, &warnings);
+                unknown_parameters.warn(index, "surface", &path, &warnings);
                 Ok(PreparedSurface::User {
                     shader: reference.shader,
                     parameters: reference.parameters,
@@ -485,18 +489,6 @@ fn shader_path(base_dir: Option<&Path>, file: &Path) -> PathBuf {
     match base_dir {
         Some(dir) if file.is_relative() && !builtin => dir.join(file),
         _ => file.to_path_buf(),
-    }
-}
-
-/// Warns once per value the scene gives that object `index`'s `kind`
-/// shader at `path` has no parameter for.
-fn warn_unknown_parameters(index: usize, kind: &str, path: &Path, warnings: &[ParameterWarning]) {
-    for warning in warnings {
-        log::warn!(
-            "object {index}: {kind} shader {} has no parameter `{}`; the value is ignored",
-            path.display(),
-            warning.name
-        );
     }
 }
 

@@ -54,6 +54,10 @@ pub(super) fn is_geometry(name: &str) -> bool {
     GEOMETRY.contains(&name)
 }
 
+/// The primitive variables the geometry reads: positions (`Pw` is refused
+/// with its own warning) and texture coordinates.
+const READ_VARIABLES: [&str; 5] = ["P", "Pw", "st", "s", "t"];
+
 impl Interp {
     /// Runs geometry request `name`: patches and polygons, the quadrics,
     /// and a warning for the rest.
@@ -242,6 +246,32 @@ impl Interp {
             .map_err(|e| RequestError::Budget(what(), e))
     }
 
+    /// Warns, once per name, about the primitive variables given to
+    /// request `name` that no part of the renderer reads: per-vertex
+    /// colours (`Cs`), opacities (`Os`), normals (`N`, which come from the
+    /// surface) and user variables. Positions and texture coordinates are
+    /// read.
+    pub(super) fn warn_unread_variables(
+        &mut self,
+        name: &str,
+        params: &[state::Param],
+        file: &Path,
+        line: usize,
+    ) {
+        for param in params {
+            if READ_VARIABLES.contains(&param.name.as_str()) {
+                continue;
+            }
+            let shown = crate::input::excerpt(&param.name);
+            self.warn_once(
+                &format!("#variable {}", param.name),
+                file,
+                line,
+                format!("{name}: primitive variable {shown:?} is not supported (only P, s and t are read per vertex); ignored"),
+            );
+        }
+    }
+
     pub(super) fn geometry(
         &mut self,
         name: &str,
@@ -267,6 +297,7 @@ impl Interp {
                 format!("{name}: undeclared parameter {u:?} ignored"),
             );
         }
+        self.warn_unread_variables(name, &params, file, line);
         if params.iter().any(|p| p.name == "Pw") {
             self.warn(
                 file,

@@ -282,7 +282,8 @@ impl Interp {
         if nums.len() != count {
             return Err(format!("expected {count} numbers, found {}", nums.len()).into());
         }
-        let (_, _, unknown) = state::split_params(&v[head..], 0, &self.declared)?;
+        let (_, params, unknown) = state::split_params(&v[head..], 0, &self.declared)?;
+        self.warn_unread_variables(name, &params, file, line);
         let vars = super::texcoords::st_vars(&v[head..], 0, &self.declared)?;
         for u in unknown {
             self.warn_once(

@@ -26,6 +26,7 @@ use super::defaults::{
     default_shading_rate, default_spp,
 };
 use super::framing::box_corners;
+use super::lines::SourceLines;
 use super::{
     Animation, CameraDesc, CameraPose, Lens, Light, ModelSource, SceneError, SceneObject, Specular,
     Subdivision,
@@ -179,6 +180,11 @@ pub struct Scene {
     /// otherwise. Not part of the TOML.
     #[serde(skip)]
     pub base_dir: Option<PathBuf>,
+    /// Where the TOML text gave the objects' shader parameters, for
+    /// messages (empty for a scene not read from TOML). Not part of the
+    /// TOML, and not compared: see [`SourceLines`].
+    #[serde(skip)]
+    pub lines: SourceLines,
 }
 
 impl Default for Scene {
@@ -214,6 +220,7 @@ impl Default for Scene {
             animation: None,
             sampling_seed: 0,
             base_dir: None,
+            lines: SourceLines::default(),
         }
     }
 }

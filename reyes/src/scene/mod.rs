@@ -129,6 +129,7 @@ mod error;
 mod framing;
 mod keyframes;
 mod light;
+mod lines;
 mod object;
 mod parse;
 mod surface;
@@ -153,6 +154,7 @@ pub use light::{
     DEFAULT_SHADOW_MAP_SIZE, Light, LightKind, LightShadow, MAX_SHADOW_MAP_SIZE, ShadowMaps,
     Specular,
 };
+pub use lines::SourceLines;
 pub use object::{ModelSource, Scale, SceneObject, Subdivision, Transform, is_obj_model};
 pub use surface::{ShaderValue, Surface};
 

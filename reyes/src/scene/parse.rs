@@ -5,24 +5,18 @@ use std::path::{Path, PathBuf};
 
 use crate::input::{self, InputError, InputKind};
 
+use super::lines::{SourceLines, line_of};
 use super::{Scene, SceneError};
 
-/// 1-based line of a byte offset in `text`.
-fn line_of(text: &str, offset: usize) -> usize {
-    text.as_bytes()[..offset.min(text.len())]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
-        + 1
-}
-
 fn parse_toml(text: &str, path: Option<&Path>) -> Result<Scene, SceneError> {
-    toml::from_str::<Scene>(text).map_err(|e| SceneError::Parse {
+    let mut scene = toml::from_str::<Scene>(text).map_err(|e| SceneError::Parse {
         path: path.map(Path::to_path_buf),
         line: e.span().map(|span| line_of(text, span.start)),
         // serde quotes offending string values whole: bound the message.
         message: input::excerpt_to(e.message(), input::MESSAGE_CHARS),
-    })
+    })?;
+    scene.lines = SourceLines::of_toml(text, path);
+    Ok(scene)
 }
 
 impl Scene {
