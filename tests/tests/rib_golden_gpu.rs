@@ -22,13 +22,14 @@ fn golden(name: &str) -> PathBuf {
 }
 
 /// Each scene with its IoU and within-2/255 floors.
-const SCENES: [(&str, f64, f64); 6] = [
+const SCENES: [(&str, f64, f64); 7] = [
     ("camera", 0.995, 0.99),
     ("handedness", 0.995, 0.99),
     ("attributes", 0.995, 0.99),
     ("archive", 0.995, 0.99),
     ("motion", 0.99, 0.98),
     ("camera_motion", 0.99, 0.98),
+    ("materials", 0.995, 0.99),
 ];
 
 #[gpu_test]
