@@ -235,7 +235,10 @@ fn materials_per_block_match_the_hand_written_scene() {
         ["matte", "plastic", "metal", "constant", "defaultsurface"]
     );
     let rates: Vec<Option<f32>> = objects.iter().map(|o| o.shading_rate).collect();
-    assert_eq!(rates, [Some(4.0), Some(1.0), Some(0.5), Some(2.0), Some(8.0)]);
+    assert_eq!(
+        rates,
+        [Some(4.0), Some(1.0), Some(0.5), Some(2.0), Some(8.0)]
+    );
     assert_eq!(objects[1].color, glam::Vec3::new(0.2, 0.9, 0.2));
     // `constant` is its colour exactly, unlit: (0.3, 0.3, 1) in sRGB codes.
     let constant = [
