@@ -23,7 +23,7 @@ if (valid) {
     let clip = to_clip(point);
     let pixel = to_pixel(clip);
     let w = POINT_SCRATCH * thread;
-    scratch_store_u32(slot, w, outcode(clip, cull_clip_radius(object, point, clip, radius)));
+    scratch_store_u32(slot, w, window_outcode(clip, cull_clip_radius(object, point, clip, radius)));
     scratch_store_f32(slot, w + 1u, pixel.x);
     scratch_store_f32(slot, w + 2u, pixel.y);
     scratch_store_f32(slot, w + 3u, pixel_growth(clip, bound, radius));

@@ -167,12 +167,16 @@ fn to_clip(p: vec3<f32>) -> vec4<f32> {
     return ((m[0] * p.x + m[1] * p.y) + m[2] * p.z) + m[3];
 }
 
-// reyes::camera::Camera::to_pixel: (px, py, ndc depth), y down.
+// reyes::camera::Camera::to_pixel of the full image: (px, py, ndc depth),
+// y down. Pixel positions are the full image's in a screen tile too (the
+// tile's origin is subtracted only from integer pixel and stratum
+// indices), so a tile places, splits, dices and samples bit for bit as the
+// whole frame does.
 fn to_pixel(c: vec4<f32>) -> vec3<f32> {
     let ndc = c.xyz / c.w;
     return vec3<f32>(
-        (ndc.x * 0.5 + 0.5) * f32(frame.width),
-        (0.5 - ndc.y * 0.5) * f32(frame.height),
+        (ndc.x * 0.5 + 0.5) * f32(frame.full_width),
+        (0.5 - ndc.y * 0.5) * f32(frame.full_height),
         ndc.z,
     );
 }
@@ -198,6 +202,26 @@ fn outcode(c: vec4<f32>, radius: vec4<f32>) -> u32 {
     if (hi.z < 0.0) { code |= 32u; }
     if (c.w <= NEAR_EPS || c.z < 0.0) { code |= UNPROJECTABLE; }
     return code;
+}
+
+// The outcode of `c` (a clip position of the full image) against the
+// frame's window, a screen tile's frustum (reyes::camera::Camera::window,
+// window_clip): x and y scaled and shifted into the window's clip space,
+// the radius grown by the same map. The whole frame's window is the
+// identity and keeps the outcode as it is.
+fn window_outcode(c: vec4<f32>, radius: vec4<f32>) -> u32 {
+    let s = frame.window;
+    if (all(s == vec4<f32>(1.0, 1.0, 0.0, 0.0))) {
+        return outcode(c, radius);
+    }
+    let windowed = vec4<f32>(s.x * c.x + s.z * c.w, s.y * c.y + s.w * c.w, c.z, c.w);
+    let grown = vec4<f32>(
+        abs(s.x) * radius.x + abs(s.z) * radius.w,
+        abs(s.y) * radius.y + abs(s.w) * radius.w,
+        radius.z,
+        radius.w,
+    );
+    return outcode(windowed, grown);
 }
 
 // Merges outcodes: planes all points are outside of (AND), and whether any

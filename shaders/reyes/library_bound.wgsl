@@ -64,8 +64,8 @@ fn pixel_growth(c: vec4<f32>, bound: f32, radius: vec4<f32>) -> f32 {
     let xh = max(hi.x / lo.w, hi.x / hi.w);
     let yl = min(lo.y / lo.w, lo.y / hi.w);
     let yh = max(hi.y / lo.w, hi.y / hi.w);
-    let width = f32(frame.width);
-    let height = f32(frame.height);
+    let width = f32(frame.full_width);
+    let height = f32(frame.full_height);
     let box_lo = vec2<f32>((xl * 0.5 + 0.5) * width, (0.5 - yh * 0.5) * height);
     let box_hi = vec2<f32>((xh * 0.5 + 0.5) * width, (0.5 - yl * 0.5) * height);
     return max(max(max(p.x - box_lo.x, box_hi.x - p.x), p.y - box_lo.y), box_hi.y - p.y);

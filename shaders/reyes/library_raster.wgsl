@@ -29,18 +29,19 @@ fn jitter_hash(x: u32, y: u32, s: u32, c: u32) -> u32 {
     return h;
 }
 
-// reyes::sampling::sample_position.
+// reyes::sampling::sample_position: sample s of this image's pixel (x, y),
+// in the full image's pixels (as the grid points are, see to_pixel).
 fn sample_position(x: u32, y: u32, s: u32) -> vec2<f32> {
     let kf = f32(frame.k);
+    let gx = x + frame.origin_x;
+    let gy = y + frame.origin_y;
     var offset = vec2<f32>((f32(s % frame.k) + 0.5) / kf, (f32(s / frame.k) + 0.5) / kf);
     if (frame.jitter != 0u) {
-        let gx = x + frame.origin_x;
-        let gy = y + frame.origin_y;
         let jx = (f32(jitter_hash(gx, gy, s, 0u)) / 4294967296.0 - 0.5) / kf;
         let jy = (f32(jitter_hash(gx, gy, s, 1u)) / 4294967296.0 - 0.5) / kf;
         offset += vec2<f32>(jx, jy);
     }
-    return vec2<f32>(f32(x), f32(y)) + offset;
+    return vec2<f32>(f32(gx), f32(gy)) + offset;
 }
 
 // ------------------------------------------------------------ rasterization

@@ -5,8 +5,10 @@
 // only the samples of the strata its box touches are tested. Also the
 // still bbox and nearest paths (reyes::reference::raster).
 
-// The sample strata [x0, x1] x [y0, y1] (global stratum columns and rows, k
-// per pixel) a box touches, clamped to the frame (reference StrataBox).
+// The sample strata [x0, x1] x [y0, y1] (stratum columns and rows of this
+// image, k per pixel) a box in the full image's pixels touches, clamped to
+// the frame (reference StrataBox). A screen tile's strata are the full
+// image's less the tile's origin: integers, subtracted exactly.
 struct StrataBox {
     x0: u32,
     y0: u32,
@@ -17,11 +19,13 @@ struct StrataBox {
 
 fn strata_box(lo: vec2<f32>, hi: vec2<f32>) -> StrataBox {
     let kf = f32(frame.k);
+    let ox = f32(frame.origin_x * frame.k);
+    let oy = f32(frame.origin_y * frame.k);
     // Clamped in float first, so the integer conversions are always in range.
-    let x0 = max(floor((lo.x - STRATUM_MARGIN) * kf), 0.0);
-    let y0 = max(floor((lo.y - STRATUM_MARGIN) * kf), 0.0);
-    let x1 = min(floor((hi.x + STRATUM_MARGIN) * kf), f32(frame.width * frame.k) - 1.0);
-    let y1 = min(floor((hi.y + STRATUM_MARGIN) * kf), f32(frame.height * frame.k) - 1.0);
+    let x0 = max(floor((lo.x - STRATUM_MARGIN) * kf) - ox, 0.0);
+    let y0 = max(floor((lo.y - STRATUM_MARGIN) * kf) - oy, 0.0);
+    let x1 = min(floor((hi.x + STRATUM_MARGIN) * kf) - ox, f32(frame.width * frame.k) - 1.0);
+    let y1 = min(floor((hi.y + STRATUM_MARGIN) * kf) - oy, f32(frame.height * frame.k) - 1.0);
     if (!(x0 <= x1 && y0 <= y1)) {
         return StrataBox(0u, 0u, 0u, 0u, false);
     }
@@ -223,14 +227,15 @@ fn raster_nearest(a: vec4<f32>, b: vec4<f32>, c: vec4<f32>, d: vec4<f32>, q: Qua
         return;
     }
     let centroid = (((a.xyz + b.xyz) + c.xyz) + d.xyz) * 0.25;
-    let width = f32(frame.width);
-    let height = f32(frame.height);
-    let on_screen = centroid.x >= 0.0 && centroid.x < width && centroid.y >= 0.0 && centroid.y < height;
+    // The window of the full image this frame covers (all of it, or a tile).
+    let x0 = f32(frame.origin_x);
+    let y0 = f32(frame.origin_y);
+    let on_screen = centroid.x >= x0 && centroid.x < x0 + f32(frame.width) && centroid.y >= y0 && centroid.y < y0 + f32(frame.height);
     if (!on_screen) {
         return;
     }
     let k = frame.k;
-    let gx = min(u32(floor(centroid.x * f32(k))), frame.width * k - 1u);
-    let gy = min(u32(floor(centroid.y * f32(k))), frame.height * k - 1u);
+    let gx = min(u32(floor(centroid.x * f32(k)) - x0 * f32(k)), frame.width * k - 1u);
+    let gy = min(u32(floor(centroid.y * f32(k)) - y0 * f32(k)), frame.height * k - 1u);
     test_quad(q, gx / k, gy / k, (gy % k) * k + gx % k, counts);
 }

@@ -35,7 +35,7 @@ if (valid) {
         for (var k = 0u; k < 4u; k += 1u) {
             let point = patch_point(&q, line_index(along_u, thread, k));
             let clip = to_clip(point);
-            flags = merge_flags(flags, outcode(clip, cull_clip_radius(object, point, clip, radius)));
+            flags = merge_flags(flags, window_outcode(clip, cull_clip_radius(object, point, clip, radius)));
             growth = max(growth, pixel_growth(clip, bound, radius));
             let pixel = to_pixel(clip).xy;
             if (k == 0u) {

@@ -173,3 +173,36 @@ pub fn as_reference(frame: &GpuRendered) -> Rendered {
         stats: frame.stats.clone(),
     }
 }
+
+/// Asserts that two GPU frames are the same picture bit for bit: the
+/// float image, the 8-bit image, the coverage and the covered samples of
+/// every pixel (a frame rendered in screen tiles against the whole frame).
+pub fn assert_identical(what: &str, a: &GpuRendered, b: &GpuRendered) {
+    assert_eq!(a.image.dimensions(), b.image.dimensions(), "{what}: sizes");
+    let width = a.image.width() as usize;
+    let floats = |frame: &GpuRendered| -> Vec<u32> {
+        frame.linear.as_raw().iter().map(|v| v.to_bits()).collect()
+    };
+    let (fa, fb) = (floats(a), floats(b));
+    let differing: Vec<usize> = (0..fa.len()).filter(|&i| fa[i] != fb[i]).collect();
+    if let Some(&first) = differing.first() {
+        let pixel = first / 4;
+        panic!(
+            "{what}: {} float channels differ; the first at pixel ({}, {}): {} against {}",
+            differing.len(),
+            pixel % width,
+            pixel / width,
+            f32::from_bits(fa[first]),
+            f32::from_bits(fb[first])
+        );
+    }
+    assert!(
+        a.image.as_raw() == b.image.as_raw(),
+        "{what}: the 8-bit images differ"
+    );
+    assert!(a.coverage == b.coverage, "{what}: the coverage differs");
+    assert!(
+        a.covered_samples == b.covered_samples,
+        "{what}: the covered sample counts differ"
+    );
+}

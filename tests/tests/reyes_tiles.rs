@@ -2,9 +2,10 @@
 //! limits (or `GpuOptions::max_tile_samples`) is rendered tile by tile
 //! through cropped cameras and pasted together. Tiled frames are compared
 //! with the untiled frame and with the CPU reference (`reyes::reference`).
-//! They need not be bit-identical: each tile decides splits and dicing in
-//! its own cropped projection, whose pixel positions equal the frame's only
-//! up to float rounding, and culls what lies outside it.
+//! They are bit-identical: a tile places every grid point and sample in
+//! the full image's pixels (only integer pixel and stratum indices are
+//! shifted by its origin), so it splits, dices and samples as the whole
+//! frame does, and culls only what lies outside its window.
 
 use std::time::Duration;
 
@@ -16,7 +17,8 @@ use reyes::prepare::PreparedScene;
 use reyes::reference;
 use reyes::scene::{Sampling, Transform};
 use tests::reyes_support::{
-    Agreement, agreement, as_reference, assert_counts_close, framed_teapot, gpu_turn, renderer,
+    Agreement, agreement, as_reference, assert_counts_close, assert_identical, framed_teapot,
+    gpu_turn, renderer,
 };
 
 /// Run time limit of one megakernel run: it includes llvmpipe's lazy
@@ -91,6 +93,7 @@ fn tiled_frames_match_the_untiled_frame() {
         assert_eq!(tiled.tiles, tiles as u32);
         let what = format!("{tiles} tiles vs untiled");
         assert_agrees(&what, &agreement(&tiled, &reference));
+        assert_identical(&what, &tiled, &untiled);
         let (t, u) = (&tiled.stats, &untiled.stats);
         assert_eq!(t.input_patches, u.input_patches);
         assert!(t.micropolygons >= t.grids_diced && t.micropolygons <= 256 * t.grids_diced);
@@ -120,7 +123,7 @@ fn tiled_frames_match_the_untiled_frame() {
 /// per-pixel table repeats every 64 x 64 pixels; Interleave UVT's tiles
 /// and their permutations follow absolute pixels), and jitter is
 /// hashed from them too: a spinning, defocused, jittered teapot renders
-/// alike tiled and untiled in every mode.
+/// bit for bit alike tiled and untiled in every mode.
 #[gpu_test]
 fn tiled_frames_with_motion_and_depth_of_field_match_the_untiled_frame() {
     let gpu = tests::gpu();
@@ -162,6 +165,7 @@ fn tiled_frames_with_motion_and_depth_of_field_match_the_untiled_frame() {
         eprintln!("{mode}: {a:?}");
         assert!(a.coverage >= 0.15, "{mode}: coverage {:.3}", a.coverage);
         a.assert_at_least(&mode, 0.995, 0.99);
+        assert_identical(&mode, &tiles, &untiled);
         assert_counts_close(
             "samples hit",
             tiles.stats.samples_hit,

@@ -98,6 +98,9 @@ pub struct Camera {
     /// [`Camera::crop`] of a larger one. Interleave UVT numbers its tiles
     /// along the rows of the full image.
     pub full_width: u32,
+    /// Height in pixels of the full image: `height` unless the camera is a
+    /// [`Camera::crop`] of a larger one.
+    pub full_height: u32,
 }
 
 impl Camera {
@@ -142,6 +145,7 @@ impl Camera {
             proj: Mat4::perspective_rh(fov_y_radians, aspect, near, far),
             origin: [0, 0],
             full_width: width,
+            full_height: height,
         }
     }
 
@@ -149,15 +153,16 @@ impl Camera {
     /// from `eye` at `target` with `up`.
     pub fn looking(&self, eye: Vec3, target: Vec3, up: Vec3) -> Camera {
         let placed = Camera {
+            width: self.width,
+            height: self.height,
             origin: self.origin,
-            full_width: self.full_width,
             ..Camera::new(
                 eye,
                 target,
                 up,
                 self.fov_y_radians,
-                self.width,
-                self.height,
+                self.full_width,
+                self.full_height,
                 self.near,
                 self.far,
             )
@@ -173,7 +178,7 @@ impl Camera {
     /// between the same near and far planes.
     pub fn orthographic(&self, height: f32) -> Camera {
         let half_h = 0.5 * height;
-        let half_w = half_h * self.width as f32 / self.height as f32;
+        let half_w = half_h * self.full_width as f32 / self.full_height as f32;
         Camera {
             projection: Projection::Orthographic,
             ortho_height: height,
@@ -240,42 +245,53 @@ impl Camera {
     }
 
     /// The camera whose image is the sub-rectangle `[x0, x0 + width) x [y0,
-    /// y0 + height)` of this camera's image, at the same pixel scale: a point
-    /// at pixel `(px, py)` here is at `(px - x0, py - y0)` in the cropped
+    /// y0 + height)` of this camera's image (a screen tile): a point at
+    /// pixel `(px, py)` here is at `(px - x0, py - y0)` in the cropped
     /// camera, with the same depth.
     ///
-    /// The projection is post-multiplied by a clip-space scale and translate
-    /// of x and y only. Clip `w` (the view depth) and `z` are untouched, so
-    /// NDC depth, the near/far tests and the key depths stay the same; the
-    /// cropped frustum's side planes are those of the tile. From the pixel
-    /// convention, `ndc'.x = ndc.x * W / w + (W - 2 x0 - w) / w` and
-    /// `ndc'.y = ndc.y * H / h + (h - H + 2 y0) / h`, which is that map
-    /// applied to `clip.x / clip.w` and `clip.y / clip.w`.
+    /// The projection stays the full image's: every pixel position is
+    /// computed in the full image and then shifted by the tile's origin (an
+    /// exact subtraction of integers), so that a tile decides splits,
+    /// dicing and sample positions bit for bit as the whole frame does.
+    /// Only culling looks at the tile's own frustum, through
+    /// [`Camera::window`].
     ///
     /// The rectangle may reach beyond the image (it is a frustum, not a
     /// copy of pixels); a `width` or `height` of 0 is taken as 1.
     pub fn crop(&self, x0: u32, y0: u32, width: u32, height: u32) -> Camera {
-        let (full_w, full_h) = (self.width as f32, self.height as f32);
-        let (w, h) = (width.max(1) as f32, height.max(1) as f32);
-        let (x0, y0) = (x0 as f32, y0 as f32);
-        let crop = Mat4::from_cols(
-            Vec4::new(full_w / w, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, full_h / h, 0.0, 0.0),
-            Vec4::Z,
-            Vec4::new(
-                (full_w - 2.0 * x0 - w) / w,
-                (h - full_h + 2.0 * y0) / h,
-                0.0,
-                1.0,
-            ),
-        );
         Camera {
             width: width.max(1),
             height: height.max(1),
-            proj: crop * self.proj,
-            origin: [self.origin[0] + x0 as u32, self.origin[1] + y0 as u32],
+            origin: [self.origin[0] + x0, self.origin[1] + y0],
             ..*self
         }
+    }
+
+    /// The clip-space scale and translate `(sx, sy, tx, ty)` that takes the
+    /// full image's clip coordinates to this camera's window (a
+    /// [`Camera::crop`]'s tile): `x' = sx x + tx w`, `y' = sy y + ty w`, `z`
+    /// and `w` unchanged, so the window's frustum is `-w' <= x', y' <= w'`.
+    /// From the pixel convention, `ndc'.x = ndc.x W / w + (W - 2 x0 - w) / w`
+    /// and `ndc'.y = ndc.y H / h + (h - H + 2 y0) / h` (`W x H` the full
+    /// image, `w x h` the window at `(x0, y0)`). `(1, 1, 0, 0)` for an
+    /// uncropped camera.
+    pub fn window(&self) -> Vec4 {
+        let (full_w, full_h) = (self.full_width as f32, self.full_height as f32);
+        let (w, h) = (self.width as f32, self.height as f32);
+        let (x0, y0) = (self.origin[0] as f32, self.origin[1] as f32);
+        Vec4::new(
+            full_w / w,
+            full_h / h,
+            (full_w - 2.0 * x0 - w) / w,
+            (h - full_h + 2.0 * y0) / h,
+        )
+    }
+
+    /// Clip position `c` of the full image in this camera's window
+    /// ([`Camera::window`]), for culling.
+    pub fn window_clip(&self, c: Vec4) -> Vec4 {
+        let s = self.window();
+        Vec4::new(s.x * c.x + s.z * c.w, s.y * c.y + s.w * c.w, c.z, c.w)
     }
 
     /// Converts a clip-space position to `(px, py, depth)`: pixel coordinates
@@ -283,9 +299,11 @@ impl Camera {
     /// the near and far planes. Only meaningful for `clip.w > 0`.
     pub fn to_pixel(&self, clip: Vec4) -> Vec3 {
         let ndc = clip.truncate() / clip.w;
+        // In the full image, then shifted to this camera's window (an
+        // integer subtracted: exact for the pixels of the window).
         Vec3::new(
-            (ndc.x * 0.5 + 0.5) * self.width as f32,
-            (0.5 - ndc.y * 0.5) * self.height as f32,
+            (ndc.x * 0.5 + 0.5) * self.full_width as f32 - self.origin[0] as f32,
+            (0.5 - ndc.y * 0.5) * self.full_height as f32 - self.origin[1] as f32,
             ndc.z,
         )
     }

@@ -1,6 +1,8 @@
 //! Unit tests of the camera and its conventions, and a camera the other
 //! modules' tests share.
 
+use glam::Vec2;
+
 use super::*;
 
 /// A 200 x 100 camera 10 units in front of the origin, z up (shared
@@ -144,31 +146,58 @@ fn crop_shifts_pixels_by_the_origin() {
     }
 }
 
+/// A crop's window (what a screen tile culls against) maps a point's
+/// full-image clip position to the tile's own frustum: the point's pixel in
+/// the tile, from the windowed clip position, is its full-image pixel less
+/// the tile's origin; and a ball's windowed clip motion stays within the
+/// pad grown as `shaders/reyes/library.wgsl`'s `window_outcode` grows it.
 #[test]
-fn clip_pad_bounds_the_clip_motion_of_a_ball_in_a_crop() {
+fn a_crops_window_is_the_tiles_frustum() {
     let cam = camera();
+    assert_eq!(cam.window(), Vec4::new(1.0, 1.0, 0.0, 0.0));
     let mut random = Random(0x2545_f491_4f6c_dd1d);
     for &(x0, y0, w, h) in &CROPS {
         let crop = cam.crop(x0, y0, w, h);
-        let pad = crop.clip_pad();
+        let s = crop.window();
+        let pad = cam.clip_pad();
+        let grown = Vec4::new(
+            s.x.abs() * pad.x + s.z.abs() * pad.w,
+            s.y.abs() * pad.y + s.w.abs() * pad.w,
+            pad.z,
+            pad.w,
+        );
         for _ in 0..50 {
             let centre = Vec3::new(
                 random.range(-3.0, 3.0),
                 random.range(-3.0, 10.0),
                 random.range(-3.0, 3.0),
             );
+            let full = cam.to_clip(centre);
+            let windowed = crop.window_clip(full);
+            assert_eq!((windowed.z, windowed.w), (full.z, full.w));
+            let ndc = windowed / windowed.w;
+            let in_tile = Vec2::new(
+                (ndc.x * 0.5 + 0.5) * w.max(1) as f32,
+                (0.5 - ndc.y * 0.5) * h.max(1) as f32,
+            );
+            let expected = cam.to_pixel(full).truncate() - Vec2::new(x0 as f32, y0 as f32);
+            let tolerance = 1e-4 * (1.0 + expected.abs().max_element());
+            assert!(
+                (in_tile - expected).abs().max_element() <= tolerance,
+                "crop {:?}: {centre} at {in_tile} in the window, expected {expected}",
+                (x0, y0, w, h)
+            );
             let radius = random.range(0.01, 2.0);
-            let c = crop.to_clip(centre);
             for k in 0..100 {
                 let a = k as f32 * 0.731;
                 let b = k as f32 * 0.377;
                 let offset = Vec3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos()) * radius;
-                let delta = (crop.to_clip(centre + offset) - c).abs();
+                let delta = (crop.window_clip(cam.to_clip(centre + offset)) - windowed).abs();
                 let bound =
-                    pad * radius * 1.0001 + Vec4::splat(1e-4 * (1.0 + c.abs().max_element()));
+                    grown * radius * 1.0001 + Vec4::splat(1e-4 * (1.0 + windowed.abs().max_element()));
                 assert!(
                     delta.cmple(bound).all(),
-                    "crop {:?}: {delta} {pad}",
+                    "crop {:?}: {delta} {grown}",
                     (x0, y0, w, h)
                 );
             }

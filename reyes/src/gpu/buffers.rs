@@ -26,7 +26,7 @@ pub struct FrameUniform {
     /// (position, 1) for a perspective camera, (unit direction towards
     /// the viewer, 0) for an orthographic one.
     pub eye: Vec4,
-    /// Image width.
+    /// Image width: the frame's, or a screen tile's.
     pub width: u32,
     /// Image height.
     pub height: u32,
@@ -54,6 +54,10 @@ pub struct FrameUniform {
     /// (reyes::camera::Camera::clip_pad): a ball of radius b lies within
     /// c +- b * clip_pad.
     pub clip_pad: Vec4,
+    /// The window of the full image this image covers, as a clip-space
+    /// scale and translate (reyes::camera::Camera::window): what culling
+    /// tests against. `(1, 1, 0, 0)` for the whole frame.
+    pub window: Vec4,
     /// The thin lens (reyes::motion::PreparedLens): its radius.
     pub aperture: f32,
     /// View depth in focus.
@@ -91,6 +95,11 @@ pub struct FrameUniform {
     pub origin_x: u32,
     /// Its y.
     pub origin_y: u32,
+    /// Width of the full image, in whose pixels grid points and samples
+    /// are placed (a screen tile's too, see `origin_x`).
+    pub full_width: u32,
+    /// Height of the full image.
+    pub full_height: u32,
     /// sqrt(shading_rate): a micropolygon's side in pixels (rate dicing).
     pub micropolygon_side: f32,
     /// Float offset in height_texels of the input patches (48 floats each).
@@ -131,6 +140,10 @@ pub struct FrameUniform {
     pub texture_count: u32,
     /// Packed texels of all textures.
     pub texel_count: u32,
+    /// Padding to the struct's 16-byte alignment.
+    pub pad0: u32,
+    /// Padding.
+    pub pad1: u32,
 }
 
 impl FrameUniform {
@@ -145,6 +158,8 @@ impl FrameUniform {
             dice_threshold: scene.dicing.dice_threshold(),
             width: camera.width,
             height: camera.height,
+            full_width: camera.full_width,
+            full_height: camera.full_height,
             spp: scene.spp,
             k: grid_size(scene.spp),
             max_split_depth: scene.max_split_depth,
@@ -156,6 +171,7 @@ impl FrameUniform {
             ambient_blue: scene.ambient.z,
             dicing: super::abi::dicing::code(scene.dicing.mode()),
             clip_pad: camera.clip_pad(),
+            window: camera.window(),
             aperture: scene.lens.aperture,
             focus: scene.lens.focus,
             pixel_scale: scene.lens.pixel_scale,
@@ -182,6 +198,8 @@ impl FrameUniform {
             texel_floats: 0,
             texture_count: scene.textures.len() as u32,
             texel_count: texel_words(scene) as u32,
+            pad0: 0,
+            pad1: 0,
             aov: scene.aov.code(),
             depth_range: crate::aov::depth_range(camera),
             smooth_shading: u32::from(
