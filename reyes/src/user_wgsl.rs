@@ -75,6 +75,29 @@ pub enum UserWgslError {
         /// 1-based line.
         line: u32,
     },
+    /// `discard`, a fragment shader's statement: the renderer runs user
+    /// functions in compute shaders, where it does not exist.
+    #[error(
+        "line {line} of the function's source: `{function}` uses `discard`, which only fragment shaders have; the renderer runs user functions in a compute shader (a surface shader that draws nothing is RenderMan's `null`)"
+    )]
+    Discard {
+        /// The function with the `discard`.
+        function: String,
+        /// 1-based line.
+        line: u32,
+    },
+    /// A global directive (`enable`, `requires`, `diagnostic`): the user's
+    /// source is placed inside the renderer's module, whose own first lines
+    /// say what it enables.
+    #[error(
+        "line {line} of the function's source: the `{directive}` directive is not allowed in a user function, which is compiled inside the renderer's module (that module says what it enables); remove it"
+    )]
+    Directive {
+        /// `enable`, `requires` or `diagnostic`.
+        directive: String,
+        /// 1-based line.
+        line: u32,
+    },
 }
 
 /// A function of the user's text declares more function memory (its local
@@ -111,6 +134,7 @@ pub const MAX_FUNCTION_MEMORY: u64 = 16 * 1024;
 /// Checks `wgsl`, the source of a user displacement function and its
 /// helpers, on its own.
 pub fn check(wgsl: &str) -> Result<(), UserWgslError> {
+    check_directives(wgsl)?;
     let module = parse(wgsl)?;
     check_globals(&module, wgsl, wgsl.len())?;
     check_memory(&module, wgsl, wgsl.len())?;
@@ -287,14 +311,77 @@ pub(crate) fn check_memory(
     Ok(())
 }
 
-/// Refuses a barrier in any function of `module` (parsed from `wgsl`).
+/// The global directives WGSL has: they may only open a module.
+const DIRECTIVES: [&str; 3] = ["enable", "requires", "diagnostic"];
+
+/// Refuses a global directive in `wgsl`, a user's source. WGSL allows them
+/// only before every declaration, so only the first word after comments
+/// and blank space can be one (one anywhere else is naga's parse error, at
+/// its line).
+pub(crate) fn check_directives(wgsl: &str) -> Result<(), UserWgslError> {
+    let bytes = wgsl.as_bytes();
+    let mut at = 0;
+    loop {
+        while at < bytes.len() && bytes[at].is_ascii_whitespace() {
+            at += 1;
+        }
+        if bytes[at..].starts_with(b"//") {
+            while at < bytes.len() && bytes[at] != b'\n' {
+                at += 1;
+            }
+        } else if bytes[at..].starts_with(b"/*") {
+            // Block comments nest in WGSL.
+            let mut depth = 0usize;
+            while at < bytes.len() {
+                if bytes[at..].starts_with(b"/*") {
+                    depth += 1;
+                    at += 2;
+                } else if bytes[at..].starts_with(b"*/") {
+                    depth -= 1;
+                    at += 2;
+                    if depth == 0 {
+                        break;
+                    }
+                } else {
+                    at += 1;
+                }
+            }
+        } else {
+            break;
+        }
+    }
+    let word: String = wgsl[at..]
+        .chars()
+        .take_while(|c| c.is_alphanumeric() || *c == '_')
+        .collect();
+    if DIRECTIVES.contains(&word.as_str()) {
+        return Err(UserWgslError::Directive {
+            directive: word,
+            line: wgsl[..at].matches('\n').count() as u32 + 1,
+        });
+    }
+    Ok(())
+}
+
+/// Refuses a barrier or a `discard` in any function of `module` (parsed
+/// from `wgsl`).
 pub(crate) fn check_barriers(module: &naga::Module, wgsl: &str) -> Result<(), UserWgslError> {
     for (_, function) in module.functions.iter() {
-        if let Some(span) = first_barrier(&function.body) {
-            return Err(UserWgslError::Barrier {
-                function: function.name.clone().unwrap_or_default(),
-                line: span.location(wgsl).line_number,
-            });
+        let name = || function.name.clone().unwrap_or_default();
+        match first_forbidden(&function.body) {
+            Some((Forbidden::Barrier, span)) => {
+                return Err(UserWgslError::Barrier {
+                    function: name(),
+                    line: span.location(wgsl).line_number,
+                });
+            }
+            Some((Forbidden::Discard, span)) => {
+                return Err(UserWgslError::Discard {
+                    function: name(),
+                    line: span.location(wgsl).line_number,
+                });
+            }
+            None => {}
         }
     }
     Ok(())
@@ -325,13 +412,24 @@ pub(crate) fn validate(module: &naga::Module, wgsl: &str) -> Result<(), UserWgsl
     Ok(())
 }
 
-/// The span of the first barrier in `block`, nested blocks included.
-fn first_barrier(block: &Block) -> Option<naga::Span> {
+/// A statement a user function may not contain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Forbidden {
+    /// A barrier, or a workgroup-uniform load (which is one).
+    Barrier,
+    /// `discard`.
+    Discard,
+}
+
+/// The first statement in `block` a user function may not contain, and
+/// its span, nested blocks included.
+fn first_forbidden(block: &Block) -> Option<(Forbidden, naga::Span)> {
     for (statement, span) in block.span_iter() {
         let nested: Vec<&Block> = match statement {
             Statement::ControlBarrier(_)
             | Statement::MemoryBarrier(_)
-            | Statement::WorkGroupUniformLoad { .. } => return Some(*span),
+            | Statement::WorkGroupUniformLoad { .. } => return Some((Forbidden::Barrier, *span)),
+            Statement::Kill => return Some((Forbidden::Discard, *span)),
             Statement::Block(inner) => vec![inner],
             Statement::If { accept, reject, .. } => vec![accept, reject],
             Statement::Switch { cases, .. } => cases.iter().map(|c| &c.body).collect(),
@@ -340,8 +438,8 @@ fn first_barrier(block: &Block) -> Option<naga::Span> {
             } => vec![body, continuing],
             _ => Vec::new(),
         };
-        if let Some(span) = nested.into_iter().find_map(first_barrier) {
-            return Some(span);
+        if let Some(found) = nested.into_iter().find_map(first_forbidden) {
+            return Some(found);
         }
     }
     None
@@ -437,6 +535,33 @@ fn displacement_user(u: f32, v: f32) -> f32 {
             }
             other => panic!("{other:?}"),
         }
+        let discard = "fn displacement_user(u: f32, v: f32) -> f32 {\n    if (u > 0.5) {\n        discard;\n    }\n    return u;\n}";
+        match check(discard) {
+            Err(UserWgslError::Discard { function, line }) => {
+                assert_eq!((function.as_str(), line), ("displacement_user", 3));
+            }
+            other => panic!("{other:?}"),
+        }
+        let function = "fn displacement_user(u: f32, v: f32) -> f32 { return u; }";
+        for (source, directive, line) in [
+            (format!("enable f16;\n{function}"), "enable", 1),
+            (
+                format!("// Half floats.\n/* a /* nested */ comment */\n  enable f16;\n{function}"),
+                "enable",
+                3,
+            ),
+            (format!("requires readonly_and_readwrite_storage_textures;\n{function}"), "requires", 1),
+            (format!("diagnostic(off, derivative_uniformity);\n{function}"), "diagnostic", 1),
+        ] {
+            match check(&source) {
+                Err(UserWgslError::Directive { directive: found, line: at }) => {
+                    assert_eq!((found.as_str(), at), (directive, line), "{source}");
+                }
+                other => panic!("{source}: {other:?}"),
+            }
+        }
+        // A name that only begins like a directive is not one.
+        assert_eq!(check(&format!("const enabled = 1.0;\n{function}")), Ok(()));
     }
 
     /// D28: an array of a million floats drove a driver's compile to 23 GB;

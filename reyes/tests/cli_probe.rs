@@ -504,6 +504,46 @@ fn cases() -> Vec<Case> {
             not_written: &["out.png"],
             ..BASE
         },
+        // Issue 42, item 5: once reported at a line of the generated
+        // library (`enable`) or at "line 0" of the entry point (`discard`).
+        Case {
+            name: "I42 enable directive in a user function",
+            setup: user_wgsl,
+            args: &[
+                "render",
+                "--displace",
+                "enable.wgsl",
+                "--displace-scale",
+                "0.1",
+                "--displace-bound",
+                "0.1",
+                "-o",
+                "out.png",
+            ],
+            words: &["`enable` directive", "line 2"],
+            not_written: &["out.png"],
+            ..BASE
+        },
+        // Issue 42, item 5: once reported at a line of the generated
+        // library (`enable`) or at "line 0" of the entry point (`discard`).
+        Case {
+            name: "I42 discard in a user function",
+            setup: user_wgsl,
+            args: &[
+                "render",
+                "--displace",
+                "discard.wgsl",
+                "--displace-scale",
+                "0.1",
+                "--displace-bound",
+                "0.1",
+                "-o",
+                "out.png",
+            ],
+            words: &["`discard`", "line 3", "fragment"],
+            not_written: &["out.png"],
+            ..BASE
+        },
         // RIB: a syntax error gives file:line:column.
         Case {
             name: "RIB malformed array",
@@ -1050,6 +1090,16 @@ fn user_wgsl(dir: &Path) -> Result<(), String> {
         &format!(
             "{head}    if (u > 0.5) {{\n        workgroupBarrier();\n    }}\n    return u;\n}}\n"
         ),
+    )?;
+    write(
+        dir,
+        "enable.wgsl",
+        &format!("// Half floats.\nenable f16;\n{head}    return u;\n}}\n"),
+    )?;
+    write(
+        dir,
+        "discard.wgsl",
+        &format!("{head}    if (u > 0.5) {{\n        discard;\n    }}\n    return u;\n}}\n"),
     )
 }
 

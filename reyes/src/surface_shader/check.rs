@@ -47,6 +47,7 @@ pub(super) struct Checked {
 
 /// Checks `source` against the interface.
 pub(super) fn check(source: &str) -> Result<Checked, SurfaceShaderError> {
+    user_wgsl::check_directives(source)?;
     let text = format!("{source}\n{}", interface_wgsl());
     let user_end = source.len();
     let module = user_wgsl::parse(&text).map_err(|e| in_user_text(e, source))?;
