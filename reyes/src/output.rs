@@ -32,7 +32,7 @@ pub use self::environment::{MakeEnvironmentError, make_cube_face_environment};
 pub use self::guard::{OutputGuard, OutputKind};
 use self::staged::Staged;
 pub use self::staged::{StagedFiles, ignore_file_size_signal};
-pub use self::warnings::frame_warnings;
+pub use self::warnings::{DepthExtent, frame_warnings};
 use crate::color::srgb_to_linear;
 use crate::stats::RenderStats;
 

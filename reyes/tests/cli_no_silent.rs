@@ -298,3 +298,93 @@ fn an_unknown_shader_parameter_warns_once_with_its_line() {
         );
     }
 }
+
+/// A scene whose camera's far plane falls short of the geometry renders
+/// empty with advice that names the far plane (not only "check the
+/// camera"), and `--far` (or `--near`) moves the plane from the command
+/// line. Planes that cannot be are refused with the option's name.
+#[test]
+fn clipping_planes_are_named_and_set_from_the_command_line() {
+    let dir = TempDir::new("cli-far");
+    std::fs::write(
+        dir.path("far.toml"),
+        "[camera]\neye = [0.0, -30.0, 2.0]\ntarget = [0.0, 0.0, 1.0]\nup = [0.0, 0.0, 1.0]\n\
+         fov_y_degrees = 30.0\nnear = 0.1\nfar = 10.0\n\n[[objects]]\nmodel = \"teapot\"\n",
+    )
+    .unwrap();
+    let (ok, stderr, written) = render(&dir, "far.toml", &[]);
+    assert!(ok && written, "{stderr}");
+    assert!(
+        stderr.contains("covered no sample")
+            && stderr.contains("beyond the far plane (far = 10;")
+            && stderr.contains("--far"),
+        "{stderr}"
+    );
+    let (ok, stderr, written) = render(&dir, "far.toml", &["--far", "100"]);
+    assert!(ok && written, "{stderr}");
+    assert!(!stderr.contains("covered no sample"), "{stderr}");
+    let (ok, stderr, written) = render(&dir, "far.toml", &["--near", "40", "--far", "100"]);
+    assert!(ok && written, "{stderr}");
+    assert!(
+        stderr.contains("before the near plane or behind the eye (near = 40;")
+            && stderr.contains("--near"),
+        "{stderr}"
+    );
+    for (args, words) in [
+        (
+            &["--near", "0"][..],
+            "--near 0: must be a finite distance > 0",
+        ),
+        (
+            &["--far", "0.05"][..],
+            "--far 0.05: the far plane (0.05) must be finite and beyond the near plane (0.1)",
+        ),
+        (
+            &["--near", "20"][..],
+            "--near 20: the far plane (10) must be finite and beyond the near plane (20)",
+        ),
+    ] {
+        let (ok, stderr, written) = render(&dir, "far.toml", args);
+        assert!(!ok && !written, "{args:?}: {stderr}");
+        assert!(stderr.contains(words), "{args:?}: {stderr}");
+    }
+}
+
+/// `--eye` recomputes an automatically framed camera's clipping planes for
+/// a bare model and for a TOML scene without `[camera]`, as it does for
+/// the default teapot (`moving_a_framed_camera_recomputes_its_clipping_planes`).
+#[test]
+fn an_eye_far_from_a_framed_model_still_sees_it() {
+    let dir = TempDir::new("cli-eye-model");
+    let teapot = reyes::model::Model::teapot();
+    std::fs::write(dir.path("teapot.bpt"), reyes::load::bpt::write(&teapot)).unwrap();
+    std::fs::write(
+        dir.path("scene.toml"),
+        "[[objects]]\nmodel = \"teapot.bpt\"\n",
+    )
+    .unwrap();
+    for scene in ["teapot.bpt", "scene.toml"] {
+        let out = dir.path("far.png");
+        let (ok, stderr) = run_cli(&[
+            "render",
+            path_str(&dir.path(scene)),
+            "--cpu",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--spp",
+            "1",
+            "--eye",
+            "0,-30,2",
+            "-o",
+            path_str(&out),
+        ]);
+        assert!(ok, "{scene}: {stderr}");
+        assert!(!stderr.contains("covered no sample"), "{scene}: {stderr}");
+        let image = image::open(&out).unwrap().to_rgba8();
+        let background = *image.get_pixel(0, 0);
+        let drawn = image.pixels().filter(|&&p| p != background).count();
+        assert!(drawn > 20, "{scene}: {drawn} pixels show the teapot");
+    }
+}

@@ -137,6 +137,16 @@ pub(crate) struct RenderArgs {
     /// Vertical field of view in degrees.
     #[arg(long)]
     pub(crate) fov: Option<f32>,
+    /// Near clipping plane: the distance from the eye (along the view
+    /// direction) of the nearest surface drawn, in (0, far). Replaces the
+    /// scene's and the automatic framing's.
+    #[arg(long)]
+    pub(crate) near: Option<f32>,
+    /// Far clipping plane: the distance from the eye of the farthest
+    /// surface drawn, beyond near. Replaces the scene's and the automatic
+    /// framing's.
+    #[arg(long)]
+    pub(crate) far: Option<f32>,
     /// Render with the CPU reference instead of the GPU. It refuses frames
     /// whose RGBA image exceeds 128 MiB (as the GPU does) or whose sample
     /// framebuffer exceeds 2 GiB, and stops after 2^26 work items, 2^30

@@ -70,6 +70,9 @@ pub(crate) fn prepare_base(args: &RenderArgs, base: BaseScene) -> Result<Prepare
                 clip_around(camera, lo, hi);
             }
         }
+        if let Some(camera) = scene.camera.as_mut() {
+            clip_planes(camera, args)?;
+        }
     }
     let prepared = if args.lenient {
         prepare_without_missing_files(&mut scene, &light_origins, prepared)
@@ -292,9 +295,37 @@ fn override_camera(scene: &mut Scene, args: &RenderArgs, camera: CameraDesc) {
     }
 }
 
-/// Whether the command line places the camera.
+/// Whether the command line places the camera or its clipping planes.
 fn camera_overridden(args: &RenderArgs) -> bool {
-    args.eye.is_some() || args.target.is_some() || args.up.is_some() || args.fov.is_some()
+    args.eye.is_some()
+        || args.target.is_some()
+        || args.up.is_some()
+        || args.fov.is_some()
+        || args.near.is_some()
+        || args.far.is_some()
+}
+
+/// `--near` and `--far` on `camera`, checked against each other and
+/// against the plane the command line leaves as it is.
+fn clip_planes(camera: &mut CameraDesc, args: &RenderArgs) -> Result<(), BoxError> {
+    let near = args.near.unwrap_or(camera.near);
+    let far = args.far.unwrap_or(camera.far);
+    if let Some(near) = args.near.filter(|n| !(n.is_finite() && *n > 0.0)) {
+        return Err(format!("--near {near}: must be a finite distance > 0").into());
+    }
+    if !(far.is_finite() && far > near) {
+        let which = match (args.near, args.far) {
+            (_, Some(_)) => format!("--far {far}"),
+            _ => format!("--near {near}"),
+        };
+        return Err(format!(
+            "{which}: the far plane ({far}) must be finite and beyond the near plane ({near})"
+        )
+        .into());
+    }
+    camera.near = near;
+    camera.far = far;
+    Ok(())
 }
 
 /// Whether the command line moves the camera during the shutter.
@@ -309,8 +340,8 @@ fn objects_move(args: &RenderArgs) -> bool {
 
 /// Prepares `scene` under `--lenient`: an object whose shader reads a
 /// texture file that is missing loses that shader (a surface falls back to
-/// the scene's default, lit in the object's colour; a displacement is
-/// dropped), and a light whose shadow map file is missing loses its shadow
+/// RenderMan's `defaultsurface`, which shows the object's colour without
+/// lights; a displacement is dropped), and a light whose shadow map file is missing loses its shadow
 /// (it lights unshadowed), each with a warning naming the object or light
 /// and the file, instead of failing the run. Any other error still fails
 /// it.

@@ -120,8 +120,16 @@ impl<'g> Backend<'g> {
             }
             print_stats(&stats, &backend, scene)?;
         }
-        let warnings =
-            crate::output::frame_warnings(&stats, scene.objects.len(), scene.max_split_depth);
+        // Only an empty frame's advice looks at where the geometry lies.
+        let extent = (stats.samples_hit == 0)
+            .then(|| depth_extent(scene))
+            .flatten();
+        let warnings = crate::output::frame_warnings(
+            &stats,
+            scene.objects.len(),
+            scene.max_split_depth,
+            extent,
+        );
         let prefix = label.map(|l| format!("{l}: ")).unwrap_or_default();
         for warning in warnings {
             errln!("warning: {prefix}{warning}")?;
@@ -237,5 +245,25 @@ fn render_cpu(args: &RenderArgs, scene: &PreparedScene) -> Result<Frame, BoxErro
         linear: rendered.linear,
         stats: rendered.stats,
         backend: "CPU wall".to_owned(),
+    })
+}
+
+/// Where `scene`'s input control points lie along the camera's view
+/// direction, against its clipping planes (`None` without patches).
+fn depth_extent(scene: &PreparedScene) -> Option<crate::output::DepthExtent> {
+    let view = scene.camera.view;
+    let (nearest, farthest) = scene
+        .patches
+        .iter()
+        .flat_map(|patch| patch.points)
+        .map(|point| -view.transform_point3(point).z)
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), depth| {
+            (lo.min(depth), hi.max(depth))
+        });
+    (nearest <= farthest).then_some(crate::output::DepthExtent {
+        nearest,
+        farthest,
+        near: scene.camera.near,
+        far: scene.camera.far,
     })
 }

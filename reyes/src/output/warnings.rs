@@ -4,12 +4,35 @@
 use crate::params::MAX_SPLIT_DEPTH_LIMIT;
 use crate::stats::RenderStats;
 
+/// Where a frame's input control points lie along the camera's view
+/// direction (their depths from the eye, at shutter open), and the
+/// camera's clipping planes: what the advice for a frame whose every patch
+/// was culled names.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DepthExtent {
+    /// The least depth of any control point (negative: behind the eye).
+    pub nearest: f32,
+    /// The greatest.
+    pub farthest: f32,
+    /// The camera's near plane.
+    pub near: f32,
+    /// Its far plane.
+    pub far: f32,
+}
+
 /// The warnings a frame's statistics call for, one sentence each (without
 /// a `warning:` prefix): patches dropped by the depth guard, a frame that
 /// covered no sample although the scene has objects, displaced points
 /// beyond their bound, and grid points that turned non-finite, by source. `objects` is the scene's object count and
-/// `max_split_depth` the depth guard it rendered with.
-pub fn frame_warnings(stats: &RenderStats, objects: usize, max_split_depth: u32) -> Vec<String> {
+/// `max_split_depth` the depth guard it rendered with; `extent`, where the
+/// control points lie against the clipping planes, lets an empty frame's
+/// advice name the plane that culled everything.
+pub fn frame_warnings(
+    stats: &RenderStats,
+    objects: usize,
+    max_split_depth: u32,
+    extent: Option<DepthExtent>,
+) -> Vec<String> {
     let mut warnings = Vec::new();
     let drops = stats.depth_guard_drops;
     // Raising the key helps only below its limit.
@@ -34,7 +57,7 @@ pub fn frame_warnings(stats: &RenderStats, objects: usize, max_split_depth: u32)
         warnings.push(format!(
             "the frame covered no sample although the scene has {objects} object(s) with {} patch(es): {}",
             stats.input_patches,
-            empty_frame_cause(stats)
+            empty_frame_cause(stats, extent)
         ));
     }
     if stats.displacement_bound_exceeded > 0 {
@@ -77,10 +100,26 @@ fn non_finite_warnings(stats: &RenderStats) -> impl Iterator<Item = String> {
 }
 
 /// Why no sample was covered, as far as the counters tell.
-fn empty_frame_cause(stats: &RenderStats) -> String {
+fn empty_frame_cause(stats: &RenderStats, extent: Option<DepthExtent>) -> String {
+    let culled = stats.culled_patches;
     if stats.input_patches == 0 {
         "the models have no patches".to_owned()
     } else if stats.grids_diced == 0 && stats.depth_guard_drops == 0 {
+        match extent {
+            Some(e) if e.nearest > e.far => {
+                return format!(
+                    "all {culled} patch piece(s) were culled: every control point lies beyond the far plane (far = {}; the nearest is {} from the eye); raise the far plane (`far` in [camera], `Clipping` in RIB, or --far)",
+                    e.far, e.nearest
+                );
+            }
+            Some(e) if e.farthest < e.near => {
+                return format!(
+                    "all {culled} patch piece(s) were culled: every control point lies before the near plane or behind the eye (near = {}; the farthest is {} from the eye); move the eye back, or lower the near plane (`near` in [camera], `Clipping` in RIB, or --near)",
+                    e.near, e.farthest
+                );
+            }
+            _ => {}
+        }
         format!(
             "all {} patch piece(s) were culled outside the view; check the camera (eye, target, fov) and the objects' transforms",
             stats.culled_patches
@@ -113,7 +152,7 @@ mod tests {
 
     #[test]
     fn a_healthy_frame_has_no_warning() {
-        assert!(frame_warnings(&healthy(), 1, 24).is_empty());
+        assert!(frame_warnings(&healthy(), 1, 24, None).is_empty());
     }
 
     #[test]
@@ -123,7 +162,7 @@ mod tests {
             depth_guard_drops: 32,
             ..RenderStats::default()
         };
-        let warnings = frame_warnings(&stats, 1, 0);
+        let warnings = frame_warnings(&stats, 1, 0, None);
         assert_eq!(warnings.len(), 2, "{warnings:?}");
         assert!(warnings[0].starts_with("the depth guard dropped all 32 patch piece(s)"));
         assert!(warnings[0].contains("max_split_depth = 0"));
@@ -137,7 +176,7 @@ mod tests {
             depth_guard_drops: 3,
             ..healthy()
         };
-        let warnings = frame_warnings(&stats, 1, MAX_SPLIT_DEPTH_LIMIT);
+        let warnings = frame_warnings(&stats, 1, MAX_SPLIT_DEPTH_LIMIT, None);
         assert_eq!(warnings.len(), 1);
         assert!(warnings[0].starts_with("the depth guard dropped 3 patch piece(s)"));
         assert!(warnings[0].contains("already at its limit"));
@@ -150,7 +189,7 @@ mod tests {
             non_finite_camera: 2,
             ..healthy()
         };
-        let warnings = frame_warnings(&stats, 1, 24);
+        let warnings = frame_warnings(&stats, 1, 24, None);
         assert_eq!(warnings.len(), 2, "{warnings:?}");
         assert!(
             warnings[0].starts_with(
@@ -163,7 +202,7 @@ mod tests {
             non_finite_transform: 1,
             ..healthy()
         };
-        assert!(frame_warnings(&moved, 1, 24)[0].contains("transform_close"));
+        assert!(frame_warnings(&moved, 1, 24, None)[0].contains("transform_close"));
     }
 
     #[test]
@@ -173,17 +212,18 @@ mod tests {
             culled_patches: 32,
             ..RenderStats::default()
         };
-        let warnings = frame_warnings(&culled, 1, 24);
+        let warnings = frame_warnings(&culled, 1, 24, None);
         assert_eq!(warnings.len(), 1);
         assert!(warnings[0].contains("culled outside the view"));
         // No objects, nothing to cover: not a warning.
-        assert!(frame_warnings(&RenderStats::default(), 0, 24).is_empty());
+        assert!(frame_warnings(&RenderStats::default(), 0, 24, None).is_empty());
         let missed = RenderStats {
             samples_hit: 0,
             ..healthy()
         };
         assert!(
-            frame_warnings(&missed, 2, 24)[0].contains("none of their 1000 sample test(s) hit")
+            frame_warnings(&missed, 2, 24, None)[0]
+                .contains("none of their 1000 sample test(s) hit")
         );
     }
 }
