@@ -352,3 +352,49 @@ fn a_lens_beyond_f32_names_depth_of_field() {
         "{message}"
     );
 }
+
+/// Values no RenderMan scene can mean are errors with their line: a shading
+/// rate that is not a positive area, a colour with a negative channel, and
+/// spotlight angles or a beam distribution below zero. (A shading rate or
+/// cone wider than this renderer draws is clamped with a warning.)
+#[test]
+fn impossible_values_are_errors_with_their_line() {
+    for (request, words) in [
+        (
+            "ShadingRate -5",
+            "ShadingRate: -5 is out of range: a shading rate is an area in pixels, > 0",
+        ),
+        ("ShadingRate 0", "ShadingRate: 0 is out of range"),
+        (
+            "Color [-1 0.5 0]",
+            "Color: [-1 0.5 0] is out of range: every channel must be a finite number >= 0",
+        ),
+        (
+            "LightSource \"spotlight\" 1 \"coneangle\" [-0.5]",
+            "spotlight coneangle -0.5 is out of range: it must be a finite number >= 0",
+        ),
+        (
+            "LightSource \"spotlight\" 1 \"conedeltaangle\" [-0.1]",
+            "spotlight conedeltaangle -0.1 is out of range",
+        ),
+        (
+            "LightSource \"spotlight\" 1 \"beamdistribution\" [-2]",
+            "spotlight beamdistribution -2 is out of range",
+        ),
+    ] {
+        let (message, position) = error(&format!("WorldBegin\n{request}\n{SPHERE}WorldEnd\n"));
+        assert_eq!(position.0, 2, "{request}: {message}");
+        assert!(message.contains(words), "{request}: {message}");
+    }
+    let scene = strict(&format!(
+        "WorldBegin\nShadingRate 0.001\n{SPHERE}WorldEnd\n"
+    ))
+    .unwrap();
+    assert!(
+        scene.warnings.iter().any(|w| w
+            .to_string()
+            .contains("ShadingRate 0.001 is out of range; using 0.01")),
+        "{:?}",
+        scene.warnings
+    );
+}

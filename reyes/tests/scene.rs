@@ -561,3 +561,30 @@ fn objects_that_reuse_a_model_share_its_stored_patches() {
     assert_eq!(one.store.len as usize, teapot);
     assert!(one.store.shared.is_empty() && one.objects[0].placement.is_none());
 }
+
+/// A colour below zero in any channel is refused with its key; above one
+/// is light brighter than white and is kept.
+#[test]
+fn colours_below_zero_are_refused_with_their_key() {
+    for (text, key) in [
+        ("background = [2.0, -1.0, 0.0]\n", "background"),
+        (
+            "[[objects]]\nmodel = \"teapot\"\ncolor = [0.5, -0.1, 0.5]\n",
+            "objects[0].color",
+        ),
+        (
+            "[[lights]]\ndirection = [0.0, 0.0, -1.0]\ncolor = [-1.0, 1.0, 1.0]\n",
+            "lights[0].color",
+        ),
+    ] {
+        let error = reyes::scene::Scene::from_toml_str(text)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains(key) && error.contains("every channel must be >= 0"),
+            "{text}: {error}"
+        );
+    }
+    let bright = reyes::scene::Scene::from_toml_str("background = [2.0, 1.0, 0.0]\n").unwrap();
+    assert_eq!(bright.background, glam::Vec3::new(2.0, 1.0, 0.0));
+}

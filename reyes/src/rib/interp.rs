@@ -409,6 +409,13 @@ impl Interp {
             "MotionBegin" | "MotionEnd" => self.motion_request(name, v, file, line)?,
             "Color" => {
                 let n = state::all_nums(v, 3)?;
+                if !n.iter().all(|c| c.is_finite() && *c >= 0.0) {
+                    return Err(format!(
+                        "[{} {} {}] is out of range: every channel must be a finite number >= 0",
+                        n[0], n[1], n[2]
+                    )
+                    .into());
+                }
                 self.attrs.color = DVec3::new(n[0], n[1], n[2]);
             }
             "Surface" => {

@@ -183,9 +183,23 @@ impl Interp {
         let to = state::param_v3(params, "to", DVec3::Z)?;
         let position = m.transform_point3(from);
         let direction = m.transform_point3(to) - position;
-        let cone = state::param_f(params, "coneangle", 30f64.to_radians())?.to_degrees();
-        let delta = state::param_f(params, "conedeltaangle", 5f64.to_radians())?.to_degrees();
+        let cone = state::param_f(params, "coneangle", 30f64.to_radians())?;
+        let delta = state::param_f(params, "conedeltaangle", 5f64.to_radians())?;
         let beam = state::param_f(params, "beamdistribution", 2.0)?;
+        // Values no spotlight can have are errors; angles past what this
+        // renderer draws are clamped below, with a warning.
+        for (name, value) in [
+            ("coneangle", cone),
+            ("conedeltaangle", delta),
+            ("beamdistribution", beam),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(format!(
+                    "spotlight {name} {value} is out of range: it must be a finite number >= 0"
+                ));
+            }
+        }
+        let (cone, delta) = (cone.to_degrees(), delta.to_degrees());
         if !position.as_vec3().is_finite() {
             let cause = self.overflow_cause();
             self.warn(

@@ -124,6 +124,11 @@ impl Interp {
                 // An attribute: before WorldBegin the frame's, inside the
                 // world the current attribute block's (its objects').
                 let r = state::all_nums(v, 1)?[0];
+                if !(r.is_finite() && r > 0.0) {
+                    return Err(format!(
+                        "{r} is out of range: a shading rate is an area in pixels, > 0 (this renderer uses 0.01 to {MAX_SHADING_RATE})"
+                    ));
+                }
                 let clamped = r.clamp(0.01, f64::from(MAX_SHADING_RATE));
                 if clamped != r {
                     self.warn(

@@ -203,6 +203,22 @@ pub(super) fn finite<const N: usize>(field: &str, values: [f32; N]) -> Result<()
     }
 }
 
+/// A linear RGB colour: finite, and no channel below 0 (above 1 is light
+/// brighter than white, which an EXR keeps).
+pub(super) fn colour(field: &str, value: glam::Vec3) -> Result<(), SceneError> {
+    finite(field, value.to_array())?;
+    if value.min_element() < 0.0 {
+        return Err(invalid(
+            field,
+            &format!(
+                "{} is out of range: every channel must be >= 0 (linear RGB)",
+                format_point(value)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 pub(super) fn invalid(field: &str, reason: &str) -> SceneError {
     SceneError::InvalidValue {
         field: field.to_string(),

@@ -12,7 +12,7 @@ use crate::camera::{Projection, pose_problem};
 use crate::displacement::DisplacementDesc;
 use crate::params::{MAX_SHADING_RATE, MAX_SPLIT_DEPTH_LIMIT, VALID_SPP};
 
-use super::error::{finite, invalid};
+use super::error::{colour, finite, invalid};
 use super::{
     CameraDesc, Light, LightKind, LightShadow, MAX_SHADOW_MAP_SIZE, Resolution, Scene, SceneError,
     SceneObject, ShadowMaps, Surface, Transform,
@@ -95,7 +95,7 @@ impl Scene {
         if !(1..=crate::uvt::MAX_INTERLEAVE_PERMUTATIONS).contains(&permutations) {
             return Err(SceneError::InvalidInterleavePermutations { permutations });
         }
-        finite("background", self.background.to_array())?;
+        colour("background", self.background)?;
         if let Some(problem) = self.pixel_filter.problem() {
             return Err(invalid("pixel_filter", &problem));
         }
@@ -251,7 +251,7 @@ impl Scene {
 /// object's non-zero scales, and its displacement table.
 fn check_object(i: usize, object: &SceneObject) -> Result<(), SceneError> {
     check_transform(&format!("objects[{i}].transform"), &object.transform)?;
-    finite(&format!("objects[{i}].color"), object.color.to_array())?;
+    colour(&format!("objects[{i}].color"), object.color)?;
     if !matches!(object.sides, 1 | 2) {
         return Err(invalid(&format!("objects[{i}].sides"), "must be 1 or 2"));
     }
@@ -343,7 +343,7 @@ fn check_transform(field: &str, transform: &Transform) -> Result<(), SceneError>
 /// cone_angle_degrees <= 90`, `0 <= cone_delta_degrees <= cone_angle_degrees`
 /// and `beam_distribution >= 0`.
 fn check_light(i: usize, light: &Light) -> Result<(), SceneError> {
-    finite(&format!("lights[{i}].color"), light.color.to_array())?;
+    colour(&format!("lights[{i}].color"), light.color)?;
     finite(&format!("lights[{i}].intensity"), [light.intensity])?;
     if let Some(position) = light.position {
         finite(&format!("lights[{i}].position"), position.to_array())?;
