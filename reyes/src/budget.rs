@@ -96,6 +96,23 @@ impl PatchBudget {
     pub fn give_back(&mut self, patches: u64) {
         self.used = self.used.saturating_sub(patches);
     }
+
+    /// The patches still free.
+    pub fn remaining(&self) -> u64 {
+        self.limit.saturating_sub(self.used)
+    }
+
+    /// The refusal of a request for `patches` more than
+    /// [`PatchBudget::remaining`] (what [`PatchBudget::take`] returns for
+    /// it), for a producer that learns it would pass the budget before it
+    /// knows by how much.
+    pub fn refusal(&self, patches: u64) -> BudgetExceeded {
+        BudgetExceeded {
+            patches,
+            used: self.used,
+            limit: self.limit,
+        }
+    }
 }
 
 /// A request that would pass the patch budget.

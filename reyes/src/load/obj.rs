@@ -159,7 +159,16 @@ pub fn parse_within(
     };
     budget.take(estimate).map_err(budget_error)?;
     let obj = parse_mesh(text, path, scheme)?;
-    let subdivided = obj.mesh.to_patches().map_err(|e| obj.file_error(path, e))?;
+    // At most what the budget has left: a mesh past it is refused before
+    // its patches are made.
+    let allowed = estimate.saturating_add(budget.remaining());
+    let limit = usize::try_from(allowed).unwrap_or(usize::MAX);
+    let subdivided = match obj.mesh.to_patches_within(limit) {
+        Err(MeshError::TooManyPatches { limit: hit }) if hit == limit => {
+            return Err(budget_error(budget.refusal(allowed + 1 - estimate)));
+        }
+        other => other.map_err(|e| obj.file_error(path, e))?,
+    };
     let made = subdivided.model.patches.len() as u64;
     if made > estimate {
         budget.take(made - estimate).map_err(budget_error)?;

@@ -296,8 +296,18 @@ impl Interp {
                 format!("SubdivisionMesh: tag {tag:?} is not supported; skipped"),
             );
         }
-        let subdivided = match read.mesh.to_patches() {
+        // At most what the budget has left, so that a mesh past it is
+        // refused before its patches are made.
+        let allowed = estimate.saturating_add(self.patches.remaining() as usize);
+        let subdivided = match read.mesh.to_patches_within(allowed) {
             Ok(subdivided) => subdivided,
+            Err(crate::subdiv::MeshError::TooManyPatches { limit }) if limit == allowed => {
+                let past = self.patches.refusal((allowed + 1 - estimate) as u64);
+                return Err(RequestError::Budget(
+                    format!("over {allowed} patches once subdivided"),
+                    past,
+                ));
+            }
             Err(crate::subdiv::MeshError::Unsupported { what }) => {
                 self.patches.give_back(estimate as u64);
                 self.warn(

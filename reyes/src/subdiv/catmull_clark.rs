@@ -36,8 +36,10 @@ pub(super) fn patches(mesh: &Mesh) -> Result<Subdivided, MeshError> {
     patches_within(mesh, MAX_PATCHES)
 }
 
-/// [`patches`], with at most `limit` patches (and faces in one level).
-fn patches_within(mesh: &Mesh, limit: usize) -> Result<Subdivided, MeshError> {
+/// [`patches`], with at most `limit` patches (and faces in one level):
+/// refinement stops at the first level that would pass it, so the memory
+/// it takes stays in proportion to `limit`.
+pub(super) fn patches_within(mesh: &Mesh, limit: usize) -> Result<Subdivided, MeshError> {
     let check_size = |count: usize| {
         if count > limit {
             return Err(MeshError::TooManyPatches { limit });

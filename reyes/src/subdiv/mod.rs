@@ -69,10 +69,25 @@ impl Mesh {
     /// The patches of the mesh's surface under its [`Scheme`], after
     /// [`Mesh::validate`].
     pub fn to_patches(&self) -> Result<Subdivided, MeshError> {
+        self.to_patches_within(MAX_PATCHES)
+    }
+
+    /// [`Mesh::to_patches`] making at most `limit` patches (capped at
+    /// [`MAX_PATCHES`]): [`MeshError::TooManyPatches`] with that limit once
+    /// refinement would pass it, before the patches past it are made (what
+    /// a patch budget has left).
+    pub fn to_patches_within(&self, limit: usize) -> Result<Subdivided, MeshError> {
         self.validate()?;
+        let limit = limit.min(MAX_PATCHES);
         match self.scheme {
-            Scheme::Bilinear => Ok(bilinear::patches(self)),
-            Scheme::CatmullClark => catmull_clark::patches(self),
+            Scheme::Bilinear => {
+                let subdivided = bilinear::patches(self);
+                if subdivided.model.patches.len() > limit {
+                    return Err(MeshError::TooManyPatches { limit });
+                }
+                Ok(subdivided)
+            }
+            Scheme::CatmullClark => catmull_clark::patches_within(self, limit),
         }
     }
 }
