@@ -19,15 +19,28 @@ fn path_str(path: &Path) -> &str {
     path.to_str().expect("temp paths are UTF-8")
 }
 
-/// A 4 KiB tmpfs mounted on `dir`, unmounted on drop; `None` (with a
+/// A small tmpfs mounted on `dir`, unmounted on drop; `None` (with a
 /// notice) where none can be mounted (not root, no `mount`).
 struct SmallDisk(PathBuf);
 
 impl SmallDisk {
+    /// A 4 KiB one.
     fn mount(dir: &Path) -> Option<SmallDisk> {
+        SmallDisk::mount_sized(dir, "4k")
+    }
+
+    /// One of `size` (`mount`'s spelling: `64k`).
+    fn mount_sized(dir: &Path, size: &str) -> Option<SmallDisk> {
         std::fs::create_dir_all(dir).unwrap();
         let mounted = Command::new("mount")
-            .args(["-t", "tmpfs", "-o", "size=4k", "tmpfs", path_str(dir)])
+            .args([
+                "-t",
+                "tmpfs",
+                "-o",
+                &format!("size={size}"),
+                "tmpfs",
+                path_str(dir),
+            ])
             .output()
             .is_ok_and(|o| o.status.success());
         if !mounted {
@@ -180,4 +193,125 @@ fn a_height_map_whose_name_is_not_utf8_displaces_as_its_copy() {
     let by_plain = render(&plain, &temp.path("by-plain.png"));
     assert_ne!(by_plain, std::fs::read(&flat).unwrap(), "nothing displaced");
     assert_eq!(render(&odd, &temp.path("by-odd.png")), by_plain);
+}
+
+/// The files of `dir` and their bytes, sorted by name.
+fn contents(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut all: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|entry| {
+            let entry = entry.unwrap();
+            (
+                entry.file_name().to_string_lossy().into_owned(),
+                std::fs::read(entry.path()).unwrap(),
+            )
+        })
+        .collect();
+    all.sort();
+    all
+}
+
+/// Fills the file system of `dir` with a file `filler`, to its last byte.
+fn fill(dir: &Path) {
+    use std::io::Write;
+    let mut file = std::fs::File::create(dir.join("filler")).unwrap();
+    let block = [0u8; 256];
+    while file.write_all(&block).is_ok() {}
+    let mut byte = [0u8; 1];
+    while file.write_all(&mut byte).is_ok() {}
+}
+
+/// A RIB scene of one sphere, for `convert`.
+const SPHERE_RIB: &str = "Format 32 24 1\nProjection \"perspective\" \"fov\" 40\nWorldBegin\nTranslate 0 0 5\nSphere 1 -1 1 360\nWorldEnd\n";
+
+/// On a full disk, `render` (a PNG with its `--stats-json`) and `convert`
+/// (a TOML and its `.bpt`) fail naming a path and the OS error, leave
+/// nothing partial, and keep the previous outputs byte for byte.
+#[test]
+fn outputs_on_a_full_disk_fail_and_keep_the_previous_ones() {
+    let temp = TempDir::new("msg-full-outputs");
+    let mount = temp.path("disk");
+    // Room for the previous outputs (a page each), then filled.
+    let Some(_disk) = SmallDisk::mount_sized(&mount, "64k") else {
+        return;
+    };
+    let rib = temp.path("in.rib");
+    std::fs::write(&rib, SPHERE_RIB).unwrap();
+    // The previous outputs, then nothing free.
+    for (name, bytes) in [
+        ("r.png", &b"previous png"[..]),
+        ("s.json", b"{\"previous\": true}"),
+        ("c.toml", b"# previous toml\n"),
+        ("c-0.bpt", b"previous bpt"),
+    ] {
+        std::fs::write(mount.join(name), bytes).unwrap();
+    }
+    fill(&mount);
+    let before = contents(&mount);
+    let (image, json, toml) = (
+        mount.join("r.png"),
+        mount.join("s.json"),
+        mount.join("c.toml"),
+    );
+    let mut render = vec!["render"];
+    render.extend(TINY);
+    render.extend(["-o", path_str(&image), "--stats-json", path_str(&json)]);
+    let convert = vec!["convert", path_str(&rib), "-o", path_str(&toml)];
+    for args in [render, convert] {
+        let (ok, stderr) = run_cli(&args);
+        assert!(!ok, "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(&format!("cannot write {}", mount.display()))
+                && stderr.contains("No space left on device"),
+            "{args:?}: {stderr}"
+        );
+        assert!(
+            contents(&mount) == before,
+            "{args:?} changed the disk's files"
+        );
+    }
+}
+
+/// Past the file size limit (`ulimit -f 0`), `render` with `--stats-json`
+/// fails naming a path and "File too large" (not a signal), and keeps the
+/// previous PNG and JSON byte for byte.
+#[test]
+fn a_png_and_its_statistics_past_the_file_size_limit_keep_the_previous_ones() {
+    if !Command::new("sh")
+        .args(["-c", "ulimit -f 0"])
+        .status()
+        .is_ok_and(|s| s.success())
+    {
+        println!("NOTICE: no sh with ulimit -f; skipping the size-limit check");
+        return;
+    }
+    let temp = TempDir::new("msg-png-limit");
+    let dir = temp.path("out");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("r.png"), b"previous png").unwrap();
+    std::fs::write(dir.join("s.json"), b"{\"previous\": true}").unwrap();
+    let before = contents(&dir);
+    let script = format!(
+        "ulimit -f 0 || exit 99; exec \"$0\" render {} -o \"$1\" --stats-json \"$2\"",
+        TINY.join(" ")
+    );
+    let mut command = Command::new("sh");
+    command.args([
+        "-c",
+        &script,
+        env!("CARGO_BIN_EXE_reyes"),
+        path_str(&dir.join("r.png")),
+        path_str(&dir.join("s.json")),
+    ]);
+    let (ok, stderr) = run_command(command);
+    assert!(!ok, "{stderr}");
+    assert!(
+        stderr.contains(&format!("cannot write {}", dir.display()))
+            && stderr.contains("File too large"),
+        "{stderr}"
+    );
+    assert!(
+        contents(&dir) == before,
+        "the previous outputs changed: {stderr}"
+    );
 }

@@ -7,8 +7,10 @@
 //! loader (both subdivision schemes), the TOML
 //! scene parser (with [`Scene::validate`] and [`PreparedScene::new`] on
 //! what parses) and the RIB tokenizer, parser and interpreter (with
-//! [`RibScene::prepare`] on what reads). Nothing may panic, and every error
-//! message must stay short.
+//! [`RibScene::prepare`] on what reads), and user WGSL (the gallery's
+//! shaders and the standard ones, checked as a displacement function and
+//! as a shader against the shading interface). Nothing may panic, and
+//! every error message must stay short.
 //!
 //! Each test runs for about 2 s. Environment variables:
 //!
@@ -894,6 +896,71 @@ fn displacement_user(u: f32, v: f32) -> f32 {
 }"""
 "#;
 
+/// User WGSL: the seeds of [`check_wgsl`] (a displacement function, the
+/// gallery's surface shaders and the built-in standard shaders).
+fn wgsl_seeds() -> Vec<String> {
+    vec![
+        "fn displacement_user(u: f32, v: f32) -> f32 {\n    let d = vec2<f32>(fract(u), fract(v)) - vec2<f32>(0.5);\n    var h = 0.0;\n    for (var i = 0; i < 4; i += 1) {\n        h += sin(f32(i) * d.x) * cos(d.y);\n    }\n    return max(0.0, 1.0 - 8.0 * dot(d, d)) + h;\n}\n".to_owned(),
+        include_str!("../../docs/shaders/marble.wgsl").to_owned(),
+        include_str!("../../docs/shaders/ripples.wgsl").to_owned(),
+        include_str!("../../shaders/reyes/standard/paintedplastic.wgsl").to_owned(),
+        include_str!("../../shaders/reyes/standard/shinymetal.wgsl").to_owned(),
+        include_str!("../../shaders/reyes/standard/bumpy.wgsl").to_owned(),
+    ]
+}
+
+/// Bytes worth writing into WGSL.
+const WGSL_BYTES: &[u8] = b"0123456789.-+eE(){}[]<>;:,=!&|*/%@ \t\nfuvlrtixa_";
+/// WGSL worth inserting whole: what user code may not do (barriers,
+/// `discard`, directives, module-scope variables, the renderer's names,
+/// huge arrays, endless loops) and what it may.
+const WGSL_FRAGMENTS: &[&str] = &[
+    "enable f16;\n",
+    "requires readonly_and_readwrite_storage_textures;\n",
+    "diagnostic(off, derivative_uniformity);\n",
+    "workgroupBarrier();\n",
+    "storageBarrier();\n",
+    "discard;\n",
+    "var<private> state: u32;\n",
+    "var<workgroup> shared_floats: array<f32, 64>;\n",
+    "atomicAdd(&stats[0], 1u);\n",
+    "let big = array<f32, 1000000>();\n",
+    "var a: array<vec4<f32>, 100000>;\n",
+    "loop { }\n",
+    "while (true) { continue; }\n",
+    "for (var i = 0u; i >= 0u; i += 1u) { }\n",
+    "const K: f32 = 1e39;\n",
+    "fn displacement_user(u: f32, v: f32) -> f32 { return u; }\n",
+    "fn surface(ctx: ShadingContext, params: Parameters) -> SurfaceOutput { return SurfaceOutput(ctx.Cs, ctx.Os); }\n",
+    "struct Parameters { Kd: f32, map: TextureId, }\n",
+    "const DEFAULTS = Parameters(1.0, TextureId(0u));\n",
+    "texture(ctx, params.map, ctx.s, ctx.t)",
+    "environment(ctx, params.map, ctx.N)",
+    "illuminance(ctx, i)",
+    "noise(ctx.P)",
+    "f32(",
+    "vec3<f32>(",
+    "}\n",
+];
+
+/// A mutated WGSL source checked as a scene's user code is, on the host:
+/// as a displacement function (`user_wgsl::check`) and as a surface or
+/// displacement shader against the shading interface
+/// (`SurfaceShader::from_source`). Accepted when either accepts it.
+fn check_wgsl(text: &str) -> Verdict {
+    let path = std::path::Path::new("mutated.wgsl");
+    let shader = reyes::surface_shader::SurfaceShader::from_source(path, text.to_owned());
+    let function = reyes::user_wgsl::check(text);
+    match (shader, function) {
+        (Ok(_), _) | (_, Ok(())) => Verdict::Accepted,
+        (Err(shader), Err(function)) => {
+            let mut all = messages(&shader);
+            all.extend(messages(&function));
+            Verdict::Rejected(all)
+        }
+    }
+}
+
 fn scene_seeds() -> Vec<String> {
     vec![
         Scene::default_teapot().to_toml_string(),
@@ -1123,6 +1190,17 @@ fn mutated_rib_never_panics() {
         bytes: RIB_BYTES,
         fragments: RIB_FRAGMENTS,
         check: check_rib,
+    });
+}
+
+#[test]
+fn mutated_user_wgsl_never_panics() {
+    fuzz(&Target {
+        name: "mutated_user_wgsl_never_panics",
+        seeds: wgsl_seeds(),
+        bytes: WGSL_BYTES,
+        fragments: WGSL_FRAGMENTS,
+        check: check_wgsl,
     });
 }
 
