@@ -363,12 +363,28 @@ fn render_refuses_every_input_as_any_output() {
             args
         },
     );
+    try_every_input(&dir, "render --trace", &toml_inputs, "json", |output| {
+        let mut args = owned(&["render", "scene.toml", "-o", "r.png", "--trace", output]);
+        args.extend(owned(&TINY));
+        args
+    });
     let rib_inputs = [("main.rib", "scene"), ("part.png", "RIB archive")];
     try_every_input(&dir, "render main.rib -o", &rib_inputs, "png", |output| {
         let mut args = owned(&["render", "main.rib", "-o", output]);
         args.extend(owned(&TINY));
         args
     });
+    try_every_input(
+        &dir,
+        "render main.rib --stats-json",
+        &rib_inputs,
+        "json",
+        |output| {
+            let mut args = owned(&["render", "main.rib", "-o", "r.png", "--stats-json", output]);
+            args.extend(owned(&TINY));
+            args
+        },
+    );
 }
 
 #[test]
@@ -385,6 +401,9 @@ fn view_refuses_every_input_before_opening_a_window() {
             owned(&["view", "scene.toml", "--frames", "1", flag, output])
         });
     }
+    try_every_input(&dir, "view --log-json", &inputs, "json", |output| {
+        owned(&["view", "scene.toml", "--frames", "1", "--log-json", output])
+    });
 }
 
 #[test]
