@@ -495,7 +495,7 @@ fn a_subdivision_mesh_past_the_budget_is_refused_before_it_is_made() {
                 path_str(&rib)
             ),
         ),
-        (&obj, format!("{}", path_str(&obj))),
+        (&obj, path_str(&obj).to_owned()),
     ] {
         let mut args = vec!["render", path_str(scene), "--max-patches", "30000"];
         args.extend(TINY);

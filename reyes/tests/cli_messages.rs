@@ -217,8 +217,8 @@ fn fill(dir: &Path) {
     let mut file = std::fs::File::create(dir.join("filler")).unwrap();
     let block = [0u8; 256];
     while file.write_all(&block).is_ok() {}
-    let mut byte = [0u8; 1];
-    while file.write_all(&mut byte).is_ok() {}
+    let byte = [0u8; 1];
+    while file.write_all(&byte).is_ok() {}
 }
 
 /// A RIB scene of one sphere, for `convert`.

@@ -4,9 +4,11 @@
 //!   smooth environment shows, at each pixel, the colour the test works out
 //!   from the reflected direction `D = I - 2 (I.N) N` with the
 //!   specification's latitude-longitude convention, on the GPU and in the
-//!   CPU reference;
+//!   CPU reference, and the GPU frame agrees with the reference's;
 //! * a RIB `shinymetal` sphere with a map made by `MakeLatLongEnvironment`,
-//!   lit, on the GPU against the shader's Rust twin in the CPU reference.
+//!   lit, on the GPU against the shader's Rust twin in the CPU reference;
+//!
+//! each at 1 and 16 samples per pixel, whole and in screen tiles.
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -62,8 +64,9 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-const WIDTH: u32 = 64;
-const HEIGHT: u32 = 48;
+/// Larger than one 64 x 64 tile, so that the frame can be tiled.
+const WIDTH: u32 = 96;
+const HEIGHT: u32 = 72;
 /// Half the side of the mirror, at distance [`DISTANCE`] along +x.
 const HALF: f32 = 2.5;
 const DISTANCE: f32 = 5.0;
@@ -71,12 +74,12 @@ const FOV_Y_DEGREES: f64 = 60.0;
 
 /// The mirror scene: the eye at the origin looking along +x with +z up
 /// (the map's north at the top of the image, and its seam behind the
-/// eye), a square mirror across x = 5.
-fn mirror_scene(sky: &Path) -> (Scene, Vec<Model>) {
+/// eye), a square mirror across x = 5; `spp` samples per pixel.
+fn mirror_scene(sky: &Path, spp: u32) -> (Scene, Vec<Model>) {
     let mut scene = Scene::default();
     scene.resolution.width = WIDTH;
     scene.resolution.height = HEIGHT;
-    scene.spp = 4;
+    scene.spp = spp;
     scene.pixel_filter = reyes::filter::PixelFilter::PIXEL_BOX;
     scene.quantize.dither_amplitude = 0.0;
     scene.camera = Some(CameraDesc {
@@ -166,42 +169,73 @@ fn mirror_match(image: &image::RgbaImage, expected: &[(u32, u32, [f64; 3])]) -> 
     (within, worst)
 }
 
+/// Most samples of a tile in a `WIDTH x HEIGHT` frame of `spp` samples per
+/// pixel: two thirds of the frame's, so four tiles (64 x 64 pixels and what
+/// is left of the frame).
+fn tile_cap(spp: u32) -> u64 {
+    u64::from(WIDTH * HEIGHT) * 2 / 3 * u64::from(spp)
+}
+
 /// Every pixel well inside the mirror shows the environment along its
-/// reflected direction, on the GPU and in the CPU reference.
+/// reflected direction, on the GPU (whole and in tiles) and in the CPU
+/// reference, and the GPU frames agree with the reference's.
 #[gpu_test]
 fn a_flat_mirror_shows_the_environment_along_the_reflected_direction() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
     let dir = scratch("mirror");
     let sky = write_sky(&dir, 512, 256);
-    let (scene, models) = mirror_scene(&sky);
-    let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
     let expected = mirror_expectations();
-    assert!(expected.len() > 1200, "{} pixels", expected.len());
-    let cpu = reference::try_render(&prepared).expect("shinymetal has a twin");
-    let frame = renderer(gpu, GpuOptions::default())
-        .render(&prepared)
-        .expect("GPU render");
-    for (what, image) in [("CPU", &cpu.image), ("GPU", &frame.image)] {
-        let (within, worst) = mirror_match(image, &expected);
-        eprintln!(
-            "{what}: {within} of {} mirror pixels within 2/255 (worst {worst})",
-            expected.len()
+    assert!(expected.len() > 2700, "{} pixels", expected.len());
+    let mut whole = renderer(gpu, GpuOptions::default());
+    for spp in [1, 16] {
+        let mut tiled = renderer(
+            gpu,
+            GpuOptions {
+                max_tile_samples: Some(tile_cap(spp)),
+                ..GpuOptions::default()
+            },
         );
-        assert_eq!(
-            within,
-            expected.len(),
-            "{what}: {} mirror pixels off by more than 2/255 (worst {worst})",
-            expected.len() - within
-        );
+        let (scene, models) = mirror_scene(&sky, spp);
+        let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+        let cpu = reference::try_render(&prepared).expect("shinymetal has a twin");
+        let mut frames = vec![(format!("CPU at spp {spp}"), cpu.image.clone())];
+        for (mode, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
+            let frame = renderer.render(&prepared).expect("GPU render");
+            let what = format!("GPU at spp {spp}, {mode}");
+            assert_eq!(
+                frame.tiles > 1,
+                mode == "tiled",
+                "{what}: {} tile(s)",
+                frame.tiles
+            );
+            let a = agreement(&frame, &cpu);
+            eprintln!("{what} ({} tile(s)) against the CPU: {a:?}", frame.tiles);
+            a.assert_at_least(&what, 0.995, 0.99);
+            frames.push((what, frame.image));
+        }
+        for (what, image) in &frames {
+            let (within, worst) = mirror_match(image, &expected);
+            eprintln!(
+                "{what}: {within} of {} mirror pixels within 2/255 (worst {worst})",
+                expected.len()
+            );
+            assert_eq!(
+                within,
+                expected.len(),
+                "{what}: {} mirror pixels off by more than 2/255 (worst {worst})",
+                expected.len() - within
+            );
+        }
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// RIB: a lit `shinymetal` sphere reflecting a map made by
-/// `MakeLatLongEnvironment`, on the GPU against its twin.
+/// `MakeLatLongEnvironment`, on the GPU against its twin, at 1 and 16
+/// samples per pixel, whole and in screen tiles.
 #[gpu_test]
-fn rib_shinymetal_matches_the_reference() {
+fn rib_shinymetal_matches_the_reference_whole_and_in_tiles() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
     let dir = scratch("rib");
@@ -219,6 +253,7 @@ fn rib_shinymetal_matches_the_reference() {
     });
     picture.save(dir.join("room.png")).unwrap();
     let rib = dir.join("shiny.rib");
+    // The frame is WIDTH x HEIGHT, so that `tile_cap` gives four tiles.
     std::fs::write(
         &rib,
         "MakeLatLongEnvironment \"room.png\" \"room.env\" \"gaussian\" 2 2\n\
@@ -231,16 +266,41 @@ fn rib_shinymetal_matches_the_reference() {
          Translate 0 0 5\nRotate 30 1 0 0\nSphere 1.5 -1.5 1.5 360\nWorldEnd\n",
     )
     .unwrap();
-    let loaded = reyes::rib::RibScene::load(&rib).expect("the RIB loads");
+    let mut loaded = reyes::rib::RibScene::load(&rib).expect("the RIB loads");
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
-    let prepared = loaded.prepare().expect("the scene prepares");
-    assert_eq!(prepared.textures.len(), 1);
-    let cpu = reference::try_render(&prepared).expect("shinymetal has a twin");
-    let frame = renderer(gpu, GpuOptions::default())
-        .render(&prepared)
-        .expect("GPU render");
-    let a = agreement(&frame, &cpu);
-    eprintln!("shinymetal: {a:?}");
-    a.assert_at_least("RIB shinymetal", 0.995, 0.99);
+    assert_eq!(
+        (
+            loaded.scene.resolution.width,
+            loaded.scene.resolution.height
+        ),
+        (WIDTH, HEIGHT)
+    );
+    let mut whole = renderer(gpu, GpuOptions::default());
+    for spp in [1, 16] {
+        let mut tiled = renderer(
+            gpu,
+            GpuOptions {
+                max_tile_samples: Some(tile_cap(spp)),
+                ..GpuOptions::default()
+            },
+        );
+        loaded.scene.spp = spp;
+        let prepared = loaded.prepare().expect("the scene prepares");
+        assert_eq!(prepared.textures.len(), 1);
+        let cpu = reference::try_render(&prepared).expect("shinymetal has a twin");
+        for (mode, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
+            let frame = renderer.render(&prepared).expect("GPU render");
+            let what = format!("RIB shinymetal at spp {spp}, {mode}");
+            assert_eq!(
+                frame.tiles > 1,
+                mode == "tiled",
+                "{what}: {} tile(s)",
+                frame.tiles
+            );
+            let a = agreement(&frame, &cpu);
+            eprintln!("{what} ({} tile(s)): {a:?}", frame.tiles);
+            a.assert_at_least(&what, 0.995, 0.99);
+        }
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

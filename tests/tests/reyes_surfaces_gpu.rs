@@ -3,7 +3,7 @@
 //! with a coloured highlight, `defaultsurface` and `null`) lit by a
 //! coloured ambient light, a distant light, a point light and a spotlight
 //! whose cone edge crosses two of them, at 1 and 16 samples per pixel, each
-//! sphere at its own shading rate.
+//! sphere at its own shading rate, whole and in screen tiles.
 //! The formulas themselves are checked against arithmetic in
 //! `reyes/tests/shading_formulas.rs` and `reyes/src/reference/shade.rs`.
 
@@ -94,40 +94,66 @@ fn scene(spp: u32) -> (Scene, Vec<Model>) {
 fn every_standard_surface_and_light_matches_the_reference() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
-    let mut renderer = renderer(gpu, GpuOptions::default());
+    let mut whole = renderer(gpu, GpuOptions::default());
     for spp in [1, 16] {
+        // A third of the frame's samples: six tiles of 64 x 64 pixels, whose
+        // edge at row 64 crosses the bottom row of spheres.
+        let mut tiled = renderer(
+            gpu,
+            GpuOptions {
+                max_tile_samples: Some(160 * 120 / 3 * u64::from(spp)),
+                ..GpuOptions::default()
+            },
+        );
         let (scene, models) = scene(spp);
         let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
-        let gpu_frame = renderer.render(&prepared).expect("GPU render");
         let cpu = reference::render(&prepared);
-        let a = agreement(&gpu_frame, &cpu);
-        eprintln!("spp {spp}: {a:?}");
-        a.assert_at_least(&format!("surfaces at spp {spp}"), 0.995, 0.99);
-        // Diced at each object's own rate, as the reference dices them.
-        tests::reyes_support::assert_counts_close(
-            "grids diced",
-            gpu_frame.stats.grids_diced,
-            cpu.stats.grids_diced,
-        );
-        tests::reyes_support::assert_counts_close(
-            "micropolygons",
-            gpu_frame.stats.micropolygons,
-            cpu.stats.micropolygons,
-        );
         // Five spheres are drawn, the null one is not: the bottom right
         // sphere's centre (x = 80 + 60 * (1.2 / 5) / tan 30, y = 60 + 60 *
         // (0.6 / 5) / tan 30) shows the background.
         // (Compared as the resolve's floats: the 8-bit codes carry a
         // dither that differs from pixel to pixel.)
-        let background = cpu.linear.get_pixel(105, 72);
-        let corner = cpu.linear.get_pixel(0, 0);
-        assert!(
-            (0..3).all(|c| (background[c] - corner[c]).abs() < 1e-6),
-            "the null sphere is not drawn: {background:?} vs {corner:?}"
-        );
+        let shows_background = |what: &str, linear: &image::Rgba32FImage| {
+            let background = linear.get_pixel(105, 72);
+            let corner = linear.get_pixel(0, 0);
+            assert!(
+                (0..3).all(|c| (background[c] - corner[c]).abs() < 1e-6),
+                "{what}: the null sphere is not drawn: {background:?} vs {corner:?}"
+            );
+        };
+        shows_background(&format!("CPU at spp {spp}"), &cpu.linear);
         // The constant sphere is its colour exactly, whatever the lights.
         let constant = cpu.image.get_pixel(55, 47);
         let cs = reyes::color::linear_to_srgb8(0.9);
         assert!(constant[0].abs_diff(cs) <= 1, "{constant:?} vs {cs}");
+        for (mode, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
+            let gpu_frame = renderer.render(&prepared).expect("GPU render");
+            let what = format!("surfaces at spp {spp}, {mode}");
+            let a = agreement(&gpu_frame, &cpu);
+            eprintln!("{what} ({} tile(s)): {a:?}", gpu_frame.tiles);
+            assert_eq!(
+                gpu_frame.tiles > 1,
+                mode == "tiled",
+                "{what}: {} tile(s)",
+                gpu_frame.tiles
+            );
+            a.assert_at_least(&what, 0.995, 0.99);
+            shows_background(&what, &gpu_frame.linear);
+            if gpu_frame.tiles == 1 {
+                // Diced at each object's own rate, as the reference dices
+                // them (in tiles, each tile dices the spheres it overlaps,
+                // so a sphere across a tile edge is diced more than once).
+                tests::reyes_support::assert_counts_close(
+                    "grids diced",
+                    gpu_frame.stats.grids_diced,
+                    cpu.stats.grids_diced,
+                );
+                tests::reyes_support::assert_counts_close(
+                    "micropolygons",
+                    gpu_frame.stats.micropolygons,
+                    cpu.stats.micropolygons,
+                );
+            }
+        }
     }
 }

@@ -2,7 +2,9 @@
 //! context and every lighting helper, on the GPU against its Rust twin in
 //! the CPU reference: three spheres (two with the shader, one with other
 //! parameter values; one displaced in the whole frames, so that `N` and
-//! `Ng` differ) at 1 and 16 samples per pixel, whole and in screen tiles.
+//! `Ng` differ) at 1 and 16 samples per pixel, whole and in screen tiles;
+//! a user shader with a texture and noise, and RIB's `paintedplastic`, the
+//! same way.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -199,49 +201,79 @@ fn write_texture(dir: &std::path::Path) -> PathBuf {
 
 /// Textures and noise in a user shader, on the GPU against the twin: a
 /// sphere whose texture covers its (s, t), at two sizes on screen (the
-/// mip level follows the footprint).
+/// mip level follows the footprint), at 1 and 16 samples per pixel, whole
+/// and in screen tiles.
 #[gpu_test]
-fn a_textured_noisy_shader_matches_its_twin() {
+fn a_textured_noisy_shader_matches_its_twin_whole_and_in_tiles() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
     let dir = std::env::temp_dir().join(format!("reyes-textured-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let texture = write_texture(&dir);
-    let (mut scene, mut models) = scene(4, false);
-    scene.objects.truncate(2);
-    models.truncate(2);
-    scene.objects[1].transform.scale = reyes::scene::Scale::Uniform(0.2);
-    for object in &mut scene.objects {
-        object.surface = Some(Surface::Wgsl {
-            file: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("shaders/textured_noise.wgsl"),
-            parameters: BTreeMap::from([(
-                "map".to_owned(),
-                ShaderValue::Text(texture.to_string_lossy().into_owned()),
-            )]),
-        });
+    let prepared = |spp: u32| {
+        let (mut scene, mut models) = scene(spp, false);
+        scene.objects.truncate(2);
+        models.truncate(2);
+        scene.objects[1].transform.scale = reyes::scene::Scale::Uniform(0.2);
+        for object in &mut scene.objects {
+            object.surface = Some(Surface::Wgsl {
+                file: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("shaders/textured_noise.wgsl"),
+                parameters: BTreeMap::from([(
+                    "map".to_owned(),
+                    ShaderValue::Text(texture.to_string_lossy().into_owned()),
+                )]),
+            });
+        }
+        let mut prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
+        assert_eq!(prepared.textures.len(), 1, "the texture is loaded once");
+        Arc::make_mut(&mut prepared.shaders.shaders[0]).cpu = Some(CpuSurface::new(textured_noise));
+        prepared
+    };
+    let mut whole = renderer(gpu, GpuOptions::default());
+    for spp in [1, 16] {
+        // A third of the frame's samples: six tiles of 64 x 64 pixels, whose
+        // edges cross both spheres.
+        let mut tiled = renderer(
+            gpu,
+            GpuOptions {
+                max_tile_samples: Some(160 * 120 / 3 * u64::from(spp)),
+                ..GpuOptions::default()
+            },
+        );
+        let prepared = prepared(spp);
+        let cpu = reference::try_render(&prepared).expect("the reference runs the twin");
+        for (mode, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
+            let frame = renderer.render(&prepared).expect("GPU render");
+            let a = agreement(&frame, &cpu);
+            eprintln!(
+                "textured at spp {spp}, {mode} ({} tile(s)): {a:?}",
+                frame.tiles
+            );
+            assert_eq!(
+                frame.tiles > 1,
+                mode == "tiled",
+                "{mode}: {} tile(s)",
+                frame.tiles
+            );
+            a.assert_at_least(
+                &format!("textured noisy shader at spp {spp}, {mode}"),
+                0.995,
+                0.99,
+            );
+        }
     }
-    let mut prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
-    assert_eq!(prepared.textures.len(), 1, "the texture is loaded once");
-    Arc::make_mut(&mut prepared.shaders.shaders[0]).cpu = Some(CpuSurface::new(textured_noise));
-    let cpu = reference::try_render(&prepared).expect("the reference runs the twin");
-    let mut renderer = renderer(gpu, GpuOptions::default());
-    let frame = renderer.render(&prepared).expect("GPU render");
-    let a = agreement(&frame, &cpu);
-    eprintln!("textured: {a:?}");
-    a.assert_at_least("textured noisy shader", 0.995, 0.99);
-    // The same renderer and buffers with another texture of the same size:
-    // the texels are uploaded again (they are kept only while the texture
-    // set is the same).
+    // The same renderer and buffers (those of the last frame, at 16 samples
+    // per pixel) with another texture of the same size: the texels are
+    // uploaded again (they are kept only while the texture set is the same).
     let inverted = image::open(&texture).unwrap().to_rgba8();
     let inverted = image::RgbaImage::from_fn(64, 48, |x, y| {
         let p = inverted.get_pixel(x, y);
         image::Rgba([255 - p[0], 255 - p[1], p[2], 255])
     });
     inverted.save(&texture).unwrap();
-    let mut prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
-    Arc::make_mut(&mut prepared.shaders.shaders[0]).cpu = Some(CpuSurface::new(textured_noise));
+    let prepared = prepared(16);
     let cpu = reference::try_render(&prepared).expect("the reference runs the twin");
-    let frame = renderer.render(&prepared).expect("GPU render");
+    let frame = whole.render(&prepared).expect("GPU render");
     let a = agreement(&frame, &cpu);
     eprintln!("textured, another texture: {a:?}");
     a.assert_at_least("textured noisy shader, texture replaced", 0.995, 0.99);
@@ -322,9 +354,10 @@ fn a_texture_at_one_texel_per_pixel_comes_back() {
 }
 
 /// RIB's `paintedplastic` with a texture made by `MakeTexture`: the
-/// built-in WGSL shader on the GPU against its Rust twin in the reference.
+/// built-in WGSL shader on the GPU against its Rust twin in the reference,
+/// at 1 and 16 samples per pixel, whole and in screen tiles.
 #[gpu_test]
-fn rib_paintedplastic_matches_the_reference() {
+fn rib_paintedplastic_matches_the_reference_whole_and_in_tiles() {
     let gpu = tests::gpu();
     let _turn = gpu_turn();
     let dir = std::env::temp_dir().join(format!("reyes-painted-{}", std::process::id()));
@@ -342,15 +375,42 @@ fn rib_paintedplastic_matches_the_reference() {
          Translate 0 0 5\nRotate 30 1 0 0\nSphere 1.5 -1.5 1.5 360\nWorldEnd\n",
     )
     .unwrap();
-    let loaded = reyes::rib::RibScene::load(&rib).expect("the RIB loads");
-    let prepared = loaded.prepare().expect("the scene prepares");
-    assert_eq!(prepared.textures.len(), 1);
-    let cpu = reference::try_render(&prepared).expect("the built-in shader has a twin");
-    let mut renderer = renderer(gpu, GpuOptions::default());
-    let frame = renderer.render(&prepared).expect("GPU render");
-    let a = agreement(&frame, &cpu);
-    eprintln!("paintedplastic: {a:?}");
-    a.assert_at_least("RIB paintedplastic", 0.995, 0.99);
+    let mut loaded = reyes::rib::RibScene::load(&rib).expect("the RIB loads");
+    let mut whole = renderer(gpu, GpuOptions::default());
+    for spp in [1, 16] {
+        // Two thirds of the frame's samples: four tiles, 64 x 64 pixels and
+        // what is left of the 96 x 72 frame, whose edges cross the sphere.
+        let mut tiled = renderer(
+            gpu,
+            GpuOptions {
+                max_tile_samples: Some(96 * 72 * 2 / 3 * u64::from(spp)),
+                ..GpuOptions::default()
+            },
+        );
+        loaded.scene.spp = spp;
+        let prepared = loaded.prepare().expect("the scene prepares");
+        assert_eq!(prepared.textures.len(), 1);
+        let cpu = reference::try_render(&prepared).expect("the built-in shader has a twin");
+        for (mode, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
+            let frame = renderer.render(&prepared).expect("GPU render");
+            let a = agreement(&frame, &cpu);
+            eprintln!(
+                "paintedplastic at spp {spp}, {mode} ({} tile(s)): {a:?}",
+                frame.tiles
+            );
+            assert_eq!(
+                frame.tiles > 1,
+                mode == "tiled",
+                "{mode}: {} tile(s)",
+                frame.tiles
+            );
+            a.assert_at_least(
+                &format!("RIB paintedplastic at spp {spp}, {mode}"),
+                0.995,
+                0.99,
+            );
+        }
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -31,12 +31,8 @@ pub const ISOLATION_LEVEL: usize = 8;
 /// The most patches (and faces in one level) a mesh may make.
 pub const MAX_PATCHES: usize = 1 << 22;
 
-/// The patches of a validated Catmull-Clark mesh.
-pub(super) fn patches(mesh: &Mesh) -> Result<Subdivided, MeshError> {
-    patches_within(mesh, MAX_PATCHES)
-}
-
-/// [`patches`], with at most `limit` patches (and faces in one level):
+/// The patches of a validated Catmull-Clark mesh, at most `limit` of them
+/// (and faces in one level):
 /// refinement stops at the first level that would pass it, so the memory
 /// it takes stays in proportion to `limit`.
 pub(super) fn patches_within(mesh: &Mesh, limit: usize) -> Result<Subdivided, MeshError> {
@@ -184,6 +180,11 @@ mod tests {
     use glam::Vec3;
 
     use super::*;
+
+    /// The patches of a validated mesh, within the mesh cap.
+    fn patches(mesh: &Mesh) -> Result<Subdivided, MeshError> {
+        patches_within(mesh, MAX_PATCHES)
+    }
     use crate::bezier;
 
     fn quads(positions: Vec<Vec3>, faces: &[[u32; 4]]) -> Mesh {
