@@ -86,6 +86,18 @@ pub enum UserWgslError {
         /// 1-based line.
         line: u32,
     },
+    /// A statement (or declaration) of more than [`MAX_STATEMENT_TOKENS`]
+    /// tokens: its expression could nest deeper than the WGSL front end and
+    /// the drivers' compilers can recurse.
+    #[error(
+        "line {line} of the function's source: a statement of more than {limit} tokens; split it into several `let`s"
+    )]
+    StatementTooLong {
+        /// 1-based line where the statement starts.
+        line: u32,
+        /// The limit ([`MAX_STATEMENT_TOKENS`]).
+        limit: usize,
+    },
     /// A global directive (`enable`, `requires`, `diagnostic`): the user's
     /// source is placed inside the renderer's module, whose own first lines
     /// say what it enables.
@@ -134,6 +146,7 @@ pub const MAX_FUNCTION_MEMORY: u64 = 16 * 1024;
 /// Checks `wgsl`, the source of a user displacement function and its
 /// helpers, on its own.
 pub fn check(wgsl: &str) -> Result<(), UserWgslError> {
+    check_statement_sizes(wgsl)?;
     check_directives(wgsl)?;
     let module = parse(wgsl)?;
     check_globals(&module, wgsl, wgsl.len())?;
@@ -306,6 +319,77 @@ pub(crate) fn check_memory(
                 total,
                 limit: MAX_FUNCTION_MEMORY,
             })));
+        }
+    }
+    Ok(())
+}
+
+/// The most tokens one statement or declaration of user code may have
+/// (between `;`, `{` and `}`). A chain of 20,000 additions or indexings
+/// overflows an 8 MiB stack in naga's WGSL front end, which recurses once
+/// per level of the expression tree; at this limit an expression nests at
+/// most about a thousand deep, a few hundred KiB of stack. Real shaders'
+/// statements have tens of tokens.
+pub const MAX_STATEMENT_TOKENS: usize = 2048;
+
+/// Refuses a statement of more than [`MAX_STATEMENT_TOKENS`] tokens in
+/// `wgsl`, before naga parses it (comments are not counted).
+pub(crate) fn check_statement_sizes(wgsl: &str) -> Result<(), UserWgslError> {
+    let bytes = wgsl.as_bytes();
+    let (mut at, mut line) = (0usize, 1u32);
+    let (mut tokens, mut start_line) = (0usize, 1u32);
+    let word = |b: u8| b.is_ascii_alphanumeric() || b == b'_' || b == b'.' || b >= 0x80;
+    while at < bytes.len() {
+        let b = bytes[at];
+        if b == b'\n' {
+            line += 1;
+            at += 1;
+        } else if b.is_ascii_whitespace() {
+            at += 1;
+        } else if bytes[at..].starts_with(b"//") {
+            while at < bytes.len() && bytes[at] != b'\n' {
+                at += 1;
+            }
+        } else if bytes[at..].starts_with(b"/*") {
+            let mut depth = 0usize;
+            while at < bytes.len() {
+                if bytes[at..].starts_with(b"/*") {
+                    depth += 1;
+                    at += 2;
+                } else if bytes[at..].starts_with(b"*/") {
+                    depth -= 1;
+                    at += 2;
+                    if depth == 0 {
+                        break;
+                    }
+                } else {
+                    line += u32::from(bytes[at] == b'\n');
+                    at += 1;
+                }
+            }
+        } else {
+            if tokens == 0 {
+                start_line = line;
+            }
+            if matches!(b, b';' | b'{' | b'}') {
+                tokens = 0;
+                at += 1;
+                continue;
+            }
+            tokens += 1;
+            if tokens > MAX_STATEMENT_TOKENS {
+                return Err(UserWgslError::StatementTooLong {
+                    line: start_line,
+                    limit: MAX_STATEMENT_TOKENS,
+                });
+            }
+            if word(b) {
+                while at < bytes.len() && word(bytes[at]) {
+                    at += 1;
+                }
+            } else {
+                at += 1;
+            }
         }
     }
     Ok(())
@@ -560,6 +644,21 @@ fn displacement_user(u: f32, v: f32) -> f32 {
                 other => panic!("{source}: {other:?}"),
             }
         }
+        // Statements past the token limit, which could nest deeper than
+        // the front end recurses (20,000 additions overflowed its stack).
+        let sum = format!("u{}", " + u".repeat(MAX_STATEMENT_TOKENS / 2));
+        let long = format!("fn displacement_user(u: f32, v: f32) -> f32 {{\n    let a = u;\n    return {sum};\n}}");
+        assert_eq!(
+            check(&long),
+            Err(UserWgslError::StatementTooLong {
+                line: 3,
+                limit: MAX_STATEMENT_TOKENS
+            })
+        );
+        let index = format!("fn displacement_user(u: f32, v: f32) -> f32 {{ return vec2<f32>(u, v){}; }}", "[0]".repeat(20_000));
+        assert!(matches!(check(&index), Err(UserWgslError::StatementTooLong { line: 1, .. })));
+        let fits = format!("u{}", " + u".repeat(MAX_STATEMENT_TOKENS / 2 - 10));
+        assert_eq!(check(&format!("fn displacement_user(u: f32, v: f32) -> f32 {{ return {fits}; }}")), Ok(()));
         // A name that only begins like a directive is not one.
         assert_eq!(check(&format!("const enabled = 1.0;\n{function}")), Ok(()));
     }

@@ -47,6 +47,7 @@ pub(super) struct Checked {
 
 /// Checks `source` against the interface.
 pub(super) fn check(source: &str) -> Result<Checked, SurfaceShaderError> {
+    user_wgsl::check_statement_sizes(source)?;
     user_wgsl::check_directives(source)?;
     let text = format!("{source}\n{}", interface_wgsl());
     let user_end = source.len();
