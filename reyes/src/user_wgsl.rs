@@ -346,27 +346,9 @@ pub(crate) fn check_statement_sizes(wgsl: &str) -> Result<(), UserWgslError> {
             at += 1;
         } else if b.is_ascii_whitespace() {
             at += 1;
-        } else if bytes[at..].starts_with(b"//") {
-            while at < bytes.len() && bytes[at] != b'\n' {
-                at += 1;
-            }
-        } else if bytes[at..].starts_with(b"/*") {
-            let mut depth = 0usize;
-            while at < bytes.len() {
-                if bytes[at..].starts_with(b"/*") {
-                    depth += 1;
-                    at += 2;
-                } else if bytes[at..].starts_with(b"*/") {
-                    depth -= 1;
-                    at += 2;
-                    if depth == 0 {
-                        break;
-                    }
-                } else {
-                    line += u32::from(bytes[at] == b'\n');
-                    at += 1;
-                }
-            }
+        } else if let Some(end) = comment_end(bytes, at) {
+            line += bytes[at..end].iter().filter(|&&c| c == b'\n').count() as u32;
+            at = end;
         } else {
             if tokens == 0 {
                 start_line = line;
@@ -395,6 +377,38 @@ pub(crate) fn check_statement_sizes(wgsl: &str) -> Result<(), UserWgslError> {
     Ok(())
 }
 
+/// Where the comment that starts at byte `at` of `bytes` ends (the index
+/// past it: a line comment's newline, or past a block comment's closing
+/// `*/`, or the end of an unclosed one); `None` when none starts there.
+/// Block comments nest in WGSL.
+fn comment_end(bytes: &[u8], mut at: usize) -> Option<usize> {
+    if bytes[at..].starts_with(b"//") {
+        while at < bytes.len() && bytes[at] != b'\n' {
+            at += 1;
+        }
+        return Some(at);
+    }
+    if !bytes[at..].starts_with(b"/*") {
+        return None;
+    }
+    let mut depth = 0usize;
+    while at < bytes.len() {
+        if bytes[at..].starts_with(b"/*") {
+            depth += 1;
+            at += 2;
+        } else if bytes[at..].starts_with(b"*/") {
+            depth -= 1;
+            at += 2;
+            if depth == 0 {
+                break;
+            }
+        } else {
+            at += 1;
+        }
+    }
+    Some(at)
+}
+
 /// The global directives WGSL has: they may only open a module.
 const DIRECTIVES: [&str; 3] = ["enable", "requires", "diagnostic"];
 
@@ -409,29 +423,9 @@ pub(crate) fn check_directives(wgsl: &str) -> Result<(), UserWgslError> {
         while at < bytes.len() && bytes[at].is_ascii_whitespace() {
             at += 1;
         }
-        if bytes[at..].starts_with(b"//") {
-            while at < bytes.len() && bytes[at] != b'\n' {
-                at += 1;
-            }
-        } else if bytes[at..].starts_with(b"/*") {
-            // Block comments nest in WGSL.
-            let mut depth = 0usize;
-            while at < bytes.len() {
-                if bytes[at..].starts_with(b"/*") {
-                    depth += 1;
-                    at += 2;
-                } else if bytes[at..].starts_with(b"*/") {
-                    depth -= 1;
-                    at += 2;
-                    if depth == 0 {
-                        break;
-                    }
-                } else {
-                    at += 1;
-                }
-            }
-        } else {
-            break;
+        match comment_end(bytes, at) {
+            Some(end) => at = end,
+            None => break,
         }
     }
     let word: String = wgsl[at..]

@@ -136,27 +136,27 @@ fn a_zero_timeout_is_refused() {
 #[test]
 fn moving_a_framed_camera_recomputes_its_clipping_planes() {
     let dir = TempDir::new("cli-eye");
+    assert_seen_from_far(&dir, None);
+}
+
+/// Renders `scene` (the default teapot without one) from an eye 30 units
+/// away (64 x 48, on the CPU) and asserts that the teapot shows.
+fn assert_seen_from_far(dir: &TempDir, scene: Option<&str>) {
     let out = dir.path("far.png");
-    let (ok, stderr) = run_cli(&[
-        "render",
-        "--cpu",
-        "--width",
-        "64",
-        "--height",
-        "48",
-        "--spp",
-        "1",
-        "--eye",
-        "0,-30,2",
-        "-o",
-        path_str(&out),
+    let scene = scene.map(|name| dir.path(name));
+    let mut args = vec!["render"];
+    args.extend(scene.as_deref().map(path_str));
+    args.extend([
+        "--cpu", "--width", "64", "--height", "48", "--spp", "1", "--eye", "0,-30,2", "-o",
     ]);
-    assert!(ok, "{stderr}");
-    assert!(!stderr.contains("covered no sample"), "{stderr}");
+    args.push(path_str(&out));
+    let (ok, stderr) = run_cli(&args);
+    assert!(ok, "{scene:?}: {stderr}");
+    assert!(!stderr.contains("covered no sample"), "{scene:?}: {stderr}");
     let image = image::open(&out).unwrap().to_rgba8();
     let background = *image.get_pixel(0, 0);
     let drawn = image.pixels().filter(|&&p| p != background).count();
-    assert!(drawn > 20, "{drawn} pixels show the teapot");
+    assert!(drawn > 20, "{scene:?}: {drawn} pixels show the teapot");
 }
 
 /// A `MotionBegin` without its `MotionEnd` before `WorldEnd` is an error
@@ -364,27 +364,6 @@ fn an_eye_far_from_a_framed_model_still_sees_it() {
     )
     .unwrap();
     for scene in ["teapot.bpt", "scene.toml"] {
-        let out = dir.path("far.png");
-        let (ok, stderr) = run_cli(&[
-            "render",
-            path_str(&dir.path(scene)),
-            "--cpu",
-            "--width",
-            "64",
-            "--height",
-            "48",
-            "--spp",
-            "1",
-            "--eye",
-            "0,-30,2",
-            "-o",
-            path_str(&out),
-        ]);
-        assert!(ok, "{scene}: {stderr}");
-        assert!(!stderr.contains("covered no sample"), "{scene}: {stderr}");
-        let image = image::open(&out).unwrap().to_rgba8();
-        let background = *image.get_pixel(0, 0);
-        let drawn = image.pixels().filter(|&&p| p != background).count();
-        assert!(drawn > 20, "{scene}: {drawn} pixels show the teapot");
+        assert_seen_from_far(&dir, Some(scene));
     }
 }

@@ -176,6 +176,22 @@ fn plastics_highlight_peaks_at_the_half_vector() {
     );
 }
 
+/// RenderMan's `spotlight` at the eye along +z, of intensity 16, on
+/// `matte` (Ka 0, Kd 1) at point `p` with normal `n`: `cone` and `delta`
+/// in degrees, `cos^beam / d^2` falloff, a smoothstep across the delta.
+fn spot_on_matte(p: DVec3, n: DVec3, cone: f64, delta: f64, beam: i32) -> f64 {
+    let (outside, inside) = (cone.to_radians().cos(), (cone - delta).to_radians().cos());
+    let distance = p.length();
+    let l = -p / distance;
+    let cos_angle = p.z / distance;
+    if cos_angle < outside {
+        return 0.0;
+    }
+    let t = ((cos_angle - outside) / (inside - outside)).clamp(0.0, 1.0);
+    let fade = t * t * (3.0 - 2.0 * t);
+    16.0 * cos_angle.powi(beam) / (distance * distance) * fade * n.dot(l).max(0.0)
+}
+
 /// A spotlight from the eye along +z with a 4 degree cone that fades over
 /// its last degree: full inside 3 degrees (times cos^2 / d^2), dark beyond
 /// 4, as RenderMan's `spotlight` computes it.
@@ -186,18 +202,7 @@ fn a_spotlights_cone_falls_where_its_angles_put_it() {
          \"coneangle\" [0.06981317] \"conedeltaangle\" [0.01745329]",
         "Surface \"matte\" \"Ka\" [0] \"Kd\" [1]",
     );
-    let (outside, inside) = (4f64.to_radians().cos(), 3f64.to_radians().cos());
-    let worst = assert_matches(&image, 2.0, |p, n| {
-        let distance = p.length();
-        let l = -p / distance;
-        let cos_angle = p.z / distance;
-        if cos_angle < outside {
-            return 0.0;
-        }
-        let t = ((cos_angle - outside) / (inside - outside)).clamp(0.0, 1.0);
-        let fade = t * t * (3.0 - 2.0 * t);
-        16.0 * cos_angle * cos_angle / (distance * distance) * fade * n.dot(l).max(0.0)
-    });
+    let worst = assert_matches(&image, 2.0, |p, n| spot_on_matte(p, n, 4.0, 1.0, 2));
     eprintln!("spotlight: largest difference {worst:.2}/255");
     // The cone's edge crosses the image: lit pixels and dark ones.
     let lit = interior()
@@ -218,17 +223,6 @@ fn a_spotlights_beam_distribution_is_its_falloff_exponent() {
          \"coneangle\" [0.2617994] \"conedeltaangle\" [0.01745329] \"beamdistribution\" [8]",
         "Surface \"matte\" \"Ka\" [0] \"Kd\" [1]",
     );
-    let (outside, inside) = (15f64.to_radians().cos(), 14f64.to_radians().cos());
-    let worst = assert_matches(&image, 2.0, |p, n| {
-        let distance = p.length();
-        let l = -p / distance;
-        let cos_angle = p.z / distance;
-        if cos_angle < outside {
-            return 0.0;
-        }
-        let t = ((cos_angle - outside) / (inside - outside)).clamp(0.0, 1.0);
-        let fade = t * t * (3.0 - 2.0 * t);
-        16.0 * cos_angle.powi(8) / (distance * distance) * fade * n.dot(l).max(0.0)
-    });
+    let worst = assert_matches(&image, 2.0, |p, n| spot_on_matte(p, n, 15.0, 1.0, 8));
     eprintln!("spotlight, beamdistribution 8: largest difference {worst:.2}/255");
 }

@@ -1,8 +1,9 @@
 //! A user's WGSL surface shader that reads every input of the shading
 //! context and every lighting helper, on the GPU against its Rust twin in
 //! the CPU reference: three spheres (two with the shader, one with other
-//! parameter values; one displaced in the whole frames, so that `N` and
-//! `Ng` differ) at 1 and 16 samples per pixel, whole and in screen tiles;
+//! parameter values; one displaced, so that `N` and `Ng` differ) at 1 and
+//! 16 samples per pixel, whole and in screen tiles (which equal the whole
+//! frame bit for bit);
 //! a user shader with a texture and noise, and RIB's `paintedplastic`, the
 //! same way.
 
@@ -19,7 +20,7 @@ use reyes::prepare::PreparedScene;
 use reyes::reference;
 use reyes::scene::{Light, Scene, SceneObject, ShaderValue, Surface, Transform};
 use reyes::surface_shader::{CpuSurface, ShadingContext, ShadingHost, SurfaceOutput};
-use tests::reyes_support::{agreement, camera_down_z, gpu_turn, renderer};
+use tests::reyes_support::{agreement, assert_identical, camera_down_z, gpu_turn, renderer};
 use tests::shapes::bezier_sphere;
 
 fn shader_path() -> PathBuf {
@@ -129,8 +130,8 @@ fn scene(spp: u32, displaced: bool) -> (Scene, Vec<Model>) {
 }
 
 /// The scene prepared, with the shader's Rust twin attached.
-fn prepared(spp: u32, displaced: bool) -> PreparedScene {
-    let (scene, models) = scene(spp, displaced);
+fn prepared(spp: u32) -> PreparedScene {
+    let (scene, models) = scene(spp, true);
     let mut prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
     assert_eq!(prepared.shaders.shaders.len(), 1, "one shader, loaded once");
     Arc::make_mut(&mut prepared.shaders.shaders[0]).cpu = Some(CpuSurface::new(every_input));
@@ -151,12 +152,10 @@ fn a_user_shader_with_every_input_matches_its_twin_whole_and_in_tiles() {
                 ..GpuOptions::default()
             },
         );
+        let scene = prepared(spp);
+        let cpu = reference::try_render(&scene).expect("the reference runs the twin");
+        let mut frames = Vec::new();
         for (what, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
-            // A displaced grid's normals come from its neighbours, so they
-            // follow the dicing, which tiles change a little near their
-            // edges: the tiled frames leave the displacement out.
-            let scene = prepared(spp, what == "whole");
-            let cpu = reference::try_render(&scene).expect("the reference runs the twin");
             let frame = renderer.render(&scene).expect("GPU render");
             let a = agreement(&frame, &cpu);
             eprintln!("spp {spp}, {what} ({} tile(s)): {a:?}", frame.tiles);
@@ -167,7 +166,15 @@ fn a_user_shader_with_every_input_matches_its_twin_whole_and_in_tiles() {
                 frame.tiles
             );
             a.assert_at_least(&format!("user shader at spp {spp}, {what}"), 0.995, 0.99);
+            frames.push(frame);
         }
+        // A tile splits, dices and samples as the whole frame does, so the
+        // displaced grid's normals (from its neighbours) are the same too.
+        assert_identical(
+            &format!("spp {spp}, tiled against whole"),
+            &frames[1],
+            &frames[0],
+        );
     }
 }
 
