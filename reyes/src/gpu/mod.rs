@@ -44,6 +44,7 @@ internal_modules! {
 
 mod batches;
 mod counters;
+mod frame_uniform;
 mod lights;
 mod options;
 mod patch_item;
