@@ -206,3 +206,41 @@ pub fn assert_identical(what: &str, a: &GpuRendered, b: &GpuRendered) {
         "{what}: the covered sample counts differ"
     );
 }
+
+/// A renderer whose screen tiles hold at most `max_tile_samples` samples.
+pub fn tiled_renderer(gpu: &scheduler::Gpu, max_tile_samples: u64) -> GpuRenderer<'_> {
+    renderer(
+        gpu,
+        GpuOptions {
+            max_tile_samples: Some(max_tile_samples),
+            ..GpuOptions::default()
+        },
+    )
+}
+
+/// Renders `scene` whole with `whole` and in screen tiles with `tiled`,
+/// asserts that the first took one tile and the second several, and that
+/// each agrees with `cpu` (IoU >= 0.995, 99% of the shared pixels within
+/// 2/255); returns the two frames, whole first. `what` names the case.
+pub fn assert_whole_and_tiled_agree<'g>(
+    what: &str,
+    scene: &reyes::prepare::PreparedScene,
+    whole: &mut GpuRenderer<'g>,
+    tiled: &mut GpuRenderer<'g>,
+    cpu: &Rendered,
+) -> [GpuRendered; 2] {
+    [("whole", whole), ("tiled", tiled)].map(|(mode, renderer)| {
+        let frame = renderer.render(scene).expect("GPU render");
+        let what = format!("{what}, {mode}");
+        let a = agreement(&frame, cpu);
+        eprintln!("{what} ({} tile(s)): {a:?}", frame.tiles);
+        assert_eq!(
+            frame.tiles > 1,
+            mode == "tiled",
+            "{what}: {} tile(s)",
+            frame.tiles
+        );
+        a.assert_at_least(&what, 0.995, 0.99);
+        frame
+    })
+}

@@ -21,7 +21,9 @@ use reyes::model::{Model, Patch};
 use reyes::prepare::PreparedScene;
 use reyes::reference;
 use reyes::scene::{CameraDesc, Projection, Scene, SceneObject, ShaderValue, Surface};
-use tests::reyes_support::{agreement, gpu_turn, renderer};
+use tests::reyes_support::{
+    agreement, assert_whole_and_tiled_agree, gpu_turn, renderer, tiled_renderer,
+};
 
 /// The environment's linear colour in the direction of longitude `lon` and
 /// latitude `lat` (radians): smooth, periodic in longitude, different in
@@ -189,13 +191,7 @@ fn a_flat_mirror_shows_the_environment_along_the_reflected_direction() {
     assert!(expected.len() > 2700, "{} pixels", expected.len());
     let mut whole = renderer(gpu, GpuOptions::default());
     for spp in [1, 16] {
-        let mut tiled = renderer(
-            gpu,
-            GpuOptions {
-                max_tile_samples: Some(tile_cap(spp)),
-                ..GpuOptions::default()
-            },
-        );
+        let mut tiled = tiled_renderer(gpu, tile_cap(spp));
         let (scene, models) = mirror_scene(&sky, spp);
         let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
         let cpu = reference::try_render(&prepared).expect("shinymetal has a twin");
@@ -277,30 +273,18 @@ fn rib_shinymetal_matches_the_reference_whole_and_in_tiles() {
     );
     let mut whole = renderer(gpu, GpuOptions::default());
     for spp in [1, 16] {
-        let mut tiled = renderer(
-            gpu,
-            GpuOptions {
-                max_tile_samples: Some(tile_cap(spp)),
-                ..GpuOptions::default()
-            },
-        );
+        let mut tiled = tiled_renderer(gpu, tile_cap(spp));
         loaded.scene.spp = spp;
         let prepared = loaded.prepare().expect("the scene prepares");
         assert_eq!(prepared.textures.len(), 1);
         let cpu = reference::try_render(&prepared).expect("shinymetal has a twin");
-        for (mode, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
-            let frame = renderer.render(&prepared).expect("GPU render");
-            let what = format!("RIB shinymetal at spp {spp}, {mode}");
-            assert_eq!(
-                frame.tiles > 1,
-                mode == "tiled",
-                "{what}: {} tile(s)",
-                frame.tiles
-            );
-            let a = agreement(&frame, &cpu);
-            eprintln!("{what} ({} tile(s)): {a:?}", frame.tiles);
-            a.assert_at_least(&what, 0.995, 0.99);
-        }
+        assert_whole_and_tiled_agree(
+            &format!("RIB shinymetal at spp {spp}"),
+            &prepared,
+            &mut whole,
+            &mut tiled,
+            &cpu,
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -11,7 +11,7 @@ use reyes::gpu::GpuOptions;
 use reyes::prepare::PreparedScene;
 use reyes::reference;
 use tests::reyes_support::{
-    agreement, as_reference, assert_identical, framed_teapot, gpu_turn, renderer,
+    agreement, as_reference, assert_identical, framed_teapot, gpu_turn, renderer, tiled_renderer,
 };
 
 /// The jittered teapot at 192 x 144, `spp` samples per pixel, with `filter`.
@@ -30,13 +30,7 @@ fn every_filter_matches_the_reference_whole_and_in_tiles() {
     for spp in [1, 16] {
         // 192 x 64 pixels at most: the frame needs several tiles once a
         // margin is added.
-        let mut tiled = renderer(
-            gpu,
-            GpuOptions {
-                max_tile_samples: Some(192 * 64 * u64::from(spp)),
-                ..GpuOptions::default()
-            },
-        );
+        let mut tiled = tiled_renderer(gpu, 192 * 64 * u64::from(spp));
         for (filter, xwidth, ywidth) in [
             (FilterKind::Box, 1.0, 1.0),
             (FilterKind::Triangle, 2.0, 2.0),

@@ -14,7 +14,7 @@ use reyes::model::Model;
 use reyes::prepare::PreparedScene;
 use reyes::reference;
 use reyes::scene::{Light, Scene, SceneObject, Surface, Transform};
-use tests::reyes_support::{agreement, camera_down_z, gpu_turn, renderer};
+use tests::reyes_support::{agreement, camera_down_z, gpu_turn, renderer, tiled_renderer};
 use tests::shapes::bezier_sphere;
 
 /// The six spheres in two rows of three, 5 units in front of the camera.
@@ -98,13 +98,7 @@ fn every_standard_surface_and_light_matches_the_reference() {
     for spp in [1, 16] {
         // A third of the frame's samples: six tiles of 64 x 64 pixels, whose
         // edge at row 64 crosses the bottom row of spheres.
-        let mut tiled = renderer(
-            gpu,
-            GpuOptions {
-                max_tile_samples: Some(160 * 120 / 3 * u64::from(spp)),
-                ..GpuOptions::default()
-            },
-        );
+        let mut tiled = tiled_renderer(gpu, 160 * 120 / 3 * u64::from(spp));
         let (scene, models) = scene(spp);
         let prepared = PreparedScene::new(&scene, &models).expect("scene prepares");
         let cpu = reference::render(&prepared);

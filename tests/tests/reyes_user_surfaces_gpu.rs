@@ -20,7 +20,10 @@ use reyes::prepare::PreparedScene;
 use reyes::reference;
 use reyes::scene::{Light, Scene, SceneObject, ShaderValue, Surface, Transform};
 use reyes::surface_shader::{CpuSurface, ShadingContext, ShadingHost, SurfaceOutput};
-use tests::reyes_support::{agreement, assert_identical, camera_down_z, gpu_turn, renderer};
+use tests::reyes_support::{
+    agreement, assert_identical, assert_whole_and_tiled_agree, camera_down_z, gpu_turn, renderer,
+    tiled_renderer,
+};
 use tests::shapes::bezier_sphere;
 
 fn shader_path() -> PathBuf {
@@ -145,29 +148,16 @@ fn a_user_shader_with_every_input_matches_its_twin_whole_and_in_tiles() {
     let mut whole = renderer(gpu, GpuOptions::default());
     for spp in [1, 16] {
         // Small enough that the frame needs several tiles.
-        let mut tiled = renderer(
-            gpu,
-            GpuOptions {
-                max_tile_samples: Some(192 * 64 * u64::from(spp)),
-                ..GpuOptions::default()
-            },
-        );
+        let mut tiled = tiled_renderer(gpu, 192 * 64 * u64::from(spp));
         let scene = prepared(spp);
         let cpu = reference::try_render(&scene).expect("the reference runs the twin");
-        let mut frames = Vec::new();
-        for (what, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
-            let frame = renderer.render(&scene).expect("GPU render");
-            let a = agreement(&frame, &cpu);
-            eprintln!("spp {spp}, {what} ({} tile(s)): {a:?}", frame.tiles);
-            assert_eq!(
-                frame.tiles > 1,
-                what == "tiled",
-                "{what}: {} tile(s)",
-                frame.tiles
-            );
-            a.assert_at_least(&format!("user shader at spp {spp}, {what}"), 0.995, 0.99);
-            frames.push(frame);
-        }
+        let frames = assert_whole_and_tiled_agree(
+            &format!("user shader at spp {spp}"),
+            &scene,
+            &mut whole,
+            &mut tiled,
+            &cpu,
+        );
         // A tile splits, dices and samples as the whole frame does, so the
         // displaced grid's normals (from its neighbours) are the same too.
         assert_identical(
@@ -240,34 +230,16 @@ fn a_textured_noisy_shader_matches_its_twin_whole_and_in_tiles() {
     for spp in [1, 16] {
         // A third of the frame's samples: six tiles of 64 x 64 pixels, whose
         // edges cross both spheres.
-        let mut tiled = renderer(
-            gpu,
-            GpuOptions {
-                max_tile_samples: Some(160 * 120 / 3 * u64::from(spp)),
-                ..GpuOptions::default()
-            },
-        );
+        let mut tiled = tiled_renderer(gpu, 160 * 120 / 3 * u64::from(spp));
         let prepared = prepared(spp);
         let cpu = reference::try_render(&prepared).expect("the reference runs the twin");
-        for (mode, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
-            let frame = renderer.render(&prepared).expect("GPU render");
-            let a = agreement(&frame, &cpu);
-            eprintln!(
-                "textured at spp {spp}, {mode} ({} tile(s)): {a:?}",
-                frame.tiles
-            );
-            assert_eq!(
-                frame.tiles > 1,
-                mode == "tiled",
-                "{mode}: {} tile(s)",
-                frame.tiles
-            );
-            a.assert_at_least(
-                &format!("textured noisy shader at spp {spp}, {mode}"),
-                0.995,
-                0.99,
-            );
-        }
+        assert_whole_and_tiled_agree(
+            &format!("textured noisy shader at spp {spp}"),
+            &prepared,
+            &mut whole,
+            &mut tiled,
+            &cpu,
+        );
     }
     // The same renderer and buffers (those of the last frame, at 16 samples
     // per pixel) with another texture of the same size: the texels are
@@ -387,36 +359,18 @@ fn rib_paintedplastic_matches_the_reference_whole_and_in_tiles() {
     for spp in [1, 16] {
         // Two thirds of the frame's samples: four tiles, 64 x 64 pixels and
         // what is left of the 96 x 72 frame, whose edges cross the sphere.
-        let mut tiled = renderer(
-            gpu,
-            GpuOptions {
-                max_tile_samples: Some(96 * 72 * 2 / 3 * u64::from(spp)),
-                ..GpuOptions::default()
-            },
-        );
+        let mut tiled = tiled_renderer(gpu, 96 * 72 * 2 / 3 * u64::from(spp));
         loaded.scene.spp = spp;
         let prepared = loaded.prepare().expect("the scene prepares");
         assert_eq!(prepared.textures.len(), 1);
         let cpu = reference::try_render(&prepared).expect("the built-in shader has a twin");
-        for (mode, renderer) in [("whole", &mut whole), ("tiled", &mut tiled)] {
-            let frame = renderer.render(&prepared).expect("GPU render");
-            let a = agreement(&frame, &cpu);
-            eprintln!(
-                "paintedplastic at spp {spp}, {mode} ({} tile(s)): {a:?}",
-                frame.tiles
-            );
-            assert_eq!(
-                frame.tiles > 1,
-                mode == "tiled",
-                "{mode}: {} tile(s)",
-                frame.tiles
-            );
-            a.assert_at_least(
-                &format!("RIB paintedplastic at spp {spp}, {mode}"),
-                0.995,
-                0.99,
-            );
-        }
+        assert_whole_and_tiled_agree(
+            &format!("RIB paintedplastic at spp {spp}"),
+            &prepared,
+            &mut whole,
+            &mut tiled,
+            &cpu,
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
